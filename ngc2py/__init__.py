@@ -1,0 +1,3 @@
+"""ngc2py: compile LinuxCNC G-code into readable Python modules."""
+
+__version__ = "0.1.0"
