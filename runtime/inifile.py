@@ -1,0 +1,214 @@
+"""The INI file given to ``rs274 -i``: the lookups rs274 2.9 makes, and the
+settings among them that change what ``rs274 -g`` prints.
+
+Lookup rules (LinuxCNC's IniFile reader):
+
+* ``find(key, section)`` searches only the *first* line whose first
+  non-blank text starts with ``[section]``, up to the next line starting
+  with ``[``. Lines whose first non-blank character is ``;`` or ``#`` are
+  comments; there are no end-of-line comments (``4 # four`` is the value).
+* A line matches ``key`` when it starts with the key followed by a space,
+  tab or ``=``; the value is what follows the first ``=``, without leading
+  and trailing blanks; no ``=`` or an empty value counts as absent. The
+  first matching line wins. A line ending in ``\\``
+  continues on the next one.
+* Keys and sections are case-sensitive.
+
+What ``rs274 -g`` uses (everything else, e.g. [RS274NGC]PARAMETER_FILE,
+[EMCIO]TOOL_TABLE, [TRAJ]COORDINATES, USER_M_PATH, is ignored by it): see
+:class:`IniSettings`. Integer settings must be plain integers (``yes`` or
+``1x`` leave the default, silently). An arc tolerance outside its allowed
+range, or not a number, keeps the default and makes rs274 print
+``invalid [RS274NGC]<KEY> in INI file`` and an empty line on stderr. A file
+that cannot be opened makes rs274 print ``Unable to open inifile:<path>:``
+on stderr and run without settings.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from dataclasses import dataclass, field, replace
+from typing import Optional, Tuple
+
+from runtime.arcs import (
+    CENTER_ARC_RADIUS_TOLERANCE_INCH,
+    CENTER_ARC_RADIUS_TOLERANCE_MM,
+)
+
+#: Smallest arc tolerances the INI file may set (the largest are the defaults).
+MIN_CENTER_ARC_RADIUS_TOLERANCE_INCH = 0.00004
+MIN_CENTER_ARC_RADIUS_TOLERANCE_MM = 0.001
+
+#: rs274 keeps at most this many SUBROUTINE_PATH directories.
+MAX_SUBROUTINE_DIRS = 10
+
+#: FEATURES bit that enables #<_ini[SECTION]KEY> parameters.
+FEATURE_INI_VARS = 4
+
+_INTEGER = re.compile(r"[+-]?\d+")
+_FLOAT = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
+
+
+@dataclass(frozen=True)
+class IniFile:
+    """An INI file's logical lines (continuations joined), for lookups."""
+
+    lines: Tuple[str, ...] = ()
+
+    @classmethod
+    def parse(cls, text: str) -> "IniFile":
+        lines, pending = [], ""
+        for raw in text.split("\n"):
+            if raw.endswith("\\"):
+                pending += raw[:-1]
+                continue
+            lines.append(pending + raw)
+            pending = ""
+        if pending:
+            lines.append(pending)
+        return cls(tuple(lines))
+
+    def find(self, key: str, section: str) -> Optional[str]:
+        """The value of ``key`` in ``section`` as rs274 finds it, or None."""
+        header = f"[{section}]"
+        in_section = False
+        for line in self.lines:
+            text = line.lstrip(" \t\r")
+            if not text or text[0] in ";#":
+                continue
+            if not in_section:
+                in_section = text.startswith(header)
+                continue
+            if text.startswith("["):
+                return None
+            if text.startswith(key) and text[len(key) : len(key) + 1] in (
+                " ",
+                "\t",
+                "\r",
+                "=",
+            ):
+                value = text.partition("=")[2].strip(" \t\r\n")
+                return value or None  # "KEY =" with no value counts as absent
+        return None
+
+
+@dataclass(frozen=True)
+class IniSettings:
+    """The INI settings that change what ``rs274 -g`` prints."""
+
+    #: [RS274NGC]SUBROUTINE_PATH: existing directories, absolute, in order.
+    #: Relative entries are relative to the *current directory*; ``~/`` is
+    #: expanded; entries that do not exist are dropped.
+    subroutine_path: Tuple[str, ...] = ()
+    #: [DISPLAY]PROGRAM_PREFIX, resolved the same way (None if absent/missing).
+    program_prefix: Optional[str] = None
+    #: [RS274NGC]FEATURES bit mask (see FEATURE_INI_VARS).
+    features: int = 0
+    #: [RS274NGC]CENTER_ARC_RADIUS_TOLERANCE_INCH / _MM (see runtime.arcs).
+    center_arc_radius_tolerance_inch: float = CENTER_ARC_RADIUS_TOLERANCE_INCH
+    center_arc_radius_tolerance_mm: float = CENTER_ARC_RADIUS_TOLERANCE_MM
+    #: [RS274NGC]DISABLE_G92_PERSISTENCE: clear #5210-#5219 at start-up.
+    disable_g92_persistence: bool = False
+    #: [RS274NGC]ORIENT_OFFSET (M19).
+    orient_offset: float = 0.0
+    #: [EMCIO] tool change behaviour of M6.
+    tool_change_at_g30: bool = False
+    tool_change_quill_up: bool = False
+    tool_change_with_spindle_on: bool = False
+    random_toolchanger: bool = False
+    #: [AXIS_3], [AXIS_4], [AXIS_5] (A, B, C) WRAPPED_ROTARY / LOCKING_INDEXER.
+    wrapped_rotary: Tuple[bool, bool, bool] = (False, False, False)
+    locking_indexer: Tuple[bool, bool, bool] = (False, False, False)
+    #: The file itself, for #<_ini[SECTION]KEY> when FEATURES enables it.
+    ini: IniFile = field(default_factory=IniFile)
+    #: What rs274 prints on stderr while reading the file (after "executing").
+    stderr_report: str = ""
+
+    def ini_value(self, section: str, key: str) -> Optional[str]:
+        """The raw text of an INI entry (for #<_ini[...]>), or None."""
+        return self.ini.find(key, section)
+
+
+def load_ini(path: str) -> IniSettings:
+    """Read the ``-i`` file the way rs274 does."""
+    try:
+        with open(path, "rb") as f:
+            text = f.read().decode("latin-1")
+    except OSError:
+        return IniSettings(stderr_report=f"Unable to open inifile:{path}:\n")
+    return settings_from(IniFile.parse(text))
+
+
+def settings_from(ini: IniFile) -> IniSettings:
+    """The settings an INI file's contents give."""
+    report = []
+
+    def integer(key: str, section: str) -> int:
+        value = ini.find(key, section)
+        return int(value) if value is not None and _INTEGER.fullmatch(value) else 0
+
+    def number(key: str, section: str, default: float) -> float:
+        value = ini.find(key, section)
+        return (
+            float(value) if value is not None and _FLOAT.fullmatch(value) else default
+        )
+
+    def tolerance(key: str, low: float, high: float) -> float:
+        value = ini.find(key, "RS274NGC")
+        if value is None:
+            return high
+        if _FLOAT.fullmatch(value) and low <= float(value) <= high:
+            return float(value)
+        report.append(f"invalid [RS274NGC]{key} in INI file\n\n")
+        return high
+
+    def axes(key: str) -> Tuple[bool, bool, bool]:
+        a, b, c = (bool(integer(key, f"AXIS_{n}")) for n in (3, 4, 5))
+        return a, b, c
+
+    # Keys are read in rs274's order, so the stderr report comes out in order.
+    settings = IniSettings(
+        tool_change_at_g30=bool(integer("TOOL_CHANGE_AT_G30", "EMCIO")),
+        tool_change_quill_up=bool(integer("TOOL_CHANGE_QUILL_UP", "EMCIO")),
+        tool_change_with_spindle_on=bool(
+            integer("TOOL_CHANGE_WITH_SPINDLE_ON", "EMCIO")
+        ),
+        wrapped_rotary=axes("WRAPPED_ROTARY"),
+        random_toolchanger=bool(integer("RANDOM_TOOLCHANGER", "EMCIO")),
+        features=integer("FEATURES", "RS274NGC"),
+        locking_indexer=axes("LOCKING_INDEXER"),
+        orient_offset=number("ORIENT_OFFSET", "RS274NGC", 0.0),
+        program_prefix=_existing_dir(ini.find("PROGRAM_PREFIX", "DISPLAY")),
+        subroutine_path=_subroutine_dirs(ini.find("SUBROUTINE_PATH", "RS274NGC")),
+        center_arc_radius_tolerance_inch=tolerance(
+            "CENTER_ARC_RADIUS_TOLERANCE_INCH",
+            MIN_CENTER_ARC_RADIUS_TOLERANCE_INCH,
+            CENTER_ARC_RADIUS_TOLERANCE_INCH,
+        ),
+        center_arc_radius_tolerance_mm=tolerance(
+            "CENTER_ARC_RADIUS_TOLERANCE_MM",
+            MIN_CENTER_ARC_RADIUS_TOLERANCE_MM,
+            CENTER_ARC_RADIUS_TOLERANCE_MM,
+        ),
+        disable_g92_persistence=bool(integer("DISABLE_G92_PERSISTENCE", "RS274NGC")),
+        ini=ini,
+    )
+    return replace(settings, stderr_report="".join(report))
+
+
+def _existing_dir(entry: Optional[str]) -> Optional[str]:
+    """rs274's realpath() of a path entry: None if it does not exist."""
+    if not entry:
+        return None
+    path = os.path.realpath(
+        os.path.expanduser(entry) if entry.startswith("~/") else entry
+    )
+    return path if os.path.exists(path) else None
+
+
+def _subroutine_dirs(value: Optional[str]) -> Tuple[str, ...]:
+    if value is None:
+        return ()
+    dirs = [d for d in (_existing_dir(entry) for entry in value.split(":")) if d]
+    return tuple(dirs[:MAX_SUBROUTINE_DIRS])

@@ -1,0 +1,169 @@
+"""Numbered-parameter files (``rs274 -v FILE``), read and written as rs274 2.9 does.
+
+Reading (`read_parameter_file`): each line that C's ``sscanf("%d %lf")``
+accepts sets a parameter (``100.5 3`` reads as #100 = 0.5, like C); other
+lines are ignored. Numbers must be 1..5601 ("Parameter number out of
+range") and strictly increasing ("Parameter file out of order"); a missing
+file is not an error. Parameters not in the file are 0.
+
+Starting a run (`initial_parameters`): rs274 then forces #5220 (the active
+coordinate system) to 1 unless it selects G54..G59.3, sets #5599 (the
+switch for (DEBUG,...) output) to 1, saves the file
+(`save_parameter_file`), and clears the current-tool parameters #5400-#5413
+and the tool-changer fault parameters #5600-#5601.
+
+Saving (`save_parameter_file`, at start-up and when rs274 exits, even after an
+error): the file keeps exactly the parameters it lists plus the required ones
+(`REQUIRED_PARAMETERS`), each written as ``"%d\\t%f\\n"`` with its current
+value; the previous file becomes ``FILE.bak``.
+
+Without ``-v`` rs274 reads and writes DEFAULT_PARAMETER_FILE, a path that
+LinuxCNC 2.9 packages do not create, so it starts from `default_parameters`
+and its saves fail silently; ngc2py does not touch that path.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+from typing import Dict, Iterable, Mapping, Optional
+
+from runtime.errors import GCodeError
+from runtime.tooltable import scan_c_float, scan_c_int
+
+#: The file rs274 uses when no -v is given.
+DEFAULT_PARAMETER_FILE = "/etc/emc2/sample-configs/sim/sim.var"
+
+#: Parameter numbers must be below this.
+MAX_PARAMETERS = 5602
+
+BACKUP_SUFFIX = ".bak"
+
+
+def _block(first: int, last: int) -> Iterable[int]:
+    return range(first, last + 1)
+
+
+#: Always written to the file: the G28/G30 home positions (#5161-#5169,
+#: #5181-#5189), G92 state and offsets (#5210-#5219), the coordinate-system
+#: index (#5220) and the nine coordinate systems G54..G59.3 (#5221-#5230,
+#: ..., #5381-#5390: X Y Z A B C U V W and XY rotation).
+REQUIRED_PARAMETERS = tuple(
+    [*_block(5161, 5169), *_block(5181, 5189), *_block(5210, 5220)]
+    + [n for system in range(9) for n in _block(5221 + 20 * system, 5230 + 20 * system)]
+)
+
+#: Cleared when a run starts (after the start-up save): the loaded tool's
+#: data and the tool-changer fault state.
+CLEARED_AT_START = (*_block(5400, 5413), 5600, 5601)
+
+
+#: Set when a run starts, whatever the file says: (DEBUG,...) output on.
+DEBUG_SWITCH = 5599
+
+
+def default_parameters() -> Dict[int, float]:
+    """Initial non-zero parameters of a run without ``-v``."""
+    return {5220: 1.0, DEBUG_SWITCH: 1.0}
+
+
+def read_parameter_file(path: str) -> Dict[int, float]:
+    """The parameters a file sets, by number; {} if the file does not exist.
+
+    Raises GCodeError with rs274's message for a bad file.
+    """
+    if not os.path.exists(path):
+        return {}
+    try:
+        with open(path, "rb") as f:
+            text = f.read().decode("latin-1")
+    except OSError:
+        raise GCodeError(f"Unable to open parameter file: '{path}'") from None
+    return _parse(text)
+
+
+def initial_parameters(path: Optional[str]) -> Dict[int, float]:
+    """The parameters a run starts with, doing what rs274's start-up does.
+
+    ``path`` is the ``-v`` file (None: no -v, see `default_parameters`). The
+    file is read, #5220 is repaired, #5599 set to 1, the file is saved (normalised, old copy
+    to ``.bak``) and #5400-#5413, #5600-#5601 are cleared. Returns only the
+    non-zero parameters; every other parameter starts at 0.
+    """
+    if path is None:
+        return default_parameters()
+    values = read_parameter_file(path)
+    if not 1 <= int(values.get(5220, 0.0) + 0.0001) <= 9:
+        values[5220] = 1.0
+    values[DEBUG_SWITCH] = 1.0
+    save_parameter_file(path, values)
+    for number in CLEARED_AT_START:
+        values.pop(number, None)
+    return {n: v for n, v in values.items() if v != 0.0}
+
+
+def save_parameter_file(path: str, values: Mapping[int, float]) -> None:
+    """Rewrite ``path`` with the current ``values`` the way rs274 does.
+
+    The new file lists the parameters the existing file lists plus
+    REQUIRED_PARAMETERS, ascending; numbers missing from ``values`` are 0.
+    The new text is written to a temporary file and moved into place with
+    os.replace, so ``path`` always holds a complete file; the previous file
+    is kept as ``path + ".bak"`` (replacing an older backup).
+    """
+    listed = set(read_parameter_file(path)) | set(REQUIRED_PARAMETERS)
+    text = "".join(f"{n}\t{values.get(n, 0.0):f}\n" for n in sorted(listed))
+    folder = os.path.dirname(os.path.abspath(path))
+    fd, temporary = tempfile.mkstemp(
+        dir=folder, prefix=os.path.basename(path) + ".", suffix=".new"
+    )
+    try:
+        with os.fdopen(fd, "w", encoding="latin-1", newline="") as f:
+            f.write(text)
+        if os.path.exists(path):
+            _backup(path)
+        os.replace(temporary, path)
+    except BaseException:
+        if os.path.exists(temporary):
+            os.unlink(temporary)
+        raise
+
+
+def _backup(path: str) -> None:
+    """Make ``path.bak`` a copy of ``path`` without ever removing ``path``."""
+    backup = path + BACKUP_SUFFIX
+    if os.path.lexists(backup):
+        os.unlink(backup)
+    try:
+        os.link(path, backup)
+    except OSError:  # file systems without hard links
+        shutil.copy2(path, backup)
+
+
+def _parse(text: str) -> Dict[int, float]:
+    values: Dict[int, float] = {}
+    last = 0
+    for line in text.split("\n"):
+        scanned = _scan_line(line)
+        if scanned is None:
+            continue
+        number, value = scanned
+        if not 0 < number < MAX_PARAMETERS:
+            raise GCodeError("Parameter number out of range")
+        if number <= last:
+            raise GCodeError("Parameter file out of order")
+        values[number] = value
+        last = number
+    return values
+
+
+def _scan_line(line: str):
+    """``sscanf(line, "%d %lf")``: (number, value) or None."""
+    number = scan_c_int(line)
+    if number is None:
+        return None
+    value = scan_c_float(line[number[1] :])
+    if value is None:
+        return None
+    return number[0], value[0]

@@ -1,0 +1,106 @@
+"""Tests for runtime.inifile, with comparisons against rs274 (marked rs274)."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+
+import pytest
+
+import rs274 as harness
+from runtime import arcs
+from runtime.inifile import IniFile, load_ini, settings_from
+
+
+def test_find_rules():
+    ini = IniFile.parse(
+        "# comment\n[EMCIO]\nTOOL_TABLE = a.tbl\n  ; note\n[RS274NGC]junk\n"
+        "FEATURES = 4 # four\nFEATURESX = 9\nSUBROUTINE_PATH=a:\\\nb  \n[RS274NGC]\nLATE = 1\n"
+    )
+    assert ini.find("TOOL_TABLE", "EMCIO") == "a.tbl"
+    assert ini.find("FEATURES", "RS274NGC") == "4 # four"
+    assert ini.find("SUBROUTINE_PATH", "RS274NGC") == "a:b"
+    assert ini.find("LATE", "RS274NGC") is None  # only the first [RS274NGC] counts
+    assert ini.find("TOOL_TABLE", "emcio") is None
+    assert ini.find("MISSING", "EMCIO") is None
+
+
+def test_settings_and_validation():
+    settings = settings_from(
+        IniFile.parse(
+            "[EMCIO]\nTOOL_CHANGE_QUILL_UP = 1\nTOOL_CHANGE_AT_G30 = yes\n"
+            "[RS274NGC]\nFEATURES = 4 \nCENTER_ARC_RADIUS_TOLERANCE_MM = 0.01\n"
+            "CENTER_ARC_RADIUS_TOLERANCE_INCH = 0.5\n[AXIS_4]\nWRAPPED_ROTARY = 1\n"
+        )
+    )
+    assert settings.tool_change_quill_up and not settings.tool_change_at_g30
+    assert settings.features == 4
+    assert settings.center_arc_radius_tolerance_mm == 0.01
+    assert (
+        settings.center_arc_radius_tolerance_inch
+        == arcs.CENTER_ARC_RADIUS_TOLERANCE_INCH
+    )
+    assert settings.wrapped_rotary == (False, True, False)
+    assert (
+        settings.stderr_report
+        == "invalid [RS274NGC]CENTER_ARC_RADIUS_TOLERANCE_INCH in INI file\n\n"
+    )
+    assert settings.ini_value("EMCIO", "TOOL_CHANGE_AT_G30") == "yes"
+
+
+def test_subroutine_path_is_relative_to_cwd(tmp_path, monkeypatch):
+    (tmp_path / "subs").mkdir()
+    monkeypatch.chdir(tmp_path)
+    settings = settings_from(
+        IniFile.parse("[RS274NGC]\nSUBROUTINE_PATH = missing::subs\n")
+    )
+    assert settings.subroutine_path == (str((tmp_path / "subs").resolve()),)
+
+
+def test_unreadable_file(tmp_path):
+    path = str(tmp_path / "none.ini")
+    assert load_ini(path).stderr_report == f"Unable to open inifile:{path}:\n"
+
+
+# --------------------------------------------------------------------------
+# Comparison with rs274: the arc tolerance settings and their stderr report
+# --------------------------------------------------------------------------
+
+_ARC = "G21 F100\nG0 X0 Y0\nG2 X2.015 Y0 I1\nM2\n"
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize(
+    "value",
+    ["0.01", "0.02", " 0.02 ", "0.02 # c", "0.02x", "0.001", "0.0009", "0.5", ""],
+)
+def test_arc_tolerance_matches_rs274(tmp_path, value):
+    ini_text = f"[RS274NGC]\nCENTER_ARC_RADIUS_TOLERANCE_MM = {value}\n"
+    (tmp_path / "m.ini").write_text(ini_text)
+    (tmp_path / "p.ngc").write_text(_ARC)
+    done = subprocess.run(
+        [harness.rs274_path(), "-i", "m.ini", "-g", "p.ngc"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        env={**os.environ, "HOME": str(tmp_path)},
+        timeout=60,
+    )
+    settings = load_ini(str(tmp_path / "m.ini"))
+    assert done.stderr.startswith("executing\n" + settings.stderr_report)
+    try:
+        arcs.arc_from_center(
+            True,
+            "XY",
+            (0.0, 0.0),
+            (2.015, 0.0),
+            (1.0, 0.0),
+            False,
+            1,
+            False,
+            settings.center_arc_radius_tolerance_mm,
+        )
+        accepted = True
+    except arcs.GCodeError:
+        accepted = False
+    assert ("ARC_FEED" in done.stdout) == accepted
