@@ -1,0 +1,275 @@
+"""Comments and active comments: MSG, DEBUG, PRINT, LOG*, ABORT.
+
+Facts measured against rs274 (LinuxCNC 2.9) that shape this module:
+
+* Only the exact prefixes ``msg,`` ``debug,`` ``print,`` ``log,``
+  ``logopen,`` ``logappend,`` ``abort,`` (any case, after leading white
+  space) and the whole comment ``logclose`` are active; ``(MSG , x)`` or
+  ``(PROBEOPEN f)`` are plain comments. A plain comment's text drops the
+  leading white space only.
+* DEBUG, PRINT, LOG and ABORT expand parameters in their text: ``#123`` and
+  ``#<name>`` (white space inside the brackets removed, lower-cased) become
+  the value printed ``%f``-style, or ``######`` when the parameter is unset,
+  the number is outside 0..5601, or the text would be 30 characters or
+  more. Values within 0.0001 of zero print as zero (no ``-0.000000``). A
+  ``#`` followed by anything else is kept.
+* ``%d`` and ``%.Nf`` (N one digit) in the text are not printed; they set the
+  number of decimals for the parameters after them (``%d`` means 0). Any
+  other ``%.`` loses its ``%``; any other ``%`` is kept.
+* DEBUG prints only while ``#5599`` is positive. PRINT writes the line to
+  stdout (the same stream as the trace), not to stderr. LOG* are canon
+  calls (the stand-alone rs274 prints them in the trace, opens no file).
+  ABORT fails with the expanded text as the error message.
+* An unterminated ``#<name`` or a trailing ``#`` makes rs274 print whatever
+  bytes follow in its buffer; that cannot be reproduced, so the expansion
+  simply stops there.
+"""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Optional, Tuple, Union
+
+from runtime.errors import GCodeError
+from runtime.ops import TOLERANCE_EQUAL
+from runtime.params import MAX_PARAMETERS
+from runtime.varfile import DEBUG_SWITCH
+
+#: Comment kinds whose text has parameters expanded.
+EXPANDING_KINDS = frozenset({"debug", "print", "log", "abort"})
+
+#: Active-comment prefixes in the order rs274 tries them: (prefix, kind).
+_PREFIXES = (
+    ("msg,", "msg"),
+    ("debug,", "debug"),
+    ("print,", "print"),
+    ("log,", "log"),
+    ("logopen,", "logopen"),
+    ("logappend,", "logappend"),
+    ("abort,", "abort"),
+)
+
+#: What rs274 prints for a value it cannot (or will not) show.
+UNPRINTABLE = "######"
+#: rs274's buffer for one printed value: the text must be shorter than this.
+_VALUE_BUFFER = 30
+#: Decimals of ``%lf``, the format until a ``%d``/``%.Nf`` directive.
+_DEFAULT_DECIMALS = 6
+#: rs274 only looks at the first 256 characters to classify a comment.
+_CLASSIFY_LENGTH = 256
+#: C's isspace.
+_C_SPACE = " \t\n\v\f\r"
+
+
+@dataclass(frozen=True)
+class Name:
+    """``#<name>`` inside a comment (normalised: lower case, no white space)."""
+
+    name: str
+
+
+@dataclass(frozen=True)
+class Decimals:
+    """A ``%d`` (0) or ``%.Nf`` (N) directive: decimals for later values."""
+
+    places: int
+
+
+Part = Union[str, int, Name, Decimals]
+
+
+@dataclass(frozen=True)
+class Comment:
+    """The comment rs274 acts on for a line.
+
+    ``text`` is what follows the prefix (``msg,`` etc.), the file name for
+    logopen/logappend, or the whole comment (leading white space removed) for
+    plain ones. ``parts`` is ``text`` split by :func:`split_parts`; leave it
+    out and it is computed (and cached) from ``text``.
+    """
+
+    kind: str
+    text: str
+    parts: Optional[Tuple[Part, ...]] = None
+
+    def __post_init__(self):
+        if self.parts is None and self.kind in EXPANDING_KINDS:
+            object.__setattr__(self, "parts", split_parts(self.text))
+
+
+def classify(comment: str) -> Comment:
+    """The :class:`Comment` for the text between ``(`` and ``)`` (or after ``;``)."""
+    start = len(comment) - len(comment.lstrip(_C_SPACE))
+    body = comment[start:]
+    lowered = _ascii_lower(body[:_CLASSIFY_LENGTH])
+    for prefix, kind in _PREFIXES:
+        if lowered.startswith(prefix):
+            return Comment(kind, body[len(prefix) :])
+    if lowered == "logclose":
+        return Comment("logclose", "")
+    return Comment("plain", body)
+
+
+@lru_cache(maxsize=1024)
+def split_parts(text: str) -> Tuple[Part, ...]:
+    """``text`` as literal strings, parameter references and directives."""
+    parts = []
+    literal = []
+    i, end = 0, len(text)
+
+    def flush():
+        if literal:
+            parts.append("".join(literal))
+            literal.clear()
+
+    while i < end:
+        char = text[i]
+        nxt = text[i + 1] if i + 1 < end else ""
+        if char == "#":
+            if nxt.isdigit() and nxt.isascii():
+                j = i + 1
+                while j < end and text[j].isdigit() and text[j].isascii():
+                    j += 1
+                flush()
+                parts.append(_c_atoi(text[i + 1 : j]))
+                i = j
+            elif nxt == "<":
+                close = _name_end(text, i + 2)
+                if close is None:
+                    break  # unterminated: rs274 prints buffer garbage
+                flush()
+                parts.append(Name(_normalise(text[i + 2 : close])))
+                i = close + 1
+            elif nxt == "":
+                break  # a trailing '#': rs274 prints buffer garbage
+            else:
+                literal.append("#")
+                i += 1
+        elif char == "%" and nxt == "d":
+            flush()
+            parts.append(Decimals(0))
+            i += 2
+        elif char == "%" and nxt == ".":
+            digit, f = text[i + 2 : i + 3], text[i + 3 : i + 4]
+            if digit.isdigit() and digit.isascii() and f == "f":
+                flush()
+                parts.append(Decimals(int(digit)))
+                i += 4
+            else:
+                i += 1  # rs274 drops the '%' and goes on from the '.'
+        else:
+            literal.append(char)
+            i += 1
+    flush()
+    return tuple(parts)
+
+
+def _c_atoi(digits: str) -> int:
+    """glibc's ``atoi``: ``strtol`` clamped to a C long, then truncated to an int."""
+    value = min(int(digits), 2**63 - 1)
+    return (value + 2**31) % 2**32 - 2**31
+
+
+def _name_end(text: str, start: int) -> Optional[int]:
+    """Index of the ``>`` closing a name that starts at ``start``, if any."""
+    for j in range(start, len(text)):
+        if text[j] == ">":
+            return j
+        if text[j] == ")":
+            return None
+    return None
+
+
+def _normalise(name: str) -> str:
+    return _ascii_lower("".join(c for c in name if c not in _C_SPACE))
+
+
+def _ascii_lower(text: str) -> str:
+    """C's tolower in the "C" locale: only A-Z change."""
+    return text.translate(_ASCII_LOWER)
+
+
+_ASCII_LOWER = str.maketrans("ABCDEFGHIJKLMNOPQRSTUVWXYZ", "abcdefghijklmnopqrstuvwxyz")
+
+
+# --------------------------------------------------------------------------
+# Execution
+# --------------------------------------------------------------------------
+
+
+def execute_comment(machine, comment: Comment) -> None:
+    """Do what rs274 does with the comment of a block (its first action)."""
+    kind = comment.kind
+    canon = machine.canon
+    if kind == "msg":
+        canon.message(comment.text)
+    elif kind == "debug":
+        if machine.params.get_internal(DEBUG_SWITCH) > 0.0:
+            canon.message(expand(machine, comment.parts))
+    elif kind == "print":
+        sys.stdout.write(expand(machine, comment.parts) + "\n")
+        sys.stdout.flush()
+    elif kind == "log":
+        canon.log(expand(machine, comment.parts))
+    elif kind == "logopen":
+        canon.logopen(comment.text)
+    elif kind == "logappend":
+        canon.logappend(comment.text)
+    elif kind == "logclose":
+        canon.logclose()
+    elif kind == "abort":
+        raise GCodeError(expand(machine, comment.parts))
+    else:  # plain, and file commands rs274 does not act on (PROBEOPEN...)
+        canon.comment(comment.text)
+
+
+def expand(machine, parts: Tuple[Part, ...]) -> str:
+    """The text of ``parts`` with parameter values, as rs274 prints it."""
+    out = []
+    decimals = _DEFAULT_DECIMALS
+    for part in parts:
+        if isinstance(part, str):
+            out.append(part)
+        elif isinstance(part, Decimals):
+            decimals = part.places
+        else:
+            out.append(format_value(_lookup(machine, part), decimals))
+    return "".join(out)
+
+
+def _lookup(machine, part: Union[int, Name]) -> Optional[float]:
+    """A parameter's value for printing, or None when rs274 prints ``######``."""
+    if isinstance(part, int):
+        if 0 <= part < MAX_PARAMETERS:
+            return machine.params.get_internal(part)
+        return None
+    store = machine.globals if part.name.startswith("_") else machine.locals
+    try:
+        return store[part.name]
+    except GCodeError:
+        return None
+
+
+def format_value(value: Optional[float], decimals: int = _DEFAULT_DECIMALS) -> str:
+    """One value as DEBUG/PRINT/LOG/ABORT print it."""
+    if value is None:
+        return UNPRINTABLE
+    if abs(value) < TOLERANCE_EQUAL:
+        value = 0.0
+    text = "%.*f" % (decimals, value)
+    return text if len(text) < _VALUE_BUFFER else UNPRINTABLE
+
+
+__all__ = [
+    "Comment",
+    "Name",
+    "Decimals",
+    "EXPANDING_KINDS",
+    "classify",
+    "split_parts",
+    "execute_comment",
+    "expand",
+    "format_value",
+]

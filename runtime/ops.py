@@ -1,0 +1,387 @@
+"""G-code operators and functions, computed exactly as rs274 computes them.
+
+Generated code uses Python's ``+ - *`` on floats directly (they are IEEE
+double operations, as in rs274) and these helpers for everything else.
+
+Facts measured against rs274 (LinuxCNC 2.9) that shape this module:
+
+* ``EQ``/``NE`` compare within 0.0001 (``abs(a - b) < 0.0001``); ``GT GE LT
+  LE`` are plain comparisons with no tolerance.
+* ``MOD`` is C ``fmod`` made non-negative by adding ``abs(b)``.
+* ``ROUND`` adds +-0.5 and truncates through a C ``int`` (so values beyond
+  the int range come out as -2147483648).
+* Angles: rs274 converts with the *long double* constant ``M_PIl`` on x86-64,
+  and ``SIN COS TAN`` call ``sinl cosl tanl`` on the long double radians.
+  That is why ``SIN[30]`` is exactly 0.5 and ``COS[90]`` is -2.5e-20 there,
+  where plain double arithmetic gives 0.49999999999999994 and 6.1e-17. The
+  80-bit arithmetic is emulated below with exact integer arithmetic.
+* rs274 rejects an infinite or NaN value each time it finishes reading an
+  operand (a bracketed expression, a function value), not after each binary
+  operation: ``[10**400*0]`` fails with 'not a number' while
+  ``[[10**400]*0]`` fails with 'infinity'. Hence binary helpers return
+  inf/nan like C does, unary helpers check their bracketed argument and their
+  result, and generated code wraps other bracketed expressions in
+  :func:`finite`.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Tuple
+
+from runtime.errors import GCodeError
+
+#: rs274's TOLERANCE_EQUAL, used by EQ and NE.
+TOLERANCE_EQUAL = 0.0001
+
+_INT_MIN = -(2**31)
+
+
+# --------------------------------------------------------------------------
+# Checking values
+# --------------------------------------------------------------------------
+
+
+def finite(x: float) -> float:
+    """``x`` if it is finite; otherwise rs274's error for an inf/nan operand.
+
+    Generated code applies this to every bracketed expression whose value is
+    not already checked (function arguments are checked by the functions).
+    """
+    if math.isfinite(x):
+        return x
+    if x != x:
+        raise GCodeError("Calculation resulted in 'not a number'")
+    raise GCodeError("Calculation resulted in 'infinity'")
+
+
+def truth(x: float) -> bool:
+    """Is a condition true: any non-zero value (no tolerance, as in rs274)."""
+    return x != 0.0
+
+
+def neg(x: float) -> float:
+    """Unary minus."""
+    return -x
+
+
+# --------------------------------------------------------------------------
+# Binary operators
+# --------------------------------------------------------------------------
+
+
+def div(a: float, b: float) -> float:
+    if b == 0.0:
+        raise GCodeError("Attempt to divide by zero")
+    return a / b
+
+
+def mod(a: float, b: float) -> float:
+    """rs274's MOD: ``fmod`` shifted to be non-negative (``-7 MOD 3 == 2``)."""
+    result = _c_fmod(a, b)
+    if result < 0.0:
+        result += abs(b)
+    return result
+
+
+def power(a: float, b: float) -> float:
+    if a < 0.0 and not _is_integral(b):
+        raise GCodeError("Attempt to raise negative to non integer power")
+    return _c_pow(a, b)
+
+
+def eq(a: float, b: float) -> float:
+    return 1.0 if abs(a - b) < TOLERANCE_EQUAL else 0.0
+
+
+def ne(a: float, b: float) -> float:
+    return 1.0 if abs(a - b) >= TOLERANCE_EQUAL else 0.0
+
+
+def gt(a: float, b: float) -> float:
+    return 1.0 if a > b else 0.0
+
+
+def ge(a: float, b: float) -> float:
+    return 1.0 if a >= b else 0.0
+
+
+def lt(a: float, b: float) -> float:
+    return 1.0 if a < b else 0.0
+
+
+def le(a: float, b: float) -> float:
+    return 1.0 if a <= b else 0.0
+
+
+def and_(a: float, b: float) -> float:
+    return 0.0 if a == 0.0 or b == 0.0 else 1.0
+
+
+def or_(a: float, b: float) -> float:
+    return 1.0 if a != 0.0 or b != 0.0 else 0.0
+
+
+def xor(a: float, b: float) -> float:
+    return 1.0 if (a == 0.0) != (b == 0.0) else 0.0
+
+
+# --------------------------------------------------------------------------
+# Unary functions. Each argument is a bracketed expression in G-code, so it
+# is checked first; then the domain; then the result.
+# --------------------------------------------------------------------------
+
+
+def abs_(x: float) -> float:
+    x = finite(x)
+    return -x if x < 0.0 else x  # keeps -0.0, as rs274's ``if (x < 0)`` does
+
+
+def acos(x: float) -> float:
+    x = finite(x)
+    if x < -1.0 or x > 1.0:
+        raise GCodeError("Argument to acos out of range")
+    return _degrees(math.acos(x))
+
+
+def asin(x: float) -> float:
+    x = finite(x)
+    if x < -1.0 or x > 1.0:
+        raise GCodeError("Argument to asin out of range")
+    return _degrees(math.asin(x))
+
+
+def atan2(y: float, x: float) -> float:
+    """``ATAN[y]/[x]``: four-quadrant arc tangent in degrees."""
+    return _degrees(math.atan2(finite(y), finite(x)))
+
+
+def cos(x: float) -> float:
+    return _trig(finite(x), "cos")
+
+
+def sin(x: float) -> float:
+    return _trig(finite(x), "sin")
+
+
+def tan(x: float) -> float:
+    return _trig(finite(x), "tan")
+
+
+def exp(x: float) -> float:
+    x = finite(x)
+    try:
+        return math.exp(x)
+    except OverflowError:  # C returns inf; rs274 then rejects it
+        return finite(math.inf)
+
+
+def fix(x: float) -> float:
+    """Round down (towards minus infinity): ``FIX[-2.8] == -3``."""
+    return float(math.floor(finite(x)))
+
+
+def fup(x: float) -> float:
+    """Round up (towards plus infinity): ``FUP[-2.8] == -2``."""
+    return float(math.ceil(finite(x)))
+
+
+def ln(x: float) -> float:
+    x = finite(x)
+    if x <= 0.0:
+        raise GCodeError("Zero or negative argument to ln")
+    return math.log(x)
+
+
+def round_(x: float) -> float:
+    """Half away from zero, through a C int: ``ROUND[-2.5] == -3``."""
+    x = finite(x)
+    return float(c_int(x + (-0.5 if x < 0.0 else 0.5)))
+
+
+def sqrt(x: float) -> float:
+    x = finite(x)
+    if x < 0.0:
+        raise GCodeError("Negative argument to sqrt")
+    return math.sqrt(x)
+
+
+# --------------------------------------------------------------------------
+# C semantics where Python's float functions differ (exceptions instead of
+# inf/nan, ints instead of floats)
+# --------------------------------------------------------------------------
+
+
+def c_int(x: float) -> int:
+    """C's ``(int) x`` on x86-64: truncation; out of range or NaN gives INT_MIN."""
+    if x != x or not -2147483649.0 < x < 2147483648.0:
+        return _INT_MIN
+    return int(x)
+
+
+def _is_integral(x: float) -> bool:
+    """C's ``floor(x) == x`` (true for infinities, false for NaN)."""
+    return math.isinf(x) or float(x).is_integer()
+
+
+def _c_fmod(a: float, b: float) -> float:
+    if b == 0.0 or math.isinf(a) or a != a or b != b:
+        return math.nan
+    return math.fmod(a, b)
+
+
+def _c_pow(a: float, b: float) -> float:
+    try:
+        return math.pow(a, b)
+    except OverflowError:
+        negative = a < 0.0 and _is_odd_integer(b)
+        return -math.inf if negative else math.inf
+    except ValueError:  # zero to a negative power: a pole, C returns +-inf
+        negative = math.copysign(1.0, a) < 0.0 and _is_odd_integer(b)
+        return -math.inf if negative else math.inf
+
+
+def _is_odd_integer(x: float) -> bool:
+    return float(x).is_integer() and math.fmod(x, 2.0) != 0.0
+
+
+# --------------------------------------------------------------------------
+# x87 long double emulation for angles.
+#
+# A long double is an integer significand of 64 bits times a power of two; we
+# keep it as ``(m, e)`` meaning ``m * 2**e``. Every long double operation is
+# computed exactly with integers and rounded to 64 bits (round half to even,
+# as the x87 does); storing the result into a double rounds again to 53 bits.
+# --------------------------------------------------------------------------
+
+_LD_BITS = 64
+_FIXED_BITS = 256  # working precision of the sin/cos series
+_PI_BITS = 1400  # enough to reduce the largest radians a double can give
+
+
+def _rounded_ratio(num: int, den: int, exp: int, bits: int) -> Tuple[int, int]:
+    """``num / den * 2**exp`` rounded to ``bits`` significant bits: ``(m, e)``."""
+    if num == 0:
+        return 0, 0
+    sign = -1 if num < 0 else 1
+    num = abs(num)
+    shift = bits - (num.bit_length() - den.bit_length()) + 1
+    if shift >= 0:
+        q, r = divmod(num << shift, den)
+    else:
+        q, r = divmod(num, den << -shift)
+    extra = q.bit_length() - bits  # 1 or 2 bits beyond the precision
+    low = q & ((1 << extra) - 1)
+    half = 1 << (extra - 1)
+    q >>= extra
+    if low > half or (low == half and (r or q & 1)):
+        q += 1
+        if q.bit_length() > bits:
+            q >>= 1
+            extra += 1
+    return sign * q, exp - shift + extra
+
+
+def _double_parts(x: float) -> Tuple[int, int]:
+    """A double as ``(m, e)`` with ``x == m * 2**e`` exactly."""
+    num, den = x.as_integer_ratio()
+    return num, 1 - den.bit_length()
+
+
+def _to_double(m: int, e: int) -> float:
+    """Store a long double into a double (one correctly rounded conversion)."""
+    if e >= 0:
+        return float(m << e)
+    return m / (1 << -e)
+
+
+def _pi_fixed(bits: int) -> int:
+    """pi * 2**bits, truncated, by Machin's formula in integer arithmetic."""
+    guard = bits + 32
+
+    def arctan_inv(n: int) -> int:
+        total = term = (1 << guard) // n
+        k, n2 = 1, n * n
+        while term:
+            term //= n2
+            k += 2
+            total += -(term // k) if k % 4 == 3 else term // k
+        return total
+
+    return (16 * arctan_inv(5) - 4 * arctan_inv(239)) >> 32
+
+
+_PI_FIXED = _pi_fixed(_PI_BITS)
+_HALF_PI_FIXED = _PI_FIXED >> 1  # pi/2 * 2**_PI_BITS (pi's low bit is lost: 2**-1400)
+#: M_PIl: pi rounded to a 64-bit significand.
+_PI_L = _rounded_ratio(_PI_FIXED, 1, -_PI_BITS, _LD_BITS)
+
+
+def _degrees(radians: float) -> float:
+    """rs274's ``(r * 180.0) / M_PIl``: a double product, a long double quotient."""
+    product = radians * 180.0
+    if product == 0.0:
+        return product  # keeps the sign of zero
+    m, e = _double_parts(product)
+    pm, pe = _PI_L
+    return _to_double(*_rounded_ratio(m, pm, e - pe, _LD_BITS))
+
+
+def _radians(degrees: float) -> Tuple[int, int]:
+    """rs274's ``(d * M_PIl) / 180.0`` as a long double."""
+    m, e = _double_parts(degrees)
+    pm, pe = _PI_L
+    product = _rounded_ratio(m * pm, 1, e + pe, _LD_BITS)
+    return _rounded_ratio(product[0], 180, product[1], _LD_BITS)
+
+
+#: Below this size sinl(u) == tanl(u) == u and cosl(u) == 1 once rounded.
+_TINY_EXPONENT = -34
+
+
+def _trig(degrees: float, name: str) -> float:
+    """``sinl``/``cosl``/``tanl`` of the long double radians, stored to a double."""
+    if degrees == 0.0:
+        return 1.0 if name == "cos" else degrees  # keeps the sign of zero
+    m, e = _radians(degrees)
+    if m.bit_length() + e < _TINY_EXPONENT:
+        return 1.0 if name == "cos" else _to_double(m, e)
+    s, c = _sin_cos(m, e)
+    if name == "sin":
+        result = _rounded_ratio(s, 1, -_FIXED_BITS, _LD_BITS)
+    elif name == "cos":
+        result = _rounded_ratio(c, 1, -_FIXED_BITS, _LD_BITS)
+    else:
+        result = (
+            _rounded_ratio(s, c, 0, _LD_BITS)
+            if c > 0
+            else _rounded_ratio(-s, -c, 0, _LD_BITS)
+        )
+    return _to_double(*result)
+
+
+def _sin_cos(m: int, e: int) -> Tuple[int, int]:
+    """sin and cos of ``m * 2**e`` radians, as fixed-point ints (_FIXED_BITS)."""
+    scaled = m << (e + _PI_BITS) if e + _PI_BITS >= 0 else m >> -(e + _PI_BITS)
+    quadrant = (2 * scaled + _HALF_PI_FIXED) // (2 * _HALF_PI_FIXED)
+    rest = (scaled - quadrant * _HALF_PI_FIXED) >> (_PI_BITS - _FIXED_BITS)
+    s, c = _sin_cos_series(rest)
+    return ((s, c), (c, -s), (-s, -c), (-c, s))[quadrant % 4]
+
+
+def _sin_cos_series(r: int) -> Tuple[int, int]:
+    """Taylor series of sin and cos for a fixed-point ``|r| <= pi/4``."""
+    r2 = (r * r) >> _FIXED_BITS
+    sin_sum = term = r
+    n = 1
+    while term:
+        term = -((term * r2) >> _FIXED_BITS) // ((n + 1) * (n + 2))
+        sin_sum += term
+        n += 2
+    cos_sum = term = 1 << _FIXED_BITS
+    n = 0
+    while term:
+        term = -((term * r2) >> _FIXED_BITS) // ((n + 1) * (n + 2))
+        cos_sum += term
+        n += 2
+    return sin_sum, cos_sum

@@ -1,0 +1,311 @@
+"""runtime.ops: operators and functions, checked against rs274.
+
+The differential tests print ``value * 2**k`` through ``(debug,...)``, with
+``k`` chosen so the product is about 2**60: DEBUG prints six decimals, so a
+difference in the last bit of a double shows up in the printed integer.
+"""
+
+from __future__ import annotations
+
+import math
+import random
+import re
+from pathlib import Path
+from typing import List, Sequence, Tuple
+
+import pytest
+
+import rs274 as harness
+from runtime import ops
+from runtime.errors import GCodeError
+
+TRACE_CALL = re.compile(r"^ *\d+ N\S* *([A-Z_0-9]+)\((.*)\)$")
+
+
+def rs274_calls(
+    tmp_path: Path, program: str
+) -> Tuple[List[Tuple[str, str]], harness.Result]:
+    """Run ``program`` with rs274; its trace as (call, raw arguments) pairs."""
+    result = harness.run_rs274(tmp_path / "prog.ngc", text=program)
+    calls = []
+    for line in result.stdout.decode("latin-1").splitlines():
+        match = TRACE_CALL.match(line)
+        if match:
+            calls.append((match.group(1), match.group(2)))
+    return calls, result
+
+
+def rs274_messages(tmp_path: Path, program: str) -> List[str]:
+    """The texts of rs274's MESSAGE(...) calls for ``program``."""
+    calls, result = rs274_calls(tmp_path, program)
+    assert result.rc == 0, result.err
+    return [args[1:-1] for name, args in calls if name == "MESSAGE"]
+
+
+def rs274_error(tmp_path: Path, program: str) -> str:
+    """rs274's error message for ``program`` ("" when it runs cleanly)."""
+    return harness.run_rs274(tmp_path / "prog.ngc", text=program).err
+
+
+def literal(x: float) -> str:
+    """``x`` as a G-code number (G-code has no exponent notation)."""
+    text = repr(x)
+    return text if "e" not in text else "%.30f" % x
+
+
+def scaled_debug(expr: str, value: float) -> Tuple[List[str], str]:
+    """G-code lines printing ``expr`` scaled to ~2**60, and what that prints."""
+    k = 60 - math.frexp(value)[1] if value and math.isfinite(value) else 0
+    scale = "*2**%d" % k if k >= 0 else "/2**%d" % -k
+    shown = math.ldexp(value, k)
+    expected = "%f" % (0.0 if abs(shown) < ops.TOLERANCE_EQUAL else shown)
+    return ["#1=[[%s]%s]" % (expr, scale), "(debug,#1)"], expected
+
+
+def assert_same_values(tmp_path: Path, cases: Sequence[Tuple[str, float]]) -> None:
+    """Every G-code expression of ``cases`` prints what our value does."""
+    lines: List[str] = []
+    expected: List[str] = []
+    for expr, value in cases:
+        code, shown = scaled_debug(expr, value)
+        lines += code
+        expected.append(shown)
+    got = rs274_messages(tmp_path, "\n".join(lines + ["M2"]) + "\n")
+    mismatches = [(c[0], e, g) for c, e, g in zip(cases, expected, got) if e != g]
+    assert len(got) == len(cases)
+    assert mismatches == []
+
+
+# --------------------------------------------------------------------------
+# Facts observed with rs274 (no rs274 needed to run these)
+# --------------------------------------------------------------------------
+
+
+def test_long_double_angles_give_exact_results():
+    # rs274 printed SIN[30]*2=1 through FIX, and exact 0 differences below
+    assert ops.sin(30.0) == 0.5
+    assert ops.cos(60.0) == 0.5
+    assert ops.tan(45.0) == 1.0
+    assert ops.acos(0.5) == 60.0
+    assert ops.fix(ops.sin(30.0) * 2.0) == 1.0
+
+
+def test_cos_90_is_the_long_double_residue():
+    # rs274: COS[90]*10**24 printed -25082.788063
+    assert "%f" % (ops.cos(90.0) * 1e24) == "-25082.788063"
+    assert ops.fix(ops.cos(90.0)) == -1.0
+
+
+def test_zero_keeps_its_sign():
+    assert math.copysign(1.0, ops.sin(-0.0)) == -1.0
+    assert ops.cos(-0.0) == 1.0
+
+
+def test_comparisons_use_tolerance_only_for_eq_ne():
+    # rs274: 1.0001 EQ 1 -> 1, 1.00005 LE 1 -> 0, 0.99995 GE 1 -> 0
+    assert ops.eq(1.0001, 1.0) == 1.0
+    assert ops.ne(1.0, 1.0001) == 0.0
+    assert ops.le(1.00005, 1.0) == 0.0
+    assert ops.ge(0.99995, 1.0) == 0.0
+    assert ops.gt(1.00005, 1.0) == 1.0
+    assert ops.lt(0.99995, 1.0) == 1.0
+
+
+def test_logic_results():
+    assert (
+        ops.and_(0.00001, 1),
+        ops.or_(0, 0.000001),
+        ops.xor(1, 2),
+        ops.xor(1, 0),
+    ) == (
+        1.0,
+        1.0,
+        0.0,
+        1.0,
+    )
+
+
+def test_mod_and_round_rules():
+    # rs274: -7 MOD 3 = 2, 7 MOD -3 = 1, -7 MOD -3 = 2, -7.5 MOD 2 = 0.5
+    assert [ops.mod(-7, 3), ops.mod(7, -3), ops.mod(-7, -3), ops.mod(-7.5, 2)] == [
+        2,
+        1,
+        2,
+        0.5,
+    ]
+    # rs274: ROUND[-2.5] = -3, ROUND[2.5] = 3, ROUND[3000000000] = INT_MIN
+    assert [ops.round_(-2.5), ops.round_(2.5), ops.round_(3e9)] == [-3, 3, -2147483648]
+
+
+def test_tiny_values_are_true():
+    assert ops.truth(0.00001) and ops.truth(-0.5) and not ops.truth(-0.0)
+
+
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        (lambda: ops.div(1, 0), "Attempt to divide by zero"),
+        (lambda: ops.sqrt(-1), "Negative argument to sqrt"),
+        (lambda: ops.ln(0), "Zero or negative argument to ln"),
+        (lambda: ops.acos(2), "Argument to acos out of range"),
+        (lambda: ops.asin(-1.5), "Argument to asin out of range"),
+        (lambda: ops.power(-2, 0.5), "Attempt to raise negative to non integer power"),
+        (lambda: ops.exp(1000), "Calculation resulted in 'infinity'"),
+        (lambda: ops.finite(ops.power(10, 400)), "Calculation resulted in 'infinity'"),
+        (lambda: ops.finite(ops.power(0, -1)), "Calculation resulted in 'infinity'"),
+        (lambda: ops.finite(ops.mod(5, 0)), "Calculation resulted in 'not a number'"),
+        (
+            lambda: ops.finite(ops.power(10, 400) * 0),
+            "Calculation resulted in 'not a number'",
+        ),
+        (
+            lambda: ops.abs_(ops.power(10, 400) * 0),
+            "Calculation resulted in 'not a number'",
+        ),
+    ],
+)
+def test_error_messages(call, message):
+    with pytest.raises(GCodeError) as info:
+        call()
+    assert info.value.message == message
+
+
+def test_binary_helpers_return_c_values_unchecked():
+    assert ops.power(10, 400) == math.inf
+    assert ops.power(-0.0, -1) == -math.inf
+    assert ops.power(-10, 401) == -math.inf
+    assert math.isnan(ops.mod(5, 0))
+
+
+# --------------------------------------------------------------------------
+# Differential tests
+# --------------------------------------------------------------------------
+
+
+def angle_inputs() -> List[float]:
+    rng = random.Random(274)
+    xs = [0.1 * i for i in range(-3700, 3700, 37)] + [
+        float(i) for i in range(-720, 721, 15)
+    ]
+    xs += [rng.uniform(-1e6, 1e6) for _ in range(60)] + [
+        rng.uniform(-10, 10) for _ in range(60)
+    ]
+    return xs + [1e10 + 0.5, 123456789.123, 1e15, 3e17, 0.001, 1e-5]
+
+
+def unit_inputs() -> List[float]:
+    rng = random.Random(5599)
+    return [rng.uniform(-1, 1) for _ in range(100)] + [i / 20 for i in range(-20, 21)]
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize(
+    "name, func", [("SIN", ops.sin), ("COS", ops.cos), ("TAN", ops.tan)]
+)
+def test_trig_matches_rs274(tmp_path, name, func):
+    cases = [("%s[%s]" % (name, literal(x)), func(x)) for x in angle_inputs()]
+    assert_same_values(tmp_path, cases)
+
+
+@pytest.mark.rs274
+def test_inverse_trig_matches_rs274(tmp_path):
+    us = unit_inputs()
+    cases = [("ACOS[%s]" % literal(u), ops.acos(u)) for u in us]
+    cases += [("ASIN[%s]" % literal(u), ops.asin(u)) for u in us]
+    cases += [
+        ("ATAN[%s]/[%s]" % (literal(y), literal(x)), ops.atan2(y, x))
+        for y, x in zip(us, reversed(us))
+    ]
+    grid = (-2.0, -1.0, 0.0, 1.0, 3.0)
+    cases += [("ATAN[%s]/[%s]" % (y, x), ops.atan2(y, x)) for y in grid for x in grid]
+    assert_same_values(tmp_path, cases)
+
+
+@pytest.mark.rs274
+def test_other_functions_and_operators_match_rs274(tmp_path):
+    cases = []
+    for x in angle_inputs()[::2] + unit_inputs()[::3]:
+        cases += [
+            ("SQRT[%s]" % literal(abs(x)), ops.sqrt(abs(x))),
+            ("ROUND[%s]" % literal(x), ops.round_(x)),
+            ("FIX[%s]" % literal(x), ops.fix(x)),
+            ("FUP[%s]" % literal(x), ops.fup(x)),
+            ("ABS[%s]" % literal(x), ops.abs_(x)),
+            ("%s MOD 2.5" % literal(x), ops.mod(x, 2.5)),
+            ("%s MOD -3.7" % literal(x), ops.mod(x, -3.7)),
+            ("%s / 7.3" % literal(x), ops.div(x, 7.3)),
+        ]
+        if x > 0:
+            cases.append(("LN[%s]" % literal(x), ops.ln(x)))
+        if abs(x) < 100:  # keeps EXP and ** finite
+            cases.append(("EXP[%s]" % literal(x), ops.exp(x)))
+            cases.append(("%s ** 2.7" % literal(abs(x)), ops.power(abs(x), 2.7)))
+            cases.append(("%s ** 3" % literal(x), ops.power(x, 3.0)))
+    assert_same_values(tmp_path, cases)
+
+
+@pytest.mark.rs274
+def test_comparisons_and_logic_match_rs274(tmp_path):
+    ops_by_name = {
+        "EQ": ops.eq,
+        "NE": ops.ne,
+        "GT": ops.gt,
+        "GE": ops.ge,
+        "LT": ops.lt,
+        "LE": ops.le,
+        "AND": ops.and_,
+        "OR": ops.or_,
+        "XOR": ops.xor,
+    }
+    values = [0.0, 1.0, 1.00005, 1.0001, 1.00011, 0.99995, 0.9999, -1.0, 0.00001, 2.0]
+    cases = [
+        ("%s %s %s" % (literal(a), name, literal(b)), func(a, b))
+        for name, func in ops_by_name.items()
+        for a in values
+        for b in values
+    ]
+    assert_same_values(tmp_path, cases)
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize(
+    "expr, compute",
+    [
+        ("[1/0]", lambda: ops.div(1, 0)),
+        ("[SQRT[-1]]", lambda: ops.sqrt(-1)),
+        ("[LN[-1]]", lambda: ops.ln(-1)),
+        ("[ACOS[2]]", lambda: ops.acos(2)),
+        ("[ASIN[-1.5]]", lambda: ops.asin(-1.5)),
+        ("[[0-8]**[1/3]]", lambda: ops.power(-8, ops.div(1, 3))),
+        ("[EXP[1000]]", lambda: ops.exp(1000)),
+        ("[EXP[1000]-EXP[1000]]", lambda: ops.exp(1000) - ops.exp(1000)),
+        ("[10**400]", lambda: ops.finite(ops.power(10, 400))),
+        ("[0**-1]", lambda: ops.finite(ops.power(0, -1))),
+        ("[5 MOD 0]", lambda: ops.finite(ops.mod(5, 0))),
+        ("[10**400*0]", lambda: ops.finite(ops.power(10, 400) * 0)),
+        ("[[10**400]*0]", lambda: ops.finite(ops.finite(ops.power(10, 400)) * 0)),
+        (
+            "[10**400 - 10**400]",
+            lambda: ops.finite(ops.power(10, 400) - ops.power(10, 400)),
+        ),
+        ("[ABS[10**400*0]]", lambda: ops.abs_(ops.power(10, 400) * 0)),
+        ("[1/0 + SQRT[-1]]", lambda: ops.div(1, 0) + ops.sqrt(-1)),
+        ("[SQRT[-1] + 1/0]", lambda: ops.sqrt(-1) + ops.div(1, 0)),
+    ],
+)
+def test_errors_match_rs274(tmp_path, expr, compute):
+    with pytest.raises(GCodeError) as info:
+        compute()
+    assert info.value.message == rs274_error(tmp_path, "#1=%s\nM2\n" % expr)
+
+
+@pytest.mark.rs274
+def test_extreme_angles_match_rs274(tmp_path):
+    # huge arguments need exact reduction; tiny ones the small-angle shortcut
+    cases = []
+    for e in (300, 100, 30, 19, 17, -5, -15, -30, -200):
+        for m in (1.0, -3.7, 7.25):
+            x = m * ops.power(10.0, e)
+            for name, func in (("SIN", ops.sin), ("COS", ops.cos), ("TAN", ops.tan)):
+                cases.append(("%s[%s*10**%d]" % (name, m, e), func(x)))
+    assert_same_values(tmp_path, cases)
