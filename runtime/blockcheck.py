@@ -1,0 +1,360 @@
+"""Turn one ``Machine.block`` call into a checked :class:`Block`.
+
+rs274 reads a line into a block (``read_items``), completes it
+(``enhance_block``: which motion the axis words belong to) and checks it
+(``check_items``) before executing anything. This module does the same for
+the codes and words the generated code passes, with rs274's messages, so an
+erroneous line fails before any of its canonical calls are made.
+
+The checks that depend on the line's text order (a negative F before a
+modal group clash, say) run here in a fixed order: codes, then words.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Dict, Mapping, Optional
+
+from runtime import arcs
+from runtime.codes import (  # the codes this module reasons about, and helpers
+    G0,
+    G1,
+    G2,
+    G3,
+    G4,
+    G5,
+    G5_1,
+    G5_2,
+    G10,
+    G28,
+    G30,
+    G33,
+    G33_1,
+    G41,
+    G41_1,
+    G42,
+    G42_1,
+    G43,
+    G43_1,
+    G43_2,
+    G52,
+    G53,
+    G64,
+    G71,
+    G73,
+    G74,
+    G76,
+    G80,
+    G81,
+    G82,
+    G83,
+    G84,
+    G86,
+    G87,
+    G88,
+    G89,
+    G90,
+    G91,
+    G92,
+    G96,
+    M_OFFSET,
+    modal_group,
+    to_integer,
+)
+from runtime.errors import GCodeError
+
+#: rs274's G modal groups (the numbers runtime.codes.modal_group returns).
+NON_MODAL, MOTION, PLANE, DISTANCE, ARC_DISTANCE, FEED_MODE, UNITS = 0, 1, 2, 3, 4, 5, 6
+CUTTER_COMP, TOOL_OFFSET, RETRACT, G92_RESET, COORD_SYSTEM = 7, 8, 10, 11, 12
+PATH_CONTROL, SPINDLE_MODE, LATHE_MODE = 13, 14, 15
+#: rs274's M modal groups.
+M_STOP, M_IO, M_TOOL, M_SPINDLE, M_COOLANT, M_OVERRIDE, M_USER = 4, 5, 6, 7, 8, 9, 10
+
+#: Words that move an axis (the polar words count as axis words too).
+AXIS_WORDS = frozenset("xyzabcuvw")
+POLAR_WORDS = frozenset(("polar_dist", "polar_angle"))
+
+#: Group 0 codes that use the axis words of their line.
+_MODE0_COVETS_AXES = (G10, G28, G30, G52, G92)
+
+#: rs274 reads at most this many M codes on a line.
+MAX_M_CODES = 4
+
+
+def round_to_int(value: float) -> int:
+    """rs274's round_to_int: to the nearest integer, halves upwards."""
+    return int(math.floor(value + 0.5))
+
+
+class Block:
+    """One line's codes and words, grouped as rs274's block structure has them.
+
+    ``g``/``m`` map modal group -> code; ``words`` maps letter -> value;
+    ``motion`` is rs274's ``motion_to_be`` (the motion code the axis words
+    are for, or None).
+    """
+
+    __slots__ = ("g", "m", "m_count", "words", "motion")
+
+    def __init__(
+        self,
+        g: Dict[int, int],
+        m: Dict[int, int],
+        m_count: int,
+        words: Dict[str, float],
+    ):
+        self.g = g
+        self.m = m
+        self.m_count = m_count
+        self.words = words
+        self.motion: Optional[int] = None
+
+    @property
+    def has_axes(self) -> bool:
+        return not AXIS_WORDS.isdisjoint(self.words)
+
+    @property
+    def has_polar(self) -> bool:
+        return not POLAR_WORDS.isdisjoint(self.words)
+
+
+def read_block(codes, words: Dict[str, float]) -> Block:
+    """Group the codes by modal group and apply rs274's read-time word checks."""
+    g: Dict[int, int] = {}
+    m: Dict[int, int] = {}
+    for code in codes:
+        group = modal_group(code)
+        if code >= M_OFFSET:
+            if group in m:
+                raise GCodeError("Two m codes used from same modal group")
+            m[group] = code - M_OFFSET
+        elif group in g:
+            # rs274 lets G80 share a line with another motion code; the
+            # other one wins.
+            if code == G80 and group == MOTION:
+                continue
+            if g[group] != G80 or group != MOTION:
+                raise GCodeError("Two g codes used from same modal group")
+            g[group] = code
+        else:
+            g[group] = code
+    _check_word_values(words)
+    return Block(g, m, len(m), words)
+
+
+def _check_word_values(words: Dict[str, float]) -> None:
+    """The value checks rs274's read_f/read_s/read_t/... make while reading."""
+    if words.get("f", 0.0) < 0.0:
+        raise GCodeError("Negative f word used")
+    if words.get("s", 0.0) < 0.0:
+        raise GCodeError("Negative spindle speed used")
+    for letter in "hlt":
+        if letter in words:
+            words[letter] = float(to_integer(words[letter]))
+    if words.get("t", 0.0) < 0.0:
+        raise GCodeError("Negative tool id (tool not found)")
+    if words.get("l", 0.0) < 0.0:
+        raise GCodeError("Negative l word used")
+
+
+def enhance(block: Block, plane: str, motion_mode: Optional[int]) -> None:
+    """rs274's enhance_block: decide ``block.motion`` and check axis-word use."""
+    polar = block.has_polar
+    if polar:
+        if plane != "XY":
+            raise GCodeError("Cannot use polar coordinate except in G17 plane")
+        if "x" in block.words:
+            raise GCodeError("Cannot specify both polar coordinate and X word")
+        if "y" in block.words:
+            raise GCodeError("Cannot specify both polar coordinate and Y word")
+    axes = block.has_axes
+    mode0 = block.g.get(NON_MODAL)
+    mode1 = block.g.get(MOTION)
+    covets = mode0 in _MODE0_COVETS_AXES
+    if mode1 is not None:
+        if mode1 == G80:
+            if (polar or axes) and not covets:
+                raise GCodeError("Cannot use axis values with g80")
+            _check_g52_g92(block, mode0, polar, axes)
+        else:
+            if covets:
+                raise GCodeError("Cannot use two g codes that both use axis values")
+            if not axes and not polar and mode1 not in (G0, G1, G2, G3, G5_2):
+                raise GCodeError("All axes missing with motion code")
+        block.motion = mode1
+    elif covets:
+        _check_g52_g92(block, mode0, polar, axes)
+    elif axes or polar:
+        g43_1 = block.g.get(TOOL_OFFSET) == G43_1
+        if motion_mode in (None, G80) and not g43_1:
+            raise GCodeError("Cannot use axis values without a g code that uses them")
+        if not g43_1:
+            block.motion = motion_mode
+    elif motion_mode in (G2, G3) and any(letter in block.words for letter in "ijk"):
+        # A line like "I1" continues the arc mode.
+        block.motion = motion_mode
+    if polar and block.motion is None:
+        raise GCodeError("Polar coordinates can only be used for motion")
+
+
+def _check_g52_g92(block: Block, mode0: Optional[int], polar: bool, axes: bool) -> None:
+    if polar and mode0 == G92:
+        raise GCodeError("Polar coordinates can only be used for motion")
+    if not axes and mode0 in (G52, G92):
+        raise GCodeError("All axes missing with g52 or g92")
+
+
+def check(block: Block, distance_incremental: bool) -> None:
+    """rs274's check_items: group 0 codes, the M code count, then other words."""
+    _check_g_codes(block, distance_incremental)
+    if block.m_count > MAX_M_CODES:
+        raise GCodeError("Too many m codes on line")
+    _check_other_words(block)
+
+
+def _check_g_codes(block: Block, distance_incremental: bool) -> None:
+    mode0 = block.g.get(NON_MODAL)
+    words = block.words
+    if mode0 == G4:
+        if words.get("p", -1.0) == -1.0:  # rs274 uses -1 as "no P"
+            raise GCodeError("Dwell time missing with g4")
+        if block.g.get(MOTION) in (G2, G3):
+            raise GCodeError("G4 not allowed with G2 or G3 because they both use P")
+    elif mode0 == G10:
+        _check_g10(words)
+    elif mode0 == G53:
+        if block.motion not in (G0, G1):
+            raise GCodeError("Must use g0 or g1 with g53")
+        distance = block.g.get(DISTANCE)
+        if distance == G91 or (distance != G90 and distance_incremental):
+            raise GCodeError("Cannot use g53 incremental")
+
+
+def _check_g10(words: Mapping[str, float]) -> None:
+    p = words.get("p", -1.0)
+    p_int = int(p + 0.5) if p >= 0 else int(p - 0.5)
+    l_word = int(words.get("l", -1.0))
+    if l_word not in (0, 1, 2, 10, 11, 20):
+        raise GCodeError("Line with G10 does not have L0, L1, L10, L11, L2, or L20")
+    if (p + 0.0001) - p_int > 0.0002:
+        raise GCodeError("P value not an integer with G10")
+    if l_word in (2, 20) and not 0 <= p_int <= 9:
+        raise GCodeError(f"P value out of range (0-9) with G10 L{l_word}")
+    if l_word in (1, 10, 11) and p_int < 1:
+        raise GCodeError(f"P value out of range with G10 L{l_word}")
+
+
+# Per-word "no code uses it" checks: (letter, allowed motions, test, message).
+_I_J_MOTIONS = (G2, G3, G5, G5_1, G76, G87, G71)
+
+
+def _check_other_words(block: Block) -> None:
+    """rs274's check_other_codes, with 2.9's message texts."""
+    words = block.words
+    motion = block.motion
+    g = block.g
+    m = block.m
+    mode0 = g.get(NON_MODAL)
+    comp = g.get(CUTTER_COMP)
+    if (
+        "d" in words
+        and comp not in (G41, G42, G41_1, G42_1)
+        and g.get(SPINDLE_MODE) != G96
+        and motion != G71
+    ):
+        raise GCodeError(
+            "D word with no G41, G41.1, G42, G42.1, G71, G71.1, G71.2 or G96 to use it"
+        )
+    if "e" in words and motion != G76 and m.get(M_IO) not in (66, 67, 68):
+        raise GCodeError("E word with no G70, G76, M66, M67 or M68 to use it")
+    if "h" in words and g.get(TOOL_OFFSET) not in (G43, G43_2) and motion != G76:
+        raise GCodeError("H word with no G43 or G76 to use it")
+    if "i" in words and motion not in _I_J_MOTIONS and mode0 != G10:
+        raise GCodeError(
+            "I word with no G2, G3, G5, G5.1, G10, G33.1, G76, or G87 to use it"
+        )
+    if "j" in words and motion not in _I_J_MOTIONS and mode0 != G10:
+        raise GCodeError("J word with no G2, G3, G5, G5.1, G10, G76 or G87 to use it")
+    if "k" in words and motion not in (G2, G3, G33, G33_1, G76, G87, G71):
+        raise GCodeError("K word with no G2, G3, G33, G33.1, G76, or G87 to use it")
+    if "l" in words and not _l_is_used(motion, mode0, comp, m):
+        raise GCodeError(
+            "L word with no G10, cutter compensation, canned cycle, digital/analog input,"
+            " M98 or NURBS code"
+        )
+    if "p" in words:
+        _check_p_word(block)
+    if "q" in words and not _q_is_used(motion, mode0, g, m):
+        raise GCodeError(
+            "Q word with no G5, G10, G64, G73, G76, G83, M19, M66, M67, M68 or user M code that uses it"
+        )
+    if "r" in words:
+        if not _r_is_used(motion, mode0, comp, m):
+            raise GCodeError("R word with no g code that uses it")
+        if m.get(M_SPINDLE) == 19 and not 0.0 <= words["r"] <= 360.0:
+            raise GCodeError("R value must be within 0..360 with M19")
+
+
+def _is_cycle(motion: Optional[int]) -> bool:
+    return motion is not None and G81 <= motion <= G89
+
+
+def _l_is_used(motion, mode0, comp, m) -> bool:
+    return (
+        _is_cycle(motion)
+        or motion in (G76, G5_2, G73, G71)
+        or mode0 == G10
+        or comp in (G41, G41_1, G42, G42_1)
+        or m.get(M_IO) == 66
+    )
+
+
+_P_MOTIONS = (G76, G82, G86, G88, G89, G5, G5_2, G2, G3, G71, G74, G84)
+
+
+def _check_p_word(block: Block) -> None:
+    g, m, motion = block.g, block.m, block.motion
+    used = (
+        M_USER in m  # a user M code (M100-M199) takes P and Q
+        or g.get(NON_MODAL) in (G10, G4)
+        or g.get(PATH_CONTROL) == G64
+        or motion in _P_MOTIONS
+        or m.get(M_OVERRIDE) in (50, 51, 52, 53)
+        or m.get(M_IO) in (62, 63, 64, 65, 66)
+        or m.get(M_SPINDLE) == 19
+    )
+    if not used:
+        raise GCodeError(
+            "P word with no G2 G3 G4 G10 G64 G5 G5.2 G76 G82 G86 G88 G89"
+            " or M50 M51 M52 M53 M62 M63 M64 M65 M66 M98 or user M code to use it"
+        )
+    p = block.words["p"]
+    if motion in (G2, G3):
+        arcs.check_arc_turns(p)
+    elif m.get(M_SPINDLE) == 19:
+        if abs(round_to_int(p) - p) > 0.001:
+            raise GCodeError("P value not an integer with M19 G2 or G3")
+        if not 0 <= round_to_int(p) <= 2:
+            raise GCodeError("P value must be 0,1,or 2 with M19")
+
+
+def _q_is_used(motion, mode0, g, m) -> bool:
+    return (
+        M_USER in m
+        or motion in (G83, G73, G5, G71, G76)
+        or m.get(M_IO) in (66, 67, 68)
+        or mode0 == G10
+        or m.get(M_TOOL) == 61
+        or g.get(PATH_CONTROL) == G64
+        or m.get(M_SPINDLE) == 19
+    )
+
+
+def _r_is_used(motion, mode0, comp, m) -> bool:
+    return (
+        motion in (G2, G3, G76, G73, G71, G74)
+        or _is_cycle(motion)
+        or comp in (G41_1, G42_1)
+        or mode0 == G10
+        or m.get(M_SPINDLE) == 19
+    )

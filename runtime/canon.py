@@ -1,0 +1,503 @@
+"""Canonical machining calls: the protocol and its back ends.
+
+The machine (``runtime.machine``) turns G-code blocks into a stream of
+canonical calls, exactly the calls LinuxCNC's interpreter makes on its
+"canon" layer. What happens to the calls is up to the back end:
+
+* :class:`TraceCanon` prints them the way ``rs274 -g`` does (the reference
+  output ngc2py must reproduce byte for byte);
+* :class:`NullCanon` ignores them (fast runs, statistics built elsewhere);
+* :class:`RecordingCanon` keeps ``(name, args)`` tuples (tests, plotting).
+
+Every call is one lower_snake_case method of :class:`Canon`, named after the
+canon function (``STRAIGHT_FEED`` -> ``straight_feed``). Positions are in
+program units, angles in degrees. Nothing here keeps machine state: the
+interpreter never reads anything back from a canon (``runtime.machine``
+models what rs274's stand-alone canon reports), so every back end behaves
+the same way.
+
+The only non-call method is :meth:`Canon.set_block_number`: the trace shows
+the N number of the line being executed, so the machine announces it before
+executing a line.
+"""
+
+from __future__ import annotations
+
+from typing import IO, List, Optional, Tuple
+
+
+class Canon:
+    """The canonical call protocol. Every method does nothing here.
+
+    Subclass and override what a back end cares about; calls it does not
+    override are silently accepted, which is what a protocol for optional
+    consumers (statistics, plotting) wants.
+    """
+
+    def set_block_number(self, n: Optional[str]) -> None:
+        """The N number (its digits as written) of the line now executing, or None."""
+
+    # --- representation -------------------------------------------------
+    def set_g5x_offset(self, index, x, y, z, a, b, c, u, v, w): ...
+    def set_g92_offset(self, x, y, z, a, b, c, u, v, w): ...
+    def set_xy_rotation(self, degrees): ...
+    def use_length_units(self, inches: bool): ...
+    def select_plane(self, plane: str): ...
+
+    # --- motion ----------------------------------------------------------
+    def set_traverse_rate(self, rate): ...
+    def straight_traverse(self, x, y, z, a, b, c, u, v, w): ...
+    def straight_feed(self, x, y, z, a, b, c, u, v, w): ...
+    def arc_feed(
+        self,
+        first_end,
+        second_end,
+        first_axis,
+        second_axis,
+        rotation,
+        axis_end,
+        a,
+        b,
+        c,
+        u,
+        v,
+        w,
+    ): ...
+    def straight_probe(self, x, y, z, a, b, c, u, v, w, probe_type): ...
+    def rigid_tap(self, x, y, z, scale): ...
+    def nurbs_feed(self, control_points, order): ...
+    def dwell(self, seconds): ...
+
+    # --- machining attributes -----------------------------------------
+    def set_feed_mode(self, spindle, mode): ...
+    def set_feed_rate(self, rate): ...
+    def set_feed_reference(self, workpiece: bool): ...
+    def set_motion_control_mode(self, mode: str, tolerance): ...
+    def set_naivecam_tolerance(self, tolerance): ...
+    def set_cutter_radius_compensation(self, radius): ...
+    def start_cutter_radius_compensation(self, side: str): ...
+    def stop_cutter_radius_compensation(self): ...
+    def start_speed_feed_synch(self, spindle, sync, velocity_mode: bool): ...
+    def stop_speed_feed_synch(self): ...
+
+    # --- spindle ---------------------------------------------------------
+    def set_spindle_mode(self, spindle, mode): ...
+    def set_spindle_speed(self, spindle, rpm): ...
+    def start_spindle_clockwise(self, spindle): ...
+    def start_spindle_counterclockwise(self, spindle): ...
+    def stop_spindle_turning(self, spindle): ...
+    def spindle_retract(self): ...
+    def spindle_retract_traverse(self): ...
+    def orient_spindle(self, spindle, orientation, mode): ...
+    def wait_spindle_orient_complete(self, spindle, timeout): ...
+    def use_no_spindle_force(self): ...
+
+    # --- tools -----------------------------------------------------------
+    def select_tool(self, tool): ...
+    def start_change(self): ...
+    def change_tool(self, slot): ...
+    def change_tool_number(self, tool): ...
+    def use_tool_length_offset(self, x, y, z, a, b, c, u, v, w): ...
+    def set_tool_table_entry(
+        self, index, toolno, offset, diameter, frontangle, backangle, orientation
+    ): ...
+    def reload_tooldata(self): ...
+
+    # --- miscellaneous -------------------------------------------------
+    def comment(self, text): ...
+    def message(self, text): ...
+    def log(self, text): ...
+    def logopen(self, name): ...
+    def logappend(self, name): ...
+    def logclose(self): ...
+    def flood_on(self): ...
+    def flood_off(self): ...
+    def mist_on(self): ...
+    def mist_off(self): ...
+    def enable_feed_override(self): ...
+    def disable_feed_override(self): ...
+    def enable_speed_override(self, spindle): ...
+    def disable_speed_override(self, spindle): ...
+    def enable_adaptive_feed(self): ...
+    def disable_adaptive_feed(self): ...
+    def enable_feed_hold(self): ...
+    def disable_feed_hold(self): ...
+    def turn_probe_on(self): ...
+    def turn_probe_off(self): ...
+    def clamp_axis(self, axis: str): ...
+    def unclamp_axis(self, axis: str): ...
+    def set_motion_output_bit(self, index): ...
+    def clear_motion_output_bit(self, index): ...
+    def set_motion_output_value(self, index, value): ...
+    def set_aux_output_bit(self, index): ...
+    def clear_aux_output_bit(self, index): ...
+    def set_aux_output_value(self, index, value): ...
+    def canon_error(self, text): ...
+
+    # --- program flow --------------------------------------------------
+    def program_stop(self): ...
+    def optional_program_stop(self): ...
+    def pallet_shuttle(self): ...
+    def program_end(self): ...
+    def finish(self): ...
+    def on_reset(self): ...
+
+
+class NullCanon(Canon):
+    """Accepts every call and does nothing."""
+
+
+def _call_names() -> Tuple[str, ...]:
+    """The canonical call methods of the protocol (everything but bookkeeping)."""
+    return tuple(
+        name
+        for name, value in vars(Canon).items()
+        if callable(value) and not name.startswith("_") and name != "set_block_number"
+    )
+
+
+CALLS = _call_names()
+
+
+class RecordingCanon(Canon):
+    """Records every call as ``(name, args)`` in :attr:`calls`.
+
+    The N number in force when a call was made is kept in :attr:`numbers`,
+    index for index, so tests can check it too.
+    """
+
+    def __init__(self) -> None:
+        self.calls: List[Tuple[str, tuple]] = []
+        self.numbers: List[Optional[str]] = []
+        self._n: Optional[str] = None
+
+    def set_block_number(self, n: Optional[str]) -> None:
+        self._n = n
+
+    def _record(self, name: str, args: tuple) -> None:
+        self.calls.append((name, args))
+        self.numbers.append(self._n)
+
+
+def _recorder(name: str):
+    def record(self, *args):
+        self._record(name, args)
+
+    record.__name__ = name
+    record.__doc__ = f"Record a ``{name}`` call."
+    return record
+
+
+for _name in CALLS:
+    setattr(RecordingCanon, _name, _recorder(_name))
+del _name
+
+
+def _axes6(x, y, z, a, b, c) -> str:
+    """Six positions as rs274 prints them: the trace shows XYZABC, never UVW."""
+    return f"{x:.4f}, {y:.4f}, {z:.4f}, {a:.4f}, {b:.4f}, {c:.4f}"
+
+
+def _pose9(x, y, z, a, b, c, u, v, w) -> str:
+    """A nine-axis pose as USE_TOOL_LENGTH_OFFSET prints it: spaces within a triple."""
+    return f"{x:.4f} {y:.4f} {z:.4f}, {a:.4f} {b:.4f} {c:.4f}, {u:.4f} {v:.4f} {w:.4f}"
+
+
+def _c_double(value: float) -> str:
+    """C's ``%f`` (six decimals) for the few calls that print that way."""
+    return f"{value:f}"
+
+
+class TraceCanon(Canon):
+    """Prints calls exactly as ``rs274 -g`` does.
+
+    Each line is ``%5d`` sequence number, a space, the N column and the call:
+    the N column is ``N`` plus the line's N-word digits padded to six
+    characters (``N10    ``), or ``N..... `` when the line has no N word.
+    Numbers are ``%.4f`` unless a call prints otherwise (those quirks are
+    rs274's, kept on purpose).
+    """
+
+    def __init__(self, out: IO[str]):
+        self._write = out.write
+        self._count = 0
+        self._column = "N..... "
+
+    def set_block_number(self, n: Optional[str]) -> None:
+        self._column = "N..... " if n is None else f"N{n:<6}"
+
+    def _emit(self, text: str) -> None:
+        self._count += 1
+        self._write(f"{self._count:5d} {self._column}{text}\n")
+
+    # --- representation -------------------------------------------------
+    def set_g5x_offset(self, index, x, y, z, a, b, c, u, v, w):
+        self._emit(f"SET_G5X_OFFSET({index}, {_axes6(x, y, z, a, b, c)})")
+
+    def set_g92_offset(self, x, y, z, a, b, c, u, v, w):
+        self._emit(f"SET_G92_OFFSET({_axes6(x, y, z, a, b, c)})")
+
+    def set_xy_rotation(self, degrees):
+        self._emit(f"SET_XY_ROTATION({degrees:.4f})")
+
+    def use_length_units(self, inches):
+        self._emit(f"USE_LENGTH_UNITS(CANON_UNITS_{'INCHES' if inches else 'MM'})")
+
+    def select_plane(self, plane):
+        self._emit(f"SELECT_PLANE(CANON_PLANE_{plane})")
+
+    # --- motion ----------------------------------------------------------
+    def set_traverse_rate(self, rate):
+        self._emit(f"SET_TRAVERSE_RATE({rate:.4f})")
+
+    def straight_traverse(self, x, y, z, a, b, c, u, v, w):
+        self._emit(
+            f"STRAIGHT_TRAVERSE({x:.4f}, {y:.4f}, {z:.4f}, {a:.4f}, {b:.4f}, {c:.4f})"
+        )
+
+    def straight_feed(self, x, y, z, a, b, c, u, v, w):
+        self._emit(
+            f"STRAIGHT_FEED({x:.4f}, {y:.4f}, {z:.4f}, {a:.4f}, {b:.4f}, {c:.4f})"
+        )
+
+    def arc_feed(
+        self,
+        first_end,
+        second_end,
+        first_axis,
+        second_axis,
+        rotation,
+        axis_end,
+        a,
+        b,
+        c,
+        u,
+        v,
+        w,
+    ):
+        self._emit(
+            f"ARC_FEED({first_end:.4f}, {second_end:.4f}, {first_axis:.4f}, "
+            f"{second_axis:.4f}, {rotation}, {axis_end:.4f}, {a:.4f}, {b:.4f}, {c:.4f})"
+        )
+
+    def straight_probe(self, x, y, z, a, b, c, u, v, w, probe_type):
+        self._emit(f"STRAIGHT_PROBE({_axes6(x, y, z, a, b, c)})")
+
+    def rigid_tap(self, x, y, z, scale):
+        self._emit(f"RIGID_TAP({x:.4f}, {y:.4f}, {z:.4f})")
+
+    def nurbs_feed(self, control_points, order):
+        self._emit(f"NURBS_FEED({len(control_points)}, ...)")
+
+    def dwell(self, seconds):
+        self._emit(f"DWELL({seconds:.4f})")
+
+    # --- machining attributes -----------------------------------------
+    def set_feed_mode(self, spindle, mode):
+        self._emit(f"SET_FEED_MODE({spindle}, {mode})")
+
+    def set_feed_rate(self, rate):
+        self._emit(f"SET_FEED_RATE({rate:.4f})")
+
+    def set_feed_reference(self, workpiece):
+        self._emit(
+            f"SET_FEED_REFERENCE({'CANON_WORKPIECE' if workpiece else 'CANON_XYZ'})"
+        )
+
+    def set_motion_control_mode(self, mode, tolerance):
+        # Only the continuous mode prints its tolerance, and with %f.
+        if mode == "CONTINUOUS":
+            self._emit(
+                f"SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, {_c_double(tolerance)})"
+            )
+        else:
+            self._emit(f"SET_MOTION_CONTROL_MODE(CANON_{mode})")
+
+    def set_naivecam_tolerance(self, tolerance):
+        self._emit(f"SET_NAIVECAM_TOLERANCE({tolerance:.4f})")
+
+    def set_cutter_radius_compensation(self, radius):
+        self._emit(f"SET_CUTTER_RADIUS_COMPENSATION({radius:.4f})")
+
+    def start_cutter_radius_compensation(self, side):
+        self._emit(f"START_CUTTER_RADIUS_COMPENSATION({side})")
+
+    def stop_cutter_radius_compensation(self):
+        self._emit("STOP_CUTTER_RADIUS_COMPENSATION()")
+
+    def start_speed_feed_synch(self, spindle, sync, velocity_mode):
+        # rs274 prints the name without the final H here.
+        self._emit(f"START_SPEED_FEED_SYNC({_c_double(sync)},{int(velocity_mode)})")
+
+    def stop_speed_feed_synch(self):
+        self._emit("STOP_SPEED_FEED_SYNCH()")
+
+    # --- spindle ---------------------------------------------------------
+    def set_spindle_mode(self, spindle, mode):
+        self._emit(f"SET_SPINDLE_MODE({spindle} {mode:.4f})")  # no comma: rs274's
+
+    def set_spindle_speed(self, spindle, rpm):
+        self._emit(f"SET_SPINDLE_SPEED({spindle}, {rpm:.4f})")
+
+    def start_spindle_clockwise(self, spindle):
+        self._emit(f"START_SPINDLE_CLOCKWISE({spindle})")
+
+    def start_spindle_counterclockwise(self, spindle):
+        self._emit(f"START_SPINDLE_COUNTERCLOCKWISE({spindle})")
+
+    def stop_spindle_turning(self, spindle):
+        self._emit(f"STOP_SPINDLE_TURNING({spindle})")
+
+    def spindle_retract(self):
+        self._emit("SPINDLE_RETRACT()")
+
+    def spindle_retract_traverse(self):
+        self._emit("SPINDLE_RETRACT_TRAVERSE()")
+
+    def orient_spindle(self, spindle, orientation, mode):
+        self._emit(f"ORIENT_SPINDLE({spindle}, {orientation:.4f}, {mode})")
+
+    def wait_spindle_orient_complete(self, spindle, timeout):
+        self._emit(f"SPINDLE.{spindle}.WAIT_ORIENT_COMPLETE({timeout:.4f})")
+
+    def use_no_spindle_force(self):
+        self._emit("USE_NO_SPINDLE_FORCE()")
+
+    # --- tools -----------------------------------------------------------
+    def select_tool(self, tool):
+        self._emit(f"SELECT_TOOL({tool})")
+
+    def start_change(self):
+        self._emit("START_CHANGE()")
+
+    def change_tool(self, slot):
+        self._emit(f"CHANGE_TOOL({slot})")
+
+    def change_tool_number(self, tool):
+        self._emit(f"CHANGE_TOOL_NUMBER({tool})")
+
+    def use_tool_length_offset(self, x, y, z, a, b, c, u, v, w):
+        self._emit(f"USE_TOOL_LENGTH_OFFSET({_pose9(x, y, z, a, b, c, u, v, w)})")
+
+    def set_tool_table_entry(
+        self, index, toolno, offset, diameter, frontangle, backangle, orientation
+    ):
+        # The diameter is not printed, as in rs274.
+        self._emit(
+            f"SET_TOOL_TABLE_ENTRY({index}, {toolno}, "
+            + " ".join(f"{v:.4f}" for v in offset)
+            + f", {frontangle:.4f}, {backangle:.4f}, {orientation})"
+        )
+
+    def reload_tooldata(self):
+        self._emit("RELOAD_TOOLDATA()")
+
+    # --- miscellaneous -------------------------------------------------
+    def comment(self, text):
+        self._emit(f'COMMENT("{text}")')
+
+    def message(self, text):
+        self._emit(f'MESSAGE("{text}")')
+
+    def log(self, text):
+        self._emit(f'LOG("{text}")')
+
+    def logopen(self, name):
+        self._emit(f'LOGOPEN("{name}")')
+
+    def logappend(self, name):
+        self._emit(f'LOGAPPEND("{name}")')
+
+    def logclose(self):
+        self._emit("LOGCLOSE()")
+
+    def flood_on(self):
+        self._emit("FLOOD_ON()")
+
+    def flood_off(self):
+        self._emit("FLOOD_OFF()")
+
+    def mist_on(self):
+        self._emit("MIST_ON()")
+
+    def mist_off(self):
+        self._emit("MIST_OFF()")
+
+    def enable_feed_override(self):
+        self._emit("ENABLE_FEED_OVERRIDE()")
+
+    def disable_feed_override(self):
+        self._emit("DISABLE_FEED_OVERRIDE()")
+
+    def enable_speed_override(self, spindle):
+        self._emit(f"ENABLE_SPEED_OVERRIDE({spindle})")
+
+    def disable_speed_override(self, spindle):
+        self._emit(f"DISABLE_SPEED_OVERRIDE({spindle})")
+
+    def enable_adaptive_feed(self):
+        self._emit("ENABLE_ADAPTIVE_FEED()")
+
+    def disable_adaptive_feed(self):
+        self._emit("DISABLE_ADAPTIVE_FEED()")
+
+    def enable_feed_hold(self):
+        self._emit("ENABLE_FEED_HOLD()")
+
+    def disable_feed_hold(self):
+        self._emit("DISABLE_FEED_HOLD()")
+
+    def turn_probe_on(self):
+        self._emit("TURN_PROBE_ON()")
+
+    def turn_probe_off(self):
+        self._emit("TURN_PROBE_OFF()")
+
+    def clamp_axis(self, axis):
+        self._emit(f"CLAMP_AXIS(CANON_AXIS_{axis})")
+
+    def unclamp_axis(self, axis):
+        self._emit(f"UNCLAMP_AXIS(CANON_AXIS_{axis})")
+
+    def set_motion_output_bit(self, index):
+        self._emit(f"SET_MOTION_OUTPUT_BIT({index})")
+
+    def clear_motion_output_bit(self, index):
+        self._emit(f"CLEAR_MOTION_OUTPUT_BIT({index})")
+
+    def set_motion_output_value(self, index, value):
+        self._emit(f"SET_MOTION_OUTPUT_VALUE({index},{_c_double(value)})")
+
+    def set_aux_output_bit(self, index):
+        self._emit(f"SET_AUX_OUTPUT_BIT({index})")
+
+    def clear_aux_output_bit(self, index):
+        self._emit(f"CLEAR_AUX_OUTPUT_BIT({index})")
+
+    def set_aux_output_value(self, index, value):
+        self._emit(f"SET_AUX_OUTPUT_VALUE({index},{_c_double(value)})")
+
+    def canon_error(self, text):
+        self._emit(f"CANON_ERROR({text})")
+
+    # --- program flow --------------------------------------------------
+    def program_stop(self):
+        self._emit("PROGRAM_STOP()")
+
+    def optional_program_stop(self):
+        self._emit("OPTIONAL_PROGRAM_STOP()")
+
+    def pallet_shuttle(self):
+        self._emit("PALLET_SHUTTLE()")
+
+    def program_end(self):
+        self._emit("PROGRAM_END()")
+
+    def finish(self):
+        self._emit("FINISH()")
+
+    def on_reset(self):
+        self._emit("ON_RESET()")
+
+
+__all__ = ["Canon", "NullCanon", "RecordingCanon", "TraceCanon", "CALLS"]

@@ -1,0 +1,670 @@
+"""The machine: modal state and rs274's per-block execution.
+
+Generated code drives a :class:`Machine` (see docs/ARCHITECTURE.md for the
+contract): ``m.block(...)`` for each ordinary line, ``m.call(...)`` for
+subroutine calls, ``m.run(main)`` around the whole program. For every block
+the machine does what rs274 does after reading a line:
+
+1. read-time checks, ``enhance_block`` and ``check_items``
+   (:mod:`runtime.blockcheck`), so a bad line fails before it does anything;
+2. execution in ``execute_block``'s order: comment, feed mode, F, S, T,
+   M codes (tool change, spindle, coolant, overrides), G codes (dwell,
+   plane, units, cutter comp, tool length offset, coordinate system, path
+   control, distance modes, group 0, motion) and last the stopping M codes.
+
+The work is split over mixins by subject: :mod:`runtime.motion` (end points,
+moves, arcs, homing), :mod:`runtime.offsets` (coordinate systems, G92, units)
+and :mod:`runtime.tools` (T, M6, M61, G43). This module has the public API,
+the execution order and the simple modal codes.
+
+Codes not implemented yet (canned cycles, cutter compensation, probing,
+splines, threading, M70-M73) raise a GCodeError
+that says so, at the point rs274 would execute them.
+"""
+
+from __future__ import annotations
+
+import sys
+from typing import Callable, Dict, Iterator, Optional
+
+from runtime import blockcheck
+from runtime.canon import Canon, TraceCanon
+from runtime.blockcheck import (
+    ARC_DISTANCE,
+    COORD_SYSTEM as COORD_SYSTEM_GROUP,
+    CUTTER_COMP,
+    DISTANCE,
+    FEED_MODE,
+    G92_RESET,
+    LATHE_MODE,
+    M_STOP,
+    NON_MODAL,
+    PATH_CONTROL,
+    PLANE,
+    RETRACT,
+    SPINDLE_MODE,
+    TOOL_OFFSET,
+    UNITS,
+    Block,
+    round_to_int,
+)
+from runtime.codes import (
+    G0,
+    G1,
+    G2,
+    G3,
+    G4,
+    G7,
+    G10,
+    G17,
+    G17_1,
+    G18,
+    G18_1,
+    G19,
+    G19_1,
+    G20,
+    G28,
+    G28_1,
+    G30,
+    G30_1,
+    G40,
+    G49,
+    G52,
+    G54,
+    G55,
+    G56,
+    G57,
+    G58,
+    G59,
+    G59_1,
+    G59_2,
+    G59_3,
+    G61,
+    G61_1,
+    G80,
+    G90_1,
+    G91,
+    G92,
+    G92_2,
+    G92_3,
+    G93,
+    G94,
+    G95,
+    G97,
+    G98,
+    g_code,
+    m_code,
+)
+from runtime.comments import execute_comment
+from runtime.errors import GCodeError
+from runtime.inifile import IniSettings, load_ini
+from runtime.mcodes import MCodesMixin, ProgramEnd, not_supported
+from runtime.motion import (
+    AXES,
+    INVERSE_TIME,
+    UNITS_PER_MINUTE,
+    UNITS_PER_REVOLUTION,
+    MotionMixin,
+)
+from runtime.offsets import COORD_SYSTEM, G92_ENABLED, OffsetsMixin
+from runtime.params import Globals, Locals, Params
+from runtime.tooltable import ToolTable, default_tool_table, load_tool_table
+from runtime.tools import ToolsMixin
+from runtime.varfile import default_parameters, initial_parameters, save_parameter_file
+from runtime.world import World
+
+#: Plane codes -> the plane names runtime.arcs and the canon use.
+_PLANES = {G17: "XY", G18: "XZ", G19: "YZ", G17_1: "UV", G18_1: "UW", G19_1: "VW"}
+_PLANE_CODES = {name: code for code, name in _PLANES.items()}
+#: What rs274 prints for planes it has no canon name for.
+_CANON_PLANE = {
+    "XY": "XY",
+    "XZ": "XZ",
+    "YZ": "YZ",
+    "UV": "UNKNOWN",
+    "UW": "UNKNOWN",
+    "VW": "UNKNOWN",
+}
+
+_FEED_MODES = {G93: INVERSE_TIME, G94: UNITS_PER_MINUTE, G95: UNITS_PER_REVOLUTION}
+_FEED_MODE_COMMENTS = {
+    INVERSE_TIME: "interpreter: feed mode set to inverse time",
+    UNITS_PER_MINUTE: "interpreter: feed mode set to units per minute",
+    UNITS_PER_REVOLUTION: "interpreter: feed mode set to units per revolution",
+}
+#: G54 ... G59.3 -> coordinate system index 1 ... 9.
+_SYSTEM_CODES = (G54, G55, G56, G57, G58, G59, G59_1, G59_2, G59_3)
+_SYSTEMS = {code: index for index, code in enumerate(_SYSTEM_CODES, start=1)}
+
+#: What rs274's stand-alone canon reports as its length units (inches per
+#: mm, written as this rounded literal there).
+USER_UNITS_PER_MM = 0.03937007874016
+
+#: Numbered parameters run from 1 to MAX_PARAMETER - 1.
+MAX_PARAMETER = 5602
+
+#: rs274 refuses a call made from this call level (nine nested calls at most).
+MAX_CALL_LEVEL = 9
+
+#: First parameter of the current position (#5420-#5428).
+POSITION_PARAMS = 5420
+
+#: Motion codes outside this version's scope, by what they are.
+_UNSUPPORTED_MOTION = {
+    330: "spindle-synchronized motion (G33)",
+    331: "rigid tapping (G33.1)",
+    382: "probing (G38.2)",
+    383: "probing (G38.3)",
+    384: "probing (G38.4)",
+    385: "probing (G38.5)",
+    50: "splines (G5)",
+    51: "splines (G5.1)",
+    52: "NURBS (G5.2)",
+    760: "threading cycles (G76)",
+}
+
+
+def _n_text(n) -> str:
+    """The N column text: the digits as written, or an integral number."""
+    if isinstance(n, str):
+        return n
+    return "%d" % n
+
+
+class Machine(MCodesMixin, MotionMixin, OffsetsMixin, ToolsMixin):
+    """rs274's interpreter state and block execution, printing through ``canon``."""
+
+    #: Predefined read-only named parameters (computed by :meth:`predefined`).
+    PREDEFINED = frozenset(
+        """_vmajor _vminor _line _motion_mode _plane _ccomp _metric _imperial
+        _absolute _incremental _inverse_time _units_per_minute _units_per_rev
+        _coord_system _tool_offset _retract_r_plane _retract_old_z
+        _spindle_rpm_mode _spindle_css_mode _ijk_absolute_mode
+        _lathe_diameter_mode _lathe_radius_mode _spindle_on _spindle_cw _mist
+        _flood _speed_override _feed_override _adaptive_feed _feed_hold _feed
+        _rpm _x _y _z _a _b _c _u _v _w _current_tool _current_pocket
+        _selected_tool _selected_pocket _value _value_returned _task
+        _call_level _remap_level""".split()
+    )
+
+    def __init__(
+        self,
+        canon: Optional[Canon] = None,
+        tool_table=None,
+        var_file=None,
+        ini=None,
+        block_delete=False,
+        source=None,
+    ):
+        """``canon`` defaults to the rs274 trace on stdout; the file options are
+        paths, as rs274's ``-t``, ``-v`` and ``-i`` take them."""
+        self.canon = TraceCanon(sys.stdout) if canon is None else canon
+        self.world = World()
+        #: rs274's -b switch: generated code skips "/" lines while it is set.
+        self.block_delete = block_delete
+        self.source = source
+        self.settings = IniSettings() if ini is None else load_ini(ini)
+        # rs274 closes with one ON_RESET when it could read an INI file, two otherwise.
+        ini_read = ini is not None and not self.settings.stderr_report.startswith(
+            "Unable to open"
+        )
+        self._closing_resets = 1 if ini_read else 2
+        self.line = 0
+        #: rs274's user (machine) units per mm: its canon reports inches.
+        self.user_units_per_mm = USER_UNITS_PER_MM
+        self.var_file = var_file
+        self._params = Params(default_parameters())
+        self._globals = Globals(self)
+        self._locals = Locals()
+        self._subroutines: Dict[str, Callable] = {}
+        self.call_level = 0
+        self.value = 0.0
+        self.value_returned = 0.0
+        table = (
+            default_tool_table() if tool_table is None else load_tool_table(tool_table)
+        )
+        #: What rs274 prints while loading the table (the CLI prints it).
+        self.tool_table_report = table.load_report
+        self.tools = ToolTable(dict(table.slots))
+        self._reset_modes()
+
+    def _reset_modes(self) -> None:
+        """The interpreter's state at start-up (rs274's Interp::init)."""
+        self.motion_mode: Optional[int] = G80
+        self.plane = "XY"
+        self.inches = False
+        self.distance_incremental = False
+        self.ijk_absolute = False
+        self.feed_mode = UNITS_PER_MINUTE
+        self.feed_rate = 0.0
+        self.speed = 0.0
+        self.spindle = "stopped"
+        self.css_mode = False
+        self.mist = False
+        self.flood = False
+        self.feed_override = True
+        self.speed_override = True
+        self.adaptive_feed = False
+        self.feed_hold = True
+        self.control_mode = G61
+        self.retract_r_plane = True
+        self.lathe_diameter = False
+        self.cutter_comp = False
+        self.tlo_mode = G49
+        # Before any T word M6 changes to pocket 0, yet #<_selected_pocket>
+        # reads -1; the canon reports slot 1 as the loaded one.
+        self.selected_pocket = 0
+        self.tool_selected = False
+        self.selected_tool = 0
+        self.current_pocket = 1
+        self.toolchange_flag = False
+        self.origin_index = 1
+        self.origin = [0.0] * 9
+        self.g92 = [0.0] * 9
+        self.rotation = 0.0
+        self.tool_offset = [0.0] * 9
+        self.current = [0.0] * 9
+
+    # ------------------------------------------------------------------
+    # Parameter stores
+    # ------------------------------------------------------------------
+    @property
+    def params(self) -> Params:
+        return self._params
+
+    @property
+    def globals(self) -> Globals:
+        return self._globals
+
+    @property
+    def locals(self) -> Locals:
+        return self._locals
+
+    # ------------------------------------------------------------------
+    # Running a program
+    # ------------------------------------------------------------------
+    def run(self, main: Callable[["Machine"], None]) -> None:
+        """Run ``main`` between rs274's start-up and closing sequences.
+
+        A bad parameter file stops rs274 during start-up, before its closing
+        ON_RESET calls; everything later is followed by them, error or not.
+        (The CLI prints the INI's ``settings.stderr_report``, not the machine.)
+        """
+        self.canon.use_length_units(False)
+        if self.var_file is not None:
+            self._params = Params(initial_parameters(self.var_file))
+        try:
+            self._start()
+            main(self)
+        except ProgramEnd:
+            pass
+        finally:
+            self.canon.set_block_number(None)
+            for _ in range(self._closing_resets):
+                self.canon.on_reset()
+            if self.var_file is not None:
+                self._save_parameters()
+
+    def _save_parameters(self) -> None:
+        """rs274 rewrites the -v file when it exits, even after an error."""
+        values = self._params
+        save_parameter_file(
+            self.var_file, {n: values[n] for n in range(1, MAX_PARAMETER)}
+        )
+
+    def _start(self) -> None:
+        """The canonical calls rs274 makes before the first line, from the parameters."""
+        canon, p = self.canon, self._params
+        if self.settings.disable_g92_persistence:
+            for number in range(G92_ENABLED, G92_ENABLED + 10):
+                p.set_internal(number, 0.0)
+        index = int(p[COORD_SYSTEM] + 0.0001)  # 1-9: the var file reader repairs it
+        self.origin_index = index
+        self._load_system(index)
+        self._announce_g5x()
+        if p[G92_ENABLED]:
+            self.g92 = self._stored_g92()
+        self._announce_g92()
+        canon.set_xy_rotation(self.rotation)
+        canon.set_feed_reference(False)
+        canon.on_reset()
+        self.current = self.world.reported_position()
+        self._store_tool_parameters()
+
+    def end_of_file(self, demarcated: bool, closed: bool) -> None:
+        """The program ran off the end of the file without M2/M30."""
+        if closed:
+            self.canon.set_block_number(None)
+            self.canon.finish()
+            raise ProgramEnd()
+        if demarcated:
+            raise GCodeError("File ended with no percent sign")
+        raise GCodeError("File ended with no percent sign or program end")
+
+    def fail(self, line: int, message: str) -> None:
+        """An error rs274 reports when it reaches ``line``."""
+        self.line = line
+        raise GCodeError(message)
+
+    def gcode(self, value: float) -> int:
+        """A G code given by an expression, validated as rs274's reader does."""
+        return g_code(value)
+
+    def mcode(self, value: float) -> int:
+        """An M code given by an expression, validated as rs274's reader does."""
+        return m_code(value)
+
+    # ------------------------------------------------------------------
+    # Subroutines
+    # ------------------------------------------------------------------
+    def define(self, name: str, fn: Callable) -> None:
+        """Record ``o<name> sub`` as rs274 does when it reads the sub line."""
+        self._subroutines[name] = fn
+
+    def call_named(self, name: str, *args: float):
+        """Call a subroutine by name (for calls the compiler could not resolve)."""
+        fn = self._subroutines.get(name)
+        if fn is None and self.source is not None:
+            # rs274 reads ahead in the main file for a sub defined later.
+            fn = self.source.subs.get(name)
+            if fn is None:
+                raise self.source.missing_sub(name)
+        if fn is None:
+            raise GCodeError(f"Failed to find sub 'O{name}' before EOF")
+        return self.call(fn, *args)
+
+    def call(self, fn: Callable, *args: float) -> None:
+        """An O-word call: fresh #1-#30 and locals, restored afterwards."""
+        if self.call_level >= MAX_CALL_LEVEL:
+            raise GCodeError("Too many subroutine levels")
+        saved = self._params.save_locals()
+        caller_locals = self._locals
+        self._params.set_call_args(args)
+        self._locals = Locals()
+        self.call_level += 1
+        self.value_returned = 0.0
+        try:
+            result = fn(self)
+        finally:
+            self.call_level -= 1
+            self._locals = caller_locals
+            self._params.restore_locals(saved)
+        # A call that returns nothing resets _value too.
+        self.value = 0.0 if result is None else float(result)
+        self.value_returned = 0.0 if result is None else 1.0
+
+    @staticmethod
+    def repeat(n: float) -> Iterator[int]:
+        """``o.. repeat [n]``: n rounded to the nearest integer times (none if negative)."""
+        return iter(range(round_to_int(n)))
+
+    # ------------------------------------------------------------------
+    # Blocks
+    # ------------------------------------------------------------------
+    def block(
+        self, line: int, *codes: int, n=None, comment=None, **words: float
+    ) -> None:
+        """Check and execute one line's codes and words (see module docstring)."""
+        self.line = line
+        self.canon.set_block_number(None if n is None else _n_text(n))
+        if self.toolchange_flag:
+            self._after_tool_change()
+        if self.lathe_diameter and "x" in words:
+            words["x"] /= 2  # rs274 halves X as it reads it in G7
+        block = blockcheck.read_block(codes, words)
+        blockcheck.enhance(block, self.plane, self.motion_mode)
+        blockcheck.check(block, self.distance_incremental)
+        self._execute(block, comment)
+        self._publish_position()
+
+    def _publish_position(self) -> None:
+        """#5420-#5428: the current point, as rs274 keeps them after each block."""
+        cur = self.current
+        set_param = self._params.set_internal
+        for i in range(9):
+            set_param(POSITION_PARAMS + i, cur[i])
+
+    def _execute(self, block: Block, comment) -> None:
+        """rs274's execute_block order."""
+        g, words = block.g, block.words
+        if comment is not None:
+            execute_comment(self, comment)
+        if SPINDLE_MODE in g:
+            self._spindle_mode(g[SPINDLE_MODE], words)
+        if FEED_MODE in g:
+            self._feed_mode(g[FEED_MODE])
+        if "f" in words and self.feed_mode != INVERSE_TIME:
+            self._set_feed_rate(words["f"])
+        if "s" in words:
+            self.speed = words["s"]
+            self.canon.set_spindle_speed(0, self.speed)
+        if "t" in words:
+            self._select_tool(int(words["t"]))
+        if block.m:
+            self._execute_m(block)
+        self._execute_g(block)
+        if M_STOP in block.m:
+            self._stop(block.m[M_STOP])
+
+    def _set_feed_rate(self, rate: float) -> None:
+        self.feed_rate = rate
+        self.canon.set_feed_rate(rate)
+        self.world.feed_rate = rate
+
+    # ------------------------------------------------------------------
+    # G codes
+    # ------------------------------------------------------------------
+    def _execute_g(self, block: Block) -> None:
+        """rs274's convert_g order."""
+        g, words = block.g, block.words
+        if g.get(NON_MODAL) == G4:
+            self.canon.dwell(words["p"])
+        if PLANE in g:
+            self._set_plane(_PLANES[g[PLANE]])
+        if UNITS in g:
+            self._set_units(g[UNITS] == G20)
+        if LATHE_MODE in g:
+            self._lathe_mode(g[LATHE_MODE], words)
+        if CUTTER_COMP in g:
+            self._cutter_comp(g[CUTTER_COMP])
+        if TOOL_OFFSET in g:
+            self._tool_length_offset(g[TOOL_OFFSET], words)
+        if COORD_SYSTEM_GROUP in g:
+            self._select_system(_SYSTEMS[g[COORD_SYSTEM_GROUP]])
+        if PATH_CONTROL in g:
+            self._control_mode(g[PATH_CONTROL], words)
+        if DISTANCE in g:
+            self._distance_mode(g[DISTANCE] == G91)
+        if ARC_DISTANCE in g:
+            self._ijk_mode(g[ARC_DISTANCE] == G90_1)
+        if RETRACT in g:
+            self._retract_mode(g[RETRACT] == G98)
+        if NON_MODAL in g:
+            self._modal_0(g[NON_MODAL], block)
+        if G92_RESET in g:
+            self._g92_family(g[G92_RESET])
+        if block.motion is not None:
+            self._motion(block.motion, block)
+
+    def _set_plane(self, plane: str) -> None:
+        if self.cutter_comp and plane != self.plane:
+            raise GCodeError("Cannot change planes with cutter radius compensation on")
+        self.canon.select_plane(_CANON_PLANE[plane])
+        self.plane = plane
+
+    def _lathe_mode(self, code: int, words) -> None:
+        """G7/G8: X words are diameters in G7; this line's X was read before."""
+        diameter = code == G7
+        if diameter == self.lathe_diameter:
+            return
+        self.lathe_diameter = diameter
+        if "x" in words:
+            words["x"] = words["x"] / 2 if diameter else words["x"] * 2
+        kind = "diameter" if diameter else "radius"
+        self.canon.comment(f"interpreter: Lathe diameter mode changed to {kind}")
+
+    def _cutter_comp(self, code: int) -> None:
+        if code != G40:
+            raise not_supported("cutter radius compensation (G41/G42)")
+        self.canon.comment("interpreter: cutter radius compensation off")
+        self.cutter_comp = False
+
+    def _control_mode(self, code: int, words) -> None:
+        if self.cutter_comp:
+            raise GCodeError(
+                "Cannot change control mode with cutter radius compensation on"
+            )
+        canon = self.canon
+        if code == G61:
+            canon.set_motion_control_mode("EXACT_PATH", 0.0)
+        elif code == G61_1:
+            canon.set_motion_control_mode("EXACT_STOP", 0.0)
+        else:
+            tolerance = words.get("p", -1.0)
+            naive = words.get("q", -1.0)
+            # A negative (or absent) P or Q means "none": 0, and Q defaults to P.
+            tolerance = max(tolerance, 0.0)
+            canon.set_motion_control_mode("CONTINUOUS", tolerance)
+            canon.set_naivecam_tolerance(naive if naive >= 0 else tolerance)
+        self.control_mode = code
+
+    def _distance_mode(self, incremental: bool) -> None:
+        if incremental != self.distance_incremental:
+            kind = "incremental" if incremental else "absolute"
+            self.canon.comment(f"interpreter: distance mode changed to {kind}")
+            self.distance_incremental = incremental
+
+    def _ijk_mode(self, absolute: bool) -> None:
+        if absolute != self.ijk_absolute:
+            kind = "absolute" if absolute else "incremental"
+            self.canon.comment(f"interpreter: IJK distance mode changed to {kind}")
+            self.ijk_absolute = absolute
+
+    def _retract_mode(self, old_z: bool) -> None:
+        if self.cutter_comp:
+            raise GCodeError(
+                "Cannot change retract mode with cutter radius compensation on"
+            )
+        self.canon.comment(
+            "interpreter: retract mode set to " + ("old_z" if old_z else "r_plane")
+        )
+        self.retract_r_plane = not old_z
+
+    def _spindle_mode(self, code: int, words) -> None:
+        if code == G97:
+            self.css_mode = False
+            self.canon.set_spindle_mode(0, 0.0)
+        else:
+            self.css_mode = True
+            self.canon.set_spindle_mode(0, abs(words["d"]) if "d" in words else 1e30)
+
+    def _feed_mode(self, code: int) -> None:
+        mode = _FEED_MODES[code]
+        self.canon.comment(_FEED_MODE_COMMENTS[mode])
+        self.feed_mode = mode
+        self.canon.set_feed_mode(0, 1 if mode == UNITS_PER_REVOLUTION else 0)
+        if mode != INVERSE_TIME:
+            self._set_feed_rate(0.0)
+
+    def _modal_0(self, code: int, block: Block) -> None:
+        words = block.words
+        if code == G10:
+            if int(words["l"]) in (2, 20):
+                self._set_system(words)
+            elif int(words["l"]) == 0:
+                self.canon.reload_tooldata()  # the stand-alone canon only prints it
+            else:
+                self._set_tool_entry(words)
+        elif code in (G28, G30):
+            self._home(code, block)
+        elif code in (G28_1, G30_1):
+            self._save_home(code)
+        elif code == G92:
+            self._g92(words)
+        elif code == G52:
+            self._g52(words)
+        # G4 and G53 are handled elsewhere (dwell first, G53 with the motion).
+
+    def _g92_family(self, code: int) -> None:
+        if code == G92_3:
+            self._g92_restore()
+        else:
+            self._g92_cancel(keep_parameters=code == G92_2)
+
+    def _motion(self, motion: int, block: Block) -> None:
+        """rs274's convert_motion."""
+        if motion in (G0, G1):
+            self._straight(motion, block)
+        elif motion in (G2, G3):
+            self._arc(motion, block)
+        elif motion == G80:
+            self.canon.comment("interpreter: motion mode set to none")
+            self.motion_mode = G80
+        elif motion in _UNSUPPORTED_MOTION:
+            raise not_supported(_UNSUPPORTED_MOTION[motion])
+        else:
+            raise not_supported(f"canned cycles (G{motion // 10})")
+
+    # ------------------------------------------------------------------
+    # Predefined named parameters
+    # ------------------------------------------------------------------
+    def spiral_tolerance(self) -> float:
+        """The centre-format arc radius tolerance for the active units (INI or default)."""
+        settings = self.settings
+        if self.inches:
+            return settings.center_arc_radius_tolerance_inch
+        return settings.center_arc_radius_tolerance_mm
+
+    def predefined(self, name: str) -> Optional[float]:
+        """The value of predefined parameter ``name`` (None if it is not one)."""
+        if name not in self.PREDEFINED:
+            return None
+        axis = name[1:]
+        if len(axis) == 1 and axis in AXES:
+            return self.current[AXES.index(axis)]
+        return float(_PREDEFINED_VALUES[name](self))
+
+
+_PREDEFINED_VALUES: Dict[str, Callable[[Machine], float]] = {
+    "_vmajor": lambda m: 2.9,
+    "_vminor": lambda m: 0.0,
+    "_line": lambda m: m.line,
+    "_motion_mode": lambda m: m.motion_mode,
+    "_plane": lambda m: _PLANE_CODES[m.plane],
+    "_ccomp": lambda m: G40,
+    "_metric": lambda m: not m.inches,
+    "_imperial": lambda m: m.inches,
+    "_absolute": lambda m: not m.distance_incremental,
+    "_incremental": lambda m: m.distance_incremental,
+    "_inverse_time": lambda m: m.feed_mode == INVERSE_TIME,
+    "_units_per_minute": lambda m: m.feed_mode == UNITS_PER_MINUTE,
+    "_units_per_rev": lambda m: m.feed_mode == UNITS_PER_REVOLUTION,
+    "_coord_system": lambda m: _SYSTEM_CODES[m.origin_index - 1],
+    "_tool_offset": lambda m: m.tlo_mode != G49,
+    "_retract_r_plane": lambda m: m.retract_r_plane,
+    "_retract_old_z": lambda m: not m.retract_r_plane,
+    "_spindle_rpm_mode": lambda m: not m.css_mode,
+    "_spindle_css_mode": lambda m: m.css_mode,
+    "_ijk_absolute_mode": lambda m: m.ijk_absolute,
+    "_lathe_diameter_mode": lambda m: m.lathe_diameter,
+    "_lathe_radius_mode": lambda m: not m.lathe_diameter,
+    "_spindle_on": lambda m: m.spindle != "stopped",
+    "_spindle_cw": lambda m: m.spindle == "cw",
+    "_mist": lambda m: m.mist,
+    "_flood": lambda m: m.flood,
+    "_speed_override": lambda m: m.speed_override,
+    "_feed_override": lambda m: m.feed_override,
+    "_adaptive_feed": lambda m: m.adaptive_feed,
+    "_feed_hold": lambda m: m.feed_hold,
+    "_feed": lambda m: m.feed_rate,
+    "_rpm": lambda m: m.speed,
+    "_current_tool": lambda m: m.params[5400],
+    "_current_pocket": lambda m: m.current_pocket,
+    "_selected_tool": lambda m: m.selected_tool,
+    "_selected_pocket": lambda m: m.selected_pocket if m.tool_selected else -1,
+    "_value": lambda m: m.value,
+    "_value_returned": lambda m: m.value_returned,
+    "_task": lambda m: 0,
+    "_call_level": lambda m: m.call_level,
+    "_remap_level": lambda m: 0,
+}

@@ -1,0 +1,240 @@
+"""M codes: I/O, spindle, coolant, overrides, and the stopping codes.
+
+A mixin of :class:`runtime.machine.Machine` (rs274's convert_m and
+convert_stop). M6/M61 are in :mod:`runtime.tools`.
+"""
+
+from __future__ import annotations
+
+from runtime.blockcheck import (
+    M_COOLANT,
+    M_IO,
+    M_OVERRIDE,
+    M_SPINDLE,
+    M_TOOL,
+    M_USER,
+    Block,
+    round_to_int,
+)
+from runtime.codes import G1
+from runtime.errors import GCodeError
+from runtime.motion import UNITS_PER_MINUTE, rotate
+from runtime.offsets import COORD_SYSTEM
+
+#: Where M66 leaves the value of the input it read.
+INPUT_PARAM = 5399
+
+
+class ProgramEnd(Exception):
+    """M2/M30 ends the run wherever it happens (even inside a subroutine)."""
+
+
+def not_supported(what: str) -> GCodeError:
+    """The error for a code rs274 knows but ngc2py does not implement yet."""
+    return GCodeError(f"ngc2py does not support {what} yet")
+
+
+class MCodesMixin:
+    """rs274's M code execution (part of Machine)."""
+
+    # ------------------------------------------------------------------
+    # M codes
+    # ------------------------------------------------------------------
+    def _execute_m(self, block: Block) -> None:
+        """rs274's convert_m: I/O, tool change, spindle, coolant, overrides, user."""
+        m, words = block.m, block.words
+        if M_IO in m:
+            self._io(m[M_IO], words)
+        if m.get(M_TOOL) == 6:
+            self._change_tool()
+        elif m.get(M_TOOL) == 61:
+            self._set_tool_number(words.get("q"))
+        if M_SPINDLE in m:
+            self._spindle(m[M_SPINDLE], words)
+        if M_COOLANT in m:
+            self._coolant(m[M_COOLANT])
+        if M_OVERRIDE in m:
+            self._overrides(m[M_OVERRIDE], words)
+        if M_USER in m:
+            raise GCodeError(f"Unknown m code used: M{m[M_USER]}")
+
+    def _io(self, code: int, words) -> None:
+        canon = self.canon
+        if code in (62, 63, 64, 65):
+            if "p" not in words:
+                raise GCodeError(f"No valid P word with M{code}")
+            index = round_to_int(words["p"])
+            call = {
+                62: canon.set_motion_output_bit,
+                63: canon.clear_motion_output_bit,
+                64: canon.set_aux_output_bit,
+                65: canon.clear_aux_output_bit,
+            }[code]
+            call(index)
+        elif code in (67, 68):
+            e = words.get("e")
+            if e is None or round_to_int(e) < 0:
+                raise GCodeError(f"Invalid analog index with M{code}")
+            value = words.get("q", -1.0)
+            if code == 67:
+                canon.set_motion_output_value(round_to_int(e), value)
+            else:
+                canon.set_aux_output_value(round_to_int(e), value)
+        else:
+            self._wait_input(words)
+
+    def _spindle(self, code: int, words) -> None:
+        canon = self.canon
+        if code == 3:
+            canon.start_spindle_clockwise(0)
+            self.spindle = "cw"
+        elif code == 4:
+            canon.start_spindle_counterclockwise(0)
+            self.spindle = "ccw"
+        elif code == 5:
+            canon.stop_spindle_turning(0)
+            self.spindle = "stopped"
+        elif code == 19:
+            self._orient_spindle(words)
+        else:
+            raise not_supported(f"modal state save/restore (M{code})")
+
+    def _orient_spindle(self, words) -> None:
+        """M19 [R angle] [P direction] [Q timeout]; the INI may offset the angle."""
+        self.spindle = "stopped"
+        if "r" in words or "p" in words:
+            angle = words.get("r", 0.0) + self.settings.orient_offset
+            self.canon.orient_spindle(0, angle, int(words.get("p", 0.0)))
+        if "q" in words:
+            if words["q"] <= 0.0:
+                raise GCodeError("Q word with M19 requires a value > 0")
+            self.canon.wait_spindle_orient_complete(0, words["q"])
+
+    def _wait_input(self, words) -> None:
+        """M66: rs274's stand-alone canon has no inputs and never waits.
+
+        Only the checks are visible, and #5399 (the input read back on the
+        next line) keeps its value, normalised to 0/1 for a digital input.
+        """
+        p, e = words.get("p"), words.get("e")
+        wait_type = int(words["l"]) if "l" in words else 0
+        if p is not None and e is not None:
+            raise GCodeError(
+                "Invalid to select both a digital and an analog input with M66"
+            )
+        if words.get("q", -1.0) <= 0 and wait_type > 0:
+            raise GCodeError("Zero timeout with wait type != immediate return")
+        if e is not None and wait_type != 0:
+            raise GCodeError(
+                "Can't select analog input with wait type != immediate return"
+            )
+        if (
+            (p is not None and round_to_int(p) < 0)
+            or (e is not None and round_to_int(e) < 0)
+            or (p is None and e is None)
+        ):
+            raise GCodeError("Need to have either a valid P or a valid E word with M66")
+        if p is not None:
+            self._params.set_internal(
+                INPUT_PARAM, 1.0 if self._params[INPUT_PARAM] else 0.0
+            )
+
+    def _coolant(self, code: int) -> None:
+        canon = self.canon
+        if code == 7:
+            canon.mist_on()
+            self.mist = True
+        elif code == 8:
+            canon.flood_on()
+            self.flood = True
+        else:
+            canon.mist_off()
+            canon.flood_off()
+            self.mist = self.flood = False
+
+    def _overrides(self, code: int, words) -> None:
+        if self.cutter_comp:
+            raise GCodeError(
+                "Cannot enable overrides with cutter radius compensation on"
+            )
+        canon = self.canon
+        on = code == 48 or (code != 49 and words.get("p", -1.0) != 0)
+        if code in (48, 49, 50):
+            (canon.enable_feed_override if on else canon.disable_feed_override)()
+            self.feed_override = on
+        if code in (48, 49, 51):
+            (canon.enable_speed_override if on else canon.disable_speed_override)(0)
+            self.speed_override = on
+        if code == 52:
+            (canon.enable_adaptive_feed if on else canon.disable_adaptive_feed)()
+            self.adaptive_feed = on
+        if code == 53:
+            (canon.enable_feed_hold if on else canon.disable_feed_hold)()
+            self.feed_hold = on
+
+    # ------------------------------------------------------------------
+    # M0, M1, M2, M30, M60
+    # ------------------------------------------------------------------
+    def _stop(self, code: int) -> None:
+        canon = self.canon
+        if code == 0:
+            canon.program_stop()
+        elif code == 60:
+            canon.pallet_shuttle()
+            canon.program_stop()
+        elif code == 1:
+            canon.optional_program_stop()
+        elif code in (2, 30):
+            self._program_end(code == 30)
+        # M99 at the top level just returns (rs274 without loops: nothing).
+
+    def _program_end(self, pallet: bool) -> None:
+        """M2/M30: rs274 resets these settings, then ends the program."""
+        canon = self.canon
+        cur = [c + o for c, o in zip(self.current, self.origin)]
+        cur[0], cur[1] = rotate(cur[0], cur[1], self.rotation)
+        self.origin_index = 1
+        self._params.set_internal(COORD_SYSTEM, 1.0)
+        self._load_system(1)
+        cur[0], cur[1] = rotate(cur[0], cur[1], -self.rotation)
+        self.current = [c - o for c, o in zip(cur, self.origin)]
+        self._announce_g5x()
+        canon.set_xy_rotation(self.rotation)
+        if self.plane != "XY":
+            canon.select_plane("XY")
+            self.plane = "XY"
+        self.distance_incremental = False
+        self.feed_mode = UNITS_PER_MINUTE
+        canon.set_feed_mode(0, 0)
+        self._set_feed_rate(0.0)
+        if not self.feed_override:
+            canon.enable_feed_override()
+            self.feed_override = True
+        # (rs274 2.9 re-enables only the feed override, not the speed override.)
+        self.cutter_comp = False
+        canon.stop_spindle_turning(0)
+        self.spindle = "stopped"
+        canon.set_spindle_mode(0, 0.0)
+        self.css_mode = False
+        self.motion_mode = G1
+        if self.mist:
+            canon.mist_off()
+            self.mist = False
+        if self.flood:
+            canon.flood_off()
+            self.flood = False
+        if pallet:
+            canon.pallet_shuttle()
+        canon.program_end()
+        if self._percent_unclosed():
+            canon.comment("interpreter: percent sign missing from end of file")
+        raise ProgramEnd()
+
+    def _percent_unclosed(self) -> bool:
+        """Does the main file open with a % line but never close with one?"""
+        source = self.source
+        return (
+            source is not None
+            and source.text(0, 1).strip() == "%"
+            and not source.end[1]
+        )

@@ -1,0 +1,68 @@
+"""What rs274's stand-alone canon remembers, and reports back when asked.
+
+rs274 is the interpreter plus a dummy "canon" world model (saicanon.cc). The
+interpreter sometimes *reads back* from that model instead of trusting its
+own state, and the model is deliberately simple, so the read-back values can
+differ from the interpreter's own idea:
+
+* at start-up and after a tool change (M6, M61) the current position is
+  re-read; the model tracks the last programmed end point, shifted by every
+  G5x/G92 offset change but never rotated and never moved by tool length
+  offsets;
+* on a G20/G21 change the tool length offset and the feed rate are re-read,
+  and the model never converts them to the new units.
+
+:class:`World` models exactly that, independently of the canon back end, so
+every back end (trace, null, recording) sees the same calls.
+"""
+
+from __future__ import annotations
+
+from typing import List, Sequence
+
+MM_PER_INCH = 25.4
+
+
+class World:
+    """The saicanon model: program position, offsets, units, tool offset, feed."""
+
+    __slots__ = ("position", "g5x", "g92", "inches", "tool_offset", "feed_rate")
+
+    def __init__(self) -> None:
+        self.position: List[float] = [0.0] * 6  # X Y Z A B C; U V W read as 0
+        self.g5x: List[float] = [0.0] * 6
+        self.g92: List[float] = [0.0] * 6
+        self.inches = False
+        self.tool_offset: List[float] = [0.0] * 9
+        self.feed_rate = 0.0
+
+    def set_g5x(self, offsets: Sequence[float]) -> None:
+        self._shift(self.g5x, offsets)
+
+    def set_g92(self, offsets: Sequence[float]) -> None:
+        self._shift(self.g92, offsets)
+
+    def _shift(self, old: List[float], new: Sequence[float]) -> None:
+        pos = self.position
+        for i in range(6):
+            pos[i] += old[i] - new[i]
+            old[i] = new[i]
+
+    def use_units(self, inches: bool) -> None:
+        """Scale the linear values when the units really change."""
+        if inches == self.inches:
+            return
+        self.inches = inches
+        for values in (self.position, self.g5x, self.g92):
+            for i in range(3):
+                # The canon divides (rounding differs from * (1 / 25.4)).
+                values[i] = (
+                    values[i] / MM_PER_INCH if inches else values[i] * MM_PER_INCH
+                )
+
+    def move_to(self, x, y, z, a, b, c) -> None:
+        self.position[:] = (x, y, z, a, b, c)
+
+    def reported_position(self) -> List[float]:
+        """GET_EXTERNAL_POSITION_X..W: the model never tracks U, V, W."""
+        return self.position + [0.0, 0.0, 0.0]

@@ -1,0 +1,153 @@
+"""The canon back ends: TraceCanon's text against rs274, and the protocol.
+
+The differential tests drive a TraceCanon directly with the calls a small
+program makes and compare the printed lines with rs274's output for that
+program (its lines after the six start-up calls), so the formats are
+checked independently of the machine.
+"""
+
+from __future__ import annotations
+
+import io
+
+import pytest
+
+import rs274 as harness
+from runtime.canon import CALLS, Canon, NullCanon, RecordingCanon, TraceCanon
+
+START_LINES = 6  # rs274's start-up calls before the program's first line
+
+
+def rs274_lines(program: str, tmp_path) -> list:
+    if harness.rs274_path() is None:
+        pytest.skip("rs274 not on PATH")
+    path = tmp_path / "prog.ngc"
+    path.write_text(program)
+    return harness.run_rs274(path).stdout.decode().splitlines()
+
+
+def traced(calls) -> list:
+    """Lines a TraceCanon prints for ``calls`` = [(n, name, args)], numbered from 7."""
+    out = io.StringIO()
+    canon = TraceCanon(out)
+    canon._count = START_LINES  # continue after rs274's start-up lines
+    for n, name, args in calls:
+        canon.set_block_number(n)
+        getattr(canon, name)(*args)
+    return out.getvalue().splitlines()
+
+
+ZERO9 = (0.0,) * 9
+
+
+@pytest.mark.rs274
+def test_spindle_coolant_and_mode_calls(tmp_path):
+    expected = rs274_lines(
+        "N7 S1200 M3\nM4\nM5\nM7\nM8\nM9\nG61\nG61.1\nG64 P0.25\nG96 S10\nM2\n",
+        tmp_path,
+    )
+    calls = [
+        ("7", "set_spindle_speed", (0, 1200.0)),
+        ("7", "start_spindle_clockwise", (0,)),
+        (None, "start_spindle_counterclockwise", (0,)),
+        (None, "stop_spindle_turning", (0,)),
+        (None, "mist_on", ()),
+        (None, "flood_on", ()),
+        (None, "mist_off", ()),
+        (None, "flood_off", ()),
+        (None, "set_motion_control_mode", ("EXACT_PATH", 0.0)),
+        (None, "set_motion_control_mode", ("EXACT_STOP", 0.0)),
+        (None, "set_motion_control_mode", ("CONTINUOUS", 0.25)),
+        (None, "set_naivecam_tolerance", (0.25,)),
+        (None, "set_spindle_mode", (0, 1e30)),
+        (None, "set_spindle_speed", (0, 10.0)),
+    ]
+    lines = traced(calls)
+    assert lines == expected[START_LINES : START_LINES + len(lines)]
+
+
+@pytest.mark.rs274
+def test_motion_and_tool_calls(tmp_path):
+    expected = rs274_lines(
+        "N0042 G0 X1 Y-2 Z3.12345\nF12.5 G2 X3 Y-2 R1\nG4 P2\nG43.1 Z-1.5\nM62 P3\nM67 E1 Q2.5\nM2\n",
+        tmp_path,
+    )
+    calls = [
+        (
+            "0042",
+            "straight_traverse",
+            (1.0, -2.0, 3.12345, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+        ),
+        (None, "set_feed_rate", (12.5,)),
+        (
+            None,
+            "arc_feed",
+            (3.0, -2.0, 2.0, -2.0, -1, 3.12345, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+        ),
+        (None, "dwell", (2.0,)),
+        (
+            None,
+            "use_tool_length_offset",
+            (0.0, 0.0, -1.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+        ),
+        (None, "set_motion_output_bit", (3,)),
+        (None, "set_motion_output_value", (1, 2.5)),
+    ]
+    lines = traced(calls)
+    assert lines == expected[START_LINES : START_LINES + len(lines)]
+
+
+@pytest.mark.rs274
+def test_start_up_lines(tmp_path):
+    expected = rs274_lines("M2\n", tmp_path)
+    out = io.StringIO()
+    canon = TraceCanon(out)
+    canon.use_length_units(False)
+    canon.set_g5x_offset(1, *ZERO9)
+    canon.set_g92_offset(*ZERO9)
+    canon.set_xy_rotation(0.0)
+    canon.set_feed_reference(False)
+    canon.on_reset()
+    assert out.getvalue().splitlines() == expected[:START_LINES]
+
+
+def test_n_column_pads_to_six_and_never_truncates():
+    out = io.StringIO()
+    canon = TraceCanon(out)
+    canon.set_block_number("10")
+    canon.program_end()
+    canon.set_block_number("1234567")
+    canon.program_end()
+    canon.set_block_number(None)
+    canon.program_end()
+    assert out.getvalue().splitlines() == [
+        "    1 N10    PROGRAM_END()",
+        "    2 N1234567PROGRAM_END()",
+        "    3 N..... PROGRAM_END()",
+    ]
+
+
+def test_trace_canon_implements_every_call():
+    for name in CALLS:
+        assert getattr(TraceCanon, name) is not getattr(Canon, name), name
+
+
+def test_recording_canon_keeps_calls_and_block_numbers():
+    canon = RecordingCanon()
+    canon.set_block_number("5")
+    canon.straight_feed(1.0, 2.0, 3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    canon.set_block_number(None)
+    canon.comment("hi")
+    assert canon.calls == [
+        ("straight_feed", (1.0, 2.0, 3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)),
+        ("comment", ("hi",)),
+    ]
+    assert canon.numbers == ["5", None]
+
+
+def test_null_canon_accepts_every_call():
+    canon = NullCanon()
+    for name in CALLS:
+        method = getattr(canon, name)
+        arity = method.__code__.co_argcount - 1
+        assert method(*([0] * arity)) is None

@@ -1,0 +1,356 @@
+"""The machine against rs274: blocks driven as generated code drives them.
+
+Each case is a small G-code program of literal words only. A tiny test-only
+reader (:func:`blocks_of`) turns each line into the ``Machine.block`` call a
+compiled program would make; the machine's TraceCanon output and error are
+then compared with what the installed rs274 prints for the same program.
+Nothing expected is hard-coded: rs274 is asked every time.
+"""
+
+from __future__ import annotations
+
+import io
+import re
+from pathlib import Path
+from typing import List, Optional, Tuple
+
+import pytest
+
+import rs274 as harness
+from runtime.canon import RecordingCanon, TraceCanon
+from runtime.codes import G0, G1, M2, g_code, m_code
+from runtime.errors import GCodeError
+from runtime.machine import Machine
+
+_WORD = re.compile(r"([a-z@^])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
+_NAMES = {"@": "polar_dist", "^": "polar_angle"}
+
+
+def blocks_of(text: str) -> List[Tuple[int, tuple, Optional[str], dict]]:
+    """(line, codes, N digits, words) for each line with something to do."""
+    result = []
+    for number, raw in enumerate(text.splitlines(), start=1):
+        line = re.sub(r"\(.*?\)", "", raw).lower().replace(" ", "")
+        n = None
+        match = re.match(r"n(\d+)", line)
+        if match:
+            n, line = match.group(1), line[match.end() :]
+        codes, words = [], {}
+        for letter, value in _WORD.findall(line):
+            if letter == "g":
+                codes.append(g_code(float(value)))
+            elif letter == "m":
+                codes.append(m_code(float(value)))
+            else:
+                words[_NAMES.get(letter, letter)] = float(value)
+        if codes or words or n is not None:
+            result.append((number, tuple(codes), n, words))
+    return result
+
+
+def run_machine(text: str, tmp_path: Path, args=()) -> Tuple[str, str]:
+    """Run ``text`` on a Machine with a TraceCanon: (stdout, error message)."""
+    options = {}
+    flags = list(args)
+    while flags:
+        flag, value = flags.pop(0), flags.pop(0)
+        options[{"-t": "tool_table", "-v": "var_file", "-i": "ini"}[flag]] = str(
+            tmp_path / value
+        )
+    out = io.StringIO()
+    machine = Machine(TraceCanon(out), **options)
+
+    def main(m: Machine) -> None:
+        for number, codes, n, words in blocks_of(text):
+            m.block(number, *codes, n=n, **words)
+        m.end_of_file(False, False)
+
+    try:
+        machine.run(main)
+    except GCodeError as error:
+        return out.getvalue(), error.message
+    return out.getvalue(), ""
+
+
+def compare(text: str, tmp_path: Path, files=None, args=()) -> None:
+    for name, content in (files or {}).items():
+        (tmp_path / name).write_text(content)
+    program = tmp_path / "prog.ngc"
+    program.write_text(text)
+    expected = harness.run_rs274(program, list(args))
+    out, err = run_machine(text, tmp_path, args)
+    assert err == expected.err
+    assert out == expected.stdout.decode()
+
+
+def need_rs274():
+    if harness.rs274_path() is None:
+        pytest.skip("rs274 not on PATH")
+
+
+PROGRAMS = {
+    "basic": "G21 G90\nN10 G1 X1 Y2 F100\nG2 X2 Y2 I0.5\nT1 M6\nG43 H1\nM3 S1000\nG0 Z5\nM2\n",
+    "inch": "G20\nG1 X1 F10\nG4 P1\nG21\nG1 X2\nM30\n",
+    "n_column": "N0012 G1 X1 F1\nN1234567 G1 X2\nN5 G0 X0\nM2\n",
+    "no_end": "G1 X1 F10\nG1 X3\n",
+    "incremental": "G91 G0 X1 Y1\nX1\nG90 X0 Y0\nG91\nG91\nM2\n",
+    "arcs_xy": "F10\nG2 X1 Y1 I0.5 J0.5\nG3 X0 Y0 R1\nG2 X0 Y0 I1 P2\nG3 X5 Y0 Z1 R-3\nM2\n",
+    "arcs_xz": "G18 F10\nG2 X1 Z1 I0.5 K0.5\nG3 X0 Z0 R1 Y2\nG2 Z1 K0.5\nM2\n",
+    "arcs_yz": "G19 F10\nG2 Y1 Z1 J0.5 K0.5\nG3 Y0 Z0 R1 X2\nM2\n",
+    "arcs_inch": "G20 F10\nG2 X1 Y1 I0.5 J0.5\nG3 X0 Y0 R1\nM2\n",
+    "abs_ijk": "G90.1 F10\nG0 X1\nG2 X1 Y2 I1 J1\nG91.1\nM2\n",
+    "inverse_time": "G93\nG1 X3 Y4 F2\nG2 X4 Y5 R1 F1\nG94\nF5 G1 X0\nG95 S100 F1 G1 X1\nM2\n",
+    "offsets": "G10 L2 P2 X1 Y2 Z3\nG55\nG0 X0 Y0\nG10 L20 P0 X5\nG0 Y1\nG54 G0 X0\nM2\n",
+    "rotation": "G10 L2 P1 R30 X1\nG0 X1 Y1\nG10 L20 P1 X0 Y0\nG0 X1\nM2\n",
+    "g92": "G0 X1 Y1\nG92 X0 Y0\nG0 X1\nG92.2\nG0 Y0\nG92.3\nG0 Z1\nG92.1\nG0 X0\nM2\n",
+    "g52": "G0 X1\nG52 X1\nG0 X0\nG92 X2\nG0 X0\nM2\n",
+    "g53": "G10 L2 P1 X1 Y2\nG54\nG53 G0 X0 Y0\nG53 G1 Z1 F1\nG0 X0\nM2\n",
+    "home_rotated": "G10 L2 P1 R30 X1\nG0 X1 Y0\nG92 X2\nG0 X3 Y1\nG28.1\nG0 X0 Y0\nG28\nM2\n",
+    "home": "G0 X1 Y2 Z3\nG28.1\nG0 X0 Y0 Z0\nG28\nG0 X5\nG28 X1\nG30.1\nG30 Y7\nM2\n",
+    "tools": "T2\nM6\nG43\nG0 Z0\nG49\nT1 M6 G43 H2\nG0 X1\nM61 Q3\nG43\nG0 X0\nM2\n",
+    "polar": "G0 @1 ^90\nG0 @2\nG0 ^45\nG91 G0 @1\nG0 ^10\nM2\n",
+    "modes": "G17\nG18\nG19\nG17\nG61\nG61.1\nG64\nG64 P0.1 Q0.2\nG98\nG99\nG80\nG40\nM48\nM49\nM50 P1\nM51 P0\nM52 P1\nM53 P0\nM2\n",
+    "spindle": "S100 M3\nM4\nM5\nM7\nM8\nM9\nM7\nM0\nM1\nM60\nG97\nG96 S10 D500\nM2\n",
+    "end_resets": "G91 G18 G93 M7 M8 M49\nG10 L2 P2 X1\nG55\nM30\n",
+    "stop_in_middle": "G0 X1\nM2\nG0 X2\n",
+    "m19": "S500 M3\nM19 R90 Q2 P1\nM5\nM19\nM19 P2\nM2\n",
+    "m66": "M66 P0 L0\nM66 E0\nM66 P1 L2 Q1\nM2\n",
+    "lathe": "G7\nG0 X10\nG8\nG0 X10\nG7 X4\nG8 X4\nG8\nM2\n",
+    "m6_without_t": "M6\nG43\nM2\n",
+    "io": "M62 P1\nM63 P2\nM64 P3\nM65 P4\nM67 E1 Q2.5\nM68 E2 Q3\nM2\n",
+}
+
+ERRORS = {
+    "axes_no_motion": "X1\nM2\n",
+    "two_axis_codes": "G1 G28 X1\nM2\n",
+    "same_group": "G0 G1 X1\nM2\n",
+    "same_m_group": "M3 M4\nM2\n",
+    "too_many_m": "M3 M7 M48 M0 M6\nM2\n",
+    "zero_feed": "G1 X1\nM2\n",
+    "zero_feed_arc": "G2 X1 I1\nM2\n",
+    "inverse_no_f": "G93 G1 X1\nM2\n",
+    "arc_words": "G2 X1 F1\nM2\n",
+    "arc_mixed": "G2 X1 R1 I1 F1\nM2\n",
+    "arc_k_in_xy": "G2 X1 K1 F1\nM2\n",
+    "arc_r_no_end": "G18 G2 R1 F1\nM2\n",
+    "arc_radius": "G2 X1 Y0 I0.3 F1\nM2\n",
+    "arc_abs_missing": "G90.1 G2 X1 I1 F1\nM2\n",
+    "arc_p": "G2 X1 I1 F1 P0\nM2\n",
+    "g4_no_p": "G4\nM2\n",
+    "g53_g2": "G53 G2 X1 F1\nM2\n",
+    "g53_incremental": "G91 G53 G0 X1\nM2\n",
+    "g92_no_axes": "G92\nM2\n",
+    "g80_axes": "G80 X1\nM2\n",
+    "i_word": "I1\nM2\n",
+    "p_word": "P1\nM2\n",
+    "q_word": "Q1\nM2\n",
+    "r_word": "R1\nM2\n",
+    "h_word": "H1\nM2\n",
+    "d_word": "D1\nM2\n",
+    "l_word": "L1\nM2\n",
+    "e_word": "E1\nM2\n",
+    "negative_f": "F-1\nM2\n",
+    "negative_s": "S-1\nM2\n",
+    "negative_t": "T-1\nM2\n",
+    "unknown_tool": "T99\nM2\n",
+    "unknown_h": "G43 H99\nM2\n",
+    "m61_no_q": "M61\nM2\n",
+    "g10_l": "G10 L3\nM2\n",
+    "g10_p": "G10 L2 P10\nM2\n",
+    "g10_r_l20": "G10 L20 P1 R1\nM2\n",
+    "polar_x": "G0 @1 X1\nM2\n",
+    "polar_origin": "G0 @1\nM2\n",
+    "polar_incremental": "G91 G0 ^1\nM2\n",
+    "polar_g92": "G92 @1\nM2\n",
+    "polar_g53": "G53 G0 @1\nM2\n",
+    "g4_with_arc": "G4 G2 X1 I1 P1 F1\nM2\n",
+    "user_m": "M100\nM2\n",
+    "user_m_with_p": "M101 P1 Q2\nM2\n",
+    "m66_both": "M66 P1 E1\nM2\n",
+    "m66_timeout": "M66 L1 P1\nM2\n",
+    "m66_analog_wait": "M66 E1 L1 Q1\nM2\n",
+    "m19_q": "M19 Q0 R1\nM2\n",
+    "m19_p": "M19 P2.5\nM2\n",
+    "m19_r": "M19 R400\nM2\n",
+    "error_after_moves": "G0 X1\nG1 X2\nM2\n",
+}
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize("name", sorted(PROGRAMS))
+def test_program_matches_rs274(name, tmp_path):
+    need_rs274()
+    compare(PROGRAMS[name], tmp_path)
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize("name", sorted(ERRORS))
+def test_error_matches_rs274(name, tmp_path):
+    need_rs274()
+    compare(ERRORS[name], tmp_path)
+
+
+TOOL_TABLE = "T5 P3 Z1.5 D0.25 ;five\nT7 P9 Z2 X0.1\n"
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize(
+    "text",
+    [
+        "T7 M6\nG43\nT5\nM6\nG43 H7\nM61 Q5\nG43\nT0 M6\nG43\nG49\nM2\n",
+        "G43 H7\nG0 Z0\nG49\nG0 X1\nT5 M6\nG0 X2\nG20\nG0 X3\nG43 H7\nG0 X4\nG21\nG0 X5\nM2\n",
+        "G20 G43 H7\nG0 Z0\nG21\nG49\nG0 X1\nG43 H7\nG0 Z0\nG49\nT5 M6\nG0 X2\nM2\n",
+        "G43.1 Z1 X2\nG0 X0\nG43.2 H5\nG0 Y0\nG49\nG0 Z0\nM2\n",
+        "G10 L1 P5 Z1.5 R0.25 Q3\nT5 M6\nG10 L1 P5 X0.5 I10 J20\nG43\nG0 Z1\n"
+        "G10 L10 P7 Z0\nG10 L11 P5 Z2\nG43\nG0 X0\nG10 L1 P5\nM2\n",
+        "G10 L2 P1 R30\nG92 X1 Y2\nG0 X3 Y4 Z5\nG10 L10 P7 X1\nG10 L10 P7 Y1\n"
+        "G10 L10 P5 X1 Y2\nG10 L11 P5 Y-1\nG10 L1 P7 Q-1 R1\nM2\n",
+        "G10 L1 P7 Q1.5 Z1\nM2\n",
+        "G10 L1 P7 Q10 Z1\nM2\n",
+        "G10 L0 P1\nG10 L0\nT7 M6 G43\nM2\n",
+    ],
+)
+def test_tool_table_matches_rs274(text, tmp_path):
+    need_rs274()
+    compare(text, tmp_path, {"t.tbl": TOOL_TABLE}, ["-t", "t.tbl"])
+
+
+VAR_FILE = (
+    "5161\t3\n5162\t1\n5210\t1\n5211\t0.5\n5213\t7\n5220\t2\n"
+    "5241\t1.5\n5242\t2.5\n5250\t30\n"
+)
+
+
+@pytest.mark.rs274
+def test_start_sequence_follows_var_file(tmp_path):
+    need_rs274()
+    compare(
+        "G0 X1\nG28\nG55\nG54\nG92.3\nM2\n",
+        tmp_path,
+        {"p.var": VAR_FILE},
+        ["-v", "p.var"],
+    )
+
+
+INI_FILE = (
+    "[EMCIO]\nTOOL_CHANGE_QUILL_UP = 1\nTOOL_CHANGE_AT_G30 = 1\nTOOL_CHANGE_WITH_SPINDLE_ON = 1\n"
+    "[RS274NGC]\nORIENT_OFFSET = 10\nCENTER_ARC_RADIUS_TOLERANCE_MM = 0.001\n"
+)
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize(
+    "text",
+    [
+        "G10 L2 P1 X1 Z2\nG0 X5 Y5 Z5\nG30.1\nG0 X0\nS10 M3\nT1 M6\nM19 R5\nM2\n",
+        "F1 G2 X2 Y0 I1.001\nM2\n",
+    ],
+)
+def test_ini_settings_match_rs274(text, tmp_path):
+    need_rs274()
+    compare(text, tmp_path, {"m.ini": INI_FILE}, ["-i", "m.ini"])
+
+
+# --------------------------------------------------------------------------
+# Behaviour that needs no rs274
+# --------------------------------------------------------------------------
+
+
+def recorded(*blocks) -> List[Tuple[str, tuple]]:
+    canon = RecordingCanon()
+    machine = Machine(canon)
+
+    def main(m):
+        for codes, words in blocks:
+            m.block(1, *codes, **words)
+
+    machine.run(main)
+    return canon.calls
+
+
+def test_run_brackets_program_with_start_and_reset_calls():
+    calls = recorded(((G0,), {"x": 1.0}), ((M2,), {}))
+    names = [name for name, _ in calls]
+    assert names[:6] == [
+        "use_length_units",
+        "set_g5x_offset",
+        "set_g92_offset",
+        "set_xy_rotation",
+        "set_feed_reference",
+        "on_reset",
+    ]
+    assert names[-3:] == ["program_end", "on_reset", "on_reset"]
+    assert ("straight_traverse", (1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)) in calls
+
+
+def test_error_still_closes_with_two_resets():
+    canon = RecordingCanon()
+    machine = Machine(canon)
+    with pytest.raises(GCodeError, match="Cannot do g1 with zero feed rate"):
+        machine.run(lambda m: m.block(3, G1, x=1.0))
+    assert [name for name, _ in canon.calls[-2:]] == ["on_reset", "on_reset"]
+    assert machine.line == 3
+
+
+def test_nothing_runs_after_program_end():
+    calls = recorded(((M2,), {}), ((G0,), {"x": 5.0}))
+    assert not any(name == "straight_traverse" for name, _ in calls)
+
+
+def test_position_parameters_follow_moves():
+    machine = Machine(RecordingCanon())
+    machine.run(lambda m: m.block(1, G0, x=1.5, z=-2.0))
+    assert machine.params[5420] == 1.5
+    assert machine.params[5422] == -2.0
+    assert machine.globals["_x"] == 1.5
+
+
+def test_call_gives_fresh_arguments_and_restores_them():
+    machine = Machine(RecordingCanon())
+    seen = []
+
+    def sub(m):
+        seen.append((m.params[1], m.params[2], m.params[3], m.globals["_call_level"]))
+        return 7.0
+
+    def main(m):
+        m.params[1] = 9.0
+        m.call(sub, 4.0, 5.0)
+        seen.append((m.params[1], m.globals["_value"], m.globals["_value_returned"]))
+
+    machine.run(main)
+    assert seen == [(4.0, 5.0, 0.0, 1.0), (9.0, 7.0, 1.0)]
+
+
+def test_call_named_needs_a_definition():
+    machine = Machine(RecordingCanon())
+    machine.define("known", lambda m: None)
+    machine.call_named("known")
+    with pytest.raises(GCodeError):
+        machine.call_named("unknown")
+
+
+def test_unsupported_codes_say_so():
+    machine = Machine(RecordingCanon())
+    with pytest.raises(GCodeError, match="does not support"):
+        machine.run(lambda m: m.block(1, g_code(81), x=1.0, z=0.0, r=1.0, f=1.0))
+
+
+def test_repeat_rounds_like_rs274():
+    # rs274 runs "repeat [2.6]" three times and "repeat [-1]" not at all.
+    assert len(list(Machine.repeat(2.6))) == 3
+    assert list(Machine.repeat(-1.0)) == []
+
+
+def test_calls_nest_nine_deep_at_most():
+    # rs274 runs a sub at call level 9 but refuses the call that would make 10.
+    machine = Machine(RecordingCanon())
+    levels = []
+
+    def nested(m):
+        levels.append(m.call_level)
+        m.call(nested)
+
+    with pytest.raises(GCodeError, match="Too many subroutine levels"):
+        machine.run(lambda m: m.call(nested))
+    assert levels == list(range(1, 10))
