@@ -30,6 +30,7 @@ from dataclasses import dataclass
 from typing import Mapping, Optional, Tuple
 
 from runtime.errors import GCodeError
+from runtime.ops import plus_half_pi
 
 MM_PER_INCH = 25.4
 
@@ -277,9 +278,9 @@ def arc_from_radius(
     # Centre to the right of the chord for a short clockwise arc (or a long
     # counter-clockwise one), to the left otherwise.
     if clockwise == (radius > 0):
-        theta = chord_angle - math.pi / 2
+        theta = plus_half_pi(chord_angle, -1)
     else:
-        theta = chord_angle + math.pi / 2
+        theta = plus_half_pi(chord_angle)
     offset = abs_radius * math.cos(math.asin(half_chord / abs_radius))
     center1 = mid[0] + offset * math.cos(theta)
     center2 = mid[1] + offset * math.sin(theta)

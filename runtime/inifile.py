@@ -124,6 +124,8 @@ class IniSettings:
     ini: IniFile = field(default_factory=IniFile)
     #: What rs274 prints on stderr while reading the file (after "executing").
     stderr_report: str = ""
+    #: False when the file could not be opened (rs274 then runs as without -i).
+    opened: bool = True
 
     def ini_value(self, section: str, key: str) -> Optional[str]:
         """The raw text of an INI entry (for #<_ini[...]>), or None."""
@@ -136,7 +138,9 @@ def load_ini(path: str) -> IniSettings:
         with open(path, "rb") as f:
             text = f.read().decode("latin-1")
     except OSError:
-        return IniSettings(stderr_report=f"Unable to open inifile:{path}:\n")
+        return IniSettings(
+            stderr_report=f"Unable to open inifile:{path}:\n", opened=False
+        )
     return settings_from(IniFile.parse(text))
 
 

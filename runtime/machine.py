@@ -205,9 +205,7 @@ class Machine(MCodesMixin, MotionMixin, OffsetsMixin, ToolsMixin):
         self.source = source
         self.settings = IniSettings() if ini is None else load_ini(ini)
         # rs274 closes with one ON_RESET when it could read an INI file, two otherwise.
-        ini_read = ini is not None and not self.settings.stderr_report.startswith(
-            "Unable to open"
-        )
+        ini_read = ini is not None and self.settings.opened
         self._closing_resets = 1 if ini_read else 2
         self.line = 0
         #: rs274's user (machine) units per mm: its canon reports inches.

@@ -27,6 +27,7 @@ Facts measured against rs274 (LinuxCNC 2.9) that shape this module:
 from __future__ import annotations
 
 import math
+from fractions import Fraction
 from typing import Tuple
 
 from runtime.errors import GCodeError
@@ -315,6 +316,20 @@ _PI_FIXED = _pi_fixed(_PI_BITS)
 _HALF_PI_FIXED = _PI_FIXED >> 1  # pi/2 * 2**_PI_BITS (pi's low bit is lost: 2**-1400)
 #: M_PIl: pi rounded to a 64-bit significand.
 _PI_L = _rounded_ratio(_PI_FIXED, 1, -_PI_BITS, _LD_BITS)
+
+
+def plus_half_pi(x: float, sign: int = 1) -> float:
+    """rs274's ``x + M_PI_2l`` (or minus, for ``sign=-1``) stored into a double.
+
+    The arc code mixes a double with the long double constant, so the sum is
+    rounded to a long double first and then to a double; doing it in doubles
+    alone sometimes turns a centre rs274 prints as ``-0.0000`` into ``0.0000``.
+    """
+    pm, pe = _PI_L
+    exact = Fraction(x) + sign * Fraction(pm) * Fraction(2) ** (pe - 1)
+    if exact == 0:
+        return 0.0
+    return _to_double(*_rounded_ratio(exact.numerator, exact.denominator, 0, _LD_BITS))
 
 
 def _degrees(radians: float) -> float:
