@@ -234,7 +234,9 @@ class Line:
     generated code evaluates them in the order rs274 reads them. When the line
     has a read-time error, ``error`` holds rs274's message and ``items`` what
     was read before the error (those values are still evaluated first, which
-    is how rs274 reports, say, a division by zero before a later syntax error).
+    is how rs274 reports, say, a division by zero before a later syntax error;
+    settings are never applied on such a line), then the values of ``oword``
+    that were read (name expression, ``expr``, ``args``), then ``partial``.
     """
 
     number: int  # 1-based physical line number in ``file``
@@ -247,6 +249,11 @@ class Line:
     oword: Optional[OWord] = None
     error: Optional[str] = None
     percent: bool = False  # the line is a lone ``%`` demarcation line
+    #: With ``error``: values rs274 had already computed inside the item it
+    #: was reading when it failed (``X[1/0 + $]`` divides before it meets
+    #: ``$``; ``##1 X`` reads #1 for the index before missing the ``=``).
+    #: Evaluate them, in order, after ``items`` and before raising ``error``.
+    partial: Tuple[Expr, ...] = ()
 
     @property
     def comment(self) -> Optional[Comment]:
