@@ -1,0 +1,135 @@
+"""Differential tests: generated programs run through rs274 and ngc2py.
+
+Hypothesis writes programs (tests/strategies.py); each is run by the live
+rs274 and by ngc2py in the same way (scratch folder, private HOME), and the
+two must agree: byte-identical stdout, same exit status, same error message.
+All tests here need rs274 and are skipped (with the reason, counted in the
+session summary) without it.
+
+Profiles (NGC2PY_HYPOTHESIS_PROFILE): ``ci`` (default) is derandomised --
+the same examples on every run -- and does not shrink, so a failing run is
+quick and reproducible; ``dev`` draws new examples each run, more of them,
+and shrinks failures to a minimal program. NGC2PY_DIFF_EXAMPLES overrides the
+number of examples per test.
+"""
+
+from __future__ import annotations
+
+import os
+
+import pytest
+from hypothesis import HealthCheck, Phase, given, reject, settings
+
+import rs274 as harness
+import strategies
+
+EXAMPLES = os.environ.get("NGC2PY_DIFF_EXAMPLES")
+
+settings.register_profile(
+    "ci",
+    derandomize=True,
+    database=None,
+    deadline=None,
+    max_examples=int(EXAMPLES or 40),
+    phases=[Phase.explicit, Phase.generate],
+    suppress_health_check=list(HealthCheck),
+    print_blob=False,
+)
+settings.register_profile(
+    "dev",
+    deadline=None,
+    max_examples=int(EXAMPLES or 200),
+    suppress_health_check=list(HealthCheck),
+)
+PROFILE = settings.get_profile(os.environ.get("NGC2PY_HYPOTHESIS_PROFILE", "ci"))
+
+#: rs274 on a generated program: if it hangs, the example is discarded
+TIMEOUT = 20.0
+
+pytestmark = pytest.mark.rs274
+
+# a folder name for the scratch copy; nothing is read from it
+_PROGRAM = harness.REPO / "tests" / "_generated" / "prog.ngc"
+
+
+def check_same(text: str, mode: str = "run") -> None:
+    expected = harness.run_rs274(_PROGRAM, text=text, timeout=TIMEOUT)
+    if expected.timed_out or (expected.rc is not None and expected.rc < 0):
+        reject()  # rs274 hung or crashed: no reference behaviour to compare with
+    actual = harness.run_ngc2py(_PROGRAM, text=text, mode=mode, timeout=TIMEOUT * 3)
+    problems = harness.compare(expected, actual)
+    if problems:
+        numbered = "\n".join(f"{i:4d}  {ln}" for i, ln in enumerate(text.splitlines(), 1))
+        pytest.fail(
+            f"ngc2py ({mode}) differs from rs274 on this program:\n{numbered}\n\n"
+            + "\n".join(problems),
+            pytrace=False,
+        )
+
+
+@settings(PROFILE, max_examples=PROFILE.max_examples * 2)
+@given(strategies.valid_programs())
+def test_valid_programs_run(text):
+    """`ngc2py run`, called in-process (tests/rs274.py) so more examples fit."""
+    check_same(text, "inprocess")
+
+
+@PROFILE
+@given(strategies.valid_programs(max_statements=6))
+def test_valid_programs_converted(text):
+    """The generated module on its own, not only `ngc2py run`."""
+    check_same(text, "convert")
+
+
+@settings(PROFILE, max_examples=PROFILE.max_examples * 2)
+@given(strategies.invalid_programs())
+def test_invalid_programs_run(text):
+    check_same(text, "inprocess")
+
+
+@settings(PROFILE, max_examples=max(10, PROFILE.max_examples // 2))
+@given(strategies.invalid_programs(max_statements=6))
+def test_invalid_programs_converted(text):
+    check_same(text, "convert")
+
+
+@pytest.mark.parametrize("program", harness.golden_programs(), ids=lambda p: str(p.relative_to(harness.GOLDEN).with_suffix("")))
+def test_golden_recording_is_current(program):
+    """The recordings still match the installed rs274 (re-record with
+    golden/record.py if LinuxCNC was upgraded on purpose)."""
+    if program.with_suffix(".expect").exists():
+        actual = harness.run_rs274(program, harness.read_args(program), timeout=TIMEOUT)
+        assert actual.timed_out or actual.rc < 0, (
+            f"rs274 no longer crashes or hangs on {program.name}: remove its .expect and record it\n"
+            + actual.describe()
+        )
+        return
+    expected = harness.load_expected(program)
+    actual = harness.run_rs274(program, harness.read_args(program), timeout=TIMEOUT)
+    problems = harness.compare(expected, actual)
+    if problems:
+        pytest.fail("installed rs274 disagrees with the recording:\n" + "\n".join(problems), pytrace=False)
+
+
+@pytest.mark.parametrize("program", sorted((harness.REPO / "examples").glob("*.ngc")), ids=lambda p: p.name)
+def test_bundled_example(program):
+    """The README's example programs behave exactly as in rs274."""
+    args = harness.read_args(program)
+    expected = harness.run_rs274(program, args, timeout=TIMEOUT)
+    assert expected.rc == 0, "the bundled example must run cleanly in rs274:\n" + expected.describe()
+    for mode in ("run", "convert"):
+        actual = harness.run_ngc2py(program, args, mode=mode, timeout=TIMEOUT * 3)
+        problems = harness.compare(expected, actual)
+        if problems:
+            pytest.fail(f"{program.name} ({mode}):\n" + "\n".join(problems), pytrace=False)
+
+
+@settings(PROFILE, max_examples=PROFILE.max_examples * 2)
+@given(strategies.valid_programs())
+def test_generator_writes_valid_programs(text):
+    """Checks the generator, not ngc2py: rs274 runs every 'valid' program to
+    its end, so the differential tests above really exercise the success path."""
+    result = harness.run_rs274(_PROGRAM, text=text, timeout=TIMEOUT)
+    if result.timed_out:
+        reject()
+    assert result.rc == 0, f"rs274 rejects a generated valid program:\n{text}\n{result.describe()}"

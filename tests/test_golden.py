@@ -1,0 +1,78 @@
+"""ngc2py against the recorded rs274 behaviour of every golden program.
+
+One test per program in golden/<feature>/<name>.ngc and per way of running it:
+
+* ``run``     -- ``python -m ngc2py run PROG [args]``
+* ``convert`` -- ``python -m ngc2py convert PROG -o prog.py`` then
+  ``python prog.py [args]`` (the generated module on its own)
+
+Pass = stdout byte-identical to ``<name>.out``, the same exit status as
+``<name>.rc`` and the same error message as ``<name>.err``. These tests use
+only the recordings, so they run without rs274 installed. Programs with a
+``<name>.expect`` (rs274 crashes or hangs on them) are checked against the
+better behaviour it describes. Set NGC2PY_GOLDEN_MODES=run (or convert) to
+run one way only.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+
+import pytest
+
+import rs274 as harness
+
+MODES = [m for m in os.environ.get("NGC2PY_GOLDEN_MODES", "run,convert").split(",") if m]
+PROGRAMS = harness.golden_programs()
+
+
+def _id(path):
+    return str(path.relative_to(harness.GOLDEN).with_suffix(""))
+
+
+def test_corpus_is_recorded():
+    """The corpus is there and every recording is complete."""
+    assert len(PROGRAMS) >= 150, f"only {len(PROGRAMS)} golden programs"
+    for p in PROGRAMS:
+        if p.with_suffix(".expect").exists():
+            continue
+        for ext in (".out", ".err", ".rc"):
+            assert p.with_suffix(ext).exists(), f"{_id(p)}: missing {ext} (run golden/record.py)"
+
+
+@pytest.mark.parametrize("mode", MODES)
+@pytest.mark.parametrize("program", PROGRAMS, ids=_id)
+def test_golden(program, mode):
+    args = harness.read_args(program)
+    if program.with_suffix(".expect").exists():
+        _check_expect(program, args, mode)
+        return
+    expected = harness.load_expected(program)
+    actual = harness.run_ngc2py(program, args, mode=mode)
+    problems = harness.compare(expected, actual)
+    if problems:
+        pytest.fail(f"{_id(program)} ({mode}):\n" + "\n".join(problems), pytrace=False)
+
+
+def _check_expect(program, args, mode):
+    spec = harness.load_expect(program)
+    limit = float(spec.get("max_seconds", harness.DEFAULT_TIMEOUT))
+    start = time.monotonic()
+    actual = harness.run_ngc2py(program, args, mode=mode, timeout=limit)
+    elapsed = time.monotonic() - start
+    where = f"{_id(program)} ({mode}), expected behaviour from .expect"
+    assert not actual.timed_out, f"{where}: did not finish within {limit}s"
+    assert elapsed <= limit, f"{where}: took {elapsed:.1f}s > {limit}s"
+    if "rc" in spec:
+        assert actual.rc == int(spec["rc"]), f"{where}: rc {actual.rc}\n{actual.describe()}"
+    if "err" in spec:
+        assert actual.err == spec["err"], f"{where}: {actual.describe()}"
+    if "err_contains" in spec:
+        assert spec["err_contains"] in actual.err, f"{where}: {actual.describe()}"
+    if "stdout_prefix" in spec:
+        prefix = (program.parent / spec["stdout_prefix"]).read_bytes()
+        assert actual.stdout.startswith(prefix), (
+            f"{where}: stdout does not start with {spec['stdout_prefix']}\n"
+            + harness.stdout_diff(prefix, actual.stdout[: len(prefix)])
+        )
