@@ -1,14 +1,179 @@
-"""Errors raised by generated programs, and how they are reported.
+"""Errors raised by generated programs, and where in the G-code they happened.
 
 A GCodeError carries rs274's message text. Where it happened (file, line,
-subroutine call stack) is attached when the error leaves the program, by
-mapping the traceback's generated-module frames back to G-code lines.
+subroutine call stack) is worked out when the error leaves the program, by
+mapping the traceback's frames in generated modules back to G-code lines
+through each module's ``__ngc__`` :class:`SourceMap` -- the way Jinja maps
+template tracebacks, so the hot path pays nothing for it.
 """
+
+from __future__ import annotations
+
+import bisect
+import sys
+from dataclasses import dataclass
+from types import TracebackType
+from typing import List, Optional, Sequence, Tuple
 
 
 class GCodeError(Exception):
-    """An error rs274 would report; ``message`` is rs274's exact wording."""
+    """An error rs274 would report; ``message`` is rs274's exact wording.
 
-    def __init__(self, message: str):
+    ``location`` is set only when rs274 names a line other than the one
+    being executed (e.g. the last line of a file searched for a subroutine);
+    otherwise the location comes from the traceback.
+    """
+
+    def __init__(self, message: str, location: Optional["Location"] = None):
         super().__init__(message)
         self.message = message
+        self.location = location
+
+
+@dataclass(frozen=True)
+class Location:
+    """A G-code position: file, 1-based line and the line's text."""
+
+    file: str
+    line: int
+    text: str
+
+    def __str__(self) -> str:
+        return "%s:%d" % (self.file, self.line)
+
+
+class SourceMap:
+    """Python line -> G-code (file, line) for one generated module.
+
+    ``lines`` is the code generator's compact encoding: ``;``-separated
+    ``py,file,line[,count]`` runs (``count`` consecutive Python lines map to
+    consecutive G-code lines). G-code line 0 means the statement runs data
+    rows: the row's line number is attached to the error by ``run_rows``.
+    ``texts`` holds, per file, the G-code lines joined by newlines.
+    ``subs`` maps every subroutine name defined in the main file to its
+    function, so a call to a sub not yet defined can seek it the way rs274
+    reads ahead; ``end`` is the main file's last line number and whether
+    that line is a closing ``%`` (it decides the message when seeking fails).
+    """
+
+    def __init__(
+        self,
+        files: Sequence[str],
+        lines: str,
+        texts: Sequence[str],
+        subs: Optional[dict] = None,
+        end: Tuple[int, bool] = (0, False),
+    ):
+        self.files = tuple(files)
+        self.subs = dict(subs or {})
+        self.end = end
+        self._encoded = lines
+        self._texts = tuple(texts)
+        self._runs: Optional[List[Tuple[int, int, int, int]]] = None
+        self._split: dict = {}
+
+    def _decoded(self) -> List[Tuple[int, int, int, int]]:
+        # Decoded on first use only: most runs never raise.
+        if self._runs is None:
+            runs = []
+            for part in filter(None, self._encoded.split(";")):
+                fields = [int(x) for x in part.split(",")]
+                if len(fields) == 3:
+                    fields.append(1)
+                runs.append(tuple(fields))
+            self._runs = runs
+        return self._runs
+
+    def lookup(
+        self, py_line: int, row_line: Optional[int] = None
+    ) -> Optional[Location]:
+        """The G-code location of Python line ``py_line``, if it has one."""
+        runs = self._decoded()
+        index = bisect.bisect_right(runs, (py_line, 1 << 30)) - 1
+        if index < 0:
+            return None
+        start, file, line, count = runs[index]
+        if line == 0:
+            if row_line is None:
+                return None
+            line = row_line
+        else:
+            line += min(py_line - start, count - 1)
+        return Location(self.files[file], line, self.text(file, line))
+
+    def text(self, file: int, line: int) -> str:
+        """The text of G-code ``line`` of file number ``file`` ("" if unknown)."""
+        if file not in self._split:
+            self._split[file] = (
+                self._texts[file].split("\n") if file < len(self._texts) else []
+            )
+        lines = self._split[file]
+        return lines[line - 1] if 0 < line <= len(lines) else ""
+
+    def missing_sub(self, name: str) -> GCodeError:
+        """rs274's error for calling ``name`` when neither a definition nor
+        a file ``name.ngc`` exists: it reads to the end of the main file
+        looking for the ``sub`` line, and reports that last line."""
+        last, closed = self.end
+        location = Location(self.files[0], last, self.text(0, last))
+        if closed:
+            message = "Failed to find sub 'O%s' before EOF" % name
+        else:
+            calls = g_code_frames_of_stack()
+            line = calls[-1].line if calls else 0
+            message = "EOF in file:%s seeking o-word: o<%s> from line: %d" % (
+                self.files[0],
+                name,
+                line,
+            )
+        return GCodeError(message, location)
+
+
+def g_code_frames_of_stack() -> List[Location]:
+    """The G-code locations of the generated frames now on the stack."""
+    found: List[Location] = []
+    frame = sys._getframe(1)
+    while frame is not None:
+        source_map = frame.f_globals.get("__ngc__")
+        if isinstance(source_map, SourceMap):
+            location = source_map.lookup(frame.f_lineno)
+            if location is not None:
+                found.append(location)
+        frame = frame.f_back
+    found.reverse()
+    return found
+
+
+def g_code_frames(
+    tb: Optional[TracebackType], row_line: Optional[int] = None
+) -> List[Location]:
+    """The G-code locations of a traceback's generated-module frames,
+    outermost first: the last one is where the error happened, the ones
+    before it are the O-calls that led there."""
+    found: List[Location] = []
+    while tb is not None:
+        frame = tb.tb_frame
+        source_map = frame.f_globals.get("__ngc__")
+        if isinstance(source_map, SourceMap):
+            location = source_map.lookup(tb.tb_lineno, row_line)
+            if location is not None:
+                found.append(location)
+        tb = tb.tb_next
+    return found
+
+
+def locate(error: BaseException) -> List[Location]:
+    """The G-code call stack of ``error`` (see :func:`g_code_frames`); an
+    explicit ``location`` replaces the innermost frame."""
+    frames = g_code_frames(error.__traceback__, getattr(error, "ngc_row_line", None))
+    explicit = getattr(error, "location", None)
+    if explicit is not None:
+        frames = frames[:-1] + [explicit] if frames else [explicit]
+    return frames
+
+
+def describe(error: BaseException) -> str:
+    """One line for a Python exception that escaped a program: what and where."""
+    frames = locate(error)
+    where = " at %s" % frames[-1] if frames else ""
+    return "internal error%s: %s: %s" % (where, type(error).__name__, error)

@@ -1,0 +1,144 @@
+"""The ``ngc2py`` command: ``convert`` a G-code file, or ``run`` it.
+
+Every failure is one clear line on stderr and exit status 1; a Python
+traceback never reaches the user.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import sys
+from pathlib import Path
+from typing import List, Optional
+
+from ngc2py import __version__
+from ngc2py.compiler import CompileError, compile_file
+
+DESCRIPTION = """\
+Compile LinuxCNC G-code (RS274/NGC, LinuxCNC 2.9) into a readable Python
+module, or run it. A generated module prints exactly what `rs274 -g PROG.ngc`
+prints, and fails where and how rs274 fails."""
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="ngc2py", description=DESCRIPTION)
+    parser.add_argument("--version", action="version", version="ngc2py " + __version__)
+    commands = parser.add_subparsers(dest="command", metavar="COMMAND")
+    commands.required = True
+
+    convert = commands.add_parser(
+        "convert",
+        help="write the Python module for a G-code file",
+        description="Compile PROG.ngc into a Python module. Run the module "
+        "with `python OUT.py [-t TBL] [-v VAR] [-i INI] [-b]`.",
+    )
+    convert.add_argument("program", metavar="PROG.ngc", help="the G-code file")
+    convert.add_argument(
+        "-o",
+        "--output",
+        metavar="OUT.py",
+        help="where to write the module (default: PROG.py next to PROG.ngc; "
+        "'-' for standard output). Written atomically.",
+    )
+    convert.add_argument(
+        "-i",
+        dest="ini",
+        metavar="INI",
+        help="ini file whose SUBROUTINE_PATH is searched",
+    )
+
+    run = commands.add_parser(
+        "run",
+        help="compile (cached) and run a G-code file like `rs274 -g`",
+        description="Compile PROG.ngc (cached on disk, see NGC2PY_CACHE) and run "
+        "it: the canonical-call trace on stdout, errors on stderr, exit status "
+        "1 on error -- the same as `rs274 -g`.",
+    )
+    run.add_argument("program", metavar="PROG.ngc", help="the G-code file")
+    run.add_argument("-t", dest="tool_table", metavar="TBL", help="tool table file")
+    run.add_argument("-v", dest="var_file", metavar="VAR", help="parameter (.var) file")
+    run.add_argument("-i", dest="ini", metavar="INI", help="ini file")
+    run.add_argument(
+        "-b", dest="block_delete", action="store_true", help="turn block delete on"
+    )
+    return parser
+
+
+def default_output(program: str) -> str:
+    return str(Path(program).with_suffix(".py"))
+
+
+def convert(args: argparse.Namespace) -> int:
+    from ngc2py.cache import write_atomic
+
+    text = compile_file(args.program, args.ini)
+    output = args.output or default_output(args.program)
+    if output == "-":
+        sys.stdout.write(text)
+    else:
+        write_atomic(Path(output), text)
+    return 0
+
+
+def load_module(path: Path):
+    """Import a generated module from ``path`` under a private name."""
+    spec = importlib.util.spec_from_file_location("ngc2py_program", str(path))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def load_program(program: str, ini: Optional[str]):
+    """The generated module for ``program``: from the cache, or compiled in
+    a temporary directory when the cache cannot be written."""
+    from ngc2py.cache import cached_module
+
+    try:
+        return load_module(cached_module(program, ini))
+    except PermissionError:
+        import tempfile
+
+        with tempfile.TemporaryDirectory() as folder:
+            path = Path(folder) / "program.py"
+            path.write_text(compile_file(program, ini), encoding="utf-8")
+            return load_module(path)
+
+
+def run(args: argparse.Namespace) -> int:
+    from runtime.main import run_cli
+
+    module = load_program(args.program, args.ini)
+    argv: List[str] = []
+    for flag, value in (
+        ("-t", args.tool_table),
+        ("-v", args.var_file),
+        ("-i", args.ini),
+    ):
+        if value is not None:
+            argv += [flag, value]
+    if args.block_delete:
+        argv.append("-b")
+    return run_cli(module.main, module.__ngc__, argv)
+
+
+def main(argv: Optional[List[str]] = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return convert(args) if args.command == "convert" else run(args)
+    except CompileError as error:
+        if args.command == "run":
+            sys.stderr.write("executing\n")  # rs274 says this before failing
+        sys.stderr.write("%s\n" % error)
+    except OSError as error:
+        name = error.filename or args.program
+        sys.stderr.write("ngc2py: %s: %s\n" % (name, error.strerror or error))
+    except Exception as error:  # noqa: BLE001 - one line, never a traceback
+        sys.stderr.write(
+            "ngc2py: internal error: %s: %s\n" % (type(error).__name__, error)
+        )
+    return 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,893 @@
+"""Statement tree -> Python module text, black-stable, with a line map.
+
+Text is emitted directly (libcst and black are far too slow per statement,
+see /work/shared/DESIGN.md); black is the oracle in the tests. Statements
+that fit in 88 columns are written on one line, which is what black does;
+the rare longer one is laid out by black itself.
+
+Safety: nothing from the source reaches the output except through
+``repr()`` escaping (strings, floats) or :func:`identifier` (names), and G-code text
+in comments is reduced to printable characters, so no input can inject code.
+
+Big CAM files: the main program is split into chunk functions of bounded
+size, and runs of constant blocks become module-level tuples of one short string
+per block (``"24 G1 x=1.0 y=2.0"``: line, code names, words) executed by
+``runtime.run_rows``: a tuple of strings compiles about 60 times faster than
+the equivalent nested tuples of numbers (measured: 1 s against 64 s for
+200k rows), so neither one giant function nor one statement per move is
+compiled.
+"""
+
+from __future__ import annotations
+
+import builtins
+import keyword
+import math
+import re
+from typing import Dict, Iterable, List, Optional, Sequence, Tuple
+
+from ngc2py import __version__, nodes
+from ngc2py import structure as st
+from runtime import codes
+from runtime.errors import GCodeError
+
+LINE_LENGTH = 88
+INDENT = "    "
+CHUNK_STATEMENTS = 500  # statements per main chunk function
+MIN_ROWS = 8  # shortest run of constant blocks kept as data
+
+BINARY_HELPERS = {
+    "/": "div",
+    "mod": "mod",
+    "**": "power",
+    "eq": "eq",
+    "ne": "ne",
+    "gt": "gt",
+    "ge": "ge",
+    "lt": "lt",
+    "le": "le",
+    "and": "and_",
+    "or": "or_",
+    "xor": "xor",
+}
+UNARY_HELPERS = {"abs": "abs_", "round": "round_"}  # others keep their name
+COMPARISONS = frozenset(("eq", "ne", "gt", "ge", "lt", "le", "and", "or", "xor"))
+WORD_KEYWORDS = {"@": "polar_dist", "^": "polar_angle"}
+RESERVED = frozenset(
+    keyword.kwlist + dir(builtins) + ["m", "p", "g", "v", "main", "run", "rows"]
+)
+
+
+# --------------------------------------------------------------------------
+# Names and literals
+# --------------------------------------------------------------------------
+
+
+def identifier(text: str, prefix: str, taken: set) -> str:
+    """A unique Python identifier for ``text``: ``[a-z0-9_]`` only, never a
+    keyword or builtin, never one already in ``taken`` (which it joins)."""
+    body = re.sub(r"[^a-z0-9_]", "_", text.lower())
+    name = prefix + body
+    if name in RESERVED or not name.isidentifier():
+        name += "_"
+    unique, count = name, 2
+    while unique in taken:
+        unique = "%s_%d" % (name, count)
+        count += 1
+    taken.add(unique)
+    return unique
+
+
+def number(value: float) -> str:
+    """A float literal as black prints it (repr, lower-case exponent)."""
+    if math.isnan(value) or math.isinf(value):
+        return "float(%s)" % string(repr(value))
+    return repr(float(value))
+
+
+def string(text: str) -> str:
+    """A string literal as black writes it: ``ascii()`` escaping (so nothing
+    in ``text`` can end the literal, and every character is one column wide,
+    which keeps our line-length arithmetic equal to black's), double quotes
+    unless that adds escapes."""
+    single = ascii(text)
+    if single.startswith('"'):
+        return single  # ascii() chose double quotes: text has a '
+    body = single[1:-1]
+    double = body.replace("\\'", "'").replace('"', '\\"')
+    if double.count('\\"') <= body.count("\\'"):
+        return '"%s"' % double
+    return single
+
+
+def printable(text: str) -> str:
+    """``text`` made safe for a ``#`` comment: non-printables escaped."""
+    return "".join(c if c.isprintable() else "\\x%02x" % ord(c) for c in text)
+
+
+def attr_safe(name: str) -> bool:
+    """May ``store.name`` be used for the named parameter ``name``?
+
+    The rule belongs to runtime.params (the store's own attributes must not
+    be shadowed); without it, item syntax is always correct.
+    """
+    try:
+        from runtime.params import attr_safe as runtime_attr_safe
+    except ImportError:
+        return False
+    return runtime_attr_safe(name)
+
+
+# --------------------------------------------------------------------------
+# Expressions
+# --------------------------------------------------------------------------
+
+
+class ExprWriter:
+    """Renders expressions; records which runtime.ops helpers are used."""
+
+    def __init__(self) -> None:
+        self.helpers: set = set()
+
+    def helper(self, name: str) -> str:
+        self.helpers.add(name)
+        return name
+
+    def expr(self, e: nodes.Expr) -> str:
+        method = getattr(self, "_" + type(e).__name__.lower())
+        return method(e)
+
+    def condition(self, e: nodes.Expr) -> str:
+        """An if/while test: comparison helpers already return 1.0/0.0."""
+        if isinstance(e, nodes.Binary) and e.op in COMPARISONS:
+            return self.expr(e)
+        return "%s(%s)" % (self.helper("truth"), self.expr(e))
+
+    def _num(self, e: nodes.Num) -> str:
+        return number(e.value)
+
+    def _numparam(self, e: nodes.NumParam) -> str:
+        index = e.index
+        if isinstance(index, nodes.Num) and index.value == int(index.value):
+            return "p[%d]" % int(index.value)
+        return "p[%s]" % self.expr(index)
+
+    def _namedparam(self, e: nodes.NamedParam) -> str:
+        store = "g" if e.is_global else "v"
+        if attr_safe(e.name):
+            return "%s.%s" % (store, e.name)
+        return "%s[%s]" % (store, string(e.name))
+
+    def _exists(self, e: nodes.Exists) -> str:
+        store = "g" if e.name.startswith("_") else "v"
+        return "%s.exists(%s)" % (store, string(e.name))
+
+    def _atan2(self, e: nodes.Atan2) -> str:
+        return "%s(%s, %s)" % (self.helper("atan2"), self.expr(e.y), self.expr(e.x))
+
+    def _unary(self, e: nodes.Unary) -> str:
+        if e.op == "pos":
+            return self.expr(e.arg)
+        if e.op == "neg":
+            return "-" + self._operand(e.arg, unary=True)
+        name = self.helper(UNARY_HELPERS.get(e.op, e.op))
+        return "%s(%s)" % (name, self.expr(e.arg))
+
+    def _binary(self, e: nodes.Binary) -> str:
+        if e.op in ("+", "-", "*"):
+            left = self._operand(e.left)
+            right = self._operand(e.right)
+            return "%s %s %s" % (left, e.op, right)
+        name = self.helper(BINARY_HELPERS[e.op])
+        return "%s(%s, %s)" % (name, self.expr(e.left), self.expr(e.right))
+
+    def _operand(self, e: nodes.Expr, unary: bool = False) -> str:
+        """An operand of ``+ - *`` or unary minus: inner operators (and, for
+        unary minus, negative literals) get parentheses so Python groups
+        exactly as the parser did."""
+        text = self.expr(e)
+        if isinstance(e, nodes.Binary) and e.op in ("+", "-", "*"):
+            return "(%s)" % text
+        if isinstance(e, nodes.Unary) and e.op == "neg":
+            return "(%s)" % text
+        if unary and text.startswith("-"):
+            return "(%s)" % text
+        return text
+
+
+def is_constant(e: nodes.Expr) -> bool:
+    return isinstance(e, nodes.Num)
+
+
+# --------------------------------------------------------------------------
+# The line map
+# --------------------------------------------------------------------------
+
+
+class LineMap:
+    """(python line, file index, G-code line) entries, encoded compactly.
+
+    The encoding is ``;``-separated ``py,file,line[,count]`` runs: ``count``
+    consecutive Python lines map to consecutive G-code lines. A G-code line
+    of 0 means "read the line from the frame's ``line`` variable" (the loop
+    over constant rows).
+    """
+
+    def __init__(self) -> None:
+        self.entries: List[Tuple[int, int, int]] = []
+
+    def add(self, py: int, file: int, line: int) -> None:
+        self.entries.append((py, file, line))
+
+    def encode(self) -> str:
+        runs: List[List[int]] = []
+        for py, file, line in self.entries:
+            if runs:
+                last = runs[-1]
+                span = last[3]
+                if (
+                    last[1] == file
+                    and py == last[0] + span
+                    and line == last[2] + span
+                    and line
+                ):
+                    last[3] += 1
+                    continue
+            runs.append([py, file, line, 1])
+        return ";".join(
+            ",".join(str(x) for x in (run if run[3] > 1 else run[:3])) for run in runs
+        )
+
+
+# --------------------------------------------------------------------------
+# The module writer
+# --------------------------------------------------------------------------
+
+
+class ModuleWriter:
+    """Accumulates output lines, indentation, and the line map."""
+
+    def __init__(self, files: Sequence[str]):
+        self.out: List[str] = []
+        self.depth = 0
+        self.files = list(files)
+        self.file_index = 0
+        self.map = LineMap()
+        self.texts: List[Dict[int, str]] = [{} for _ in self.files]
+
+    def raw(self, text: str = "") -> None:
+        self.out.append(text)
+
+    def comment(self, line: nodes.Line) -> None:
+        """``# 12: G1 X[#<i>*10]``: the G-code line, as a comment."""
+        self.out.append(
+            "%s# %d: %s" % (INDENT * self.depth, line.number, printable(line.text))
+        )
+
+    def stmt(self, code: str, line: Optional[nodes.Line] = None) -> None:
+        """One statement at the current depth, mapped to ``line``."""
+        indent = INDENT * self.depth
+        text = indent + code
+        lines = [text] if len(text) <= LINE_LENGTH else fit(code, len(indent))
+        if line is not None:
+            self.texts[self.file_index][line.number] = line.text
+            first = len(self.out) + 1
+            for i in range(len(lines)):
+                self.map.add(first + i, self.file_index, line.number)
+        self.out.extend(lines)
+
+    def row_loop(self, code: str) -> None:
+        """A statement running data rows: its G-code line is the failing
+        row's, which ``runtime.main.run_rows`` attaches to the error."""
+        self.map.add(len(self.out) + 1, self.file_index, 0)
+        self.out.append(INDENT * self.depth + code)
+
+    def text(self) -> str:
+        return "\n".join(self.out) + "\n"
+
+
+def fit(code: str, indent: int) -> List[str]:
+    """Black's layout of one over-long statement at ``indent`` columns."""
+    import black
+
+    mode = black.Mode(line_length=LINE_LENGTH - indent)
+    formatted = black.format_str(code, mode=mode)
+    return [" " * indent + part for part in formatted.rstrip("\n").split("\n")]
+
+
+class Coll:
+    """A bracketed, comma-separated display (call, tuple, dict) of literals,
+    laid out the way black lays it out, without running black:
+
+    1. on one line if it fits;
+    2. else the items on one indented line between the brackets, if that fits
+       and the display has no magic trailing comma;
+    3. else one item per line, each laid out recursively, with a trailing comma.
+    """
+
+    def __init__(self, open_: str, items: Sequence, close: str):
+        self.open = open_
+        self.items = list(items)
+        self.close = close
+
+    def flat(self) -> str:
+        inner = ", ".join(flat(item) for item in self.items)
+        if len(self.items) == 1 and self.close == ")" and self.open == "(":
+            inner += ","  # a one-element tuple; black does not treat it as magic
+        return self.open + inner + self.close
+
+    def magic(self) -> bool:
+        return any(isinstance(i, Coll) and i.magic() for i in self.items)
+
+    def layout(self, indent: int, suffix: str = "") -> List[str]:
+        pad = " " * indent
+        text = pad + self.flat() + suffix
+        if len(text) <= LINE_LENGTH:
+            return [text]
+        body = self.flat()[len(self.open) : -len(self.close)]
+        inner = " " * (indent + 4) + body
+        if len(inner) <= LINE_LENGTH and not self.magic() and not body.endswith(","):
+            return [pad + self.open, inner, pad + self.close + suffix]
+        lines = [pad + self.open]
+        for item in self.items:
+            lines.extend(layout(item, indent + 4, ","))
+        lines.append(pad + self.close + suffix)
+        return lines
+
+
+def flat(item) -> str:
+    return item.flat() if isinstance(item, Coll) else item
+
+
+def layout(item, indent: int, suffix: str = "") -> List[str]:
+    if isinstance(item, Coll):
+        return item.layout(indent, suffix)
+    return [" " * indent + item + suffix]
+
+
+# --------------------------------------------------------------------------
+# Statements
+# --------------------------------------------------------------------------
+
+
+class CodeGen:
+    """Turns a :class:`structure.Program` into module text."""
+
+    def __init__(self, program: st.Program, source_name: str, demarcated: bool):
+        self.program = program
+        self.source_name = source_name
+        self.demarcated = demarcated
+        self.uses_comments = False  # import runtime.comments
+        self.uses_rows = False  # import runtime.run_rows
+        files = [program.file] + [
+            s.line.file or program.file for s in program.externals
+        ]
+        self.files = list(dict.fromkeys(files))
+        self.w = ModuleWriter(self.files)
+        self.x = ExprWriter()
+        self.codes: set = set()
+        self.names: set = set()
+        self.rows: List[str] = []
+        self.temp = 0
+        self.loops: List[st.Loop] = []  # enclosing loops, innermost last
+        self.flags: Dict[int, str] = {}
+
+    # -- entry point ------------------------------------------------------
+
+    def module(self) -> str:
+        subs = list(self.program.subs) + list(self.program.externals)
+        for sub in subs:
+            sub.fn = identifier(sub.name, "o_", self.names)
+        body = ModuleWriter(self.files)
+        self.w = body
+        for sub in subs:
+            self.function(sub)
+        self.main()
+        return self.assemble(body)
+
+    def assemble(self, body: ModuleWriter) -> str:
+        """Header (docstring, imports) + body + source map + entry points."""
+        head = [
+            '"""%s, compiled by ngc2py %s. Edit the .ngc, not this file."""'
+            % (safe_doc(self.source_name), __version__),
+            "",
+        ]
+        head.append(
+            "from runtime import Machine, SourceMap, run_cli%s"
+            % (", run_rows" if self.uses_rows else "")
+        )
+        if self.codes:
+            head.extend(
+                import_lines("runtime.codes", sorted(self.codes, key=code_order))
+            )
+        if self.x.helpers:
+            head.extend(import_lines("runtime.ops", sorted(self.x.helpers)))
+        if self.uses_comments:
+            head.append("from runtime.comments import Comment, Name")
+        shift = len(head)
+        final = ModuleWriter(self.files)
+        final.out = head + body.out
+        final.map.entries = [(py + shift, f, g) for py, f, g in body.map.entries]
+        final.texts = body.texts
+        for row in self.rows:
+            final.raw(row)
+        final.raw("")
+        final.raw("")
+        for line in source_map_lines(final, self.sub_table(), self.end_of_main()):
+            final.raw(line)
+        final.raw("")
+        final.raw("")
+        final.raw("def run(canon=None, **options):")
+        final.raw(
+            '    """Run the program against ``canon`` (default: the rs274 trace)."""'
+        )
+        final.raw("    return Machine(canon, source=__ngc__, **options).run(main)")
+        final.raw("")
+        final.raw("")
+        final.raw('if __name__ == "__main__":')
+        final.raw("    raise SystemExit(run_cli(main, __ngc__))")
+        return final.text()
+
+    def sub_table(self) -> Coll:
+        """``{"name": fn}`` for the main file's subroutines (for seeking)."""
+        pairs = ["%s: %s" % (string(sub.name), sub.fn) for sub in self.program.subs]
+        return Coll("{", pairs, "}")
+
+    def end_of_main(self) -> Tuple[int, bool]:
+        """(last line read, is it the closing %) of the main file."""
+        closed = [s for s in self.program.body if isinstance(s, st.Finish)]
+        if closed:
+            return closed[0].line.number, True
+        last = self.last_line()
+        return (last.number if last else 0), False
+
+    # -- functions --------------------------------------------------------
+
+    def function(self, sub: st.Sub) -> None:
+        self.w.file_index = self.files.index(sub.line.file or self.program.file)
+        end = sub.end.number if sub.end else sub.line.number
+        self.w.raw("")
+        self.w.raw("")
+        self.w.raw("def %s(m: Machine) -> None:" % sub.fn)
+        self.w.depth = 1
+        self.w.raw(
+            '%s"""o<%s> sub (lines %d-%d)"""'
+            % (INDENT, safe_doc(sub.name), sub.line.number, end)
+        )
+        self.w.raw(INDENT + "p, g, v = m.params, m.globals, m.locals")
+        body = sub.body
+        if body and isinstance(body[-1], st.Return) and body[-1].value is None:
+            body = body[:-1]  # falling off the end is the plain endsub
+        self.block(body)
+        self.w.depth = 0
+        self.w.file_index = 0
+
+    def main(self) -> None:
+        body = list(self.program.body)
+        if not any(isinstance(s, st.Finish) for s in body):
+            last = self.last_line()
+            if last is not None:
+                body.append(st.EndOfFile(last))
+        chunks = self.chunked(body)
+        names = []
+        for i, chunk in enumerate(chunks):
+            name = "main" if len(chunks) == 1 else "main_%d" % (i + 1)
+            names.append(name)
+            self.w.raw("")
+            self.w.raw("")
+            self.w.raw("def %s(m: Machine) -> None:" % name)
+            self.w.depth = 1
+            if len(chunks) == 1:
+                self.w.raw('%s"""The main program."""' % INDENT)
+            self.w.raw(INDENT + "p, g, v = m.params, m.globals, m.locals")
+            self.block(chunk)
+            self.w.depth = 0
+        if len(chunks) > 1:
+            self.w.raw("")
+            self.w.raw("")
+            self.w.raw("def main(m: Machine) -> None:")
+            self.w.raw('%s"""The main program, in chunks of bounded size."""' % INDENT)
+            for name in names:
+                self.w.raw("%s%s(m)" % (INDENT, name))
+
+    def last_line(self) -> Optional[nodes.Line]:
+        for stmt in reversed(list(st.walk(self.program.body))):
+            line = stmt_line(stmt)
+            if line is not None:
+                return line
+        return None
+
+    @staticmethod
+    def chunked(body: List[st.Stmt]) -> List[List[st.Stmt]]:
+        if len(body) <= CHUNK_STATEMENTS:
+            return [body]
+        return [
+            body[i : i + CHUNK_STATEMENTS]
+            for i in range(0, len(body), CHUNK_STATEMENTS)
+        ]
+
+    # -- statement lists --------------------------------------------------
+
+    def block(self, stmts: List[st.Stmt]) -> None:
+        """A statement list; runs of constant blocks become data rows."""
+        if not stmts:
+            self.w.raw(INDENT * self.w.depth + "pass")
+            return
+        run: List[Tuple[nodes.Line, str]] = []
+        for stmt in stmts:
+            row = self.constant_row(stmt)
+            if row is not None:
+                run.append((stmt.line, row))
+                continue
+            self.flush(run)
+            run = []
+            self.statement(stmt)
+        self.flush(run)
+
+    def flush(self, run: List[Tuple[nodes.Line, str]]) -> None:
+        if len(run) < MIN_ROWS:
+            for line, _ in run:
+                self.line_block(line)
+            return
+        name = "ROWS_%d" % (len(self.rows) + 1)
+        parts = ["", "", "%s = (" % name]
+        for line, row in run:
+            parts.append("%s%s," % (INDENT, string(row)))
+            self.w.texts[self.w.file_index][line.number] = line.text
+        parts.append(")")
+        self.rows.append("\n".join(parts))
+        self.uses_rows = True
+        self.w.row_loop("run_rows(m, %s)" % name)
+
+    # -- constant rows ----------------------------------------------------
+
+    def constant_row(self, stmt: st.Stmt) -> Optional[str]:
+        """A data row ``"24 G1 x=1.0 y=2.0"`` (line, code names, words) if
+        ``stmt`` is a block with only literal, valid words; else None."""
+        if not isinstance(stmt, st.Block):
+            return None
+        line = stmt.line
+        if line.error or line.comments or line.block_delete or line.oword:
+            return None
+        tokens = ["%d" % line.number]
+        for word in line.items:
+            if not isinstance(word, nodes.Word) or not is_constant(word.value):
+                return None
+            if word.letter in "gm":
+                code = convert_code(word.letter, word.value.value)
+                if code is None:
+                    return None
+                tokens.append(code_name(code))
+            else:
+                letter = WORD_KEYWORDS.get(word.letter, word.letter)
+                tokens.append("%s=%s" % (letter, number(word.value.value)))
+        if line.n is not None:
+            tokens.append("n=%s" % number(line.n))
+        return " ".join(tokens)
+
+    # -- single statements ------------------------------------------------
+
+    def statement(self, stmt: st.Stmt) -> None:
+        getattr(self, "s_" + type(stmt).__name__.lower())(stmt)
+
+    def s_block(self, stmt: st.Block) -> None:
+        self.line_block(stmt.line)
+
+    def s_fail(self, stmt: st.Fail) -> None:
+        self.w.comment(stmt.line)
+        self.w.stmt(fail_call(stmt.line.number, stmt.message), stmt.line)
+
+    def s_endoffile(self, stmt: st.EndOfFile) -> None:
+        self.w.raw(INDENT * self.w.depth + "# end of file, no program end")
+        self.w.stmt("m.end_of_file(%s, False)" % self.demarcated, stmt.line)
+
+    def s_define(self, stmt: st.Define) -> None:
+        sub = stmt.sub
+        self.w.comment(sub.line)
+        if sub.define_error is not None:
+            err = sub.define_error
+            self.w.stmt(fail_call(err.line.number, err.message), err.line)
+        else:
+            self.w.stmt("m.define(%s, %s)" % (string(sub.name), sub.fn), sub.line)
+
+    def s_call(self, stmt: st.Call) -> None:
+        args = [self.x.expr(a) for a in stmt.args]
+        self.w.comment(stmt.line)
+        if stmt.sub is not None:
+            head = ["m.call(%s" % stmt.sub.fn]  # definition already read
+        elif isinstance(stmt.name, str):
+            head = ["m.call_named(%s" % string(stmt.name)]
+        else:
+            head = ["m.call_named(%s" % self.x.expr(stmt.name)]
+        self.w.stmt(", ".join(head + args) + ")", stmt.line)
+
+    def s_return(self, stmt: st.Return) -> None:
+        self.w.comment(stmt.line)
+        if stmt.value is None:
+            self.w.stmt("return", stmt.line)
+        else:
+            self.w.stmt("return %s" % self.x.expr(stmt.value), stmt.line)
+
+    def s_finish(self, stmt: st.Finish) -> None:
+        self.w.comment(stmt.line)
+        self.w.stmt("m.end_of_file(True, True)", stmt.line)
+
+    def s_jump(self, stmt: st.Jump) -> None:
+        self.w.comment(stmt.line)
+        if stmt.crosses:
+            # Leave the inner loops; each checks the flag after it ends.
+            self.w.stmt(
+                "%s = %s" % (self.flag(stmt.target), string(stmt.kind)), stmt.line
+            )
+            self.w.stmt("break", stmt.line)
+        elif stmt.kind == "continue":
+            self.continue_(stmt.target, stmt.line)
+        else:
+            self.w.stmt("break", stmt.line)
+
+    def continue_(self, loop: st.Loop, line: nodes.Line) -> None:
+        """``continue``; rs274 continues a do-loop at its closing ``while``,
+        which tests the condition."""
+        if loop.kind == "do" and loop.end is not None:
+            self.do_test(loop)
+        self.w.stmt("continue", line)
+
+    def do_test(self, loop: st.Loop) -> None:
+        """``if not <cond>: break`` for the closing ``while`` of a do-loop."""
+        test = self.x.condition(loop.end.oword.expr)
+        self.w.stmt("if not %s:" % test, loop.end)
+        self.w.depth += 1
+        self.w.stmt("break", loop.end)
+        self.w.depth -= 1
+
+    def flag(self, loop: st.Loop) -> str:
+        """The flag variable of a loop left by a labelled jump from inside."""
+        if id(loop) not in self.flags:
+            self.flags[id(loop)] = "exit_%d" % (len(self.flags) + 1)
+        return self.flags[id(loop)]
+
+    def check_exits(self, loop: st.Loop, enclosing: Optional[st.Loop]) -> None:
+        """After ``loop``: act on flags set by labelled jumps inside it."""
+        for target in loop.exits:
+            flag = self.flag(target)
+            if target is not enclosing:
+                self.w.raw("%sif %s:" % (INDENT * self.w.depth, flag))
+                self.w.raw("%sbreak" % (INDENT * (self.w.depth + 1)))
+                continue
+            self.w.raw('%sif %s == "break":' % (INDENT * self.w.depth, flag))
+            self.w.raw("%sbreak" % (INDENT * (self.w.depth + 1)))
+            self.w.raw('%sif %s == "continue":' % (INDENT * self.w.depth, flag))
+            self.w.depth += 1
+            self.w.raw('%s%s = ""' % (INDENT * self.w.depth, flag))
+            self.continue_(target, target.end or target.line)
+            self.w.depth -= 1
+
+    def s_if(self, stmt: st.If) -> None:
+        for i, branch in enumerate(stmt.branches):
+            keyword_ = "if" if i == 0 else "elif"
+            if i == 0:
+                self.w.comment(branch.line)
+            test = self.x.condition(branch.line.oword.expr)
+            self.w.stmt("%s %s:" % (keyword_, test), branch.line)
+            self.nested(branch, first=i > 0)
+        if stmt.orelse is not None:
+            self.w.stmt("else:", stmt.orelse.line)
+            self.nested(stmt.orelse, first=True)
+
+    def nested(self, branch: st.Branch, first: bool) -> None:
+        self.w.depth += 1
+        if first:
+            self.w.comment(branch.line)
+        self.block(branch.body)
+        self.w.depth -= 1
+
+    def s_loop(self, stmt: st.Loop) -> None:
+        self.w.comment(stmt.line)
+        if stmt.flagged:
+            self.w.stmt('%s = ""' % self.flag(stmt))
+        word = stmt.line.oword
+        if stmt.kind == "while":
+            self.w.stmt("while %s:" % self.x.condition(word.expr), stmt.line)
+        elif stmt.kind == "repeat":
+            self.w.stmt("for _ in m.repeat(%s):" % self.x.expr(word.expr), stmt.line)
+        else:
+            self.w.stmt("while True:", stmt.line)
+        self.w.depth += 1
+        self.loops.append(stmt)
+        self.block(stmt.body)
+        if stmt.kind == "do" and stmt.end is not None:
+            self.w.comment(stmt.end)
+            self.do_test(stmt)
+        self.loops.pop()
+        self.w.depth -= 1
+        self.check_exits(stmt, self.loops[-1] if self.loops else None)
+
+    # -- ordinary lines ---------------------------------------------------
+
+    def line_block(self, line: nodes.Line) -> None:
+        """One ordinary line: values read in order, settings, then the block."""
+        self.w.comment(line)
+        if line.block_delete:
+            self.w.stmt("if not m.block_delete:", line)
+            self.w.depth += 1
+            self.line_body(line)
+            self.w.depth -= 1
+        else:
+            self.line_body(line)
+
+    def line_body(self, line: nodes.Line) -> None:
+        if line.error is not None:
+            # Values rs274 computed before it met the error (and their own
+            # errors, e.g. a division by zero) come first; nothing is set.
+            for value in values_read(line):
+                if not is_constant(value):
+                    self.w.stmt(self.x.expr(value), line)
+            self.w.stmt(fail_call(line.number, line.error), line)
+            return
+        words = line.words
+        assigns = line.assigns
+        mixed = bool(words) and bool(assigns)
+        values: Dict[int, str] = {}
+        for i, item in enumerate(line.items):
+            text = self.x.expr(item.value)
+            if mixed and not is_constant(item.value):
+                self.temp += 1
+                temp = "t%d" % self.temp
+                self.w.stmt("%s = %s" % (temp, text), line)
+                text = temp
+            values[i] = text
+        if assigns:
+            targets = [self.x.expr(a.target) for a in assigns]
+            sources = [
+                values[i]
+                for i, it in enumerate(line.items)
+                if isinstance(it, nodes.Assign)
+            ]
+            self.w.stmt("%s = %s" % (", ".join(targets), ", ".join(sources)), line)
+        if words or line.comments or line.n is not None or not assigns:
+            word_values = [
+                values[i]
+                for i, it in enumerate(line.items)
+                if isinstance(it, nodes.Word)
+            ]
+            self.w.stmt(self.block_call(line, words, word_values), line)
+
+    def block_call(self, line: nodes.Line, words, values: List[str]) -> str:
+        args = ["%d" % line.number]
+        kwargs = []
+        for word, value in zip(words, values):
+            if word.letter in "gm":
+                args.append(self.code_arg(word, value))
+            else:
+                kwargs.append(
+                    "%s=%s" % (WORD_KEYWORDS.get(word.letter, word.letter), value)
+                )
+        if line.n is not None:
+            kwargs.append("n=%s" % number(line.n))
+        if line.comment is not None:
+            kwargs.append("comment=%s" % self.comment_arg(line.comment))
+        return "m.block(%s)" % ", ".join(args + kwargs)
+
+    def code_arg(self, word: nodes.Word, value: str) -> str:
+        """A G/M code: its constant's name, or a run-time conversion."""
+        if is_constant(word.value):
+            code = convert_code(word.letter, word.value.value)
+            if code is not None:
+                name = code_name(code)
+                self.codes.add(name)
+                return name
+        return "m.%scode(%s)" % (word.letter, value)
+
+    def comment_arg(self, comment: nodes.Comment) -> str:
+        self.uses_comments = True
+        args = [string(comment.kind), string(comment.text)]
+        if comment.parts:
+            parts = []
+            for part in comment.parts:
+                if isinstance(part, str):
+                    parts.append(string(part))
+                elif isinstance(part.name, int):
+                    parts.append("%d" % part.name)
+                else:
+                    parts.append("Name(%s)" % string(part.name))
+            args.append("(%s%s)" % (", ".join(parts), "," if len(parts) == 1 else ""))
+        return "Comment(%s)" % ", ".join(args)
+
+
+# --------------------------------------------------------------------------
+# Helpers
+# --------------------------------------------------------------------------
+
+
+def convert_code(letter: str, value: float) -> Optional[int]:
+    """The runtime code number of a literal G/M word, or None if invalid
+    (the run-time conversion then raises rs274's error)."""
+    try:
+        return codes.g_code(value) if letter == "g" else codes.m_code(value)
+    except GCodeError:
+        return None
+
+
+def code_name(code: int) -> str:
+    """The ``runtime.codes`` constant generated code imports for ``code``."""
+    return codes.constant_name(code)
+
+
+def code_order(name: str) -> Tuple[str, float]:
+    """G codes before M codes, numerically (G1, G2, G10, G59_1...)."""
+    return (name[0], float(name[1:].replace("_", ".")))
+
+
+def values_read(line: nodes.Line) -> List[nodes.Expr]:
+    """The expressions rs274 evaluated on a line with a read error, in order:
+    the items, the O-word's name expression, condition and arguments, then
+    the values inside the item it was reading when it failed."""
+    values = [item.value for item in line.items]
+    word = line.oword
+    if word is not None:
+        if isinstance(word.name, nodes.Expr):
+            values.append(word.name)
+        if word.expr is not None:
+            values.append(word.expr)
+        values.extend(word.args)
+    return values + list(line.partial)
+
+
+def fail_call(line: int, message: str) -> str:
+    return "m.fail(%d, %s)" % (line, string(message))
+
+
+def safe_doc(text: str) -> str:
+    """Text for a docstring: printable, no quotes or backslashes."""
+    return printable(text).replace("\\", "/").replace('"', "'")
+
+
+def import_lines(module: str, names: Iterable[str]) -> List[str]:
+    """``from module import a, b`` in black's layout."""
+    names = list(names)
+    one = "from %s import %s" % (module, ", ".join(names))
+    if len(one) <= LINE_LENGTH:
+        return [one]
+    return (
+        ["from %s import (" % module] + ["%s%s," % (INDENT, n) for n in names] + [")"]
+    )
+
+
+def stmt_line(stmt: st.Stmt) -> Optional[nodes.Line]:
+    """The G-code line a statement starts on."""
+    if isinstance(stmt, st.If):
+        return stmt.end or stmt.branches[-1].line
+    if isinstance(stmt, st.Define):
+        return stmt.sub.end or stmt.sub.line
+    if isinstance(stmt, st.Loop):
+        return stmt.end or stmt.line
+    return getattr(stmt, "line", None)
+
+
+def source_map_lines(w: ModuleWriter, subs: Coll, end: Tuple[int, bool]) -> List[str]:
+    """``__ngc__ = SourceMap(files, line map, texts, subs, end)``, black's layout.
+
+    Texts are one string per file, lines joined by newlines (only the lines
+    the map refers to; others are empty), which compiles to one constant.
+    """
+    texts = []
+    for table in w.texts:
+        top = max(table) if table else 0
+        texts.append("\n".join(table.get(i, "") for i in range(1, top + 1)))
+    call = Coll(
+        "__ngc__ = SourceMap(",
+        [
+            Coll("(", [string(f) for f in w.files], ")"),
+            string(w.map.encode()),
+            Coll("(", [string(t) for t in texts], ")"),
+            subs,
+            Coll("(", ["%d" % end[0], str(end[1])], ")"),
+        ],
+        ")",
+    )
+    return call.layout(0)
+
+
+def generate(program: st.Program, source_name: str, demarcated: bool = False) -> str:
+    """The Python module text for ``program``."""
+    return CodeGen(program, source_name, demarcated).module()

@@ -1,0 +1,133 @@
+"""Glue: G-code file -> generated Python module text.
+
+parse (parser.py) -> pair O-words (structure.py) -> find external
+subroutines -> generate (codegen.py). Only I/O problems with the main file
+fail here (:class:`CompileError`); everything else in the G-code becomes
+code that fails at run time where rs274 would.
+
+External subroutines: a call to a name the file does not define makes rs274
+open ``<name>.ngc``, looking first in its program prefix (the current
+directory when run stand-alone -- measured: not the program's folder) and
+then in each SUBROUTINE_PATH directory of the ini file (see
+:func:`subroutine_dirs`). The file is compiled
+into the same module, keeping its own file name for error reports.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from typing import List, Optional, Tuple
+
+from ngc2py import codegen
+from ngc2py import structure as st
+
+
+class CompileError(Exception):
+    """The main file cannot be compiled at all (missing, unreadable...)."""
+
+
+@dataclass
+class Compiled:
+    """A generated module and the files its text depends on.
+
+    ``probes`` lists every external-subroutine path looked at, with whether
+    it existed: the cache must be invalidated when any of them changes.
+    """
+
+    text: str
+    probes: List[Tuple[str, bool]] = field(default_factory=list)
+
+
+def subroutine_dirs(ini: Optional[str]) -> List[str]:
+    """Where rs274 looks for ``<name>.ngc``, in its order: the program
+    prefix (the ini's [DISPLAY]PROGRAM_PREFIX, else the current directory),
+    then the ini's [RS274NGC]SUBROUTINE_PATH directories."""
+    if not ini:
+        return [os.getcwd()]
+    from runtime.inifile import load_ini
+
+    settings = load_ini(ini)
+    return [settings.program_prefix or os.getcwd(), *settings.subroutine_path]
+
+
+def _parse(path: str):
+    if os.path.isdir(path):
+        raise CompileError("%s: is a directory" % path)
+    if not os.path.exists(path):
+        raise CompileError("Unable to open file <%s>" % path)
+    from ngc2py import parser
+
+    try:
+        return parser.parse_file(path)
+    except FileNotFoundError:
+        raise CompileError("Unable to open file <%s>" % path) from None
+    except (OSError, UnicodeError) as error:
+        raise CompileError("%s: cannot read: %s" % (path, error)) from None
+
+
+def _program(parsed) -> st.Program:
+    return st.build(parsed.file, list(parsed.lines), parsed.demarcated)
+
+
+def _externals(program: st.Program, dirs: List[str]) -> List[Tuple[str, bool]]:
+    """Find and compile the external subroutines ``program`` calls, and
+    those they call in turn; return the paths probed."""
+    probes: List[Tuple[str, bool]] = []
+    known = {sub.name for sub in program.subs}
+    pending = st.called_names(program)
+    while pending:
+        name = pending.pop(0)
+        if name in known:
+            continue
+        known.add(name)
+        sub = _find_external(name, dirs, probes)
+        if sub is not None:
+            program.externals.append(sub)
+            pending.extend(st.called_names(st.Program(sub.line.file, sub.body, [])))
+    return probes
+
+
+def _find_external(name: str, dirs: List[str], probes) -> Optional[st.Sub]:
+    """The subroutine ``name`` from the first ``name.ngc`` on ``dirs``."""
+    for folder in dirs:
+        path = os.path.join(folder, name + ".ngc")
+        found = os.path.isfile(path)
+        probes.append((path, found))
+        if not found:
+            continue
+        try:
+            program = _program(_parse(path))
+        except CompileError:
+            return None
+        for sub in program.subs:
+            if sub.name == name:
+                return sub
+        return None
+    return None
+
+
+def _compile(parsed, name: str, ini: Optional[str]) -> Compiled:
+    program = _program(parsed)
+    probes = _externals(program, subroutine_dirs(ini))
+    st.resolve_calls(program)
+    return Compiled(codegen.generate(program, name, parsed.demarcated), probes)
+
+
+def compile_program(path: str, ini: Optional[str] = None) -> Compiled:
+    """Compile the G-code file ``path``; see :class:`Compiled`."""
+    return _compile(_parse(path), os.path.basename(path), ini)
+
+
+def compile_file(path: str, ini: Optional[str] = None) -> str:
+    """The generated module text for the G-code file ``path``."""
+    return compile_program(path, ini).text
+
+
+def compile_text(
+    text: str, file: str = "program.ngc", ini: Optional[str] = None
+) -> str:
+    """The generated module text for G-code ``text`` named ``file``."""
+    from ngc2py import parser
+
+    return _compile(parser.parse_text(text, file), os.path.basename(file), ini).text

@@ -1,0 +1,126 @@
+"""The command line of a generated module: ``python prog.py [-t TBL] ...``.
+
+It behaves like ``rs274 -g PROG``: the canonical-call trace on stdout,
+``executing`` on stderr, and on an error rs274's message and the offending
+line's text on stderr and exit status 1. After those two lines (which are
+rs274's) it adds what rs274 does not say: where, as ``file:line``, and the
+O-call stack that led there.
+"""
+
+from __future__ import annotations
+
+import getopt
+import sys
+from typing import Callable, Dict, List, Optional, Sequence, TextIO, Tuple
+
+from runtime.errors import GCodeError, SourceMap, describe, locate
+
+USAGE = "usage: %s [-t tool.tbl] [-v file.var] [-i file.ini] [-b]"
+
+
+def parse_options(argv: Sequence[str]) -> dict:
+    """rs274's options (getopt style, so ``-tfile.tbl`` works too)."""
+    opts, rest = getopt.getopt(list(argv), "t:v:i:b")
+    if rest:
+        raise getopt.GetoptError("unexpected argument %r" % rest[0])
+    options = {"block_delete": False}
+    names = {"-t": "tool_table", "-v": "var_file", "-i": "ini"}
+    for flag, value in opts:
+        if flag == "-b":
+            options["block_delete"] = not options["block_delete"]  # rs274 toggles
+        else:
+            options[names[flag]] = value
+    return options
+
+
+def report(error: GCodeError, stderr: TextIO) -> None:
+    """rs274's two lines (message, line text), then file:line and the calls."""
+    frames = locate(error)
+    stderr.write(error.message + "\n")
+    if not frames:
+        return
+    stderr.write(frames[-1].text + "\n")
+    stderr.write("  at %s\n" % frames[-1])
+    for caller in reversed(frames[:-1]):
+        stderr.write("  called from %s: %s\n" % (caller, caller.text))
+
+
+def run_cli(
+    main: Callable,
+    source_map: SourceMap,
+    argv: Optional[List[str]] = None,
+    stdout: Optional[TextIO] = None,
+    stderr: Optional[TextIO] = None,
+) -> int:
+    """Run ``main`` like ``rs274 -g``; return the exit status (0 or 1)."""
+    from runtime.canon import TraceCanon
+    from runtime.machine import Machine
+
+    stdout = stdout or sys.stdout
+    stderr = stderr or sys.stderr
+    args = sys.argv[1:] if argv is None else argv
+    try:
+        options = parse_options(args)
+    except getopt.GetoptError as error:
+        stderr.write("%s\n%s\n" % (error, USAGE % "program"))
+        return 1
+    stderr.write("executing\n")
+    stderr.flush()
+    try:
+        machine = Machine(TraceCanon(stdout), source=source_map, **options)
+        machine.run(main)
+    except GCodeError as error:
+        stdout.flush()
+        report(error, stderr)
+        return 1
+    except (KeyboardInterrupt, BrokenPipeError):
+        return 1
+    except Exception as error:  # noqa: BLE001 - never a bare traceback
+        stdout.flush()
+        stderr.write(describe(error) + "\n")
+        return 1
+    finally:
+        stdout.flush()
+    return 0
+
+
+__all__ = ["run_cli", "run_rows", "parse_options", "report"]
+
+
+def decode_row(row: str, names: Dict[str, int] = {}) -> Tuple[int, list, dict]:
+    """``"24 G1 x=1.0"`` -> ``(24, [G1], {"x": 1.0})``.
+
+    Rows are written by the compiler from validated constant blocks: code
+    names are ``runtime.codes`` constants and values are float reprs.
+    ``names`` is a shared lookup cache (deliberately a mutable default).
+    """
+    tokens = row.split()
+    codes, words = [], {}
+    for token in tokens[1:]:
+        key, sep, value = token.partition("=")
+        if sep:
+            words[key] = float(value)
+        else:
+            code = names.get(token)
+            if code is None:
+                from runtime import codes as table
+
+                code = names[token] = getattr(table, token)
+            codes.append(code)
+    return int(tokens[0]), codes, words
+
+
+def run_rows(machine, rows: Sequence[str]) -> None:
+    """Execute constant blocks kept as data rows (see ngc2py.codegen).
+
+    An error is tagged with the row's G-code line so the source map can
+    name it (the generated frame only knows which run of rows failed).
+    """
+    line = 0
+    try:
+        for row in rows:
+            line, codes, words = decode_row(row)
+            machine.block(line, *codes, **words)
+    except Exception as error:
+        error.ngc_row_line = line
+        raise

@@ -1,0 +1,210 @@
+"""The command lines: ``ngc2py convert|run``, ``python -m ngc2py`` and the
+generated module's own (runtime.main.run_cli), plus the compile cache."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from ngc2py import cache, cli
+
+import rs274 as harness
+
+REPO = Path(__file__).resolve().parent.parent
+
+
+def ngc2py(*args, cwd, env_extra=None):
+    env = dict(os.environ, PYTHONPATH=str(REPO), NGC2PY_CACHE=str(Path(cwd) / "cache"))
+    env.update(env_extra or {})
+    return subprocess.run(
+        [sys.executable, "-m", "ngc2py", *map(str, args)],
+        cwd=cwd,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+
+
+def one_line_error(proc):
+    """Exit status 1, no traceback, and the problem stated in one line."""
+    assert proc.returncode == 1
+    assert "Traceback" not in proc.stderr
+    lines = [l for l in proc.stderr.splitlines() if l != "executing"]
+    assert len(lines) == 1
+    return lines[0]
+
+
+def test_help_describes_both_commands(tmp_path):
+    proc = ngc2py("--help", cwd=tmp_path)
+    assert proc.returncode == 0 and "convert" in proc.stdout and "run" in proc.stdout
+
+
+def test_convert_writes_next_to_the_source_by_default(tmp_path):
+    (tmp_path / "part.ngc").write_text("G0 X1\nM2\n")
+    proc = ngc2py("convert", "part.ngc", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    text = (tmp_path / "part.py").read_text()
+    assert text.startswith('"""part.ngc, compiled by ngc2py')
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".tmp-")]
+
+
+def test_convert_to_stdout_and_to_a_chosen_file(tmp_path):
+    (tmp_path / "part.ngc").write_text("G0 X1\nM2\n")
+    out = ngc2py("convert", "part.ngc", "-o", "-", cwd=tmp_path)
+    ngc2py("convert", "part.ngc", "-o", "other.py", cwd=tmp_path)
+    assert out.stdout == (tmp_path / "other.py").read_text()
+
+
+@pytest.mark.parametrize("command", ["convert", "run"])
+def test_missing_file_is_one_clear_line(command, tmp_path):
+    message = one_line_error(ngc2py(command, "nope.ngc", cwd=tmp_path))
+    assert "nope.ngc" in message
+
+
+@pytest.mark.parametrize("command", ["convert", "run"])
+def test_directory_is_one_clear_line(command, tmp_path):
+    (tmp_path / "dir.ngc").mkdir()
+    assert "directory" in one_line_error(ngc2py(command, "dir.ngc", cwd=tmp_path))
+
+
+def test_unreadable_file_is_one_clear_line(tmp_path):
+    path = tmp_path / "secret.ngc"
+    path.write_text("M2\n")
+    path.chmod(0)
+    if os.access(path, os.R_OK):
+        pytest.skip("running as a user who can read any file")
+    assert "secret.ngc" in one_line_error(ngc2py("convert", "secret.ngc", cwd=tmp_path))
+
+
+def test_binary_junk_never_gives_a_traceback(tmp_path):
+    (tmp_path / "junk.ngc").write_bytes(bytes(range(256)) * 8)
+    proc = ngc2py("run", "junk.ngc", cwd=tmp_path)
+    assert proc.returncode == 1 and "Traceback" not in proc.stderr
+
+
+def test_generated_module_reports_file_line_and_call_stack(tmp_path):
+    (tmp_path / "p.ngc").write_text(
+        "o<s> sub\nG0 X[1/#1]\no<s> endsub\no<s> call [0]\nM2\n"
+    )
+    ngc2py("convert", "p.ngc", cwd=tmp_path)
+    proc = subprocess.run(
+        [sys.executable, "p.py"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        env=dict(os.environ, PYTHONPATH=str(REPO)),
+    )
+    assert proc.returncode == 1
+    assert proc.stderr.splitlines()[3:] == [
+        "  at p.ngc:2",
+        "  called from p.ngc:4: o<s> call [0]",
+    ]
+
+
+def test_bad_option_of_a_generated_module(tmp_path):
+    (tmp_path / "p.ngc").write_text("M2\n")
+    ngc2py("convert", "p.ngc", cwd=tmp_path)
+    proc = subprocess.run(
+        [sys.executable, "p.py", "-x"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        env=dict(os.environ, PYTHONPATH=str(REPO)),
+    )
+    assert proc.returncode == 1 and "Traceback" not in proc.stderr
+
+
+def test_cache_hits_and_invalidates_on_change(tmp_path, monkeypatch):
+    monkeypatch.setenv(cache.ENV, str(tmp_path / "cache"))
+    monkeypatch.chdir(tmp_path)
+    source = tmp_path / "p.ngc"
+    source.write_text("o<ext> call\nM2\n")
+    first = cache.cached_module("p.ngc")
+    assert cache.cached_module("p.ngc") == first
+    (tmp_path / "ext.ngc").write_text("o<ext> sub\nG0 X1\no<ext> endsub\nM2\n")
+    second = cache.cached_module("p.ngc")
+    assert second == first and "def o_ext" in second.read_text()
+    source.write_text("o<ext> call\nG0 X2\nM2\n")
+    assert cache.cached_module("p.ngc") != first
+
+
+def test_default_output_name():
+    assert cli.default_output("dir/part.ngc") == "dir/part.py"
+
+
+# --- against rs274 ----------------------------------------------------------
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize("mode", ["run", "convert"])
+def test_external_subroutine_from_the_current_directory(mode, tmp_path):
+    (tmp_path / "ext.ngc").write_text("o<ext> sub\nG0 X#1\nG0 Y[1/0]\no<ext> endsub\n")
+    program = tmp_path / "main.ngc"
+    program.write_text("G0 X1\no<ext> call [7]\nM2\n")
+    assert (
+        harness.compare(
+            harness.run_rs274(program), harness.run_ngc2py(program, mode=mode)
+        )
+        == []
+    )
+
+
+def test_missing_program_message_is_rs274s(tmp_path):
+    # measured: rs274 -g absent.ngc prints this after "executing", exit 1
+    proc = ngc2py("run", "absent.ngc", cwd=tmp_path)
+    assert proc.stderr.splitlines() == ["executing", "Unable to open file <absent.ngc>"]
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize("mode", ["run", "convert"])
+def test_external_subroutine_on_the_ini_subroutine_path(mode, tmp_path):
+    (tmp_path / "subs").mkdir()
+    (tmp_path / "subs" / "far.ngc").write_text("o<far> sub\nG0 X#1\no<far> endsub\n")
+    (tmp_path / "m.ini").write_text("[RS274NGC]\nSUBROUTINE_PATH = subs\n")
+    program = tmp_path / "p.ngc"
+    program.write_text("o<far> call [3]\nG0 Y1\nM2\n")
+    args = ["-i", "m.ini"]
+    expected = harness.run_rs274(program, args)
+    assert harness.compare(expected, harness.run_ngc2py(program, args, mode=mode)) == []
+
+
+def generated_namespace(text: str, name: str = "p.ngc") -> dict:
+    from ngc2py.compiler import compile_text
+
+    namespace: dict = {"__name__": "generated"}
+    exec(compile(compile_text(text, name), name[:-4] + ".py", "exec"), namespace)
+    return namespace
+
+
+def test_an_escaping_python_exception_names_the_g_code_line(monkeypatch):
+    import io
+
+    from runtime.machine import Machine
+    from runtime.main import run_cli
+
+    def broken(self, line, *codes, **words):
+        raise ValueError("boom")
+
+    monkeypatch.setattr(Machine, "block", broken)
+    ns = generated_namespace("G0 X1\nM2\n")
+    out, err = io.StringIO(), io.StringIO()
+    assert run_cli(ns["main"], ns["__ngc__"], [], out, err) == 1
+    assert err.getvalue() == "executing\ninternal error at p.ngc:1: ValueError: boom\n"
+
+
+def test_a_gcode_error_in_a_data_row_names_the_row(monkeypatch):
+    import io
+
+    from runtime.main import run_cli
+
+    rows = "".join("G1 X%d Y1 F100\n" % i for i in range(12))
+    ns = generated_namespace(rows + "G1 X1 Y2 Z3 G0\nM2\n")
+    out, err = io.StringIO(), io.StringIO()
+    assert run_cli(ns["main"], ns["__ngc__"], [], out, err) == 1
+    lines = err.getvalue().splitlines()
+    assert lines[2:] == ["G1 X1 Y2 Z3 G0", "  at p.ngc:13"]

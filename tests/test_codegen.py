@@ -1,0 +1,190 @@
+"""The code generator: black-stable, safe, readable, compact for CAM files.
+
+black is the oracle: every generated module must be unchanged by
+``black.format_str``. The rs274-marked tests compare runs with rs274.
+"""
+
+from __future__ import annotations
+
+import ast
+import keyword
+
+import black
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as hs
+
+from ngc2py import codegen
+from ngc2py.compiler import compile_text
+from runtime.errors import SourceMap
+
+import rs274 as harness
+
+
+def assert_black_stable(code: str) -> None:
+    assert black.format_str(code, mode=black.Mode()) == code
+
+
+PROGRAMS = {
+    "subs_and_loops": (
+        "o<drill> sub\nG0 Z[#1]\no<drill> endsub\nG21 G90 (hello)\n#<i> = 0\n"
+        "o101 while [#<i> LT 3]\nG1 X[#<i>*10] Y0 F100\no<drill> call [5]\n"
+        "#<i> = [#<i> + 1]\no101 endwhile\nM2\n"
+    ),
+    "conditionals": (
+        "#1=2\no1 if [#1 GT 1]\n(debug, one #1)\no1 elseif [#1 EQ 0]\nG0 X1\n"
+        "o1 else\nG0 X2\no1 endif\nM2\n"
+    ),
+    "do_repeat": (
+        "#<n>=0\no1 do\n#<n>=[#<n>+1]\no2 if [#<n> EQ 2]\no1 continue\no2 endif\n"
+        "o1 while [#<n> LT 4]\no3 repeat [2]\nG91 G0 X1\no3 endrepeat\nM2\n"
+    ),
+    "long_expressions": (
+        "#<a_rather_long_parameter_name>=1\n"
+        "G1 X[#<a_rather_long_parameter_name>*2+#<a_rather_long_parameter_name>/3] "
+        "Y[SIN[#<a_rather_long_parameter_name>]+COS[#<a_rather_long_parameter_name>]] "
+        "Z[ATAN[1]/[2]] F100\nM2\n"
+    ),
+    "hostile_text": (
+        '(msg, """ \'\'\' \\ \\n )\n(print, \')+__import__("os")#)\n'
+        "o<x'y> call\n(comment with \x0b and \x1c)\nM2\n"
+    ),
+    "errors": "G0 Q$\nG1 X[1/0]\no1 endif\nG7.7\nM2\n",
+    "labelled_jumps": (
+        "o1 do\no2 while [1]\no3 repeat [2]\no1 continue\no2 break\no3 endrepeat\n"
+        "o2 endwhile\no1 while [0]\nM2\n"
+    ),
+    "demarcated": "%\nG0 X1\n%\nG0 X2\n",
+    "cam": "G21\n" + "".join("G1 X%d Y%d F100\n" % (i, -i) for i in range(30)) + "M2\n",
+}
+
+
+@pytest.mark.parametrize("name", sorted(PROGRAMS))
+def test_generated_modules_are_black_stable_and_compile(name):
+    code = compile_text(PROGRAMS[name], name + ".ngc")
+    assert_black_stable(code)
+    compile(code, name + ".py", "exec")
+
+
+def test_module_shape_follows_the_contract():
+    code = compile_text(PROGRAMS["subs_and_loops"], "pocket.ngc")
+    assert code.startswith('"""pocket.ngc, compiled by ngc2py')
+    assert "def o_drill(m: Machine) -> None:" in code
+    assert "    # 7: G1 X[#<i>*10] Y0 F100\n" in code
+    assert "while lt(" in code
+    assert "m.call(o_drill, 5.0)" in code
+    assert code.rstrip().endswith("raise SystemExit(run_cli(main, __ngc__))")
+    assert "def run(canon=None, **options):" in code
+
+
+def test_no_source_text_reaches_code_outside_literals_and_comments():
+    code = compile_text(PROGRAMS["hostile_text"], "hostile.ngc")
+    tree = ast.parse(code)
+    names = {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)}
+    assert "__import__" not in names and "os" not in names
+    calls = {
+        n.func.attr
+        for n in ast.walk(tree)
+        if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute)
+    }
+    assert calls <= {
+        "block",
+        "call",
+        "call_named",
+        "define",
+        "fail",
+        "end_of_file",
+        "run",
+        "repeat",
+        "exists",
+    }
+
+
+@settings(max_examples=30, deadline=None)
+@given(hs.text(hs.characters(blacklist_categories=("Cs",)), max_size=40))
+def test_any_comment_text_is_safe_and_black_stable(text):
+    text = text.replace("\n", " ").replace("\r", " ").replace(")", " ")
+    code = compile_text("(msg,%s)\n(%s)\nM2\n" % (text, text), "fuzz.ngc")
+    compile(code, "fuzz.py", "exec")
+    assert_black_stable(code)
+
+
+@given(hs.text(max_size=30))
+def test_string_literals_round_trip(text):
+    literal = codegen.string(text)
+    assert ast.literal_eval(literal) == text
+    assert (
+        black.format_str("x = %s\n" % literal, mode=black.Mode())
+        == "x = %s\n" % literal
+    )
+
+
+@pytest.mark.parametrize(
+    "name", ["drill", "Drill-2", "class", "print", "9lives", "a b", "é"]
+)
+def test_identifiers_are_sanitised_and_unique(name):
+    taken = {"o_drill"}
+    ident = codegen.identifier(name, "o_", taken)
+    assert ident.isidentifier() and not keyword.iskeyword(ident)
+    assert set(ident) <= set("abcdefghijklmnopqrstuvwxyz0123456789_")
+    assert ident != "o_drill" and ident in taken
+
+
+def test_collections_are_laid_out_like_black():
+    long = ['"%s"' % ("x" * 30)] * 4
+    for items in (["1", "2"], long, [codegen.Coll("(", long, ")"), "3"]):
+        for opener in ("value = (", "value = f("):
+            code = "\n".join(codegen.Coll(opener, items, ")").layout(0)) + "\n"
+            assert_black_stable(code)
+
+
+def test_line_map_round_trips():
+    line_map = codegen.LineMap()
+    entries = [(10, 0, 1), (11, 0, 2), (12, 0, 3), (14, 0, 3), (20, 1, 7), (30, 0, 0)]
+    for entry in entries:
+        line_map.add(*entry)
+    source = SourceMap(
+        ("a.ngc", "b.ngc"), line_map.encode(), ("l1\nl2\nl3", "\n" * 6 + "l7")
+    )
+    assert source.lookup(12).line == 3 and source.lookup(12).text == "l3"
+    assert source.lookup(15).line == 3
+    assert (source.lookup(20).file, source.lookup(20).text) == ("b.ngc", "l7")
+    assert source.lookup(30, row_line=2).line == 2
+    assert source.lookup(5) is None
+
+
+def test_big_cam_files_become_chunks_and_data_rows():
+    lines = ["G21 G90"] + ["G1 X%d.5 Y%d F1200" % (i, i % 7) for i in range(3000)]
+    lines[1500] = "(halfway)"
+    code = compile_text("\n".join(lines + ["M2"]) + "\n", "cam.ngc")
+    assert code.count("def main_") >= 2
+    assert "run_rows(m, ROWS_1)" in code and '"3 G1 x=1.5 y=1.0 f=1200.0",' in code
+    assert_black_stable(code)
+    compile(code, "cam.py", "exec")
+
+
+# --- against rs274 ----------------------------------------------------------
+
+RUNS = [
+    "#1=1 #2=2 G0 X#1 Y#2 #1=3\nG0 X#1\nM2\n",
+    "#<a>=1\n#<a>=2 #<b>=#<a>\nG0 X#<b>\nM2\n",
+    "o<s> sub\n#<x>=#1\no<s> return [#<x>*2]\no<s> endsub\no<s> call [4]\n"
+    "G0 X#<_value>\nM2\n",
+    "o<s> sub\nG0 X[1/#1]\no<s> endsub\no<s> call [1]\no<s> call [0]\nM2\n",
+    "G21\n" + "".join("G1 X%d Y1 F100\n" % i for i in range(12)) + "G1 X1 Q[1/0]\nM2\n",
+    "G21\n" + "".join("G1 X%d Y1 F100\n" % i for i in range(12)) + "G2 X10 Y10\nM2\n",
+    "G0 X1\n/G0 X2\n/#1=5\nG0 Y#1\nM2\n",
+    "%\nG0 X1\n%\nG0 X3\n",
+    "G0 X1\n",
+]
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize("text", RUNS)
+@pytest.mark.parametrize("mode", ["run", "convert"])
+def test_generated_code_runs_like_rs274(text, mode, tmp_path):
+    program = tmp_path / "t.ngc"
+    for args in ([], ["-b"]):
+        expected = harness.run_rs274(program, args, text=text)
+        actual = harness.run_ngc2py(program, args, text=text, mode=mode)
+        assert harness.compare(expected, actual) == []

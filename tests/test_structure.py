@@ -1,0 +1,189 @@
+"""The O-word pairing pass (ngc2py.structure).
+
+Error texts asserted here were measured with rs274 -g (LinuxCNC 2.9); the
+rs274-marked tests at the end re-check them against a live rs274.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from ngc2py import structure as st
+from ngc2py.parser import parse_text
+
+import rs274 as harness
+
+
+def build(text: str, name: str = "t.ngc") -> st.Program:
+    parsed = parse_text(text, name)
+    return st.build(parsed.file, list(parsed.lines), parsed.demarcated)
+
+
+def kinds(stmts):
+    return [type(s).__name__ for s in stmts]
+
+
+def test_plain_lines_become_blocks_and_blank_lines_vanish():
+    program = build("G0 X1\n\nG1 X2 F10\nM2\n")
+    assert kinds(program.body) == ["Block", "Block", "Block"]
+
+
+def test_sub_definition_is_a_define_point_with_a_body_ending_in_return():
+    program = build("o<drill> sub\nG0 X#1\no<drill> endsub\no<drill> call [2]\nM2\n")
+    assert kinds(program.body) == ["Define", "Call", "Block"]
+    sub = program.subs[0]
+    assert sub.name == "drill" and sub.end.number == 3
+    assert kinds(sub.body) == ["Block", "Return"]
+
+
+def test_if_elseif_else_branches():
+    program = build(
+        "o1 if [1]\nG0 X1\no1 elseif [2]\nG0 X2\no1 else\nG0 X3\no1 endif\nM2\n"
+    )
+    node = program.body[0]
+    assert isinstance(node, st.If)
+    assert [b.line.number for b in node.branches] == [1, 3]
+    assert node.orelse.line.number == 5 and node.end.number == 7
+
+
+@pytest.mark.parametrize(
+    "text, kind",
+    [
+        ("o1 while [1]\nG0 X1\no1 endwhile\nM2\n", "while"),
+        ("o1 do\nG0 X1\no1 while [1]\nM2\n", "do"),
+        ("o1 repeat [3]\nG0 X1\no1 endrepeat\nM2\n", "repeat"),
+    ],
+)
+def test_loops(text, kind):
+    loop = build(text).body[0]
+    assert isinstance(loop, st.Loop) and loop.kind == kind
+    assert kinds(loop.body) == ["Block"] and loop.end.number == 3
+
+
+def test_break_and_continue_target_their_loop():
+    program = build("o1 while [1]\no1 break\no1 continue\no1 endwhile\nM2\n")
+    loop = program.body[0]
+    jumps = loop.body
+    assert [j.kind for j in jumps] == ["break", "continue"]
+    assert all(j.target is loop for j in jumps)
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("o<a> endsub\nM2\n", "1: not in a subroutine definition: 'o<a> endsub'"),
+        ("o<a> return\nM2\n", "1: not in a subroutine definition: 'o<a> return'"),
+        ("o1 endif\nM2\n", "1: undefined O-word label: 'o1 endif'"),
+        ("o1 else\nM2\n", "1: undefined O-word label: 'o1 else'"),
+        ("o1 endwhile\nM2\n", "1: undefined O-word label: 'o1 endwhile'"),
+    ],
+)
+def test_misplaced_o_words_fail_at_their_line(text, message):
+    program = build(text)
+    fail = program.body[0]
+    assert isinstance(fail, st.Fail)
+    assert fail.message == message and fail.line.number == 1
+
+
+def test_a_reused_if_label_fails_where_rs274_notices_it():
+    text = (
+        "#1=0\no1 while [#1 LT 3]\n#1=[#1+1]\no1 if [#1 EQ 2]\no1 continue\n"
+        "o1 endif\nG0 X#1\no1 endwhile\nM2\n"
+    )
+    fails = [s for s in st.walk(build(text).body) if isinstance(s, st.Fail)]
+    assert fails[0].message == (
+        "4: duplicate O-word label - already defined in line 2: 'o1 if [#1 EQ 2]'"
+    )
+
+
+def test_nested_sub_definition_fails_when_the_outer_one_is_read():
+    program = build("o<foo> sub\no<bar> sub\nG0 X1\no<bar> endsub\no<foo> endsub\nM2\n")
+    define = program.body[0]
+    assert isinstance(define, st.Define)
+    assert define.sub.define_error.message == "Nested subroutine definition"
+    assert define.sub.define_error.line.number == 2
+
+
+def test_unterminated_sub_fails_at_the_last_line():
+    program = build("o<foo> sub\nG0 X1\nM2\n")
+    error = program.body[0].sub.define_error
+    assert error.message == "File ended with no percent sign or program end"
+    assert error.line.number == 3
+
+
+def test_closing_percent_finishes_and_later_lines_are_dropped():
+    program = build("%\nG0 X1\n%\nG0 X3\n")
+    assert kinds(program.body) == ["Block", "Finish"]
+
+
+def test_errors_in_unreached_lines_stay_blocks():
+    program = build("o1 if [0]\nG0 Q$\no1 endif\nM2\n")
+    (block,) = program.body[0].branches[0].body
+    assert isinstance(block, st.Block) and block.line.error
+
+
+def test_calls_bind_statically_only_after_a_top_level_definition():
+    program = build(
+        "o<early> call\no<a> sub\no<a> endsub\no<a> call\no<early> sub\no<early> endsub\nM2\n"
+    )
+    st.resolve_calls(program)
+    calls = [s for s in program.body if isinstance(s, st.Call)]
+    assert calls[0].sub is None  # defined later: resolved by name at run time
+    assert calls[1].sub is program.subs[0]
+
+
+def test_labelled_jump_out_of_an_inner_loop_flags_its_target():
+    program = build(
+        "o1 while [1]\no2 while [1]\no1 break\no2 endwhile\no1 endwhile\nM2\n"
+    )
+    outer = program.body[0]
+    inner = outer.body[0]
+    (jump,) = inner.body
+    assert jump.target is outer and jump.crosses
+    assert outer.flagged and inner.exits == [outer]
+
+
+def test_called_names_in_first_use_order():
+    program = build("o<b> call\no<a> call\no<b> call\nM2\n")
+    assert st.called_names(program) == ["b", "a"]
+
+
+# --- against rs274 ----------------------------------------------------------
+
+MISMATCHES = [
+    "o<a> endsub\nM2\n",
+    "o1 if [1]\nG0 X1\no2 endif\nM2\n",
+    "o1 endwhile\nM2\n",
+    "o<foo> sub\no<bar> sub\nG0 X1\no<bar> endsub\no<foo> endsub\nG0 X2\nM2\n",
+    "#1=0\no1 while [#1 LT 3]\n#1=[#1+1]\no1 if [#1 EQ 2]\no1 continue\no1 endif\n"
+    "G0 X#1\no1 endwhile\nM2\n",
+    "o1 do\nG0 X1\no1 continue\nG0 X3\no1 while [0]\nM2\n",
+    "o1 do\nG0 X1\no1 break\nG0 X3\no1 while [1]\nG0 X5\nM2\n",
+    "#<i>=0\no1 do\n#<i>=[#<i>+1]\no2 if [#<i> EQ 2]\no1 continue\no2 endif\n"
+    "G0 X#<i>\no1 while [#<i> LT 4]\nM2\n",
+    "G0 X1\no<bar> call\nG0 X2\n",
+    "o[100] call\nM2\no100 sub\nG0 X1\no100 endsub\n",
+    "o<foo> sub\no<bar> return [3]\no<foo> endsub\no<foo> call\nM2\n",
+    "o<foo> sub\nG0 X[1/0]\nG0 Q$$\no<foo> endsub\nG0 X1\nM2\n",
+    # a labelled break/continue leaving an inner loop
+    "#1=0\no1 while [#1 LT 3]\n#1=[#1+1]\n#2=0\no2 while [#2 LT 3]\n#2=[#2+1]\n"
+    "o3 if [#2 EQ 2]\no1 break\no3 endif\nG0 X#1 Y#2\no2 endwhile\no1 endwhile\n"
+    "G0 Z1\nM2\n",
+    "#1=0\no1 while [#1 LT 3]\n#1=[#1+1]\n#2=0\no2 while [#2 LT 3]\n#2=[#2+1]\n"
+    "o3 if [#2 EQ 2]\no1 continue\no3 endif\nG0 X#1 Y#2\no2 endwhile\no1 endwhile\n"
+    "G0 Z1\nM2\n",
+    "#1=0\no1 do\n#1=[#1+1]\no2 repeat [3]\no1 continue\no2 endrepeat\nG0 X9\n"
+    "o1 while [#1 LT 3]\nG0 X#1\nM2\n",
+    "o<s> sub\no1 while [1]\no<s> return [5]\no1 endwhile\no<s> endsub\no<s> call\n"
+    "G0 X#<_value>\nM2\n",
+    "o1 if [1]\no<s> sub\nG0 X1\no<s> endsub\no1 endif\no<s> call\nM2\n",
+]
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize("text", MISMATCHES)
+def test_control_flow_matches_rs274(text, tmp_path):
+    program = tmp_path / "t.ngc"
+    expected = harness.run_rs274(program, text=text)
+    actual = harness.run_ngc2py(program, text=text)
+    assert harness.compare(expected, actual) == []
