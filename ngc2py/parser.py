@@ -130,6 +130,8 @@ _OWORD_ORDER = (
 
 #: O-word keywords followed by a mandatory ``[condition]``.
 _OWORD_CONDITION = ("while", "repeat", "if", "elseif")
+#: Letters whose legal repetition replaces the earlier literal word.
+_OVERWRITTEN_BY_REPEAT = frozenset("pq@^")
 
 #: The characters rs274 hands to its number conversion.
 _NUMBER_SPAN = re.compile(r"[+-]*[0-9.]*")
@@ -404,8 +406,13 @@ class _LineReader:
         word = Word(letter, value, column)
         self.check_value(word)
         previous = self.block.seen.get(letter)
-        if previous is not None and _literal(previous.value) is not None:
-            # A legal repeat (P/Q after a negative literal, @, ^) overwrites.
+        if (
+            previous is not None
+            and letter in _OVERWRITTEN_BY_REPEAT
+            and _literal(previous.value) is not None
+        ):
+            # A legal repeat (P/Q after a negative literal, @, ^) overwrites;
+            # G and M words repeat too, but each one counts.
             self.block.items.remove(previous)
         self.block.items.append(word)
         self.block.seen[letter] = word
