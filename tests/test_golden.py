@@ -2,16 +2,20 @@
 
 One test per program in golden/<feature>/<name>.ngc and per way of running it:
 
-* ``run``     -- ``python -m ngc2py run PROG [args]``
-* ``convert`` -- ``python -m ngc2py convert PROG -o prog.py`` then
-  ``python prog.py [args]`` (the generated module on its own)
+* ``inprocess`` -- ``ngc2py run PROG [args]`` through ``ngc2py.cli.main`` in
+  this process (the same code path as the console script, without paying
+  for a new interpreter per program; tests/test_cli.py runs the real
+  subprocess)
+* ``convert``   -- ``python -m ngc2py convert PROG -o prog.py`` then
+  ``python prog.py [args]`` (the generated module on its own, in a new
+  interpreter)
 
 Pass = stdout byte-identical to ``<name>.out``, the same exit status as
 ``<name>.rc`` and the same error message as ``<name>.err``. These tests use
 only the recordings, so they run without rs274 installed. Programs with a
 ``<name>.expect`` (rs274 crashes or hangs on them) are checked against the
-better behaviour it describes. Set NGC2PY_GOLDEN_MODES=run (or convert) to
-run one way only.
+better behaviour it describes. Set NGC2PY_GOLDEN_MODES=inprocess (or convert) to
+run one way only (``run`` is also accepted: the subprocess CLI).
 """
 
 from __future__ import annotations
@@ -23,7 +27,7 @@ import pytest
 
 import rs274 as harness
 
-MODES = [m for m in os.environ.get("NGC2PY_GOLDEN_MODES", "run,convert").split(",") if m]
+MODES = [m for m in os.environ.get("NGC2PY_GOLDEN_MODES", "inprocess,convert").split(",") if m]
 PROGRAMS = harness.golden_programs()
 
 
