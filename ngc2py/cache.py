@@ -81,6 +81,17 @@ def cache_key(path: str, ini: Optional[str]) -> str:
     return _digest("\0".join(parts).encode("utf-8", "surrogateescape"))
 
 
+def _file_mode(target: Path) -> int:
+    """The mode ``target`` gets: the one it has, or a new file's (0666 less
+    the umask), not the private 0600 of a temporary file."""
+    try:
+        return target.stat().st_mode & 0o7777
+    except OSError:
+        umask = os.umask(0)
+        os.umask(umask)
+        return 0o666 & ~umask
+
+
 def write_atomic(target: Path, text: str) -> None:
     """Write ``text`` to ``target`` so readers see the old or new file only."""
     target.parent.mkdir(parents=True, exist_ok=True)
@@ -90,6 +101,7 @@ def write_atomic(target: Path, text: str) -> None:
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as handle:
             handle.write(text)
+        os.chmod(temp, _file_mode(target))
         os.replace(temp, target)
     except BaseException:
         try:

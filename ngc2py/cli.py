@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import importlib.util
+import os
 import sys
 from pathlib import Path
 from typing import List, Optional
@@ -69,11 +70,21 @@ def default_output(program: str) -> str:
     return str(Path(program).with_suffix(".py"))
 
 
+def same_file(a: str, b: str) -> bool:
+    """Are paths ``a`` and ``b`` the same existing file?"""
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
 def convert(args: argparse.Namespace) -> int:
     from ngc2py.cache import write_atomic
 
-    text = compile_file(args.program, args.ini)
     output = args.output or default_output(args.program)
+    if output != "-" and same_file(output, args.program):
+        raise CompileError("%s: the output would overwrite the G-code file" % output)
+    text = compile_file(args.program, args.ini)
     if output == "-":
         sys.stdout.write(text)
     else:
@@ -123,7 +134,14 @@ def run(args: argparse.Namespace) -> int:
 
 
 def main(argv: Optional[List[str]] = None) -> int:
-    args = build_parser().parse_args(argv)
+    """The command line; returns the exit status (never calls sys.exit), so
+    it can be called in-process. Output goes to sys.stdout/sys.stderr as
+    they are at call time."""
+    try:
+        args = build_parser().parse_args(argv)
+    except SystemExit as stop:  # argparse: --help, --version, or a usage error
+        # A usage error exits 1, as rs274 does (argparse would say 2).
+        return 0 if stop.code in (0, None) else 1
     try:
         return convert(args) if args.command == "convert" else run(args)
     except CompileError as error:

@@ -10,12 +10,12 @@ Safety: nothing from the source reaches the output except through
 in comments is reduced to printable characters, so no input can inject code.
 
 Big CAM files: the main program is split into chunk functions of bounded
-size, and runs of constant blocks become module-level tuples of one short string
-per block (``"24 G1 x=1.0 y=2.0"``: line, code names, words) executed by
-``runtime.run_rows``: a tuple of strings compiles about 60 times faster than
-the equivalent nested tuples of numbers (measured: 1 s against 64 s for
-200k rows), so neither one giant function nor one statement per move is
-compiled.
+size, and runs of constant blocks become data (see ``runtime/rows.py``): a
+module-level ``SHAPES`` table of (codes, word letters) and, per run, one flat
+tuple of literals with one G-code line per text line (``24, 0, 1.0, 2.0,``:
+line, shape, values). A flat tuple of literals compiles into one constant,
+about twice as fast as a tuple of row tuples (measured for 200k rows: 4 s
+against 8 s), and nothing is parsed at run time.
 """
 
 from __future__ import annotations
@@ -24,12 +24,14 @@ import builtins
 import keyword
 import math
 import re
+from dataclasses import dataclass, field
 from typing import Dict, Iterable, List, Optional, Sequence, Tuple
 
 from ngc2py import __version__, nodes
 from ngc2py import structure as st
 from runtime import codes
 from runtime.errors import GCodeError
+from runtime.params import Params
 
 LINE_LENGTH = 88
 INDENT = "    "
@@ -53,6 +55,8 @@ BINARY_HELPERS = {
 UNARY_HELPERS = {"abs": "abs_", "round": "round_"}  # others keep their name
 COMPARISONS = frozenset(("eq", "ne", "gt", "ge", "lt", "le", "and", "or", "xor"))
 WORD_KEYWORDS = {"@": "polar_dist", "^": "polar_angle"}
+GCODE_LETTERS = {"n": "N", "polar_dist": "@", "polar_angle": "^"}  # row shapes
+GCODE_LETTERS = {keyword: letter for letter, keyword in WORD_KEYWORDS.items()}
 RESERVED = frozenset(
     keyword.kwlist + dir(builtins) + ["m", "p", "g", "v", "main", "run", "rows"]
 )
@@ -139,6 +143,8 @@ class ExprWriter:
 
     def condition(self, e: nodes.Expr) -> str:
         """An if/while test: comparison helpers already return 1.0/0.0."""
+        if isinstance(e, nodes.Bracket) and not may_overflow(e.inner):
+            e = e.inner
         if isinstance(e, nodes.Binary) and e.op in COMPARISONS:
             return self.expr(e)
         return "%s(%s)" % (self.helper("truth"), self.expr(e))
@@ -165,6 +171,14 @@ class ExprWriter:
     def _atan2(self, e: nodes.Atan2) -> str:
         return "%s(%s, %s)" % (self.helper("atan2"), self.expr(e.y), self.expr(e.x))
 
+    def _bracket(self, e: nodes.Bracket) -> str:
+        """rs274 checks a bracketed value when it reads the closing ``]``;
+        only arithmetic can make a new inf/nan there (parameter reads and
+        functions are checked by the runtime)."""
+        if may_overflow(e.inner):
+            return "%s(%s)" % (self.helper("finite"), self.expr(e.inner))
+        return self.expr(e.inner)
+
     def _unary(self, e: nodes.Unary) -> str:
         if e.op == "pos":
             return self.expr(e.arg)
@@ -186,6 +200,8 @@ class ExprWriter:
         unary minus, negative literals) get parentheses so Python groups
         exactly as the parser did."""
         text = self.expr(e)
+        if isinstance(e, nodes.Bracket) and not may_overflow(e.inner):
+            e = e.inner  # written bare: group by what is inside
         if isinstance(e, nodes.Binary) and e.op in ("+", "-", "*"):
             return "(%s)" % text
         if isinstance(e, nodes.Unary) and e.op == "neg":
@@ -197,6 +213,16 @@ class ExprWriter:
 
 def is_constant(e: nodes.Expr) -> bool:
     return isinstance(e, nodes.Num)
+
+
+ARITHMETIC = frozenset(("+", "-", "*", "/", "mod", "**"))
+
+
+def may_overflow(e: nodes.Expr) -> bool:
+    """Can ``e`` make an inf/nan that nothing has checked yet?"""
+    if isinstance(e, nodes.Unary) and e.op in ("neg", "pos"):
+        return may_overflow(e.arg)
+    return isinstance(e, nodes.Binary) and e.op in ARITHMETIC
 
 
 # --------------------------------------------------------------------------
@@ -278,7 +304,7 @@ class ModuleWriter:
 
     def row_loop(self, code: str) -> None:
         """A statement running data rows: its G-code line is the failing
-        row's, which ``runtime.main.run_rows`` attaches to the error."""
+        row's, which ``runtime.rows.run_rows`` attaches to the error."""
         self.map.add(len(self.out) + 1, self.file_index, 0)
         self.out.append(INDENT * self.depth + code)
 
@@ -287,12 +313,26 @@ class ModuleWriter:
 
 
 def fit(code: str, indent: int) -> List[str]:
-    """Black's layout of one over-long statement at ``indent`` columns."""
+    """Black's layout of one over-long statement at ``indent`` columns.
+
+    A compound statement's header (``elif x:``) cannot be formatted alone:
+    it is given a ``pass`` body (and ``elif`` is written as ``if``, two
+    columns narrower) which is dropped again afterwards.
+    """
     import black
 
-    mode = black.Mode(line_length=LINE_LENGTH - indent)
-    formatted = black.format_str(code, mode=mode)
-    return [" " * indent + part for part in formatted.rstrip("\n").split("\n")]
+    header = code.endswith(":")
+    elif_ = code.startswith("elif ")
+    source = "if " + code[5:] if elif_ else code
+    width = LINE_LENGTH - indent - (2 if elif_ else 0)
+    mode = black.Mode(line_length=max(width, 1))
+    formatted = black.format_str(source + ("\n    pass" if header else ""), mode=mode)
+    lines = formatted.rstrip("\n").split("\n")
+    if header:
+        lines.pop()
+    if elif_:
+        lines[0] = "el" + lines[0]
+    return [" " * indent + part for part in lines]
 
 
 class Coll:
@@ -358,16 +398,18 @@ class CodeGen:
         self.source_name = source_name
         self.demarcated = demarcated
         self.uses_comments = False  # import runtime.comments
-        self.uses_rows = False  # import runtime.run_rows
         files = [program.file] + [
             s.line.file or program.file for s in program.externals
         ]
         self.files = list(dict.fromkeys(files))
         self.w = ModuleWriter(self.files)
         self.x = ExprWriter()
-        self.codes: set = set()
+        self.codes: set = set()  # runtime.codes constants used
+        self.break_flag = stale_break_flag(program)
+        self.code_functions: set = set()  # runtime.codes functions used
         self.names: set = set()
-        self.rows: List[str] = []
+        self.shapes: Dict[Shape, int] = {}  # row shape -> index in SHAPES
+        self.row_tables: List[List[str]] = []  # ROWS_n = (...) definitions
         self.temp = 0
         self.loops: List[st.Loop] = []  # enclosing loops, innermost last
         self.flags: Dict[int, str] = {}
@@ -392,25 +434,25 @@ class CodeGen:
             % (safe_doc(self.source_name), __version__),
             "",
         ]
-        head.append(
-            "from runtime import Machine, SourceMap, run_cli%s"
-            % (", run_rows" if self.uses_rows else "")
-        )
-        if self.codes:
-            head.extend(
-                import_lines("runtime.codes", sorted(self.codes, key=code_order))
-            )
+        head.append("from runtime import Machine, SourceMap, run_cli")
+        if self.codes or self.code_functions:
+            names = sorted(self.codes, key=code_order) + sorted(self.code_functions)
+            head.extend(import_lines("runtime.codes", names))
         if self.x.helpers:
             head.extend(import_lines("runtime.ops", sorted(self.x.helpers)))
         if self.uses_comments:
-            head.append("from runtime.comments import Comment, Name")
+            head.append("from runtime.comments import Comment")
+        if self.row_tables:
+            head.append("from runtime.rows import run_rows")
         shift = len(head)
         final = ModuleWriter(self.files)
         final.out = head + body.out
         final.map.entries = [(py + shift, f, g) for py, f, g in body.map.entries]
         final.texts = body.texts
-        for row in self.rows:
-            final.raw(row)
+        if self.row_tables:
+            final.out.extend(shapes_table(self.shapes))
+        for table in self.row_tables:
+            final.out.extend(table)
         final.raw("")
         final.raw("")
         for line in source_map_lines(final, self.sub_table(), self.end_of_main()):
@@ -430,7 +472,11 @@ class CodeGen:
 
     def sub_table(self) -> Coll:
         """``{"name": fn}`` for the main file's subroutines (for seeking)."""
-        pairs = ["%s: %s" % (string(sub.name), sub.fn) for sub in self.program.subs]
+        pairs = [
+            "%s: %s" % (string(sub.name), sub.fn)
+            for sub in self.program.subs
+            if not sub.fanuc
+        ]
         return Coll("{", pairs, "}")
 
     def end_of_main(self) -> Tuple[int, bool]:
@@ -450,9 +496,10 @@ class CodeGen:
         self.w.raw("")
         self.w.raw("def %s(m: Machine) -> None:" % sub.fn)
         self.w.depth = 1
+        form = "O%s, Fanuc style" if sub.fanuc else "o<%s> sub"
         self.w.raw(
-            '%s"""o<%s> sub (lines %d-%d)"""'
-            % (INDENT, safe_doc(sub.name), sub.line.number, end)
+            '%s"""%s (lines %d-%d)"""'
+            % (INDENT, form % safe_doc(sub.name), sub.line.number, end)
         )
         self.w.raw(INDENT + "p, g, v = m.params, m.globals, m.locals")
         body = sub.body
@@ -480,6 +527,10 @@ class CodeGen:
             if len(chunks) == 1:
                 self.w.raw('%s"""The main program."""' % INDENT)
             self.w.raw(INDENT + "p, g, v = m.params, m.globals, m.locals")
+            if i == 0 and self.break_flag:
+                self.w.raw(
+                    INDENT + "m.doing_break = False  # set by a while-loop break"
+                )
             self.block(chunk)
             self.w.depth = 0
         if len(chunks) > 1:
@@ -513,9 +564,9 @@ class CodeGen:
         if not stmts:
             self.w.raw(INDENT * self.w.depth + "pass")
             return
-        run: List[Tuple[nodes.Line, str]] = []
+        run: List[Tuple[nodes.Line, Row]] = []
         for stmt in stmts:
-            row = self.constant_row(stmt)
+            row = constant_row(stmt)
             if row is not None:
                 run.append((stmt.line, row))
                 continue
@@ -524,46 +575,28 @@ class CodeGen:
             self.statement(stmt)
         self.flush(run)
 
-    def flush(self, run: List[Tuple[nodes.Line, str]]) -> None:
+    def flush(self, run: List[Tuple[nodes.Line, Row]]) -> None:
+        """Emit a run of constant blocks: as statements when short, else as
+        a data table executed by ``runtime.rows.run_rows``."""
         if len(run) < MIN_ROWS:
             for line, _ in run:
                 self.line_block(line)
             return
-        name = "ROWS_%d" % (len(self.rows) + 1)
-        parts = ["", "", "%s = (" % name]
-        for line, row in run:
-            parts.append("%s%s," % (INDENT, string(row)))
+        name = "ROWS_%d" % (len(self.row_tables) + 1)
+        cells = []
+        for line, (shape, values) in run:
+            head = ["%d" % line.number, "%d" % self.shape(shape)]
+            cells.append(", ".join(head + values))
             self.w.texts[self.w.file_index][line.number] = line.text
-        parts.append(")")
-        self.rows.append("\n".join(parts))
-        self.uses_rows = True
-        self.w.row_loop("run_rows(m, %s)" % name)
+        self.row_tables.append(row_table(name, cells))
+        self.w.row_loop("run_rows(m, SHAPES, %s)" % name)
 
-    # -- constant rows ----------------------------------------------------
-
-    def constant_row(self, stmt: st.Stmt) -> Optional[str]:
-        """A data row ``"24 G1 x=1.0 y=2.0"`` (line, code names, words) if
-        ``stmt`` is a block with only literal, valid words; else None."""
-        if not isinstance(stmt, st.Block):
-            return None
-        line = stmt.line
-        if line.error or line.comments or line.block_delete or line.oword:
-            return None
-        tokens = ["%d" % line.number]
-        for word in line.items:
-            if not isinstance(word, nodes.Word) or not is_constant(word.value):
-                return None
-            if word.letter in "gm":
-                code = convert_code(word.letter, word.value.value)
-                if code is None:
-                    return None
-                tokens.append(code_name(code))
-            else:
-                letter = WORD_KEYWORDS.get(word.letter, word.letter)
-                tokens.append("%s=%s" % (letter, number(word.value.value)))
-        if line.n is not None:
-            tokens.append("n=%s" % number(line.n))
-        return " ".join(tokens)
+    def shape(self, shape: Shape) -> int:
+        """The index of ``shape`` in the module's SHAPES table."""
+        if shape not in self.shapes:
+            self.shapes[shape] = len(self.shapes)
+            self.codes.update(code_name(code) for code in shape[0])
+        return self.shapes[shape]
 
     # -- single statements ------------------------------------------------
 
@@ -598,8 +631,23 @@ class CodeGen:
         elif isinstance(stmt.name, str):
             head = ["m.call_named(%s" % string(stmt.name)]
         else:
-            head = ["m.call_named(%s" % self.x.expr(stmt.name)]
+            # A computed label is the value as an integer: o[100+100] is o200.
+            self.code_functions.add("to_integer")
+            label = '"%%d" %% to_integer(%s)' % self.x.expr(stmt.name)
+            head = ["m.call_named(%s" % label]
         self.w.stmt(", ".join(head + args) + ")", stmt.line)
+
+    def s_fanuccall(self, stmt: st.FanucCall) -> None:
+        """``M98``: the machine checks the words as a block, then calls the
+        subroutine (``fn``, or the one named by P when None) L times."""
+        line = stmt.line
+        self.w.comment(line)
+        words = [
+            "%s=%s" % (WORD_KEYWORDS.get(w.letter, w.letter), self.x.expr(w.value))
+            for w in line.words
+        ]
+        fn = stmt.sub.fn if stmt.sub is not None else "None"
+        self.w.stmt("m.m98(%s)" % ", ".join(["%d" % line.number, fn] + words), line)
 
     def s_return(self, stmt: st.Return) -> None:
         self.w.comment(stmt.line)
@@ -614,6 +662,8 @@ class CodeGen:
 
     def s_jump(self, stmt: st.Jump) -> None:
         self.w.comment(stmt.line)
+        if stmt.kind == "break" and stmt.target.kind == "while" and self.break_flag:
+            self.w.stmt("m.doing_break = True", stmt.line)
         if stmt.crosses:
             # Leave the inner loops; each checks the flag after it ends.
             self.w.stmt(
@@ -633,10 +683,15 @@ class CodeGen:
         self.w.stmt("continue", line)
 
     def do_test(self, loop: st.Loop) -> None:
-        """``if not <cond>: break`` for the closing ``while`` of a do-loop."""
-        test = self.x.condition(loop.end.oword.expr)
-        self.w.stmt("if not %s:" % test, loop.end)
+        """``if not <cond>: break`` for the closing ``while`` of a do-loop
+        (which also ends the loop, once, after a while-loop's break)."""
+        test = "not %s" % self.x.condition(loop.end.oword.expr)
+        if self.break_flag:
+            test += " or m.doing_break"
+        self.w.stmt("if %s:" % test, loop.end)
         self.w.depth += 1
+        if self.break_flag:
+            self.w.stmt("m.doing_break = False", loop.end)
         self.w.stmt("break", loop.end)
         self.w.depth -= 1
 
@@ -717,40 +772,83 @@ class CodeGen:
 
     def line_body(self, line: nodes.Line) -> None:
         if line.error is not None:
-            # Values rs274 computed before it met the error (and their own
-            # errors, e.g. a division by zero) come first; nothing is set.
-            for value in values_read(line):
-                if not is_constant(value):
-                    self.w.stmt(self.x.expr(value), line)
-            self.w.stmt(fail_call(line.number, line.error), line)
+            self.read_error(line)
             return
-        words = line.words
-        assigns = line.assigns
-        mixed = bool(words) and bool(assigns)
-        values: Dict[int, str] = {}
-        for i, item in enumerate(line.items):
-            text = self.x.expr(item.value)
-            if mixed and not is_constant(item.value):
+        reads = self.item_reads(line)
+        # Values read before a check must be kept in temporaries so the
+        # check runs after them; so must every value when words and settings
+        # mix (settings take effect before the block uses the words).
+        last_check = max((i for i, r in enumerate(reads) if r.checks), default=-1)
+        mixed = bool(line.words) and bool(line.assigns)
+        for i, read in enumerate(reads):
+            for check in read.checks:
+                self.w.stmt(check, line)
+            if (mixed or i < last_check) and not read.constant:
                 self.temp += 1
                 temp = "t%d" % self.temp
-                self.w.stmt("%s = %s" % (temp, text), line)
-                text = temp
-            values[i] = text
-        if assigns:
-            targets = [self.x.expr(a.target) for a in assigns]
-            sources = [
-                values[i]
-                for i, it in enumerate(line.items)
-                if isinstance(it, nodes.Assign)
-            ]
-            self.w.stmt("%s = %s" % (", ".join(targets), ", ".join(sources)), line)
-        if words or line.comments or line.n is not None or not assigns:
-            word_values = [
-                values[i]
-                for i, it in enumerate(line.items)
-                if isinstance(it, nodes.Word)
-            ]
-            self.w.stmt(self.block_call(line, words, word_values), line)
+                self.w.stmt("%s = %s" % (temp, read.value), line)
+                read.value = temp
+        settings = [r for r in reads if r.target is not None]
+        if settings:
+            targets = ", ".join(r.target for r in settings)
+            sources = ", ".join(r.value for r in settings)
+            self.w.stmt("%s = %s" % (targets, sources), line)
+        if line.words or line.comments or line.n is not None or not settings:
+            words = [r for r in reads if r.target is None]
+            self.w.stmt(
+                self.block_call(line, line.words, [r.value for r in words]), line
+            )
+
+    def read_error(self, line: nodes.Line) -> None:
+        """A line rs274 fails to read: the values (and setting checks) it
+        computed before meeting the error come first, with their own errors
+        (a division by zero); nothing is set."""
+        for read in self.item_reads(line):
+            for check in read.checks:
+                self.w.stmt(check, line)
+            if not read.constant:
+                self.w.stmt(read.value, line)
+        for value in oword_values(line) + list(line.partial):
+            if not is_constant(value):
+                self.w.stmt(self.x.expr(value), line)
+        self.w.stmt(fail_call(line.number, line.error), line)
+
+    def item_reads(self, line: nodes.Line) -> List[ItemRead]:
+        """The code for reading each item of ``line``, in order."""
+        reads = []
+        declared: set = set()
+        for i, item in enumerate(line.items):
+            read = ItemRead(self.x.expr(item.value), is_constant(item.value))
+            if isinstance(item, nodes.Assign):
+                read.target = self.setting_target(item.target, read.checks)
+                name = item.target
+                if (
+                    isinstance(name, nodes.NamedParam)
+                    and name.name not in declared
+                    and reads_name(line.items[i:], name.name)
+                ):
+                    # rs274 creates the name when it reads "#<n>=", so the
+                    # rest of the line may read it.
+                    declared.add(name.name)
+                    store = "g" if name.is_global else "v"
+                    read.checks.append("%s.declare(%s)" % (store, string(name.name)))
+            reads.append(read)
+        return reads
+
+    def setting_target(self, target: nodes.Expr, checks: List[str]) -> str:
+        """The assignment target for a setting; a numbered one's index is
+        checked as rs274 reads it, before the value (into ``checks``)."""
+        if not isinstance(target, nodes.NumParam):
+            return self.x.expr(target)
+        index = target.index
+        if isinstance(index, nodes.Num):
+            if not valid_setting_index(index.value):
+                checks.append("p.setting_index(%s)" % number(index.value))
+            return self.x.expr(target)
+        self.temp += 1
+        temp = "i%d" % self.temp
+        checks.append("%s = p.setting_index(%s)" % (temp, self.x.expr(index)))
+        return "p[%s]" % temp
 
     def block_call(self, line: nodes.Line, words, values: List[str]) -> str:
         args = ["%d" % line.number]
@@ -762,8 +860,8 @@ class CodeGen:
                 kwargs.append(
                     "%s=%s" % (WORD_KEYWORDS.get(word.letter, word.letter), value)
                 )
-        if line.n is not None:
-            kwargs.append("n=%s" % number(line.n))
+        if line.n_text is not None:
+            kwargs.append("n=%s" % string(line.n_text))
         if line.comment is not None:
             kwargs.append("comment=%s" % self.comment_arg(line.comment))
         return "m.block(%s)" % ", ".join(args + kwargs)
@@ -779,19 +877,9 @@ class CodeGen:
         return "m.%scode(%s)" % (word.letter, value)
 
     def comment_arg(self, comment: nodes.Comment) -> str:
+        """``Comment(kind, text)``; the runtime splits out the parameters."""
         self.uses_comments = True
-        args = [string(comment.kind), string(comment.text)]
-        if comment.parts:
-            parts = []
-            for part in comment.parts:
-                if isinstance(part, str):
-                    parts.append(string(part))
-                elif isinstance(part.name, int):
-                    parts.append("%d" % part.name)
-                else:
-                    parts.append("Name(%s)" % string(part.name))
-            args.append("(%s%s)" % (", ".join(parts), "," if len(parts) == 1 else ""))
-        return "Comment(%s)" % ", ".join(args)
+        return "Comment(%s, %s)" % (string(comment.kind), string(comment.text))
 
 
 # --------------------------------------------------------------------------
@@ -808,6 +896,81 @@ def convert_code(letter: str, value: float) -> Optional[int]:
         return None
 
 
+# Constant blocks as data: a row is (line, shape index, values...) and a
+# shape is (codes, word letters). Rows of one run are one flat tuple of
+# literals, which compiles in one constant (nested row tuples take twice as
+# long; see the module docstring).
+Shape = Tuple[Tuple[int, ...], Tuple[str, ...]]
+Row = Tuple[Shape, List[str]]
+
+
+def constant_row(stmt: st.Stmt) -> Optional[Row]:
+    """(shape, value literals) if ``stmt`` is a block of literal, valid words
+    only (no settings, comments, block delete or error); else None."""
+    if not isinstance(stmt, st.Block):
+        return None
+    line = stmt.line
+    if line.error or line.comments or line.block_delete or line.oword:
+        return None
+    codes_: List[int] = []
+    letters: List[str] = []
+    values: List[str] = []
+    for word in line.items:
+        if not isinstance(word, nodes.Word) or not is_constant(word.value):
+            return None
+        if word.letter in "gm":
+            code = convert_code(word.letter, word.value.value)
+            if code is None:
+                return None
+            codes_.append(code)
+        else:
+            letters.append(WORD_KEYWORDS.get(word.letter, word.letter))
+            values.append(number(word.value.value))
+    if line.n_text is not None:
+        letters.insert(0, "n")  # first, as it is written
+        values.insert(0, string(line.n_text))
+    return (tuple(codes_), tuple(letters)), values
+
+
+def shape_text(shape: Shape) -> str:
+    """``G1 X Y``: what a row of this shape looks like in G-code."""
+    words = [codes.code_name(code) for code in shape[0]]
+    words += [GCODE_LETTERS.get(letter, letter.upper()) for letter in shape[1]]
+    return " ".join(words) or "(nothing)"
+
+
+def shapes_table(shapes: Dict[Shape, int]) -> List[str]:
+    """``SHAPES = (...)``: the (codes, word letters) of each row shape."""
+    lines = [
+        "",
+        "",
+        "# Row shapes: G/M codes, then the letters of the words that follow.",
+    ]
+    lines.append("SHAPES = (")
+    for shape, index in shapes.items():
+        codes_ = Coll("(", [code_name(code) for code in shape[0]], ")")
+        letters = Coll("(", [string(letter) for letter in shape[1]], ")")
+        lines.append("%s# %d: %s" % (INDENT, index, shape_text(shape)))
+        lines.extend(layout(Coll("(", [codes_, letters], ")"), 4, ","))
+    lines.append(")")
+    return lines
+
+
+def row_table(name: str, cells: List[str]) -> List[str]:
+    """``ROWS_n = (...)``: one G-code line per text line (black would put
+    each number on a line of its own, hence fmt: off)."""
+    lines = [
+        "",
+        "",
+        "# G-code line, shape (see SHAPES), word values",
+        "# fmt: off",
+        "%s = (" % name,
+    ]
+    lines.extend("%s%s," % (INDENT, cell) for cell in cells)
+    lines += [")", "# fmt: on"]
+    return lines
+
+
 def code_name(code: int) -> str:
     """The ``runtime.codes`` constant generated code imports for ``code``."""
     return codes.constant_name(code)
@@ -818,19 +981,78 @@ def code_order(name: str) -> Tuple[str, float]:
     return (name[0], float(name[1:].replace("_", ".")))
 
 
-def values_read(line: nodes.Line) -> List[nodes.Expr]:
-    """The expressions rs274 evaluated on a line with a read error, in order:
-    the items, the O-word's name expression, condition and arguments, then
-    the values inside the item it was reading when it failed."""
-    values = [item.value for item in line.items]
+def stale_break_flag(program: st.Program) -> bool:
+    """Must the code track rs274's ``doing_break``?
+
+    rs274 sets it on every ``break`` and clears it only at the closing
+    ``while`` of a do-loop, which then does not loop back. A do-loop's own
+    break clears it there, but a while-loop's break leaves it set, so the
+    next do-loop to reach its ``while`` ends after one pass. Only programs
+    with both pay for the flag (``m.doing_break``).
+    """
+    stmts = list(st.walk(program.body))
+    for sub in program.externals:
+        stmts.extend(st.walk(sub.body))
+    jumps = any(
+        isinstance(s, st.Jump) and s.kind == "break" and s.target.kind == "while"
+        for s in stmts
+    )
+    loops = any(isinstance(s, st.Loop) and s.kind == "do" for s in stmts)
+    return jumps and loops
+
+
+def oword_values(line: nodes.Line) -> List[nodes.Expr]:
+    """The values of a line's O-word that rs274 reads: the name
+    expression, the condition/count/value, then the call arguments."""
     word = line.oword
-    if word is not None:
-        if isinstance(word.name, nodes.Expr):
-            values.append(word.name)
-        if word.expr is not None:
-            values.append(word.expr)
-        values.extend(word.args)
-    return values + list(line.partial)
+    if word is None:
+        return []
+    values = [word.name] if isinstance(word.name, nodes.Expr) else []
+    if word.expr is not None:
+        values.append(word.expr)
+    return values + list(word.args)
+
+
+@dataclass
+class ItemRead:
+    """The code reading one item of a line: ``checks`` run first (a
+    setting's index check, a name's creation), then ``value``; ``target`` is
+    where a setting stores it (None for a word)."""
+
+    value: str
+    constant: bool
+    target: Optional[str] = None
+    checks: List[str] = field(default_factory=list)
+
+
+def subexpressions(e: nodes.Expr):
+    """``e`` and every expression inside it."""
+    yield e
+    for child in vars(e).values():
+        if isinstance(child, nodes.Expr):
+            yield from subexpressions(child)
+
+
+def reads_name(items, name: str) -> bool:
+    """Does reading ``items`` read (or test with EXISTS) the named parameter?"""
+    for item in items:
+        exprs = [item.value]
+        if isinstance(item, nodes.Assign) and isinstance(item.target, nodes.NumParam):
+            exprs.append(item.target.index)
+        for expr in exprs:
+            for e in subexpressions(expr):
+                if isinstance(e, (nodes.NamedParam, nodes.Exists)) and e.name == name:
+                    return True
+    return False
+
+
+def valid_setting_index(n: float) -> bool:
+    """May ``#n = ...`` be set (rs274's reader checks this before the value)?"""
+    try:
+        Params.setting_index(n)
+    except GCodeError:
+        return False
+    return True
 
 
 def fail_call(line: int, message: str) -> str:

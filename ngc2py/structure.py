@@ -17,7 +17,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Tuple, Union
 
-from ngc2py import nodes
+from ngc2py import lexer, nodes, source
 
 # --------------------------------------------------------------------------
 # Statements
@@ -47,6 +47,10 @@ class Sub:
     ``define_error`` is set when merely *reading* the definition fails in
     rs274 (a nested ``sub``, or end of file before ``endsub``): the error is
     raised at the definition point instead of defining the subroutine.
+
+    A Fanuc-style subroutine (``fanuc``: an ``O100`` line to ``M99``) is
+    also ordinary code where it stands: rs274 runs its lines when the normal
+    flow reaches them, so its body statements stay in the enclosing body too.
     """
 
     line: nodes.Line
@@ -55,6 +59,7 @@ class Sub:
     end: Optional[nodes.Line] = None
     define_error: Optional[Fail] = None
     fn: str = ""
+    fanuc: bool = False
 
 
 @dataclass
@@ -138,6 +143,16 @@ class Call:
 
 
 @dataclass
+class FanucCall:
+    """``M98 P.. [L..]``: ``line.items`` are the words; ``sub`` is the Fanuc
+    subroutine of this file with that constant name, else None (found by
+    name at run time)."""
+
+    line: nodes.Line
+    sub: Optional[Sub] = None
+
+
+@dataclass
 class Finish:
     """The closing ``%`` of a demarcated file: the program ends here."""
 
@@ -151,7 +166,9 @@ class EndOfFile:
     line: nodes.Line
 
 
-Stmt = Union[Block, Fail, Define, If, Loop, Jump, Return, Call, Finish, EndOfFile]
+Stmt = Union[
+    Block, Fail, Define, If, Loop, Jump, Return, Call, FanucCall, Finish, EndOfFile
+]
 
 
 @dataclass
@@ -183,6 +200,16 @@ DUPLICATE_LOOP = "%d: duplicate O-word label: '%s' - defined in line %d"
 NESTED_SUB = "Nested subroutine definition"
 EOF_NO_END = "File ended with no percent sign or program end"
 EOF_NO_PERCENT = "File ended with no percent sign"
+M99_IN_O_SUB = (
+    "'O.... endsub' or 'O.... return' must follow 'O.... sub' subroutine definition"
+)
+
+
+#: Errors rs274 finds while merely reading a line's text (close_and_downcase
+#: and the length check), so also in lines it skips over unexecuted.
+TEXT_ERRORS = frozenset(
+    (lexer.NESTED_COMMENT, lexer.UNCLOSED_COMMENT, source.COMMAND_TOO_LONG)
+)
 
 
 def eof_message(demarcated: bool) -> str:
@@ -217,6 +244,9 @@ class _Builder:
         # rs274 remembers each label's first line and complains on reuse.
         self.labels: Dict[str, Tuple[str, int]] = {}
         self.main_labels = self.labels
+        # The Fanuc definition being read: (sub, the body it is in, where
+        # its lines start in that body).
+        self.fanuc: Optional[Tuple[Sub, List[Stmt], int]] = None
 
     # -- helpers ----------------------------------------------------------
 
@@ -237,12 +267,21 @@ class _Builder:
 
     def add(self, line: nodes.Line) -> None:
         word = line.oword
+        if line.error in TEXT_ERRORS:
+            self._text_error(line)
         if word is None or line.error is not None:
             if not line.is_blank:
                 self.body.append(Block(line))
             return
         handler = getattr(self, "on_" + word.keyword)
         handler(line, word)
+
+    def _text_error(self, line: nodes.Line) -> None:
+        """rs274 reads a definition's lines when it passes the ``sub`` line:
+        the first one with a text error fails the definition."""
+        sub = self.open_sub()
+        if sub is not None and sub.define_error is None:
+            sub.define_error = Fail(line, line.error)
 
     # -- subroutines ------------------------------------------------------
 
@@ -282,6 +321,33 @@ class _Builder:
 
     def on_call(self, line: nodes.Line, word: nodes.OWord) -> None:
         self.body.append(Call(line, word.name, word.args))
+
+    # -- Fanuc-style subroutines -------------------------------------------
+
+    def on_fanuc_sub(self, line: nodes.Line, word: nodes.OWord) -> None:
+        sub = Sub(line, str(word.name), fanuc=True)
+        self.subs.append(sub)
+        self.fanuc = (sub, self.body, len(self.body))
+
+    def on_m98(self, line: nodes.Line, word: nodes.OWord) -> None:
+        self.body.append(FanucCall(line))
+
+    def on_m99(self, line: nodes.Line, word: nodes.OWord) -> None:
+        """Ends a Fanuc definition; in the main flow it is an ordinary block
+        (M99 at call level 0 ends the program like M2)."""
+        if self.fanuc is not None and self.fanuc[1] is self.body:
+            sub, body, start = self.fanuc
+            if word.in_call_error is not None:
+                end: Stmt = Fail(line, word.in_call_error)
+            else:
+                end = Return(line, None)
+            sub.body = body[start:] + [end]
+            sub.end = line
+            self.fanuc = None
+        if self.open_sub() is not None:
+            self.fail(line, M99_IN_O_SUB)
+        else:
+            self.body.append(Block(line))
 
     # -- conditionals -----------------------------------------------------
 
@@ -389,6 +455,8 @@ class _Builder:
                 continue
             if entry.label == label:
                 target = entry.node
+                if target.kind == "repeat":
+                    break  # rs274: break/continue only for while and do
                 if crossed:
                     target.flagged = True
                     for inner in crossed:
@@ -418,14 +486,26 @@ class _Builder:
             self.labels[label] = (word.keyword, line.number)
             return False
         if message == DUPLICATE_IF:
-            self.fail(line, message % (line.number, seen[1], line.text))
+            text = message % (line.number, seen[1], line.text)
         else:
-            self.fail(line, message % (line.number, line.text, seen[1]))
+            text = message % (line.number, line.text, seen[1])
+        self.fail(line, text)
+        top = self.stack[-1] if self.stack else None
+        if top is not None and top.label == label and not isinstance(top.node, Sub):
+            # rs274 stops skipping at the next line with the label being
+            # skipped to, so this line fails on every path through ``top``:
+            # also when its condition is false or an earlier arm ran.
+            self.stack.pop()
+            self.fail(line, text)
         return True
 
     # -- end of file ------------------------------------------------------
 
     def finish(self, last: Optional[nodes.Line]) -> None:
+        if self.fanuc is not None and last is not None:
+            # A call runs the definition into the end of the file.
+            sub, body, start = self.fanuc
+            sub.body = body[start:] + [Fail(last, eof_message(self.demarcated))]
         while self.stack:
             entry = self.stack.pop()
             if isinstance(entry.node, Sub) and last is not None:
@@ -501,7 +581,10 @@ def resolve_calls(program: Program) -> None:
     everywhere = list(walk(program.body))
     for sub in program.externals:
         everywhere.extend(walk(sub.body))
+    fanuc = {sub.name: sub for sub in program.subs if sub.fanuc}
     for stmt in everywhere:
+        if isinstance(stmt, FanucCall) and isinstance(stmt.line.oword.name, str):
+            stmt.sub = fanuc.get(stmt.line.oword.name)
         if not isinstance(stmt, Call) or not isinstance(stmt.name, str):
             continue
         sub = top_level.get(stmt.name)

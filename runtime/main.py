@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import getopt
 import sys
-from typing import Callable, Dict, List, Optional, Sequence, TextIO, Tuple
+from typing import Callable, List, Optional, Sequence, TextIO
 
 from runtime.errors import GCodeError, SourceMap, describe, locate
 
@@ -68,6 +68,10 @@ def run_cli(
     stderr.flush()
     try:
         machine = Machine(TraceCanon(stdout), source=source_map, **options)
+        # What rs274 says while reading its files: the tool table's
+        # complaints on stdout (before the trace), the ini file's on stderr.
+        stdout.write(machine.tool_table_report)
+        stderr.write(machine.settings.stderr_report)
         machine.run(main)
     except GCodeError as error:
         stdout.flush()
@@ -84,43 +88,4 @@ def run_cli(
     return 0
 
 
-__all__ = ["run_cli", "run_rows", "parse_options", "report"]
-
-
-def decode_row(row: str, names: Dict[str, int] = {}) -> Tuple[int, list, dict]:
-    """``"24 G1 x=1.0"`` -> ``(24, [G1], {"x": 1.0})``.
-
-    Rows are written by the compiler from validated constant blocks: code
-    names are ``runtime.codes`` constants and values are float reprs.
-    ``names`` is a shared lookup cache (deliberately a mutable default).
-    """
-    tokens = row.split()
-    codes, words = [], {}
-    for token in tokens[1:]:
-        key, sep, value = token.partition("=")
-        if sep:
-            words[key] = float(value)
-        else:
-            code = names.get(token)
-            if code is None:
-                from runtime import codes as table
-
-                code = names[token] = getattr(table, token)
-            codes.append(code)
-    return int(tokens[0]), codes, words
-
-
-def run_rows(machine, rows: Sequence[str]) -> None:
-    """Execute constant blocks kept as data rows (see ngc2py.codegen).
-
-    An error is tagged with the row's G-code line so the source map can
-    name it (the generated frame only knows which run of rows failed).
-    """
-    line = 0
-    try:
-        for row in rows:
-            line, codes, words = decode_row(row)
-            machine.block(line, *codes, **words)
-    except Exception as error:
-        error.ngc_row_line = line
-        raise
+__all__ = ["run_cli", "parse_options", "report"]

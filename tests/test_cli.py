@@ -208,3 +208,37 @@ def test_a_gcode_error_in_a_data_row_names_the_row(monkeypatch):
     assert run_cli(ns["main"], ns["__ngc__"], [], out, err) == 1
     lines = err.getvalue().splitlines()
     assert lines[2:] == ["G1 X1 Y2 Z3 G0", "  at p.ngc:13"]
+
+
+def test_main_returns_the_status_and_uses_the_current_streams(tmp_path, monkeypatch):
+    import io
+
+    program = tmp_path / "t.ngc"
+    program.write_text("G0 X1\nG1 X2\nM2\n")
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv("NGC2PY_CACHE", str(tmp_path / "cache"))
+    expected = harness.run_rs274(program) if harness.rs274_path() else None
+    for _ in range(2):  # nothing carries over from one run to the next
+        out, err = io.StringIO(), io.StringIO()
+        monkeypatch.setattr(sys, "stdout", out)
+        monkeypatch.setattr(sys, "stderr", err)
+        assert cli.main(["run", "t.ngc"]) == 1
+        assert err.getvalue().splitlines()[:3] == [
+            "executing",
+            "Cannot do g1 with zero feed rate",
+            "G1 X2",
+        ]
+        if expected is not None:
+            assert out.getvalue().encode() == expected.stdout
+    monkeypatch.setattr(sys, "stderr", io.StringIO())
+    assert cli.main(["run"]) == 1  # a usage error: rs274's status, no SystemExit
+
+
+def test_ini_and_tool_table_complaints_are_printed_like_rs274s(tmp_path):
+    (tmp_path / "t.ngc").write_text("G0 X1\nM2\n")
+    (tmp_path / "bad.tbl").write_text("T1 P1 Z1 garbage\n")
+    proc = ngc2py("run", "-t", "bad.tbl", "-i", "none.ini", "t.ngc", cwd=tmp_path)
+    assert proc.stdout.startswith(
+        "File: bad.tbl Unrecognized line skipped:\n    T1 P1 Z1 garbage\n    1 N....."
+    )
+    assert proc.stderr == "executing\nUnable to open inifile:none.ini:\n"

@@ -45,6 +45,14 @@ PROGRAMS = {
         "Y[SIN[#<a_rather_long_parameter_name>]+COS[#<a_rather_long_parameter_name>]] "
         "Z[ATAN[1]/[2]] F100\nM2\n"
     ),
+    "long_headers": (
+        "#<a_long_parameter_name>=1\no1 if [#<a_long_parameter_name> GT 1 AND "
+        "#<a_long_parameter_name> LT 10 OR #<a_long_parameter_name>]\nG0 X1\n"
+        "o1 elseif [#<a_long_parameter_name> GT 1 AND #<a_long_parameter_name> LT 10"
+        " OR #<a_long_parameter_name>]\no1 endif\no2 while [#<a_long_parameter_name>"
+        " GT 1 AND #<a_long_parameter_name> LT 10 OR #<a_long_parameter_name>]\n"
+        "o2 endwhile\nM2\n"
+    ),
     "hostile_text": (
         '(msg, """ \'\'\' \\ \\n )\n(print, \')+__import__("os")#)\n'
         "o<x'y> call\n(comment with \x0b and \x1c)\nM2\n"
@@ -158,9 +166,34 @@ def test_big_cam_files_become_chunks_and_data_rows():
     lines[1500] = "(halfway)"
     code = compile_text("\n".join(lines + ["M2"]) + "\n", "cam.ngc")
     assert code.count("def main_") >= 2
-    assert "run_rows(m, ROWS_1)" in code and '"3 G1 x=1.5 y=1.0 f=1200.0",' in code
+    assert "run_rows(m, SHAPES, ROWS_1)" in code
+    # line 3 is "G1 X1.5 Y1 F1200": shape 1 (G1 X Y F) and its three values
+    assert '    # 1: G1 X Y F\n    ((G1,), ("x", "y", "f")),' in code
+    assert "\n    3, 1, 1.5, 1.0, 1200.0,\n" in code
+    assert '"3 G1' not in code  # no G-code text is left to parse at run time
     assert_black_stable(code)
     compile(code, "cam.py", "exec")
+
+
+def test_line_reads_declare_names_and_check_indices_in_order():
+    code = compile_text("#<n> = [#<n> + 1]\n#[#1+1]=[#2*3] G0 X#1\nM2\n", "p.ngc")
+    assert '    v.declare("n")\n    v.n = finite(v.n + 1.0)\n' in code
+    assert (
+        "    i1 = p.setting_index(finite(p[1] + 1.0))\n"
+        "    t2 = finite(p[2] * 3.0)\n"
+        "    t3 = p[1]\n"
+        "    p[i1] = t2\n"
+        "    m.block(2, G0, x=t3)\n"
+    ) in code
+    assert_black_stable(code)
+
+
+def test_plain_settings_stay_plain():
+    code = compile_text("#<a>=1\n#2=[#<a>] #<b>=2\n#3=#2\nM2\n", "p.ngc")
+    assert "    v.a = 1.0\n" in code
+    assert "    p[2], v.b = v.a, 2.0\n" in code
+    assert "    p[3] = p[2]\n" in code
+    assert "declare" not in code and "setting_index" not in code
 
 
 # --- against rs274 ----------------------------------------------------------
@@ -176,6 +209,21 @@ RUNS = [
     "G0 X1\n/G0 X2\n/#1=5\nG0 Y#1\nM2\n",
     "%\nG0 X1\n%\nG0 X3\n",
     "G0 X1\n",
+    # a name being set exists (as 0) for the rest of its line
+    "#<a>=1 #2=#<a>\n(debug,#2 #<a>)\nM2\n",
+    "#<n> = [#<n> + 1]\nG0 X#<n>\n#<_g>=[#<_g>+2] #<m>=[EXISTS[#<_g>]]\nG0 Y#<_g> Z#<m>\nM2\n",
+    "G0 X#<n> #<n>=1\nM2\n",
+    # a setting's index is checked before its value is read
+    "#1=0\n#[#1]=[1/0]\nM2\n",
+    "#1=5500\n#[#1]=[1/0]\nM2\n",
+    "#2=[1/0] #[#1+5]=1\nM2\n",
+    "#1=3 #[#1]=[#1+1] #2=#3\nG0 X#1 Y#2 Z#3\nM2\n",
+    # checks at closing brackets
+    "G0 X[[10**400]*0]\nM2\n",
+    "G0 X[10**400*0]\nM2\n",
+    "#1=[10**400*0]\nM2\n",
+    # N words in data rows print as written
+    "G21\n" + "".join("N%03d G1 X%d Y1 F100\n" % (i, i) for i in range(12)) + "M2\n",
 ]
 
 

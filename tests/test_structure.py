@@ -85,6 +85,34 @@ def test_misplaced_o_words_fail_at_their_line(text, message):
     assert fail.message == message and fail.line.number == 1
 
 
+@pytest.mark.parametrize("keyword", ["break", "continue"])
+def test_break_and_continue_do_not_target_a_repeat(keyword):
+    program = build("G21\no3 repeat [2]\n  o3 %s\no3 endrepeat\nM2\n" % keyword)
+    fail = program.body[1].body[0]
+    assert isinstance(fail, st.Fail)
+    assert fail.message == (
+        "3: no matching while/do label: '  o3 %s' (found 'repeat' in line 2)" % keyword
+    )
+
+
+def test_fanuc_sub_runs_inline_and_is_also_a_subroutine():
+    program = build("M98 P100\nM2\nO100\nG0 X1\nM99\n")
+    st.resolve_calls(program)
+    call, end, move, m99 = program.body
+    assert isinstance(call, st.FanucCall) and call.sub is program.subs[0]
+    assert kinds([end, move, m99]) == ["Block", "Block", "Block"]
+    sub = program.subs[0]
+    assert sub.fanuc and sub.name == "100" and sub.end.number == 5
+    assert sub.body[0] is move and kinds(sub.body) == ["Block", "Return"]
+
+
+def test_m99_inside_an_o_sub_fails_there():
+    program = build("o<s> sub\nM99\no<s> endsub\nM2\n")
+    fail = program.subs[0].body[0]
+    assert isinstance(fail, st.Fail) and fail.line.number == 2
+    assert fail.message == st.M99_IN_O_SUB
+
+
 def test_a_reused_if_label_fails_where_rs274_notices_it():
     text = (
         "#1=0\no1 while [#1 LT 3]\n#1=[#1+1]\no1 if [#1 EQ 2]\no1 continue\n"
@@ -177,6 +205,21 @@ MISMATCHES = [
     "o<s> sub\no1 while [1]\no<s> return [5]\no1 endwhile\no<s> endsub\no<s> call\n"
     "G0 X#<_value>\nM2\n",
     "o1 if [1]\no<s> sub\nG0 X1\no<s> endsub\no1 endif\no<s> call\nM2\n",
+    # a while-loop's break leaves rs274's doing_break set: the next do-loop
+    # stops at its first closing while
+    "#1=0\no1 while [1]\n#1=[#1+1]\no1 break\no1 endwhile\no2 do\nG0 X#1\n"
+    "#1=[#1+1]\no2 while [#1 LT 5]\nG0 Y1\nM2\n",
+    "o1 repeat [2]\no1 break\no1 endrepeat\nM2\n",
+    # a reused label is noticed while skipping to that label, too
+    "o100 if [0]\no100 if [0]\no100 endif\no100 endif\nM2\n",
+    "o100 while [0]\no100 while [0]\no100 endwhile\no100 endwhile\nM2\n",
+    "o100 if [1]\nG0 X1\no100 elseif [1]\no100 if [0]\no100 endif\nM2\n",
+    "#1=0\no100 while [#1 LT 2]\n#1=[#1+1]\no100 break\no100 while [0]\nM2\n",
+    # text errors fail a definition as rs274 reads past it, even after a return
+    "o<s> sub\nG0 X1 (a(b)\no<s> endsub\nG0 X2\nM2\n",
+    "o<s> sub\nG0 X1\no<s> return\nG0 (x\no<s> endsub\no<s> call\nG0 X3\nM2\n",
+    "#1=2\no[#1*100] call\no[100] call\nM2\no100 sub\nG0 X1\no100 endsub\n"
+    "o200 sub\nG0 X2\no200 endsub\n",
 ]
 
 
