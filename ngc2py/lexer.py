@@ -22,16 +22,12 @@ UNCLOSED_COMMENT = "Unclosed comment found"
 _BLANKS = " \t\r"
 
 
+#: C's tolower in the "C" locale: A-Z only.
 _LOWER = str.maketrans("ABCDEFGHIJKLMNOPQRSTUVWXYZ", "abcdefghijklmnopqrstuvwxyz")
 
 #: Outside comments: a run of ordinary text, a whole ``(...)`` comment (or
 #: an unclosed one), or everything from ``;`` on.
 _SEGMENT = re.compile(r"[^(;]+|\([^)]*\)?|;.*", re.S)
-
-
-def ascii_lower(text: str) -> str:
-    """Lower-case A-Z only, as C's tolower does in the "C" locale."""
-    return text.translate(_LOWER)
 
 
 @dataclass(frozen=True)

@@ -1,6 +1,9 @@
 """The syntax tree shared by the parser and the code generator.
 
-Every node is a frozen dataclass so trees can be compared, hashed and cached.
+Every node is a dataclass compared and hashed by value, so trees can be
+compared, hashed and cached; treat them as immutable.  They are not
+``frozen``: a frozen dataclass costs three times as much to build, and
+building nodes is most of the time spent parsing a large CAM file.
 The parser produces one :class:`Line` per physical line of the source; the
 structure pass (``structure.py``) groups lines into subroutines and control
 flow; the code generator turns both into Python text.
@@ -14,6 +17,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Optional, Tuple, Union
 
+#: The dataclass options of every node (see the module docstring).
+node = dataclass(eq=True, unsafe_hash=True)
 
 # --------------------------------------------------------------------------
 # Expressions
@@ -26,21 +31,21 @@ class Expr:
     __slots__ = ()
 
 
-@dataclass(frozen=True)
+@node
 class Num(Expr):
     """A literal number, already converted the way rs274 converts it."""
 
     value: float
 
 
-@dataclass(frozen=True)
+@node
 class NumParam(Expr):
     """``#n``: a numbered parameter; ``index`` is itself an expression (``##2``)."""
 
     index: Expr
 
 
-@dataclass(frozen=True)
+@node
 class NamedParam(Expr):
     """``#<name>``: ``name`` is normalised (lower case, white space removed).
 
@@ -73,7 +78,44 @@ UNARY_FUNCTIONS = (
 )
 
 
-@dataclass(frozen=True)
+@node
+class Bracket(Expr):
+    """``[inner]`` read as a value: rs274 checks it at the closing ``]``.
+
+    rs274 tests a bracketed value once, when it has finished reading it, and
+    fails with ``Calculation resulted in 'not a number'`` (NaN) or
+    ``Calculation resulted in 'infinity'`` (+/-inf), tested in that order.
+    Results inside the brackets are not checked: ``[10**400*0]`` fails with
+    'not a number' (inf*0) while ``[[10**400]*0]`` fails with 'infinity' at
+    the inner ``]``.  (rs274 makes the same check on every value it reads
+    as an operand or word value -- a parameter read such as ``#31`` holding
+    inf from a var file, or ``#<_value>`` after ``return [10**400]``, fails
+    too; that is the runtime's job when it reads a parameter, and function
+    values are checked by ``runtime.ops``.)
+
+    The parser produces a Bracket for every ``[...]`` in a value position:
+    word values (``X[..]``, ``G[..]``), parameter settings and indices
+    (``#1=[..]``, ``#[..]``, ``EXISTS[#[..]]``) and operands inside other
+    expressions (``[[..]*0]``, ``-[..]``).  Not for brackets rs274 reads
+    without the check, whose expression is stored bare:
+
+    * a function's own argument brackets (``SIN[..]``, ``ATAN[..]/[..]``,
+      ``EXISTS[..]``): ``runtime.ops`` checks arguments and results itself;
+    * O-word brackets: the condition of if/elseif/while, the count of
+      repeat, the value of return/endsub and the arguments of call
+      (``o1 if [10**400*0]`` runs; ``o1 call [10**400]`` passes inf in #1).
+
+    The parser also leaves it out where the check cannot fail or repeats
+    one just made: around a literal (``[2]``; ``[1+2]`` is folded to
+    ``Num(3.0)`` and the parser only folds to finite values) and around
+    another Bracket (``[[x]]`` is one Bracket).  So ``inner`` is never a
+    ``Num`` or a ``Bracket``.
+    """
+
+    inner: Expr
+
+
+@node
 class Unary(Expr):
     """A one-argument function (``op`` in UNARY_FUNCTIONS) or a sign (``neg``/``pos``)."""
 
@@ -81,7 +123,7 @@ class Unary(Expr):
     arg: Expr
 
 
-@dataclass(frozen=True)
+@node
 class Atan2(Expr):
     """``ATAN[y]/[x]``: four-quadrant arc tangent in degrees."""
 
@@ -89,7 +131,7 @@ class Atan2(Expr):
     x: Expr
 
 
-@dataclass(frozen=True)
+@node
 class Exists(Expr):
     """``EXISTS[#<name>]``: 1.0 if the named parameter exists, else 0.0."""
 
@@ -116,7 +158,7 @@ BINARY_OPERATORS = (
 )
 
 
-@dataclass(frozen=True)
+@node
 class Binary(Expr):
     """``left op right``; the parser has already applied precedence."""
 
@@ -130,7 +172,7 @@ class Binary(Expr):
 # --------------------------------------------------------------------------
 
 
-@dataclass(frozen=True)
+@node
 class Word:
     """A letter and its value: ``G1``, ``X[#1+2]``.
 
@@ -143,7 +185,7 @@ class Word:
     col: int = 0  # 0-based column in the raw text, for error carets
 
 
-@dataclass(frozen=True)
+@node
 class Assign:
     """``#n = expr`` or ``#<name> = expr``: takes effect after the line is read."""
 
@@ -152,42 +194,19 @@ class Assign:
     col: int = 0
 
 
-#: What a comment does, by ``Comment.kind``.
-COMMENT_KINDS = (
-    "plain",  # COMMENT("text")
-    "msg",  # MESSAGE("text")
-    "debug",  # MESSAGE with parameters expanded
-    "print",  # stderr, with parameters expanded
-    "log",  # log file line, with parameters expanded
-    "logopen",
-    "logappend",
-    "logclose",
-    "probeopen",
-    "probeclose",
-    "abort",
-)
-
-
-@dataclass(frozen=True)
-class ParamRef:
-    """A parameter reference inside a DEBUG/PRINT/LOG/ABORT comment."""
-
-    name: Union[int, str]  # int: numbered parameter; str: normalised named parameter
-
-
-@dataclass(frozen=True)
+@node
 class Comment:
     """A comment; only the last one on a line is acted on.
 
-    ``text`` is what rs274 passes on (for ``plain``, the whole comment text; for
-    ``msg`` the text after ``MSG,``; for file commands the file name).
-    ``parts`` is ``text`` split into literal strings and :class:`ParamRef` for
-    the kinds that expand parameters (debug, print, log, abort); otherwise ``()``.
+    ``kind`` and ``text`` are what ``runtime.comments.classify`` makes of the
+    text between the parentheses (one definition of rs274's rules): for
+    ``plain``, the whole comment without leading white space; for ``msg`` the
+    text after ``MSG,``; for file commands the file name.  The runtime splits
+    the text of the expanding kinds into literals and parameters itself.
     """
 
     kind: str
     text: str
-    parts: Tuple[Union[str, ParamRef], ...] = ()
 
 
 #: O-word keywords, by ``OWord.keyword``.
@@ -207,26 +226,90 @@ OWORD_KEYWORDS = (
     "endrepeat",
     "break",
     "continue",
+    "fanuc_sub",  # a bare ``O100`` line
+    "m98",  # a line starting with M98: Fanuc-style call
+    "m99",  # a line starting with M99: Fanuc-style return (in a call)
 )
 
 
-@dataclass(frozen=True)
+@node
 class OWord:
-    """An O-word statement.
+    """An O-word statement, or a Fanuc-style subroutine line.
 
     ``name`` is the normalised label: ``"101"`` for ``o101``, ``"drill"`` for
-    ``o<drill>``; for ``o[expr] call`` it is the expression.
+    ``o<drill>``; for ``o[expr] ...`` it is the expression (its value is
+    rounded to an integer label at run time, rs274's read_integer_value).
     ``args`` are the ``[expr]`` arguments of ``call``; ``expr`` is the condition
     of if/elseif/while, the count of repeat, or the value of return/endsub.
+
+    Fanuc-style subroutines (LinuxCNC 2.9 runs them; facts from rs274):
+
+    ``OWord("fanuc_sub", "100")`` -- a line ``O100`` with no keyword (only
+    comments may follow; they are not acted on).  It starts the definition
+    of subroutine ``100``, which ends at an ``M99`` line.  Read in the normal
+    flow of a program it does nothing: the lines after it run as usual (an
+    ``O100 ... M99`` at the top of the main program runs inline, and that
+    M99 then ends the program).  Also produced for ``o<name`` without ``>``:
+    rs274 then takes the whole rest of the line as the name (``o<abc sub``
+    -> name ``"abcsub"``) and reads nothing else, not even comments.
+
+    ``OWord("m98", "100", expr=<L value or None>)`` -- a line whose first
+    item (after N) is the literal M98.  rs274 reads the rest of the line as
+    ordinary items (``Line.items`` holds all of them, P and L included, in
+    order; their values are evaluated and the block's word checks apply --
+    ``M98 P100 X1`` fails with "Cannot use axis values without a g code that
+    uses them", ``M98 P100 H2`` with "H word with no G43 or G76 to use it" --
+    but nothing else on the line is executed: ``M98 P100 G1 X7 F1`` moves
+    nowhere).  ``name`` is P's value as a label (an Expr when P is
+    computed; convert it with ``runtime.codes.to_integer``); the subroutine
+    is then called L times (L absent: once; ``L0``: not at all).  A call
+    does not save, set or restore ``#1``-``#30`` (a sub that increments #1
+    leaves it incremented), but does get a fresh set of named locals
+    (``#<a>`` of the caller reads as "Named parameter #<a> not defined"),
+    counts as a call level (``Too many subroutine levels``) and leaves
+    ``#<_value>`` 0.  Like ``o100 call``, M98 finds a subroutine not yet
+    defined by reading ahead in the file; at end of file it fails with
+    ``EOF in file:NAME seeking o-word: o<100> from line: N`` (N the M98
+    line).  Errors: ``M98`` without P -> "Found 'm98' code with no
+    P-word" (Line.error, after the items); P not near an integer -> "Non
+    integer value for integer"; M98 anywhere but first -> "Unknown m code
+    used: M98"; calling an ``o100 sub`` with M98 fails at that sub line with
+    "'O.... sub' subroutine must be called with 'O.... call'"; calling a
+    Fanuc ``O100`` with ``o100 call`` fails at the O100 line with "Fanuc
+    'O....' subroutine must be called with 'M98'".
+
+    ``OWord("m99", "")`` -- a line whose first item (after N) is the literal
+    M99.  What it means depends on the call level when it runs:
+
+    * in the main program (call level 0) it is an ordinary block and
+      ``Line.items`` holds the whole line, M99 included: M99 ends the
+      program exactly like M2 (``M99 G0 X1`` moves, then ends);
+    * inside a call it is a return: nothing else on the line is read or
+      run, and when more than comments follow ``M99``, rs274 fails with
+      ``in_call_error`` ("Unexpected character after O-word") instead.
+      Returning from a Fanuc subroutine continues after the M98 line (or
+      repeats the sub for the next L).  An M99 reached inside an
+      ``o... sub`` called with ``o... call`` fails with "'O.... endsub' or
+      'O.... return' must follow 'O.... sub' subroutine definition"; a
+      Fanuc subroutine ended by ``o100 endsub`` fails at that line with
+      "Fanuc 'O....' subroutine definition must end with 'M99'".
+
+    An M99 word that is not first on its line is an ordinary M code; inside
+    a call rs274 then fails with "Bug:  Reached convert_stop() from M99 as
+    subprogram return" (two spaces).  Running into the end of the file
+    inside a Fanuc subroutine fails with "File ended with no percent sign or
+    program end".
     """
 
     keyword: str
     name: Union[str, Expr]
     args: Tuple[Expr, ...] = ()
     expr: Optional[Expr] = None
+    #: For "m99": rs274's read error when the line runs inside a call.
+    in_call_error: Optional[str] = None
 
 
-@dataclass(frozen=True)
+@node
 class Line:
     """One physical line of a source file, as read.
 
@@ -243,7 +326,7 @@ class Line:
     text: str  # the line as rs274 echoes it in error reports
     file: str = ""
     block_delete: bool = False
-    n: Optional[float] = None  # the N word, if any
+    n: Optional[float] = None  # the N word's value (integer part), if any
     items: Tuple[Union[Word, Assign], ...] = ()
     comments: Tuple[Comment, ...] = ()
     oword: Optional[OWord] = None
@@ -254,6 +337,17 @@ class Line:
     #: ``$``; ``##1 X`` reads #1 for the index before missing the ``=``).
     #: Evaluate them, in order, after ``items`` and before raising ``error``.
     partial: Tuple[Expr, ...] = ()
+    #: What rs274's trace prints after ``N`` for this line's calls, or None
+    #: for ``N.....``.  rs274 takes it from the raw line text, not from the
+    #: N word's value: after leading blanks, tabs and ``/``, if the next
+    #: character is ``N`` or ``n``, the decimal digits that immediately
+    #: follow it, as written (``N0012`` -> ``"0012"``, ``N20.5`` -> ``"20"``,
+    #: ``N 12`` -> ``""`` although the N word is 12).  None when the line has
+    #: no N word, or when the raw text hides it from that scan (``\rN5``).
+    #: The trace pads the digits with spaces to 6 columns and prints the call
+    #: right after them, with no separator for 6 digits or more
+    #: (``N0012  STRAIGHT_...``, ``N123456STRAIGHT_...``).
+    n_text: Optional[str] = None
 
     @property
     def comment(self) -> Optional[Comment]:
@@ -285,6 +379,7 @@ __all__ = [
     "Num",
     "NumParam",
     "NamedParam",
+    "Bracket",
     "Unary",
     "Atan2",
     "Exists",
@@ -292,11 +387,9 @@ __all__ = [
     "Word",
     "Assign",
     "Comment",
-    "ParamRef",
     "OWord",
     "Line",
     "UNARY_FUNCTIONS",
     "BINARY_OPERATORS",
-    "COMMENT_KINDS",
     "OWORD_KEYWORDS",
 ]

@@ -16,21 +16,31 @@ so their order relative to later read errors is rs274's.  When reading
 fails inside an item, the values rs274 had already computed there are kept
 in ``Line.partial`` so their errors (a division by zero, say) still come
 first.
+
+Value rules (G/M validity, modal groups, negative F/S/H/L/T, ...) are
+``runtime.codes``'s and comment rules ``runtime.comments``'s: the parser
+applies them to literals, the runtime to computed values.  Lines of the
+common CAM shape (``N10 G1 X1.5 Y2 (c)``) take a fast path that builds the
+same Line with the same checks (:func:`read_simple_line`).
 """
 
 from __future__ import annotations
 
+import gc
 import math
 import re
+from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import Dict, List, Optional, Tuple, Union
+from functools import lru_cache
+from typing import Dict, FrozenSet, Iterator, List, Optional, Tuple, Union
 
 from ngc2py import source
-from ngc2py.lexer import ascii_lower, normalise
+from ngc2py.lexer import Normalised, normalise
 from ngc2py.nodes import (
     Assign,
     Atan2,
     Binary,
+    Bracket,
     Comment,
     Exists,
     Expr,
@@ -39,11 +49,10 @@ from ngc2py.nodes import (
     Num,
     NumParam,
     OWord,
-    ParamRef,
     Unary,
     Word,
 )
-from runtime import codes
+from runtime import codes, comments
 from runtime.errors import GCodeError
 
 #: Axis letters rs274 reads when no INI file configures others.
@@ -61,9 +70,6 @@ MAX_CALL_ARGUMENTS = 30
 #: Word letters whose repetition on a line rs274 rejects (u, v, w only when
 #: they are configured axes; they are added per parse).
 _REPEAT_CHECKED = frozenset("abcdefhijklrstxyz")
-
-#: Letters read with read_integer_value (the value must be near an integer).
-_INTEGER_LETTERS = frozenset("hlmt")
 
 #: Binary operators by precedence (higher binds tighter); "]" ends a group.
 _PRECEDENCE = {
@@ -142,9 +148,6 @@ _NUMBER = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)")
 #: The end-of-line sentinel (C's NUL terminator).
 _END = "\0"
 
-#: Our own message for a construct rs274 accepts that ngc2py cannot compile.
-_UNSUPPORTED = "ngc2py: unsupported: %s"
-
 
 class _ReadError(Exception):
     """rs274 stopped reading the line with ``message``."""
@@ -152,92 +155,6 @@ class _ReadError(Exception):
     def __init__(self, message: str):
         super().__init__(message)
         self.message = message
-
-
-# --------------------------------------------------------------------------
-# Comments
-# --------------------------------------------------------------------------
-
-#: Comment prefix -> kind, in the order rs274's convert_comment tests them.
-#: PROBEOPEN/PROBECLOSE are plain comments in the installed rs274.
-_COMMENT_PREFIXES = (
-    ("msg,", "msg"),
-    ("debug,", "debug"),
-    ("print,", "print"),
-    ("log,", "log"),
-    ("logopen,", "logopen"),
-    ("logappend,", "logappend"),
-    ("abort,", "abort"),
-)
-
-#: Kinds whose text has #n / #<name> references expanded when executed.
-_EXPANDING_COMMENTS = frozenset(("debug", "print", "log", "abort"))
-
-#: C's isspace in the "C" locale.
-_C_SPACE = " \t\n\v\f\r"
-
-
-def classify_comment(body: str) -> Comment:
-    """The Comment for the text between ``(`` and ``)``.
-
-    rs274 skips leading white space, then matches the prefixes in any case;
-    ``LOGCLOSE`` must be the whole remaining comment.  ``text`` is what rs274
-    passes on, in the original case.
-    """
-    text = body.lstrip(_C_SPACE)
-    lowered = ascii_lower(text)
-    for prefix, kind in _COMMENT_PREFIXES:
-        if lowered.startswith(prefix):
-            rest = text[len(prefix) :]
-            parts = split_parameters(rest) if kind in _EXPANDING_COMMENTS else ()
-            return Comment(kind, rest, parts)
-    if lowered == "logclose":
-        return Comment("logclose", "")
-    return Comment("plain", text)
-
-
-def split_parameters(text: str) -> Tuple[Union[str, ParamRef], ...]:
-    """Split comment text into literals and parameter references.
-
-    Mirrors convert_param_comment: ``#`` + digits is a numbered parameter,
-    ``#<name>`` a named one (blanks dropped, lower-cased, up to ``>``), and a
-    ``#`` followed by anything else stays literal.  For a reference rs274
-    cannot finish (``#`` at the very end, ``#<`` without ``>``) it prints
-    uninitialised memory; ngc2py keeps what came before and stops there.
-    """
-    parts: List[Union[str, ParamRef]] = []
-    literal: List[str] = []
-    i = 0
-    while i < len(text):
-        if text[i] != "#":
-            literal.append(text[i])
-            i += 1
-            continue
-        i += 1
-        if i >= len(text):
-            break
-        if "0" <= text[i] <= "9":
-            start = i
-            while i < len(text) and "0" <= text[i] <= "9":
-                i += 1
-            ref = ParamRef(int(text[start:i]))
-        elif text[i] == "<":
-            end = text.find(">", i + 1)
-            if end == -1:
-                break
-            name = "".join(c for c in text[i + 1 : end] if c not in _C_SPACE)
-            ref = ParamRef(ascii_lower(name))
-            i = end + 1
-        else:
-            literal.append("#")
-            continue
-        if literal:
-            parts.append("".join(literal))
-            literal = []
-        parts.append(ref)
-    if literal:
-        parts.append("".join(literal))
-    return tuple(parts)
 
 
 # --------------------------------------------------------------------------
@@ -261,6 +178,31 @@ def _fold(op: str, left: Expr, right: Expr) -> Expr:
         if math.isfinite(value):
             return Num(value)
     return Binary(op, left, right)
+
+
+def _comment(body: str) -> Comment:
+    """The Comment for the text between the parentheses."""
+    active = comments.classify(body)
+    return Comment(active.kind, active.text)
+
+
+def _oword_number(value: Expr) -> Union[str, Expr]:
+    """An O-word's (or M98's P) number as its label, if it is a literal."""
+    number = _literal(value)
+    if number is None:
+        return value
+    try:
+        return "%d" % codes.to_integer(number)
+    except GCodeError as error:
+        raise _ReadError(error.message) from None
+
+
+def _bracket(inner: Expr) -> Expr:
+    """``[inner]`` as a :class:`Bracket`, unless its check cannot fail or
+    would repeat one already made (see ``Bracket``)."""
+    if isinstance(inner, (Num, Bracket)):
+        return inner
+    return Bracket(inner)
 
 
 def _negate(expr: Expr) -> Expr:
@@ -290,8 +232,20 @@ class _Block:
     comments: List[Comment] = field(default_factory=list)
     oword: Optional[OWord] = None
     seen: Dict[str, Word] = field(default_factory=dict)  # letter -> last word
-    g_groups: Dict[int, int] = field(default_factory=dict)  # group -> code
-    m_groups: Dict[int, int] = field(default_factory=dict)
+    #: "g"/"m" -> modal group -> code, for the literal codes read so far.
+    groups: Dict[str, Dict[int, int]] = field(
+        default_factory=lambda: {"g": {}, "m": {}}
+    )
+
+
+@lru_cache(maxsize=None)
+def _letters(axes: str) -> Tuple[FrozenSet[str], FrozenSet[str]]:
+    """(word letters rs274 reads, letters it allows once per line)."""
+    axis_letters = frozenset(axes)
+    return (
+        frozenset("defghijklmpqrst$@^") | axis_letters,
+        _REPEAT_CHECKED | axis_letters,
+    )
 
 
 class _LineReader:
@@ -301,8 +255,7 @@ class _LineReader:
         self.text = text
         self.columns = columns
         self.pos = 0
-        self.letters = frozenset("defghijklmpqrst$@^") | frozenset(axes)
-        self.repeat_checked = _REPEAT_CHECKED | frozenset(axes)
+        self.letters, self.repeat_checked = _letters(axes)
         self.block = _Block()
         # Values rs274 has computed inside items still being read, one list
         # per open construct; what is left here when reading fails is
@@ -342,8 +295,12 @@ class _LineReader:
         if self.peek() == "o":
             self.read_oword()
             return
-        if self.starts_with_m98():
-            raise _ReadError(_UNSUPPORTED % "Fanuc-style M98 subroutine call")
+        fanuc = self.fanuc_m_code()
+        if fanuc == 98:
+            self.read_m98()
+            return
+        if fanuc == 99:
+            self.block.oword = OWord("m99", "", in_call_error=self.m99_call_error())
         while self.pos < len(self.text):
             self.read_item()
 
@@ -362,20 +319,52 @@ class _LineReader:
             raise _ReadError("Bad format unsigned integer")
         return int(self.text[start : self.pos])
 
-    def starts_with_m98(self) -> bool:
-        """rs274 treats a line starting with M98 as a Fanuc-style call."""
+    def fanuc_m_code(self) -> Optional[int]:
+        """98 or 99 when the line's first item is that M code (a literal).
+
+        rs274 reads the M value ahead to decide whether the line is a
+        Fanuc-style call or return (see ``OWord``); a value it cannot read
+        here is read again, with its error, as an ordinary word.
+        """
         if self.peek() != "m":
-            return False
+            return None
         saved, frames = self.pos, len(self.open_values)
         self.pos += 1
         try:
             value = _literal(self.read_real_value())
-            return value is not None and codes.to_integer(value) == 98
+            number = None if value is None else codes.to_integer(value)
         except (_ReadError, GCodeError):
-            return False
+            number = None
         finally:
             self.pos = saved
             del self.open_values[frames:]
+        return number if number in (98, 99) else None
+
+    def read_m98(self) -> None:
+        """``M98 P.. [L..]``: rs274 skips three characters for ``m98`` and
+        reads the rest of the line as ordinary items."""
+        self.pos += 3
+        while self.pos < len(self.text):
+            self.read_item()
+        program = self.block.seen.get("p")
+        if program is None:
+            raise _ReadError("Found 'm98' code with no P-word")
+        repeat = self.block.seen.get("l")
+        self.block.oword = OWord(
+            "m98",
+            _oword_number(program.value),
+            expr=None if repeat is None else repeat.value,
+        )
+
+    def m99_call_error(self) -> Optional[str]:
+        """What reading ``M99`` as a return fails with: after the three
+        characters of ``m99`` only comments may follow."""
+        rest = self.text[self.pos + 3 :]
+        while rest.startswith("("):
+            rest = rest[rest.index(")") + 1 :]
+        if rest and not rest.startswith(";"):
+            return "Unexpected character after O-word"
+        return None
 
     def read_item(self) -> None:
         """rs274's read_one_item: dispatch on the item's first character."""
@@ -393,7 +382,7 @@ class _LineReader:
 
     def read_comment(self) -> None:
         end = self.text.index(")", self.pos)  # the lexer guarantees one
-        self.block.comments.append(classify_comment(self.text[self.pos + 1 : end]))
+        self.block.comments.append(_comment(self.text[self.pos + 1 : end]))
         self.pos = end + 1
 
     # -- words ----------------------------------------------------------------
@@ -402,9 +391,12 @@ class _LineReader:
         column = self.column()
         self.pos += 1
         self.check_repeat(letter)
-        value = self.read_real_value()
-        word = Word(letter, value, column)
+        self.store_word(Word(letter, self.read_real_value(), column))
+
+    def store_word(self, word: Word) -> None:
+        """Check a word just read and add it to the block."""
         self.check_value(word)
+        letter = word.letter
         previous = self.block.seen.get(letter)
         if (
             previous is not None
@@ -437,45 +429,12 @@ class _LineReader:
         value = _literal(word.value)
         if value is None:
             return
-        letter = word.letter
         try:
-            if letter == "g":
-                self.record_g(codes.g_code(value))
-            elif letter == "m":
-                self.record_m(codes.m_code(value))
-            elif letter in _INTEGER_LETTERS:
-                self.check_integer_word(letter, codes.to_integer(value))
+            checked = codes.check_word(word.letter, value)
+            if word.letter in "gm":
+                codes.record_code(self.block.groups[word.letter], checked)
         except GCodeError as error:
             raise _ReadError(error.message) from None
-        if letter == "f" and value < 0.0:
-            raise _ReadError("Negative f word used")
-        if letter == "s" and value < 0.0:
-            raise _ReadError("Negative spindle speed used")
-
-    @staticmethod
-    def check_integer_word(letter: str, number: int) -> None:
-        if letter == "h" and number < -1:
-            raise _ReadError("Negative h word used")
-        if letter == "l" and number < 0:
-            raise _ReadError("Negative l word used")
-        if letter == "t" and number < 0:
-            raise _ReadError("Negative tool id (tool not found)")
-
-    def record_g(self, code: int) -> None:
-        """rs274's modal group rule; G80 gives way to another motion code."""
-        group = codes.modal_group(code)
-        current = self.block.g_groups.get(group)
-        if code == codes.G80 and current is not None:
-            return
-        if current is not None and current != codes.G80:
-            raise _ReadError("Two g codes used from same modal group")
-        self.block.g_groups[group] = code
-
-    def record_m(self, code: int) -> None:
-        group = codes.modal_group(code)
-        if group in self.block.m_groups:
-            raise _ReadError("Two m codes used from same modal group")
-        self.block.m_groups[group] = code
 
     # -- parameter settings ---------------------------------------------------
 
@@ -529,7 +488,7 @@ class _LineReader:
         if char == _END:
             raise _ReadError("No characters found in reading real value")
         if char == "[":
-            return self.read_expression()
+            return self.read_bracket()
         if char == "#":
             return self.read_parameter()
         if char in "+-" and after != _END and not after.isdigit() and after != ".":
@@ -562,8 +521,16 @@ class _LineReader:
         self.check_parameter_index(index)
         return NumParam(index)
 
+    def read_bracket(self) -> Expr:
+        """A bracketed value, which rs274 checks for inf/NaN at its ``]``."""
+        return _bracket(self.read_expression())
+
     def read_expression(self) -> Expr:
-        """``[v op v op ... ]`` with rs274's precedence, left-associative."""
+        """``[v op v op ... ]`` with rs274's precedence, left-associative.
+
+        The value unchecked for inf/NaN, as rs274 reads a function's
+        argument or an O-word's condition, count, value or call argument.
+        """
         self.pos += 1
         values: List[Expr] = []
         self.open_values.append(values)
@@ -663,28 +630,26 @@ class _LineReader:
         """rs274's read_o, then only comments may follow."""
         self.pos += 1
         if self.peek() == "<":
-            end = self.text.find(">", self.pos + 1)
-            if end == -1:
-                # rs274 ignores the missing ">" and reads a bare O-word.
-                raise _ReadError(_UNSUPPORTED % "O-word name without '>'")
+            if self.text.find(">", self.pos + 1) == -1:
+                # rs274 ignores read_name's failure here: the name is the
+                # rest of the line and the line a bare O-word.
+                self.block.oword = OWord("fanuc_sub", self.text[self.pos + 1 :])
+                self.pos = len(self.text)
+                return
             name: Union[str, Expr] = self.read_name()
         else:
             number = self.read_real_value()
-            value = _literal(number)
-            try:
-                name = "%d" % codes.to_integer(value) if value is not None else number
-            except GCodeError as error:
-                raise _ReadError(error.message) from None
+            name = _oword_number(number)
             # Until the O-word is recognised, its computed name is partial.
             self.open_values.append([number])
         keyword = next((k for k in _OWORD_ORDER if self.looking_at(k)), None)
         if keyword is None and self.peek() not in ("(", ";", _END):
             raise _ReadError("Unknown control command in o word")
+        self.pos += len(keyword or "")
+        self.block.oword = OWord(keyword or "fanuc_sub", name)
+        if not isinstance(name, str):
+            self.open_values.pop()
         if keyword is not None:
-            self.pos += len(keyword)
-            self.block.oword = OWord(keyword, name)
-            if not isinstance(name, str):
-                self.open_values.pop()
             self.read_oword_arguments(keyword, name)
         while self.pos < len(self.text):
             if self.peek() == ";":
@@ -693,9 +658,6 @@ class _LineReader:
                 self.read_comment()
             else:
                 raise _ReadError("Unexpected character after O-word")
-        if keyword is None:
-            # "O100" alone starts a Fanuc-style subroutine (ended by M99).
-            raise _ReadError(_UNSUPPORTED % "Fanuc-style bare O-word subroutine")
 
     def read_oword_arguments(self, keyword: str, name: Union[str, Expr]) -> None:
         """The bracketed values that follow some keywords."""
@@ -730,7 +692,16 @@ def parse_line(
     ``axes`` are the axis letters rs274 accepts (from the INI file's
     coordinates; rs274 without one reads X Y Z A B C).
     """
-    normalised = normalise(text)
+    line = read_simple_line(text, number, file, axes)
+    if line is None:
+        line = read_any_line(text, normalise(text), number, file, axes)
+    return line
+
+
+def read_any_line(
+    text: str, normalised: Normalised, number: int, file: str, axes: str
+) -> Line:
+    """Read one line with rs274's readers (``normalised`` is ``text``'s)."""
     block_delete = normalised.text.startswith("/")
     if normalised.error:
         return Line(number, text, file, block_delete, error=normalised.error)
@@ -740,20 +711,121 @@ def parse_line(
         reader.read_line()
     except _ReadError as failure:
         error = failure.message
-    block = reader.block
-    partial = reader.partial() if error else ()
+    return _line(reader.block, text, number, file, block_delete, error, reader)
+
+
+def _line(
+    block: _Block,
+    text: str,
+    number: int,
+    file: str,
+    block_delete: bool = False,
+    error: Optional[str] = None,
+    reader: Optional[_LineReader] = None,
+) -> Line:
+    """The Line for what was read; ``reader`` supplies partial values."""
     return Line(
         number=number,
         text=text,
         file=file,
         block_delete=block_delete,
         n=block.n,
+        n_text=None if block.n is None else trace_number(text),
         items=tuple(block.items),
         comments=tuple(block.comments),
         oword=block.oword,
         error=error,
-        partial=partial,
+        partial=reader.partial() if error and reader else (),
     )
+
+
+# -- The fast path ---------------------------------------------------------
+#
+# Most lines of CAM output are a few words with plain numbers.  For them the
+# general readers only split the line at letters; this path does the split
+# with one regular expression and then stores the words with the very same
+# checks.  It declines (returns None) whenever the line has anything else
+# or any check fails, so errors always come from the general readers.
+
+#: Blanks only between words, written ``X1.5`` (no blank inside a word), an
+#: optional leading ``N123``, an optional comment at the end.
+_SIMPLE_LINE = re.compile(
+    r"[ \t]*(?:[nN]([0-9]+))?"
+    r"((?:[ \t]*[A-Za-z][+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+))*)"
+    r"[ \t]*(\([^()]*\))?"
+)
+#: One word of such a line: (blanks before it, letter, number).
+_SIMPLE_WORD = re.compile(r"([ \t]*)([A-Za-z])([+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+))")
+
+#: Letters whose values rs274 checks while reading (see codes.check_word).
+_CHECKED_LETTERS = frozenset("gmhltfs")
+
+
+@lru_cache(maxsize=None)
+def _simple_letters(axes: str) -> Dict[str, str]:
+    """Letter as written -> word letter, for the letters rs274 reads as words."""
+    letters = _letters(axes)[0]
+    return {c: c.lower() for c in letters | frozenset(c.upper() for c in letters)}
+
+
+def read_simple_line(text: str, number: int, file: str, axes: str) -> Optional[Line]:
+    """The Line for a line of the simple shape that reads without error,
+    exactly as :func:`read_any_line` makes it; None for any other line."""
+    shape = _SIMPLE_LINE.fullmatch(text)
+    if shape is None:
+        return None
+    n_digits, words, comment = shape.groups()
+    letters = _simple_letters(axes)
+    items: List[Word] = []
+    once: set = set()  # letters seen that may not repeat (G and M may)
+    groups: Dict[str, Dict[int, int]] = {"g": {}, "m": {}}
+    column = shape.start(2)
+    for blanks, written, digits in _SIMPLE_WORD.findall(words):
+        column += len(blanks)
+        letter = letters.get(written)
+        if letter is None or letter in once or letter == "m" and not items:
+            return None  # N/O or not a word, a repeat, or maybe M98/M99
+        value = float(digits)
+        if letter in _CHECKED_LETTERS:
+            try:
+                checked = codes.check_word(letter, value)
+                if letter in groups:
+                    codes.record_code(groups[letter], checked)
+            except GCodeError:
+                return None
+        if letter not in groups:
+            once.add(letter)
+        items.append(Word(letter, Num(value), column))
+        column += 1 + len(digits)
+    if n_digits is None:
+        n = n_text = None
+    else:
+        n, n_text = float(int(n_digits)), trace_number(text)
+    return Line(
+        number,
+        text,
+        file,
+        n=n,
+        n_text=n_text,
+        items=tuple(items),
+        comments=() if comment is None else (_comment(comment[1:-1]),),
+    )
+
+
+#: What rs274's trace skips before looking for ``N`` in the raw line.
+_TRACE_SKIPPED = " \t/"
+
+#: The digits the trace copies after that ``N``.
+_TRACE_DIGITS = re.compile(r"[0-9]*")
+
+
+def trace_number(raw: str) -> Optional[str]:
+    """``Line.n_text`` for a line with an N word: the digits the trace
+    prints, read from the raw text as rs274's trace reads them."""
+    text = raw.lstrip(_TRACE_SKIPPED)
+    if text[:1] not in ("n", "N"):
+        return None
+    return _TRACE_DIGITS.match(text, 1).group()
 
 
 @dataclass(frozen=True)
@@ -771,16 +843,31 @@ class ParsedFile:
     closed: bool
 
 
-def _is_percent(text: str) -> bool:
-    return normalise(text).text == "%"
-
-
 def parse_text(
     data: Union[bytes, str], file: str = "", axes: str = DEFAULT_AXES
 ) -> ParsedFile:
     """Parse a file's contents (bytes as read, or already-decoded text)."""
     if isinstance(data, str):
         data = source.encode(data)
+    with _no_cyclic_gc():
+        return _parse_lines(data, file, axes)
+
+
+@contextmanager
+def _no_cyclic_gc() -> Iterator[None]:
+    """Pause Python's cycle collector: a large file makes hundreds of
+    thousands of nodes, none in a cycle, and the collector's repeated passes
+    over them would otherwise double the parse time."""
+    was_enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if was_enabled:
+            gc.enable()
+
+
+def _parse_lines(data: bytes, file: str, axes: str) -> ParsedFile:
     lines: List[Line] = []
     demarcated = closed = False
     seen_content = False
@@ -791,17 +878,22 @@ def parse_text(
             )
             seen_content = True
             continue
-        if not seen_content and normalise(raw.text).text:
-            seen_content = True
-            if _is_percent(raw.text):
-                demarcated = True
-                lines.append(Line(raw.number, raw.text, file, percent=True))
-                continue
-        if demarcated and _is_percent(raw.text):
-            closed = True
+        simple = read_simple_line(raw.text, raw.number, file, axes)
+        if simple is not None:  # never a % line
+            seen_content = seen_content or not simple.is_blank
+            lines.append(simple)
+            continue
+        normalised = normalise(raw.text)
+        if normalised.text == "%" and demarcated == seen_content:
+            # The first content line opens the demarcation; a later one
+            # closes it.
             lines.append(Line(raw.number, raw.text, file, percent=True))
-            break
-        lines.append(parse_line(raw.text, raw.number, file, axes))
+            closed, demarcated, seen_content = demarcated, True, True
+            if closed:
+                break
+            continue
+        seen_content = seen_content or bool(normalised.text)
+        lines.append(read_any_line(raw.text, normalised, raw.number, file, axes))
     return ParsedFile(file, lines, demarcated, closed)
 
 

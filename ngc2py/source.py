@@ -17,8 +17,7 @@ UTF-8 stays readable in the generated Python.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Iterator
+from typing import Iterator, NamedTuple
 
 #: fgets reads at most this many bytes of one line (LINELEN - 1 in rs274);
 #: a chunk of exactly this length means the line did not fit.
@@ -30,8 +29,7 @@ COMMAND_TOO_LONG = "Command too long"
 _C_SPACE = b" \t\n\v\f\r"
 
 
-@dataclass(frozen=True)
-class RawLine:
+class RawLine(NamedTuple):
     """One line as rs274's read_text sees it, before any normalisation."""
 
     number: int  # 1-based

@@ -14,7 +14,7 @@ the manual (G92.1-G92.3 are *not* in group 0), rs274 wins.
 from __future__ import annotations
 
 import math
-from typing import Dict
+from typing import Dict, Iterable, Tuple, Union
 
 from runtime.errors import GCodeError
 
@@ -130,6 +130,71 @@ def m_code(value: float) -> int:
     if number not in M_GROUPS:
         raise GCodeError("Unknown m code used: M%d" % number)
     return number + M_OFFSET
+
+
+def check_word(letter: str, value: float) -> Union[int, float]:
+    """rs274's read-time check of one word's value; returns what it keeps.
+
+    ``letter`` is lower case.  G and M values become codes (:func:`g_code`,
+    :func:`m_code`), H, L and T values the integer rs274's
+    read_integer_value makes of them; any other value is returned as is.
+    The parser calls this for literal values, the runtime for computed ones
+    (``F[#1]``), so both fail with the same message.
+    """
+    if letter == "g":
+        return g_code(value)
+    if letter == "m":
+        return m_code(value)
+    if letter in _INTEGER_WORDS:
+        number = to_integer(value)
+        if number < _INTEGER_WORDS[letter][0]:
+            raise GCodeError(_INTEGER_WORDS[letter][1])
+        return number
+    if letter in _NON_NEGATIVE_WORDS and value < 0.0:
+        raise GCodeError(_NON_NEGATIVE_WORDS[letter])
+    return value
+
+
+#: Integer words: letter -> (smallest value rs274 accepts, its message).
+#: H may be -1 (rs274's "no H" value).
+_INTEGER_WORDS: Dict[str, Tuple[int, str]] = {
+    "h": (-1, "Negative h word used"),
+    "l": (0, "Negative l word used"),
+    "t": (0, "Negative tool id (tool not found)"),
+}
+
+#: Real words that may not be negative: letter -> rs274's message.
+_NON_NEGATIVE_WORDS = {
+    "f": "Negative f word used",
+    "s": "Negative spindle speed used",
+}
+
+
+def record_code(seen: Dict[int, int], code: int) -> None:
+    """Add one G or M code of a line to ``seen`` (modal group -> code), with
+    rs274's rule for two codes of one group on a line.
+
+    Keep one dict for a line's G codes and another for its M codes (their
+    group numbers overlap).  G80 gives way to another motion code on the
+    same line, before or after it; any other pair fails.
+    """
+    group = modal_group(code)
+    current = seen.get(group)
+    if current is None or current == G80:
+        seen[group] = code
+    elif code != G80:
+        kind = "m" if is_m_code(code) else "g"
+        raise GCodeError("Two %s codes used from same modal group" % kind)
+
+
+def group_codes(codes: Iterable[int]) -> Tuple[Dict[int, int], Dict[int, int]]:
+    """A line's codes as (G group -> code, M group -> code), checked in order
+    with :func:`record_code`."""
+    g_groups: Dict[int, int] = {}
+    m_groups: Dict[int, int] = {}
+    for code in codes:
+        record_code(m_groups if is_m_code(code) else g_groups, code)
+    return g_groups, m_groups
 
 
 def is_m_code(code: int) -> bool:

@@ -199,3 +199,82 @@ def test_m_modal_groups_match_rs274():
         != (codes.M_GROUPS[pair[0]] == codes.M_GROUPS[pair[1]])
     ]
     assert wrong == []
+
+
+# --------------------------------------------------------------------------
+# One rule for literal and computed word values
+# --------------------------------------------------------------------------
+
+
+def test_check_word_returns_what_rs274_keeps():
+    assert codes.check_word("g", 59.3) == codes.G59_3
+    assert codes.check_word("m", 3.00001) == codes.M3
+    assert codes.check_word("t", 2.99999) == 3
+    assert codes.check_word("h", -1.0) == -1
+    assert codes.check_word("x", -1.5) == -1.5
+    assert codes.check_word("d", -1.5) == -1.5
+
+
+def _check_word_message(letter: str, value: float) -> str:
+    try:
+        codes.check_word(letter, value)
+    except GCodeError as error:
+        return error.message
+    return ""
+
+
+#: Word values rs274 reads as a computed ``[...]`` (so not at parse time).
+WORD_VALUES = [
+    (letter, value)
+    for letter in "fsthldgm"
+    for value in (-2.0, -1.00001, -1.0, -0.5, -0.00001, 0.0, 1.5, 2.99999, 200.0)
+]
+
+
+@pytest.mark.rs274
+def test_check_word_fails_like_rs274():
+    """For computed values; rs274 checks the same rule for literals."""
+    lines = {
+        ("%s[0+%.5f]" % (letter, value)): (letter, value)
+        for letter, value in WORD_VALUES
+    }
+    errors = _first_errors(list(lines))
+    value_errors = {_check_word_message(*word) for word in WORD_VALUES} - {""}
+    wrong = []
+    for line, word in lines.items():
+        expected = _check_word_message(*word)
+        # Without a value error, rs274 may still fail later (a block check).
+        if errors[line] != expected and (expected or errors[line] in value_errors):
+            wrong.append((line, errors[line], expected))
+    assert wrong == []
+
+
+def test_group_codes_applies_the_g80_rule():
+    assert codes.group_codes([codes.G80, codes.G1]) == ({1: codes.G1}, {})
+    assert codes.group_codes([codes.G1, codes.G80]) == ({1: codes.G1}, {})
+    with pytest.raises(GCodeError, match="Two g codes used from same modal group"):
+        codes.group_codes([codes.G1, codes.G0])
+    with pytest.raises(GCodeError, match="Two m codes used from same modal group"):
+        codes.group_codes([codes.M3, codes.M5])
+    assert codes.group_codes([codes.G4, codes.M4]) == ({0: codes.G4}, {7: codes.M4})
+
+
+@pytest.mark.rs274
+def test_group_codes_matches_rs274():
+    """Random lines of three G codes (G80 often among them)."""
+    rng = random.Random(80)
+    pool = sorted(codes.G_GROUPS) + [codes.G80] * 20
+    triples = [tuple(rng.choice(pool) for _ in range(3)) for _ in range(300)]
+    lines = {" ".join(_g(c) for c in triple): triple for triple in triples}
+    errors = _first_errors(list(lines))
+    conflict = "Two g codes used from same modal group"
+    wrong = []
+    for line, triple in lines.items():
+        try:
+            codes.group_codes(triple)
+            predicted = False
+        except GCodeError:
+            predicted = True
+        if predicted != (errors[line] == conflict):
+            wrong.append((line, errors[line]))
+    assert wrong == []

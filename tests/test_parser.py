@@ -22,17 +22,17 @@ from ngc2py.nodes import (
     Assign,
     Atan2,
     Binary,
+    Bracket,
     Comment,
     Exists,
     NamedParam,
     Num,
     NumParam,
     OWord,
-    ParamRef,
     Unary,
     Word,
 )
-from ngc2py.parser import classify_comment, parse_line, parse_text, split_parameters
+from ngc2py.parser import parse_line, parse_text
 
 from rs274 import rs274_path
 
@@ -42,10 +42,12 @@ from rs274 import rs274_path
 
 
 def value_of(text: str):
-    """The value expression of the single X word in ``G0 X<text>``."""
+    """The value expression of the single X word in ``G0 X<text>``, without
+    the Bracket of an outer ``[...]`` (test_brackets pins those)."""
     line = parse_line("G0 X" + text, 1)
     assert line.error is None, line.error
-    return line.words[1].value
+    value = line.words[1].value
+    return value.inner if isinstance(value, Bracket) else value
 
 
 def test_blanks_and_case_are_ignored_outside_comments():
@@ -126,7 +128,9 @@ def test_owords():
     assert parse_line("o0100 endsub [2]", 1).oword == OWord(
         "endsub", "100", expr=Num(2.0)
     )
-    assert parse_line("o[#1] call", 1).oword == OWord("call", NumParam(Num(1.0)))
+    assert parse_line("o[#1] call", 1).oword == OWord(
+        "call", Bracket(NumParam(Num(1.0)))
+    )
     line = parse_line("o100 return [1/0] X", 1)
     assert line.oword.expr == Binary("/", Num(1.0), Num(0.0))
     assert line.error == "Unexpected character after O-word"
@@ -154,21 +158,9 @@ def test_comments_are_kept_and_classified():
     ],
 )
 def test_comment_kinds(body, kind, text):
-    comment = classify_comment(body)
-    assert (comment.kind, comment.text) == (kind, text)
-
-
-def test_comment_parameter_parts():
-    assert split_parameters("a#1b#<_X y>c # d##2") == (
-        "a",
-        ParamRef(1),
-        "b",
-        ParamRef("_xy"),
-        "c # d#",
-        ParamRef(2),
-    )
-    assert split_parameters("x#<unterminated") == ("x",)
-    assert split_parameters("x#") == ("x",)
+    """The parser's comments are runtime.comments.classify's."""
+    (comment,) = parse_line("G0 (%s)" % body, 1).comments
+    assert comment == Comment(kind, text)
 
 
 def test_lexer_keeps_comment_text_and_columns():
@@ -357,28 +349,33 @@ _STARTS = (
 )
 
 
-def _evaluate(expr):
-    """An expression's value on a fresh machine (#1-#30 are 0, no named
-    parameters), with runtime.ops supplying rs274's arithmetic errors."""
+def _evaluate(expr, params=None):
+    """An expression's value on a fresh machine (numbered parameters 0
+    unless given in ``params``, no named parameters), with runtime.ops
+    supplying rs274's arithmetic errors."""
     from runtime import codes, ops
     from runtime.errors import GCodeError
 
     if isinstance(expr, Num):
         return expr.value
     if isinstance(expr, NumParam):
-        if not 1 <= codes.to_integer(_evaluate(expr.index)) <= 5601:
+        index = codes.to_integer(_evaluate(expr.index, params))
+        if not 1 <= index <= 5601:
             raise GCodeError("Parameter number out of range")
-        return 0.0
+        return (params or {}).get(index, 0.0)
     if isinstance(expr, NamedParam):
         raise GCodeError("Named parameter #<%s> not defined" % expr.name)
     if isinstance(expr, Exists):
         return 0.0
+    if isinstance(expr, Bracket):
+        return ops.finite(_evaluate(expr.inner, params))
     if isinstance(expr, Unary):
         function = getattr(ops, _UNARY.get(expr.op, expr.op))
-        return ops.finite(function(ops.finite(_evaluate(expr.arg))))
+        return ops.finite(function(ops.finite(_evaluate(expr.arg, params))))
     if isinstance(expr, Atan2):
-        return ops.atan2(ops.finite(_evaluate(expr.y)), ops.finite(_evaluate(expr.x)))
-    left, right = _evaluate(expr.left), _evaluate(expr.right)
+        y, x = _evaluate(expr.y, params), _evaluate(expr.x, params)
+        return ops.atan2(ops.finite(y), ops.finite(x))
+    left, right = _evaluate(expr.left, params), _evaluate(expr.right, params)
     if expr.op in "+-*":
         return {"+": left + right, "-": left - right, "*": left * right}[expr.op]
     return getattr(ops, _BINARY.get(expr.op, expr.op))(left, right)
@@ -402,7 +399,7 @@ def _first_failure(line):
         values.extend([line.oword.expr] if line.oword.expr is not None else [])
     try:
         for value in values:
-            ops.finite(_evaluate(value))
+            _evaluate(value)
         for value in line.partial:
             _evaluate(value)
     except GCodeError as error:
@@ -726,3 +723,259 @@ ACCEPTED_LINES = (
     "P-1 P2 G4",
     "M99",
 )
+
+
+# -- inf/NaN checks happen where rs274 finishes reading a value ------------
+
+#: (first line, lines that complete the program): values that overflow.
+INF_NAN_PROGRAMS = (
+    ("#1=[10**400*0]", ""),
+    ("#1=[[10**400]*0]", ""),
+    ("#1=[0-10**400]", ""),
+    ("#1=[-10**400]", ""),
+    ("G0 X-[10**400]", ""),
+    ("#1=#[10**400]", ""),
+    ("#1=exists[#[10**400]]", ""),
+    ("#1=sin[10**400*0]", ""),
+    ("#1=[10**200*10**200/10**300]", ""),
+    ("#1=[[10**200*10**200]/10**300]", ""),
+    ("G[10**400]", ""),
+    ("o1 if [10**400*0]", "o1 endif"),
+    ("o1 if [[10**400]*0]", "o1 endif"),
+    ("o1 repeat [10**400*0]", "o1 endrepeat"),
+    ("o1 while [[10**400]*0]", "o1 endwhile"),
+)
+
+
+@pytest.mark.rs274
+def test_inf_and_nan_are_checked_where_rs274_checks_them():
+    """Evaluating the tree (Bracket = check) fails exactly as rs274 does."""
+    programs = [
+        source.encode("%s\n%s\nM2\n" % (first, rest))
+        for first, rest in INF_NAN_PROGRAMS
+    ]
+    with ThreadPoolExecutor(max_workers=os.cpu_count() or 4) as pool:
+        results = list(pool.map(_run_rs274, programs))
+    mismatches = []
+    for (first, _), (rc, err) in zip(INF_NAN_PROGRAMS, results):
+        actual = err[0] if rc else None
+        predicted = _first_failure(parse_line(first, 1))
+        if predicted != actual:
+            mismatches.append((first, actual, predicted))
+    assert mismatches == []
+
+
+def test_brackets():
+    """Which ``[...]`` carry rs274's inf/NaN check (see nodes.Bracket)."""
+    p1 = NumParam(Num(1.0))
+    product = Binary("*", p1, Num(2.0))
+    assert parse_line("X[#1*2]", 1).items[0].value == Bracket(product)
+    assert parse_line("X[[#1*2]]", 1).items[0].value == Bracket(product)
+    assert parse_line("X[1+2]", 1).items[0].value == Num(3.0)
+    assert parse_line("X-[#1*2]", 1).items[0].value == Unary("neg", Bracket(product))
+    assert parse_line("X[[#1*2]+1]", 1).items[0].value == Bracket(
+        Binary("+", Bracket(product), Num(1.0))
+    )
+    assert parse_line("X#[#1*2]", 1).items[0].value == NumParam(Bracket(product))
+    assert parse_line("X sin[#1*2]", 1).items[0].value == Unary("sin", product)
+    assert parse_line("X atan[#1]/[#1*2]", 1).items[0].value == Atan2(p1, product)
+    assert parse_line("o1 if [#1*2]", 1).oword.expr == product
+    assert parse_line("o1 call [#1*2]", 1).oword.args == (product,)
+    assert parse_line("o1 return [#1*2]", 1).oword.expr == product
+
+
+# -- The N column of the trace -------------------------------------------------
+
+N_LINES = (
+    "N0012 G0 X1",
+    "N20.5 G0 X2",
+    "N000 G0 X3",
+    "N1234567 G0 X4",
+    "N123456 G0 X5",
+    "N 1 2 G0 X6",
+    "\t/ N7 G0 X7",
+    "\rN8 G0 X8",
+    "n9 g0 x9",
+    "G0 X10",
+)
+
+
+@pytest.mark.rs274
+def test_n_text_is_what_the_trace_prints():
+    program = source.encode("\n".join(N_LINES) + "\nM2\n")
+    with tempfile.TemporaryDirectory() as home:
+        path = os.path.join(home, "t.ngc")
+        with open(path, "wb") as handle:
+            handle.write(program)
+        proc = subprocess.run(
+            [rs274_path(), "-g", path],
+            capture_output=True,
+            env={**os.environ, "HOME": home},
+            stdin=subprocess.DEVNULL,
+            timeout=60,
+        )
+    traverses = [
+        source.decode(line[6:]).split("STRAIGHT_TRAVERSE")[0]
+        for line in proc.stdout.split(b"\n")
+        if b"STRAIGHT_TRAVERSE" in line
+    ]
+    assert len(traverses) == len(N_LINES)
+    for text, printed in zip(N_LINES, traverses):
+        n_text = parse_line(text, 1).n_text
+        expected = "N..... " if n_text is None else "N" + n_text.ljust(6)
+        assert (text, printed) == (text, expected)
+
+
+# -- Fanuc-style subroutines ----------------------------------------------------
+
+
+def test_fanuc_subroutine_lines():
+    assert parse_line("O100 (c)", 1).oword == OWord("fanuc_sub", "100")
+    assert parse_line("o<abc sub", 1).oword == OWord("fanuc_sub", "abcsub")
+    line = parse_line("o<abc (msg,hi)", 1)
+    assert (line.oword, line.comments) == (OWord("fanuc_sub", "abc(msg,hi)"), ())
+    line = parse_line("M98 P100 L3", 1)
+    assert line.oword == OWord("m98", "100", expr=Num(3.0))
+    assert line.items == (Word("p", Num(100.0), 4), Word("l", Num(3.0), 9))
+    assert parse_line("M98 P[#1]", 1).oword == OWord("m98", Bracket(NumParam(Num(1.0))))
+    line = parse_line("N5 M99 (c)", 1)
+    assert line.oword == OWord("m99", "")
+    assert line.words == (Word("m", Num(99.0), 3),)
+    assert parse_line("M99 G0 X1", 1).oword == OWord(
+        "m99", "", in_call_error="Unexpected character after O-word"
+    )
+    assert parse_line("G0 M99", 1).oword is None
+
+
+#: Fanuc-style lines whose read error (or success) rs274 reports.
+FANUC_LINES = (
+    "M98",
+    "M98 X$",
+    "M98 P1.5",
+    "M98 P100 P200",
+    "m[98] p100",
+    "G0 M98 P100",
+    "O1.5",
+    "O100 G0",
+    "o<unterminated sub",
+    "o100",
+)
+
+
+@pytest.mark.rs274
+def test_fanuc_read_errors_match_rs274():
+    mismatches = []
+    for text, (rc, err) in zip(FANUC_LINES, _run_lines(FANUC_LINES)):
+        line = parse_text(text + "\nM2\n").lines[0]
+        expected = (err[0], err[1]) if rc else (None, None)
+        if (line.error, line.text if line.error else None) != expected:
+            mismatches.append((text, expected, line.error))
+    assert mismatches == []
+
+
+# -- The fast path for simple lines -------------------------------------------
+
+_SIMPLE_TOKENS = st.sampled_from(
+    "G g M m X x Y Z A F f S T H L P Q R I J K D E N n O U @ ^ $ 0 1 2 3 98 99 "
+    "1.5 -2 +3 .5 7. -0.5 80 38.2 59.3 1e3".split()
+    + [" ", "\t", " ", "(c)", "(MSG,hi)", "( DEBUG,#1)", ";x"]
+)
+
+
+def _same_as_general_reader(text: str, axes: str = "xyzabc") -> bool:
+    """Check the fast path's Line, if it takes the line; did it?"""
+    from ngc2py.lexer import normalise
+    from ngc2py.parser import read_any_line, read_simple_line
+
+    simple = read_simple_line(text, 7, "f.ngc", axes)
+    if simple is not None:
+        assert simple == read_any_line(text, normalise(text), 7, "f.ngc", axes)
+    return simple is not None
+
+
+@settings(max_examples=3000, deadline=None)
+@given(st.lists(_SIMPLE_TOKENS, max_size=12).map("".join))
+def test_fast_path_matches_the_general_reader(text):
+    _same_as_general_reader(text)
+    _same_as_general_reader(text, "xyzuvw")
+
+
+def test_fast_path_matches_on_the_golden_corpus():
+    from pathlib import Path
+
+    taken = 0
+    for path in sorted(Path(__file__).parent.parent.glob("golden/*/*.ngc")):
+        for raw in source.split_lines(path.read_bytes()):
+            taken += _same_as_general_reader(raw.text)
+    assert taken > 1000
+
+
+# -- Signs, powers and precedence, by value ------------------------------------
+
+#: Parameters the random expressions read (set first in each program).
+_SIGN_PARAMS = {5: 3.0, 6: -0.5}
+
+
+def _signed_expression(rng, depth: int = 0) -> str:
+    """``atom (op atom)*`` with unary signs before numbers, parameters and
+    brackets, which is where rs274's reading is least obvious."""
+    atoms = ["2", "3", "0.5", "1.5", "#5", "#6", "#[5]"]
+
+    def atom() -> str:
+        sign = rng.choice(["", "", "-", "+", "--", "-+"])
+        if depth < 2 and rng.random() < 0.3:
+            return sign + "[" + _signed_expression(rng, depth + 1) + "]"
+        return sign + rng.choice(atoms)
+
+    ops_ = ["+", "-", "*", "/", "**", " mod "]
+    text = atom()
+    for _ in range(rng.randint(0, 3)):
+        text += rng.choice(ops_) + atom()
+    return text
+
+
+def _run_rs274_stdout(data: bytes) -> Tuple[int, bytes, List[str]]:
+    with tempfile.TemporaryDirectory() as home:
+        path = os.path.join(home, "t.ngc")
+        with open(path, "wb") as handle:
+            handle.write(data)
+        proc = subprocess.run(
+            [rs274_path(), "-g", path],
+            capture_output=True,
+            env={**os.environ, "HOME": home},
+            stdin=subprocess.DEVNULL,
+            timeout=60,
+        )
+    errors = [l for l in proc.stderr.split(b"\n") if l != b"executing"]
+    return proc.returncode, proc.stdout, [source.decode(l) for l in errors]
+
+
+@pytest.mark.rs274
+def test_signs_and_powers_evaluate_like_rs274():
+    """``-2**2`` is 4 (the sign belongs to the number), ``-#5**2`` is 9,
+    ``2**3**2`` is 64 (left-associative): random expressions, by value."""
+    import random
+
+    from runtime.comments import format_value
+    from runtime.errors import GCodeError
+
+    rng = random.Random(2)
+    texts = sorted({_signed_expression(rng) for _ in range(60)})
+    setup = "".join("#%d=%r\n" % item for item in _SIGN_PARAMS.items())
+    programs = [
+        source.encode(setup + "#1=[%s]\n(print,#1)\nM2\n" % text) for text in texts
+    ]
+    with ThreadPoolExecutor(max_workers=os.cpu_count() or 4) as pool:
+        results = list(pool.map(_run_rs274_stdout, programs))
+    mismatches = []
+    for text, (rc, stdout, errors) in zip(texts, results):
+        line = parse_line("#1=[%s]" % text, 1)
+        try:
+            predicted = format_value(_evaluate(line.items[0].value, _SIGN_PARAMS))
+        except GCodeError as error:
+            predicted = error.message
+        printed = [l for l in stdout.decode().split("\n") if "N" not in l and l]
+        actual = errors[0] if rc else printed[0]
+        if predicted != actual:
+            mismatches.append((text, actual, predicted))
+    assert mismatches == []
