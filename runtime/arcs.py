@@ -30,7 +30,7 @@ from dataclasses import dataclass
 from typing import Mapping, Optional, Tuple
 
 from runtime.errors import GCodeError
-from runtime.ops import plus_half_pi
+from runtime.ops import c_hypot, plus_half_pi
 
 MM_PER_INCH = 25.4
 
@@ -239,8 +239,8 @@ def arc_from_center(
         center = center_words
     else:
         center = (start[0] + center_words[0], start[1] + center_words[1])
-    r1 = math.hypot(center[0] - start[0], center[1] - start[1])
-    r2 = math.hypot(center[0] - end[0], center[1] - end[1])
+    r1 = c_hypot(center[0] - start[0], center[1] - start[1])
+    r2 = c_hypot(center[0] - end[0], center[1] - end[1])
     if r1 < radius_tolerance(inch) or r2 < radius_tolerance(inch):
         raise GCodeError(
             f"Zero-radius arc: {_describe_points(plane, start, center, end, r1, r2)}"
@@ -269,7 +269,7 @@ def arc_from_radius(
         raise GCodeError("Current point same as end point of arc")
     abs_radius = abs(radius)
     mid = ((end[0] + start[0]) / 2.0, (end[1] + start[1]) / 2.0)
-    half_chord = math.hypot(mid[0] - end[0], mid[1] - end[1])
+    half_chord = c_hypot(mid[0] - end[0], mid[1] - end[1])
     if half_chord - abs_radius > radius_tolerance(inch):
         raise GCodeError("Arc radius too small to reach end point")
     if half_chord / abs_radius > 1 - _SEMICIRCLE_SLACK:
@@ -306,11 +306,11 @@ def arc_angle(start: Point2, arc: Arc) -> float:
 
 def arc_length(start: Point2, start_axis: float, arc: Arc, end_axis: float) -> float:
     """Path length of a (possibly helical) arc, as used for G93 feed rates."""
-    radius = math.hypot(arc.center1 - start[0], arc.center2 - start[1])
+    radius = c_hypot(arc.center1 - start[0], arc.center2 - start[1])
     theta = arc_angle(start, arc)
     if end_axis == start_axis:
         return radius * abs(theta)
-    return math.hypot(radius * theta, end_axis - start_axis)
+    return c_hypot(radius * theta, end_axis - start_axis)
 
 
 # --------------------------------------------------------------------------

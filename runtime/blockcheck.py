@@ -6,8 +6,8 @@ rs274 reads a line into a block (``read_items``), completes it
 the codes and words the generated code passes, with rs274's messages, so an
 erroneous line fails before any of its canonical calls are made.
 
-The checks that depend on the line's text order (a negative F before a
-modal group clash, say) run here in a fixed order: codes, then words.
+The read-time value checks are runtime.codes' (one definition for the
+parser and the runtime); this module adds rs274's later, block-level ones.
 """
 
 from __future__ import annotations
@@ -58,8 +58,8 @@ from runtime.codes import (  # the codes this module reasons about, and helpers
     G92,
     G96,
     M_OFFSET,
-    modal_group,
-    to_integer,
+    check_word,
+    group_codes,
 )
 from runtime.errors import GCodeError
 
@@ -91,23 +91,18 @@ class Block:
 
     ``g``/``m`` map modal group -> code; ``words`` maps letter -> value;
     ``motion`` is rs274's ``motion_to_be`` (the motion code the axis words
-    are for, or None).
+    are for, or None); ``m98`` says the line is a Fanuc-style call, whose
+    M98 (in no modal group) uses the P and L words.
     """
 
-    __slots__ = ("g", "m", "m_count", "words", "motion")
+    __slots__ = ("g", "m", "words", "motion", "m98")
 
-    def __init__(
-        self,
-        g: Dict[int, int],
-        m: Dict[int, int],
-        m_count: int,
-        words: Dict[str, float],
-    ):
+    def __init__(self, g: Dict[int, int], m: Dict[int, int], words: Dict[str, float]):
         self.g = g
         self.m = m
-        self.m_count = m_count
         self.words = words
         self.motion: Optional[int] = None
+        self.m98 = False
 
     @property
     def has_axes(self) -> bool:
@@ -119,42 +114,17 @@ class Block:
 
 
 def read_block(codes, words: Dict[str, float]) -> Block:
-    """Group the codes by modal group and apply rs274's read-time word checks."""
-    g: Dict[int, int] = {}
-    m: Dict[int, int] = {}
-    for code in codes:
-        group = modal_group(code)
-        if code >= M_OFFSET:
-            if group in m:
-                raise GCodeError("Two m codes used from same modal group")
-            m[group] = code - M_OFFSET
-        elif group in g:
-            # rs274 lets G80 share a line with another motion code; the
-            # other one wins.
-            if code == G80 and group == MOTION:
-                continue
-            if g[group] != G80 or group != MOTION:
-                raise GCodeError("Two g codes used from same modal group")
-            g[group] = code
-        else:
-            g[group] = code
-    _check_word_values(words)
-    return Block(g, m, len(m), words)
+    """Group the codes by modal group and check the word values.
 
-
-def _check_word_values(words: Dict[str, float]) -> None:
-    """The value checks rs274's read_f/read_s/read_t/... make while reading."""
-    if words.get("f", 0.0) < 0.0:
-        raise GCodeError("Negative f word used")
-    if words.get("s", 0.0) < 0.0:
-        raise GCodeError("Negative spindle speed used")
-    for letter in "hlt":
-        if letter in words:
-            words[letter] = float(to_integer(words[letter]))
-    if words.get("t", 0.0) < 0.0:
-        raise GCodeError("Negative tool id (tool not found)")
-    if words.get("l", 0.0) < 0.0:
-        raise GCodeError("Negative l word used")
+    The parser checks literal codes and words at read time, in rs274's
+    left-to-right order, and the compiler turns a failure into ``m.fail``;
+    so these checks (the same functions) can only fail for values computed
+    at run time, such as ``G[#1]`` next to ``G1`` or ``F[#1]``.
+    """
+    g, m = group_codes(codes)
+    for letter, value in words.items():
+        words[letter] = check_word(letter, value)
+    return Block(g, {group: code - M_OFFSET for group, code in m.items()}, words)
 
 
 def enhance(block: Block, plane: str, motion_mode: Optional[int]) -> None:
@@ -207,7 +177,7 @@ def _check_g52_g92(block: Block, mode0: Optional[int], polar: bool, axes: bool) 
 def check(block: Block, distance_incremental: bool) -> None:
     """rs274's check_items: group 0 codes, the M code count, then other words."""
     _check_g_codes(block, distance_incremental)
-    if block.m_count > MAX_M_CODES:
+    if len(block.m) > MAX_M_CODES:
         raise GCodeError("Too many m codes on line")
     _check_other_words(block)
 
@@ -277,7 +247,7 @@ def _check_other_words(block: Block) -> None:
         raise GCodeError("J word with no G2, G3, G5, G5.1, G10, G76 or G87 to use it")
     if "k" in words and motion not in (G2, G3, G33, G33_1, G76, G87, G71):
         raise GCodeError("K word with no G2, G3, G33, G33.1, G76, or G87 to use it")
-    if "l" in words and not _l_is_used(motion, mode0, comp, m):
+    if "l" in words and not (block.m98 or _l_is_used(motion, mode0, comp, m)):
         raise GCodeError(
             "L word with no G10, cutter compensation, canned cycle, digital/analog input,"
             " M98 or NURBS code"
@@ -316,6 +286,7 @@ def _check_p_word(block: Block) -> None:
     g, m, motion = block.g, block.m, block.motion
     used = (
         M_USER in m  # a user M code (M100-M199) takes P and Q
+        or block.m98
         or g.get(NON_MODAL) in (G10, G4)
         or g.get(PATH_CONTROL) == G64
         or motion in _P_MOTIONS

@@ -25,7 +25,7 @@ that says so, at the point rs274 would execute them.
 from __future__ import annotations
 
 import sys
-from typing import Callable, Dict, Iterator, Optional
+from typing import Callable, Dict, Iterator, NamedTuple, Optional
 
 from runtime import blockcheck
 from runtime.canon import Canon, TraceCanon
@@ -68,7 +68,6 @@ from runtime.codes import (
     G30,
     G30_1,
     G40,
-    G49,
     G52,
     G54,
     G55,
@@ -94,9 +93,10 @@ from runtime.codes import (
     G98,
     g_code,
     m_code,
+    to_integer,
 )
 from runtime.comments import execute_comment
-from runtime.errors import GCodeError
+from runtime.errors import GCodeError, Location, g_code_frames_of_stack
 from runtime.inifile import IniSettings, load_ini
 from runtime.mcodes import MCodesMixin, ProgramEnd, not_supported
 from runtime.motion import (
@@ -164,11 +164,12 @@ _UNSUPPORTED_MOTION = {
 }
 
 
-def _n_text(n) -> str:
-    """The N column text: the digits as written, or an integral number."""
-    if isinstance(n, str):
-        return n
-    return "%d" % n
+class _Subroutine(NamedTuple):
+    """A known subroutine: its function, and the file its definition was
+    read in (None when rs274 found it by reading ahead for a call)."""
+
+    fn: Callable
+    file: Optional[str] = None
 
 
 class Machine(MCodesMixin, MotionMixin, OffsetsMixin, ToolsMixin):
@@ -214,7 +215,7 @@ class Machine(MCodesMixin, MotionMixin, OffsetsMixin, ToolsMixin):
         self._params = Params(default_parameters())
         self._globals = Globals(self)
         self._locals = Locals()
-        self._subroutines: Dict[str, Callable] = {}
+        self._subroutines: Dict[str, _Subroutine] = {}
         self.call_level = 0
         self.value = 0.0
         self.value_returned = 0.0
@@ -248,7 +249,6 @@ class Machine(MCodesMixin, MotionMixin, OffsetsMixin, ToolsMixin):
         self.retract_r_plane = True
         self.lathe_diameter = False
         self.cutter_comp = False
-        self.tlo_mode = G49
         # Before any T word M6 changes to pocket 0, yet #<_selected_pocket>
         # reads -1; the canon reports slot 1 as the loaded one.
         self.selected_pocket = 0
@@ -271,6 +271,16 @@ class Machine(MCodesMixin, MotionMixin, OffsetsMixin, ToolsMixin):
         return self._params
 
     @property
+    def cutter_comp(self) -> bool:
+        """Whether cutter radius compensation is on. The parameters keep the
+        flag, since it makes reading the current position an error."""
+        return self._params.cutter_comp
+
+    @cutter_comp.setter
+    def cutter_comp(self, on: bool) -> None:
+        self._params.cutter_comp = on
+
+    @property
     def globals(self) -> Globals:
         return self._globals
 
@@ -288,9 +298,7 @@ class Machine(MCodesMixin, MotionMixin, OffsetsMixin, ToolsMixin):
         ON_RESET calls; everything later is followed by them, error or not.
         (The CLI prints the INI's ``settings.stderr_report``, not the machine.)
         """
-        self.canon.use_length_units(False)
-        if self.var_file is not None:
-            self._params = Params(initial_parameters(self.var_file))
+        self._initialise()
         try:
             self._start()
             main(self)
@@ -303,6 +311,15 @@ class Machine(MCodesMixin, MotionMixin, OffsetsMixin, ToolsMixin):
             if self.var_file is not None:
                 self._save_parameters()
 
+    def fail_open(self, message: str, location: Optional[Location] = None) -> None:
+        """What rs274 does when it cannot open the program: the main file is
+        missing ("Unable to open file <NAME>"), or holds nothing but blank
+        lines ("File ended with no percent sign", ``location`` the last of
+        them). It initialises, then stops: no ON_RESET, no closing save of
+        the parameter file."""
+        self._initialise()
+        raise GCodeError(message, location)
+
     def _save_parameters(self) -> None:
         """rs274 rewrites the -v file when it exits, even after an error."""
         values = self._params
@@ -310,9 +327,13 @@ class Machine(MCodesMixin, MotionMixin, OffsetsMixin, ToolsMixin):
             self.var_file, {n: values[n] for n in range(1, MAX_PARAMETER)}
         )
 
-    def _start(self) -> None:
-        """The canonical calls rs274 makes before the first line, from the parameters."""
-        canon, p = self.canon, self._params
+    def _initialise(self) -> None:
+        """The canonical calls rs274 makes when it initialises, from the parameters."""
+        canon = self.canon
+        canon.use_length_units(False)
+        if self.var_file is not None:
+            self._params = Params(initial_parameters(self.var_file))
+        p = self._params
         if self.settings.disable_g92_persistence:
             for number in range(G92_ENABLED, G92_ENABLED + 10):
                 p.set_internal(number, 0.0)
@@ -325,7 +346,10 @@ class Machine(MCodesMixin, MotionMixin, OffsetsMixin, ToolsMixin):
         self._announce_g92()
         canon.set_xy_rotation(self.rotation)
         canon.set_feed_reference(False)
-        canon.on_reset()
+
+    def _start(self) -> None:
+        """What rs274 does once the program is open, before its first line."""
+        self.canon.on_reset()
         self.current = self.world.reported_position()
         self._store_tool_parameters()
 
@@ -356,40 +380,107 @@ class Machine(MCodesMixin, MotionMixin, OffsetsMixin, ToolsMixin):
     # Subroutines
     # ------------------------------------------------------------------
     def define(self, name: str, fn: Callable) -> None:
-        """Record ``o<name> sub`` as rs274 does when it reads the sub line."""
-        self._subroutines[name] = fn
+        """Record ``o<name> sub`` as rs274 does when it reads the sub line.
+
+        rs274 refuses a definition of a name it already knows: one it read
+        before ("redefining"), or one it found by reading ahead for an
+        earlier call -- the very definition now reached in the normal flow
+        ("illegal location"). Both messages name the sub line's file and line.
+        """
+        here = g_code_frames_of_stack()[-1]
+        known = self._subroutines.get(name)
+        if known is not None:
+            if known.file is None:
+                raise GCodeError(
+                    "File:%s line:%d sub: o|%s| found in illegal location"
+                    % (here.file, here.line, name)
+                )
+            raise GCodeError(
+                "File:%s line:%d redefining sub: o|%s| already defined in file:%s"
+                % (here.file, here.line, name, known.file)
+            )
+        self._subroutines[name] = _Subroutine(fn, here.file)
 
     def call_named(self, name: str, *args: float):
         """Call a subroutine by name (for calls the compiler could not resolve)."""
-        fn = self._subroutines.get(name)
-        if fn is None and self.source is not None:
-            # rs274 reads ahead in the main file for a sub defined later.
-            fn = self.source.subs.get(name)
-            if fn is None:
-                raise self.source.missing_sub(name)
-        if fn is None:
+        known = self._subroutines.get(name)
+        if known is None:
+            known = self._subroutines[name] = _Subroutine(self._read_ahead(name))
+        return self.call(known.fn, *args)
+
+    def _read_ahead(self, name: str) -> Callable:
+        """rs274 reads ahead in the main file for a sub not defined yet.
+
+        Reaching the closing ``%`` without finding it ends the program
+        (FINISH) before the error.
+        """
+        if self.source is None:
             raise GCodeError(f"Failed to find sub 'O{name}' before EOF")
-        return self.call(fn, *args)
+        fn = self.source.subs.get(name)
+        if fn is None:
+            if self.source.end[1]:
+                self.canon.set_block_number(None)
+                self.canon.finish()
+            raise self.source.missing_sub(name)
+        return fn
 
     def call(self, fn: Callable, *args: float) -> None:
         """An O-word call: fresh #1-#30 and locals, restored afterwards."""
-        if self.call_level >= MAX_CALL_LEVEL:
-            raise GCodeError("Too many subroutine levels")
         saved = self._params.save_locals()
-        caller_locals = self._locals
         self._params.set_call_args(args)
-        self._locals = Locals()
-        self.call_level += 1
-        self.value_returned = 0.0
         try:
-            result = fn(self)
+            result = self._run_sub(fn)
         finally:
-            self.call_level -= 1
-            self._locals = caller_locals
             self._params.restore_locals(saved)
         # A call that returns nothing resets _value too.
         self.value = 0.0 if result is None else float(result)
         self.value_returned = 0.0 if result is None else 1.0
+
+    def m98(self, line: int, fn: Optional[Callable], **words: float) -> None:
+        """``M98 P.. [L..]``: a Fanuc-style call of subroutine P, L times.
+
+        rs274 reads and checks the line's words as a block (M98 uses P and
+        L), then runs nothing of it but the calls. ``fn`` is the subroutine,
+        or None to find it by P's value. Unlike ``o.. call`` the calls leave
+        #1-#30 alone and ``#<_value>`` 0, but do get fresh named locals.
+        """
+        self.line = line
+        codes = [self.gcode(words.pop("g"))] if "g" in words else []
+        if "m" in words:
+            codes.append(self.mcode(words.pop("m")))
+        block = blockcheck.read_block(codes, words)
+        block.m98 = True
+        blockcheck.enhance(block, self.plane, self.motion_mode)
+        blockcheck.check(block, self.distance_incremental)
+        if fn is None:
+            fn = self._read_ahead("%d" % to_integer(words["p"]))
+        times = words.get("l", 1)
+        if times == 0:
+            # rs274 enters the call but never runs or leaves it: the rest of
+            # the program runs one call level down.
+            self._enter_sub()
+        for _ in range(times):
+            self._run_sub(fn)
+        self.value = self.value_returned = 0.0
+
+    def _run_sub(self, fn: Callable) -> Optional[float]:
+        """Run subroutine ``fn`` one call level down, with fresh named locals."""
+        caller_locals = self._enter_sub()
+        try:
+            return fn(self)
+        finally:
+            self.call_level -= 1
+            self._locals = caller_locals
+
+    def _enter_sub(self) -> Locals:
+        """Go one call level down, with fresh named locals; returns the caller's."""
+        if self.call_level >= MAX_CALL_LEVEL:
+            raise GCodeError("Too many subroutine levels")
+        caller_locals = self._locals
+        self._locals = Locals()
+        self.call_level += 1
+        self.value_returned = 0.0
+        return caller_locals
 
     @staticmethod
     def repeat(n: float) -> Iterator[int]:
@@ -400,11 +491,19 @@ class Machine(MCodesMixin, MotionMixin, OffsetsMixin, ToolsMixin):
     # Blocks
     # ------------------------------------------------------------------
     def block(
-        self, line: int, *codes: int, n=None, comment=None, **words: float
+        self,
+        line: int,
+        *codes: int,
+        n: Optional[str] = None,
+        comment=None,
+        **words: float,
     ) -> None:
-        """Check and execute one line's codes and words (see module docstring)."""
+        """Check and execute one line's codes and words (see module docstring).
+
+        ``n`` is what rs274's trace shows after ``N``: the N word's digits as
+        written, or None for ``N.....``."""
         self.line = line
-        self.canon.set_block_number(None if n is None else _n_text(n))
+        self.canon.set_block_number(n)
         if self.toolchange_flag:
             self._after_tool_change()
         if self.lathe_diameter and "x" in words:
@@ -613,6 +712,21 @@ class Machine(MCodesMixin, MotionMixin, OffsetsMixin, ToolsMixin):
             return settings.center_arc_radius_tolerance_inch
         return settings.center_arc_radius_tolerance_mm
 
+    def current_line(self) -> int:
+        """``#<_line>``: the number of the line being read.
+
+        Lines of only parameter settings or O-words make no ``block`` call,
+        and a block's word values are computed before it, so the line comes
+        from the generated code's frames on the stack.
+        """
+        frames = g_code_frames_of_stack()
+        return frames[-1].line if frames else self.line
+
+    def pocket_number(self, index: int) -> int:
+        """The pocket (P word) of the tool at table ``index``, as
+        ``#<_current_pocket>`` and ``#<_selected_pocket>`` report it."""
+        return self._entry(index).pocket
+
     def predefined(self, name: str) -> Optional[float]:
         """The value of predefined parameter ``name`` (None if it is not one)."""
         if name not in self.PREDEFINED:
@@ -626,7 +740,7 @@ class Machine(MCodesMixin, MotionMixin, OffsetsMixin, ToolsMixin):
 _PREDEFINED_VALUES: Dict[str, Callable[[Machine], float]] = {
     "_vmajor": lambda m: 2.9,
     "_vminor": lambda m: 0.0,
-    "_line": lambda m: m.line,
+    "_line": lambda m: m.current_line(),
     "_motion_mode": lambda m: m.motion_mode,
     "_plane": lambda m: _PLANE_CODES[m.plane],
     "_ccomp": lambda m: G40,
@@ -638,7 +752,8 @@ _PREDEFINED_VALUES: Dict[str, Callable[[Machine], float]] = {
     "_units_per_minute": lambda m: m.feed_mode == UNITS_PER_MINUTE,
     "_units_per_rev": lambda m: m.feed_mode == UNITS_PER_REVOLUTION,
     "_coord_system": lambda m: _SYSTEM_CODES[m.origin_index - 1],
-    "_tool_offset": lambda m: m.tlo_mode != G49,
+    # Any non-zero offset, not the G43/G49 mode: "G43 H0" reads 0.
+    "_tool_offset": lambda m: any(m.tool_offset),
     "_retract_r_plane": lambda m: m.retract_r_plane,
     "_retract_old_z": lambda m: not m.retract_r_plane,
     "_spindle_rpm_mode": lambda m: not m.css_mode,
@@ -657,9 +772,11 @@ _PREDEFINED_VALUES: Dict[str, Callable[[Machine], float]] = {
     "_feed": lambda m: m.feed_rate,
     "_rpm": lambda m: m.speed,
     "_current_tool": lambda m: m.params[5400],
-    "_current_pocket": lambda m: m.current_pocket,
+    "_current_pocket": lambda m: m.pocket_number(m.current_pocket),
     "_selected_tool": lambda m: m.selected_tool,
-    "_selected_pocket": lambda m: m.selected_pocket if m.tool_selected else -1,
+    "_selected_pocket": lambda m: (
+        m.pocket_number(m.selected_pocket) if m.tool_selected else -1
+    ),
     "_value": lambda m: m.value,
     "_value_returned": lambda m: m.value_returned,
     "_task": lambda m: 0,

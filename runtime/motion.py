@@ -18,6 +18,7 @@ from runtime import arcs
 from runtime.blockcheck import Block
 from runtime.codes import G0, G1, G2, G28, G28_1, G53
 from runtime.errors import GCodeError
+from runtime.ops import c_hypot
 
 AXES = "xyzabcuvw"
 #: Axis indexes that are lengths (A, B, C are angles and never scaled).
@@ -83,7 +84,7 @@ class MotionMixin:
                 )
             theta = math.atan2(y, x)
         else:
-            radius = math.hypot(y, x)
+            radius = c_hypot(y, x)
             theta = math.radians(angle)
         end[0] = radius * math.cos(theta)
         end[1] = radius * math.sin(theta)
@@ -97,7 +98,7 @@ class MotionMixin:
                     "Incremental motion with polar coordinates is indeterminate when at the origin"
                 )
             theta = math.atan2(y, x)
-            radius = math.hypot(y, x) + words["polar_dist"]
+            radius = c_hypot(y, x) + words["polar_dist"]
             end[0], end[1] = radius * math.cos(theta), radius * math.sin(theta)
         if "polar_angle" in words:
             x, y = end[0], end[1]
@@ -106,7 +107,7 @@ class MotionMixin:
                     "G91 motion with polar coordinates is indeterminate when at the origin"
                 )
             theta = math.atan2(y, x) + math.radians(words["polar_angle"])
-            radius = math.hypot(y, x)
+            radius = c_hypot(y, x)
             end[0], end[1] = radius * math.cos(theta), radius * math.sin(theta)
 
     def _machine_ends(self, block: Block) -> List[float]:

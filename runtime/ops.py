@@ -220,6 +220,36 @@ def c_int(x: float) -> int:
     return int(x)
 
 
+def c_hypot(x: float, y: float) -> float:
+    """``hypot(x, y)`` as the C library rs274 runs on (glibc 2.35+) computes
+    it, which matters where a sign of a rounded zero shows in the trace.
+
+    Python's math.hypot is rounded differently in about one case in six
+    hundred. glibc takes the root of the rounded sum of squares and then
+    corrects it by the error of that sum, found exactly (Borges' algorithm,
+    without fused multiply-add). Only the largest and tiniest values, which
+    glibc rescales first, may differ in the last bit.
+    """
+    big, small = abs(x), abs(y)
+    if big < small:
+        big, small = small, big
+    if small <= big * _HALF_EPSILON:
+        return big + small
+    root = math.sqrt(big * big + small * small)
+    if root <= 2.0 * small:
+        delta = root - small
+        error = big * (2.0 * delta - big) + (delta - 2.0 * (big - small)) * delta
+    else:
+        delta = root - big
+        error = 2.0 * delta * (big - 2.0 * small)
+        error += (4.0 * delta - small) * small + delta * delta
+    return root - error / (2.0 * root)
+
+
+#: Below this ratio the smaller side cannot change the hypotenuse.
+_HALF_EPSILON = 2.0**-54
+
+
 def _is_integral(x: float) -> bool:
     """C's ``floor(x) == x`` (true for infinities, false for NaN)."""
     return math.isinf(x) or float(x).is_integer()

@@ -212,7 +212,6 @@ class ToolsMixin:
                 self._entry(self._pocket_of(int(words["h"]))).offsets
             )
             offset = [a + b for a, b in zip(self.tool_offset, extra)]
-        self.tlo_mode = code
         self._apply_tool_offset(offset)
 
     def _offset_pocket(self, words) -> int:

@@ -24,10 +24,12 @@ and its saves fail silently; ngc2py does not touch that path.
 
 from __future__ import annotations
 
+import errno
 import os
 import shutil
+import sys
 import tempfile
-from typing import Dict, Iterable, Mapping, Optional
+from typing import Dict, Iterable, Mapping, Optional, TextIO
 
 from runtime.errors import GCodeError
 from runtime.tooltable import scan_c_float, scan_c_int
@@ -103,26 +105,39 @@ def initial_parameters(path: Optional[str]) -> Dict[int, float]:
     return {n: v for n, v in values.items() if v != 0.0}
 
 
-def save_parameter_file(path: str, values: Mapping[int, float]) -> None:
+def save_parameter_file(
+    path: str, values: Mapping[int, float], stderr: Optional[TextIO] = None
+) -> None:
     """Rewrite ``path`` with the current ``values`` the way rs274 does.
 
     The new file lists the parameters the existing file lists plus
     REQUIRED_PARAMETERS, ascending; numbers missing from ``values`` are 0.
     The new text is written to a temporary file and moved into place with
     os.replace, so ``path`` always holds a complete file; the previous file
-    is kept as ``path + ".bak"`` (replacing an older backup).
+    is kept as ``path + ".bak"`` (replacing an older backup). A missing
+    file is reported on ``stderr`` (default sys.stderr) as rs274 reports
+    it; a folder where no file can be created is silently left alone.
     """
     listed = set(read_parameter_file(path)) | set(REQUIRED_PARAMETERS)
     text = "".join(f"{n}\t{values.get(n, 0.0):f}\n" for n in sorted(listed))
     folder = os.path.dirname(os.path.abspath(path))
-    fd, temporary = tempfile.mkstemp(
-        dir=folder, prefix=os.path.basename(path) + ".", suffix=".new"
-    )
+    try:
+        fd, temporary = tempfile.mkstemp(
+            dir=folder, prefix=os.path.basename(path) + ".", suffix=".new"
+        )
+    except OSError:
+        return  # rs274 cannot write there either, and says nothing
     try:
         with os.fdopen(fd, "w", encoding="latin-1", newline="") as f:
             f.write(text)
         if os.path.exists(path):
             _backup(path)
+        else:
+            # rs274 tries to link the missing file to its backup, reports
+            # the failure as perror does, and writes the file all the same.
+            (stderr or sys.stderr).write(
+                "link (updating variable file): %s\n" % os.strerror(errno.ENOENT)
+            )
         os.replace(temporary, path)
     except BaseException:
         if os.path.exists(temporary):

@@ -10,7 +10,9 @@ Nothing expected is hard-coded: rs274 is asked every time.
 from __future__ import annotations
 
 import io
+import os
 import re
+import subprocess
 from pathlib import Path
 from typing import List, Optional, Tuple
 
@@ -251,6 +253,102 @@ def test_ini_settings_match_rs274(text, tmp_path):
     compare(text, tmp_path, {"m.ini": INI_FILE}, ["-i", "m.ini"])
 
 
+@pytest.mark.rs274
+def test_failing_to_open_prints_only_the_initialisation(tmp_path):
+    # rs274 initialises, then stops at the open: no ON_RESET at all.
+    need_rs274()
+    (tmp_path / "home").mkdir()
+    expected = subprocess.run(
+        [harness.rs274_path(), "-g", "missing.ngc"],
+        cwd=tmp_path,
+        env={**os.environ, "HOME": str(tmp_path / "home")},
+        capture_output=True,
+        text=True,
+    )
+    out = io.StringIO()
+    with pytest.raises(GCodeError) as error:
+        Machine(TraceCanon(out)).fail_open("Unable to open file <missing.ngc>")
+    assert error.value.message == harness.first_error_line(expected.stderr)
+    assert out.getvalue() == expected.stdout
+
+
+# --------------------------------------------------------------------------
+# Whole programs: ngc2py's generated code on the machine against rs274
+# --------------------------------------------------------------------------
+
+POCKET_TABLE = "T1 P5 D1\nT2 P9 D2\nT7 P3 Z1\n"
+SHOW_TOOLS = (
+    "(debug, cp=#<_current_pocket> sp=#<_selected_pocket>"
+    " ct=#<_current_tool> st=#<_selected_tool>)\n"
+)
+
+WHOLE_PROGRAMS = {
+    "line_numbers": "(debug, #<_line>)\n#1 = #<_line>\nG0 X#<_line> Y#1\n"
+    "o1 if [#<_line> EQ 4]\n(debug, #<_line>)\no1 endif\nM2\n",
+    "line_in_sub": "o<s> sub\n#<l> = #<_line>\n(debug, #<l> #<_line>)\no<s> endsub\n"
+    "G0 X1\no<s> call\nM2\n",
+    "pockets": SHOW_TOOLS
+    + "T2\n"
+    + SHOW_TOOLS
+    + "M6\n"
+    + SHOW_TOOLS
+    + "T7 M6\n"
+    + SHOW_TOOLS
+    + "M61 Q1\n"
+    + SHOW_TOOLS
+    + "T0 M6\n"
+    + SHOW_TOOLS
+    + "M2\n",
+    "tool_offset_flag": "G43 H0\n(debug, #<_tool_offset>)\nG43.1 Z1\n"
+    "(debug, #<_tool_offset>)\nG43.1 Z0\n(debug, #<_tool_offset>)\nM2\n",
+    "m98_words_checked_not_run": "M98 P100 G1 X7 F1 M3 T1\nM98 P100 L0\n#1 = 5\n"
+    "M98 P[50+50] L[2]\n(debug, #1 #<_value> #<_call_level>)\nG0 X5\nM2\n"
+    "O100\n#1 = [#1 + 1]\n(debug, #<_call_level>)\nG91 G0 X1\nM99\n",
+    "m98_q_word": "M98 P100 Q1\nM2\nO100\nM99\n",
+    "call_before_definition": "G21\no<a> call\no<a> call\no<a> sub\nG0 X1\n"
+    "o<a> endsub\nM2\n",
+    "call_from_sub_before_definition": "o<b> sub\no<a> call\no<b> endsub\n"
+    "o<b> call\nG0 X2\no<a> sub\nG0 X1\no<a> endsub\nM2\n",
+    "redefinition": "o<s> sub\nG0 X1\no<s> endsub\no<s> call\no<s> sub\nG0 X2\n"
+    "o<s> endsub\nM2\n",
+    "late_definition_not_called_early": "G0 X1\nM2\no<a> sub\no<a> endsub\n",
+    "missing_sub_in_closed_file": "%\nG21\no<nope> call\nG0 X1\n%\n",
+}
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize("name", sorted(WHOLE_PROGRAMS))
+def test_whole_program_matches_rs274(name, tmp_path):
+    need_rs274()
+    (tmp_path / "t.tbl").write_text(POCKET_TABLE)
+    program = tmp_path / "prog.ngc"
+    program.write_text(WHOLE_PROGRAMS[name])
+    expected = harness.run_rs274(program, ["-t", "t.tbl"])
+    actual = harness.run_ngc2py(program, ["-t", "t.tbl"])
+    assert (actual.stdout, actual.err, actual.rc) == (
+        expected.stdout,
+        expected.err,
+        expected.rc,
+    )
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize("var_file", ["missing.var", "no/such/folder/p.var"])
+def test_var_file_that_does_not_exist_matches_rs274(var_file, tmp_path):
+    # rs274 reports the missing file on stderr (it cannot link it to its
+    # backup) and runs; in a folder that does not exist it says nothing.
+    need_rs274()
+    program = tmp_path / "prog.ngc"
+    program.write_text("G0 X#5161\n#5161 = 3\nM2\n")
+    expected = harness.run_rs274(program, ["-v", var_file])
+    actual = harness.run_ngc2py(program, ["-v", var_file])
+    assert (actual.stdout, actual.stderr, actual.rc) == (
+        expected.stdout,
+        expected.stderr,
+        expected.rc,
+    )
+
+
 # --------------------------------------------------------------------------
 # Behaviour that needs no rs274
 # --------------------------------------------------------------------------
@@ -324,9 +422,7 @@ def test_call_gives_fresh_arguments_and_restores_them():
 
 def test_call_named_needs_a_definition():
     machine = Machine(RecordingCanon())
-    machine.define("known", lambda m: None)
-    machine.call_named("known")
-    with pytest.raises(GCodeError):
+    with pytest.raises(GCodeError, match="Failed to find sub 'Ounknown' before EOF"):
         machine.call_named("unknown")
 
 

@@ -7,6 +7,8 @@ difference in the last bit of a double shows up in the printed integer.
 
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
 import math
 import random
 import re
@@ -309,3 +311,17 @@ def test_extreme_angles_match_rs274(tmp_path):
             for name, func in (("SIN", ops.sin), ("COS", ops.cos), ("TAN", ops.tan)):
                 cases.append(("%s[%s*10**%d]" % (name, m, e), func(x)))
     assert_same_values(tmp_path, cases)
+
+
+def test_c_hypot_rounds_like_the_c_library():
+    # rs274 calls the C library's hypot (polar words, arc radii); compare
+    # with it directly, on values of the sizes G-code positions take.
+    libm = ctypes.CDLL(ctypes.util.find_library("m"))
+    libm.hypot.restype = ctypes.c_double
+    libm.hypot.argtypes = [ctypes.c_double, ctypes.c_double]
+    rng = random.Random(7)
+    for _ in range(20000):
+        x = rng.uniform(-3, 3) * 10.0 ** rng.randint(-6, 6)
+        y = rng.uniform(-3, 3) * 10.0 ** rng.randint(-6, 6)
+        assert ops.c_hypot(x, y) == libm.hypot(x, y), (x, y)
+    assert ops.c_hypot(0.0, 0.0) == 0.0

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 import os
 import re
 import subprocess
@@ -81,6 +82,32 @@ def test_save_keeps_listed_and_required(tmp_path):
     assert len(lines) == 1 + len(REQUIRED_PARAMETERS)
     assert Path(path + ".bak").read_text() == "100 3\n5220 1\n"
     assert [p.name for p in Path(tmp_path).iterdir() if p.name.endswith(".new")] == []
+
+
+def test_save_creates_a_missing_file_and_reports_it(tmp_path):
+    path = str(tmp_path / "new.var")
+    report = io.StringIO()
+    save_parameter_file(path, {5161: 2.0}, stderr=report)
+    lines = Path(path).read_text().splitlines()
+    assert lines[0] == "5161\t2.000000" and len(lines) == len(REQUIRED_PARAMETERS)
+    assert report.getvalue().startswith("link (updating variable file): ")
+    assert not Path(path + ".bak").exists()
+
+
+def test_save_in_a_missing_folder_does_nothing(tmp_path):
+    path = tmp_path / "no" / "such" / "a.var"
+    report = io.StringIO()
+    save_parameter_file(str(path), {5161: 2.0}, stderr=report)
+    assert report.getvalue() == "" and not path.parent.exists()
+
+
+@pytest.mark.rs274
+def test_missing_file_report_matches_rs274(tmp_path):
+    (tmp_path / "rs274").mkdir()
+    _, err = _rs274(tmp_path / "rs274", "M2\n")
+    report = io.StringIO()
+    save_parameter_file(str(tmp_path / "a.var"), {}, stderr=report)
+    assert report.getvalue() == err + "\n"
 
 
 # --------------------------------------------------------------------------
