@@ -57,9 +57,21 @@ def codes_used(text: str) -> set:
     return used
 
 
-def out_of_scope(path: Path) -> list:
-    used = codes_used(path.read_text(errors="replace"))
-    return sorted(c for c in used if c in OUT_OF_SCOPE)
+_CALL = re.compile(r"o<([^>\n]*)>\s*call", re.I)
+
+
+def out_of_scope(path: Path, _seen=None) -> list:
+    """Out-of-scope codes a program uses, including in the subroutine files it
+    calls (found next to it, as rs274 finds them from the program's folder)."""
+    seen = set() if _seen is None else _seen
+    seen.add(path)
+    text = path.read_text(errors="replace")
+    used = {c for c in codes_used(text) if c in OUT_OF_SCOPE}
+    for name in _CALL.findall(_COMMENT.sub("", text)):
+        called = path.parent / (name.strip().lower().replace(" ", "") + ".ngc")
+        if called.is_file() and called not in seen:
+            used.update(out_of_scope(called, seen))
+    return sorted(used)
 
 
 def _samples():
@@ -97,3 +109,10 @@ def test_codes_used_reads_programs_like_rs274():
     used = codes_used(text)
     assert {"G1", "G83", "G38.2", "G10", "G10 L1", "M101"} <= used
     assert "G81" not in used and "G41" not in used
+
+
+def test_scope_follows_called_subroutine_files(tmp_path):
+    """A probing move inside a called subroutine file puts the caller out of scope."""
+    (tmp_path / "main.ngc").write_text("o<touch> call\nM2\n")
+    (tmp_path / "touch.ngc").write_text("o<touch> sub\nG38.2 Z-1 F10\no<touch> endsub\n")
+    assert out_of_scope(tmp_path / "main.ngc") == ["G38.2"]
