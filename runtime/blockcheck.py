@@ -40,7 +40,13 @@ from runtime.codes import (  # the codes this module reasons about, and helpers
     G52,
     G53,
     G64,
+    G70,
     G71,
+    G71_1,
+    G71_2,
+    G72,
+    G72_1,
+    G72_2,
     G73,
     G74,
     G76,
@@ -49,6 +55,7 @@ from runtime.codes import (  # the codes this module reasons about, and helpers
     G82,
     G83,
     G84,
+    G85,
     G86,
     G87,
     G88,
@@ -77,8 +84,24 @@ POLAR_WORDS = frozenset(("polar_dist", "polar_angle"))
 #: Group 0 codes that use the axis words of their line.
 _MODE0_COVETS_AXES = (G10, G28, G30, G52, G92)
 
+#: G7x lathe cycles: G70 finishes, the others (G71, G72 and their .1/.2
+#: variants) rough. Which words each kind takes was checked against rs274.
+ROUGHING_CYCLES = (G71, G71_1, G71_2, G72, G72_1, G72_2)
+LATHE_CYCLES = (G70,) + ROUGHING_CYCLES
+
+#: Drilling cycles (G73, G74, G81-G89): no rotary axis words allowed.
+DRILL_CYCLES = (G73, G74, G81, G82, G83, G84, G85, G86, G87, G88, G89)
+
+#: Motions whose line may have no axis word.
+_NO_AXES_NEEDED = (G0, G1, G2, G3, G5_2) + LATHE_CYCLES
+
 #: rs274 reads at most this many M codes on a line.
 MAX_M_CODES = 4
+
+
+def g_name(code: int) -> str:
+    """A G code number (times ten) as written: 50 -> "G5", 711 -> "G71.1"."""
+    return f"G{code // 10}" + (f".{code % 10}" if code % 10 else "")
 
 
 def round_to_int(value: float) -> int:
@@ -149,7 +172,7 @@ def enhance(block: Block, plane: str, motion_mode: Optional[int]) -> None:
         else:
             if covets:
                 raise GCodeError("Cannot use two g codes that both use axis values")
-            if not axes and not polar and mode1 not in (G0, G1, G2, G3, G5_2):
+            if not axes and not polar and mode1 not in _NO_AXES_NEEDED:
                 raise GCodeError("All axes missing with motion code")
         block.motion = mode1
     elif covets:
@@ -214,8 +237,10 @@ def _check_g10(words: Mapping[str, float]) -> None:
         raise GCodeError(f"P value out of range with G10 L{l_word}")
 
 
-# Per-word "no code uses it" checks: (letter, allowed motions, test, message).
-_I_J_MOTIONS = (G2, G3, G5, G5_1, G76, G87, G71)
+# Motions that use the I, J and E words (rs274's check_other_codes).
+_J_MOTIONS = (G2, G3, G5, G5_1, G76, G87)
+_I_MOTIONS = _J_MOTIONS + (G33_1,) + ROUGHING_CYCLES
+_E_MOTIONS = (G33, G33_1, G70, G76)
 
 
 def _check_other_words(block: Block) -> None:
@@ -226,26 +251,31 @@ def _check_other_words(block: Block) -> None:
     m = block.m
     mode0 = g.get(NON_MODAL)
     comp = g.get(CUTTER_COMP)
+    if motion in DRILL_CYCLES:
+        for letter in "abc":
+            if letter in words:
+                article = "an" if letter == "a" else "a"
+                raise GCodeError(f"Cannot put {article} {letter} in canned cycle")
     if (
         "d" in words
         and comp not in (G41, G42, G41_1, G42_1)
         and g.get(SPINDLE_MODE) != G96
-        and motion != G71
+        and motion not in LATHE_CYCLES
     ):
         raise GCodeError(
             "D word with no G41, G41.1, G42, G42.1, G71, G71.1, G71.2 or G96 to use it"
         )
-    if "e" in words and motion != G76 and m.get(M_IO) not in (66, 67, 68):
+    if "e" in words and motion not in _E_MOTIONS and m.get(M_IO) not in (66, 67, 68):
         raise GCodeError("E word with no G70, G76, M66, M67 or M68 to use it")
     if "h" in words and g.get(TOOL_OFFSET) not in (G43, G43_2) and motion != G76:
         raise GCodeError("H word with no G43 or G76 to use it")
-    if "i" in words and motion not in _I_J_MOTIONS and mode0 != G10:
+    if "i" in words and motion not in _I_MOTIONS and mode0 != G10:
         raise GCodeError(
             "I word with no G2, G3, G5, G5.1, G10, G33.1, G76, or G87 to use it"
         )
-    if "j" in words and motion not in _I_J_MOTIONS and mode0 != G10:
+    if "j" in words and motion not in _J_MOTIONS and mode0 != G10:
         raise GCodeError("J word with no G2, G3, G5, G5.1, G10, G76 or G87 to use it")
-    if "k" in words and motion not in (G2, G3, G33, G33_1, G76, G87, G71):
+    if "k" in words and motion not in (G2, G3, G33, G33_1, G76, G87):
         raise GCodeError("K word with no G2, G3, G33, G33.1, G76, or G87 to use it")
     if "l" in words and not (block.m98 or _l_is_used(motion, mode0, comp, m)):
         raise GCodeError(
@@ -263,6 +293,21 @@ def _check_other_words(block: Block) -> None:
             raise GCodeError("R word with no g code that uses it")
         if m.get(M_SPINDLE) == 19 and not 0.0 <= words["r"] <= 360.0:
             raise GCodeError("R value must be within 0..360 with M19")
+    _check_motion_words(motion, words)
+
+
+def _check_motion_words(motion: Optional[int], words) -> None:
+    """The words G33, G33.1 and G76 require (or refuse), checked last."""
+    if motion in (G33, G33_1):
+        if "k" not in words:
+            raise GCodeError("K word missing with g33/g33.1")
+        if "f" in words:
+            raise GCodeError("F word used with a g33/g33.1")
+    elif motion == G76:
+        if "p" not in words:
+            raise GCodeError("P word missing with G76")
+        if not all(letter in words for letter in "ijk"):
+            raise GCodeError("I J or K words missing with G76")
 
 
 def _is_cycle(motion: Optional[int]) -> bool:
@@ -272,14 +317,14 @@ def _is_cycle(motion: Optional[int]) -> bool:
 def _l_is_used(motion, mode0, comp, m) -> bool:
     return (
         _is_cycle(motion)
-        or motion in (G76, G5_2, G73, G71)
+        or motion in (G76, G5_2, G73)
         or mode0 == G10
         or comp in (G41, G41_1, G42, G42_1)
         or m.get(M_IO) == 66
     )
 
 
-_P_MOTIONS = (G76, G82, G86, G88, G89, G5, G5_2, G2, G3, G71, G74, G84)
+_P_MOTIONS = (G76, G82, G86, G88, G89, G5, G5_2, G2, G3, G70, G74, G84)
 
 
 def _check_p_word(block: Block) -> None:
@@ -312,7 +357,7 @@ def _check_p_word(block: Block) -> None:
 def _q_is_used(motion, mode0, g, m) -> bool:
     return (
         M_USER in m
-        or motion in (G83, G73, G5, G71, G76)
+        or motion in (G83, G73, G5, G76) + LATHE_CYCLES
         or m.get(M_IO) in (66, 67, 68)
         or mode0 == G10
         or m.get(M_TOOL) == 61
@@ -323,7 +368,7 @@ def _q_is_used(motion, mode0, g, m) -> bool:
 
 def _r_is_used(motion, mode0, comp, m) -> bool:
     return (
-        motion in (G2, G3, G76, G73, G71, G74)
+        motion in (G2, G3, G76, G73, G74) + ROUGHING_CYCLES
         or _is_cycle(motion)
         or comp in (G41_1, G42_1)
         or mode0 == G10

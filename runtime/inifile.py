@@ -21,7 +21,9 @@ What ``rs274 -g`` uses (everything else, e.g. [RS274NGC]PARAMETER_FILE,
 range, or not a number, keeps the default and makes rs274 print
 ``invalid [RS274NGC]<KEY> in INI file`` and an empty line on stderr. A file
 that cannot be opened makes rs274 print ``Unable to open inifile:<path>:``
-on stderr and run without settings.
+on stderr and run without settings; a folder reads as an empty file. A
+carriage return inside a line makes every lookup fail with an error on
+stderr; CR-LF line ends only add a warning before the other reports.
 """
 
 from __future__ import annotations
@@ -45,6 +47,16 @@ MAX_SUBROUTINE_DIRS = 10
 
 #: FEATURES bit that enables #<_ini[SECTION]KEY> parameters.
 FEATURE_INI_VARS = 4
+
+#: A carriage return that does not end a line: LinuxCNC's reader refuses
+#: such a file. A CR before LF (or at the end) only earns a warning.
+_AMBIGUOUS_CR = re.compile(r"\r(?!\n|\Z)")
+AMBIGUOUS_CR_ERROR = "inifile: error: File contains ambiguous carriage returns\n"
+DOS_LINE_ENDINGS_WARNING = "inifile: warning: File contains DOS-style line endings.\n"
+
+#: How many INI lookups rs274 2.9 makes while starting (each one reports an
+#: unreadable file), counted from its output.
+RS274_INI_LOOKUPS = 31
 
 _INTEGER = re.compile(r"[+-]?\d+")
 _FLOAT = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
@@ -134,6 +146,8 @@ class IniSettings:
 
 def load_ini(path: str) -> IniSettings:
     """Read the ``-i`` file the way rs274 does."""
+    if os.path.isdir(path):
+        return settings_from(IniFile())  # rs274 opens a folder; it reads empty
     try:
         with open(path, "rb") as f:
             text = f.read().decode("latin-1")
@@ -141,7 +155,14 @@ def load_ini(path: str) -> IniSettings:
         return IniSettings(
             stderr_report=f"Unable to open inifile:{path}:\n", opened=False
         )
-    return settings_from(IniFile.parse(text))
+    if _AMBIGUOUS_CR.search(text):
+        # Every lookup fails, and each one says so.
+        return IniSettings(stderr_report=AMBIGUOUS_CR_ERROR * RS274_INI_LOOKUPS)
+    settings = settings_from(IniFile.parse(text))
+    if "\r" in text:
+        report = DOS_LINE_ENDINGS_WARNING + settings.stderr_report
+        settings = replace(settings, stderr_report=report)
+    return settings
 
 
 def settings_from(ini: IniFile) -> IniSettings:

@@ -30,6 +30,9 @@ from typing import Callable, Dict, Iterator, NamedTuple, Optional
 from runtime import blockcheck
 from runtime.canon import Canon, TraceCanon
 from runtime.blockcheck import (
+    DRILL_CYCLES,
+    LATHE_CYCLES,
+    g_name,
     ARC_DISTANCE,
     COORD_SYSTEM as COORD_SYSTEM_GROUP,
     CUTTER_COMP,
@@ -68,6 +71,7 @@ from runtime.codes import (
     G30,
     G30_1,
     G40,
+    G5_3,
     G52,
     G54,
     G55,
@@ -105,6 +109,7 @@ from runtime.motion import (
     UNITS_PER_MINUTE,
     UNITS_PER_REVOLUTION,
     MotionMixin,
+    OutOfScopeChecksMixin,
 )
 from runtime.offsets import COORD_SYSTEM, G92_ENABLED, OffsetsMixin
 from runtime.params import Globals, Locals, Params
@@ -151,16 +156,18 @@ POSITION_PARAMS = 5420
 
 #: Motion codes outside this version's scope, by what they are.
 _UNSUPPORTED_MOTION = {
-    330: "spindle-synchronized motion (G33)",
-    331: "rigid tapping (G33.1)",
-    382: "probing (G38.2)",
-    383: "probing (G38.3)",
-    384: "probing (G38.4)",
-    385: "probing (G38.5)",
-    50: "splines (G5)",
-    51: "splines (G5.1)",
-    52: "NURBS (G5.2)",
-    760: "threading cycles (G76)",
+    330: "spindle-synchronized motion",
+    331: "rigid tapping",
+    382: "probing",
+    383: "probing",
+    384: "probing",
+    385: "probing",
+    50: "splines",
+    51: "splines",
+    52: "NURBS",
+    760: "threading cycles",
+    **dict.fromkeys(LATHE_CYCLES, "lathe cycles"),
+    **dict.fromkeys(DRILL_CYCLES, "canned cycles"),
 }
 
 
@@ -172,7 +179,9 @@ class _Subroutine(NamedTuple):
     file: Optional[str] = None
 
 
-class Machine(MCodesMixin, MotionMixin, OffsetsMixin, ToolsMixin):
+class Machine(
+    MCodesMixin, MotionMixin, OutOfScopeChecksMixin, OffsetsMixin, ToolsMixin
+):
     """rs274's interpreter state and block execution, printing through ``canon``."""
 
     #: Predefined read-only named parameters (computed by :meth:`predefined`).
@@ -185,7 +194,8 @@ class Machine(MCodesMixin, MotionMixin, OffsetsMixin, ToolsMixin):
         _flood _speed_override _feed_override _adaptive_feed _feed_hold _feed
         _rpm _x _y _z _a _b _c _u _v _w _current_tool _current_pocket
         _selected_tool _selected_pocket _value _value_returned _task
-        _call_level _remap_level""".split()
+        _call_level _remap_level _abs_x _abs_y _abs_z _abs_a _abs_b
+        _abs_c""".split()
     )
 
     def __init__(
@@ -504,8 +514,6 @@ class Machine(MCodesMixin, MotionMixin, OffsetsMixin, ToolsMixin):
         written, or None for ``N.....``."""
         self.line = line
         self.canon.set_block_number(n)
-        if self.toolchange_flag:
-            self._after_tool_change()
         if self.lathe_diameter and "x" in words:
             words["x"] /= 2  # rs274 halves X as it reads it in G7
         block = blockcheck.read_block(codes, words)
@@ -513,6 +521,10 @@ class Machine(MCodesMixin, MotionMixin, OffsetsMixin, ToolsMixin):
         blockcheck.check(block, self.distance_incremental)
         self._execute(block, comment)
         self._publish_position()
+        if self.toolchange_flag:
+            # rs274 does this as it reads the next line, before evaluating any
+            # of its expressions; nothing can happen in between, so do it now.
+            self._after_tool_change()
 
     def _publish_position(self) -> None:
         """#5420-#5428: the current point, as rs274 keeps them after each block."""
@@ -563,7 +575,7 @@ class Machine(MCodesMixin, MotionMixin, OffsetsMixin, ToolsMixin):
         if LATHE_MODE in g:
             self._lathe_mode(g[LATHE_MODE], words)
         if CUTTER_COMP in g:
-            self._cutter_comp(g[CUTTER_COMP])
+            self._cutter_comp(g[CUTTER_COMP], words)
         if TOOL_OFFSET in g:
             self._tool_length_offset(g[TOOL_OFFSET], words)
         if COORD_SYSTEM_GROUP in g:
@@ -600,9 +612,10 @@ class Machine(MCodesMixin, MotionMixin, OffsetsMixin, ToolsMixin):
         kind = "diameter" if diameter else "radius"
         self.canon.comment(f"interpreter: Lathe diameter mode changed to {kind}")
 
-    def _cutter_comp(self, code: int) -> None:
+    def _cutter_comp(self, code: int, words) -> None:
         if code != G40:
-            raise not_supported("cutter radius compensation (G41/G42)")
+            self._check_cutter_comp_on(code, words)
+            raise not_supported(f"cutter radius compensation ({g_name(code)})")
         self.canon.comment("interpreter: cutter radius compensation off")
         self.cutter_comp = False
 
@@ -680,6 +693,9 @@ class Machine(MCodesMixin, MotionMixin, OffsetsMixin, ToolsMixin):
             self._g92(words)
         elif code == G52:
             self._g52(words)
+        elif code == G5_3:
+            # G5.2 never becomes the motion mode here (it is not supported).
+            raise GCodeError("Cannot use G5.3 without G5.2 first")
         # G4 and G53 are handled elsewhere (dwell first, G53 with the motion).
 
     def _g92_family(self, code: int) -> None:
@@ -697,10 +713,10 @@ class Machine(MCodesMixin, MotionMixin, OffsetsMixin, ToolsMixin):
         elif motion == G80:
             self.canon.comment("interpreter: motion mode set to none")
             self.motion_mode = G80
-        elif motion in _UNSUPPORTED_MOTION:
-            raise not_supported(_UNSUPPORTED_MOTION[motion])
         else:
-            raise not_supported(f"canned cycles (G{motion // 10})")
+            # rs274 checks the block before it would move: its errors first.
+            self._check_out_of_scope(motion, block)
+            raise not_supported(f"{_UNSUPPORTED_MOTION[motion]} ({g_name(motion)})")
 
     # ------------------------------------------------------------------
     # Predefined named parameters
@@ -734,6 +750,9 @@ class Machine(MCodesMixin, MotionMixin, OffsetsMixin, ToolsMixin):
         axis = name[1:]
         if len(axis) == 1 and axis in AXES:
             return self.current[AXES.index(axis)]
+        if axis.startswith("abs_"):
+            # rs274 2.9 knows _abs_x.._abs_c only (no _abs_u/v/w).
+            return self.machine_position()[AXES.index(axis[4:])]
         return float(_PREDEFINED_VALUES[name](self))
 
 

@@ -96,7 +96,12 @@ class MCodesMixin:
             self.spindle = "stopped"
         elif code == 19:
             self._orient_spindle(words)
-        else:
+        elif code == 72:
+            # M70 and M73 are not supported, so no state was ever saved.
+            raise GCodeError(
+                "Cannot restore context from invalid stack frame - missing M70/M73?"
+            )
+        elif code != 71:  # M71 forgets a saved state: with none saved, no-op
             raise not_supported(f"modal state save/restore (M{code})")
 
     def _orient_spindle(self, words) -> None:

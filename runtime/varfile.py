@@ -24,11 +24,8 @@ and its saves fail silently; ngc2py does not touch that path.
 
 from __future__ import annotations
 
-import errno
 import os
-import shutil
 import sys
-import tempfile
 from typing import Dict, Iterable, Mapping, Optional, TextIO
 
 from runtime.errors import GCodeError
@@ -41,6 +38,9 @@ DEFAULT_PARAMETER_FILE = "/etc/emc2/sample-configs/sim/sim.var"
 MAX_PARAMETERS = 5602
 
 BACKUP_SUFFIX = ".bak"
+
+#: rs274 writes the new file under this suffix, then renames it.
+NEW_SUFFIX = ".new"
 
 
 def _block(first: int, last: int) -> Iterable[int]:
@@ -77,6 +77,8 @@ def read_parameter_file(path: str) -> Dict[int, float]:
     """
     if not os.path.exists(path):
         return {}
+    if os.path.isdir(path):
+        return {}  # rs274's fopen opens a folder; reading it just ends
     try:
         with open(path, "rb") as f:
             text = f.read().decode("latin-1")
@@ -112,48 +114,47 @@ def save_parameter_file(
 
     The new file lists the parameters the existing file lists plus
     REQUIRED_PARAMETERS, ascending; numbers missing from ``values`` are 0.
-    The new text is written to a temporary file and moved into place with
-    os.replace, so ``path`` always holds a complete file; the previous file
-    is kept as ``path + ".bak"`` (replacing an older backup). A missing
-    file is reported on ``stderr`` (default sys.stderr) as rs274 reports
-    it; a folder where no file can be created is silently left alone.
+    As rs274 does, the text goes to ``path + ".new"`` (created like any
+    file, 0666 & ~umask), the previous file is hard-linked to ``path +
+    ".bak"`` and ``.new`` is renamed over ``path``, so ``path`` always holds
+    a complete file. A failing link or rename is reported on ``stderr``
+    (default sys.stderr) as rs274's perror reports it, and the run goes on
+    (a failed rename leaves ``.new`` behind, as rs274 does); a folder where
+    ``.new`` cannot be created is silently left alone.
     """
+    stderr = stderr or sys.stderr
     listed = set(read_parameter_file(path)) | set(REQUIRED_PARAMETERS)
     text = "".join(f"{n}\t{values.get(n, 0.0):f}\n" for n in sorted(listed))
-    folder = os.path.dirname(os.path.abspath(path))
+    temporary = path + NEW_SUFFIX
     try:
-        fd, temporary = tempfile.mkstemp(
-            dir=folder, prefix=os.path.basename(path) + ".", suffix=".new"
-        )
+        with open(temporary, "w", encoding="latin-1", newline="") as f:
+            f.write(text)
     except OSError:
         return  # rs274 cannot write there either, and says nothing
+    _report(stderr, "link", _backup(path))
     try:
-        with os.fdopen(fd, "w", encoding="latin-1", newline="") as f:
-            f.write(text)
-        if os.path.exists(path):
-            _backup(path)
-        else:
-            # rs274 tries to link the missing file to its backup, reports
-            # the failure as perror does, and writes the file all the same.
-            (stderr or sys.stderr).write(
-                "link (updating variable file): %s\n" % os.strerror(errno.ENOENT)
-            )
-        os.replace(temporary, path)
-    except BaseException:
-        if os.path.exists(temporary):
-            os.unlink(temporary)
-        raise
+        os.rename(temporary, path)
+    except OSError as error:
+        _report(stderr, "rename", error)
 
 
-def _backup(path: str) -> None:
-    """Make ``path.bak`` a copy of ``path`` without ever removing ``path``."""
+def _backup(path: str) -> Optional[OSError]:
+    """Make ``path.bak`` a hard link to ``path`` (the link itself when it is
+    a symlink, as C's link does); return the error if that fails."""
     backup = path + BACKUP_SUFFIX
-    if os.path.lexists(backup):
-        os.unlink(backup)
     try:
-        os.link(path, backup)
-    except OSError:  # file systems without hard links
-        shutil.copy2(path, backup)
+        if os.path.lexists(backup):
+            os.unlink(backup)
+        os.link(path, backup, follow_symlinks=False)
+    except OSError as error:
+        return error
+    return None
+
+
+def _report(stderr: TextIO, step: str, error: Optional[OSError]) -> None:
+    """perror's line for a failed step of rs274's update."""
+    if error is not None:
+        stderr.write(f"{step} (updating variable file): {os.strerror(error.errno)}\n")
 
 
 def _parse(text: str) -> Dict[int, float]:

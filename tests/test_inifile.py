@@ -104,3 +104,38 @@ def test_arc_tolerance_matches_rs274(tmp_path, value):
     except arcs.GCodeError:
         accepted = False
     assert ("ARC_FEED" in done.stdout) == accepted
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize(
+    "content",
+    [
+        None,  # a folder
+        b"[RS274NGC]\r\nCENTER_ARC_RADIUS_TOLERANCE_MM=abc\r\nORIENT_OFFSET=10\r\n",
+        b"[RS274NGC]\nORIENT_OFFSET=10\r\r\n",
+        bytes(range(256)) * 4,
+    ],
+    ids=["folder", "dos_line_ends", "lone_carriage_return", "binary"],
+)
+def test_odd_files_report_and_apply_like_rs274(tmp_path, content):
+    """The stderr report, and whether ORIENT_OFFSET took effect (M19)."""
+    if harness.rs274_path() is None:
+        pytest.skip("rs274 not on PATH")
+    if content is None:
+        (tmp_path / "m.ini").mkdir()
+    else:
+        (tmp_path / "m.ini").write_bytes(content)
+    (tmp_path / "p.ngc").write_text("S100 M3\nM19 R1\nM2\n")
+    done = subprocess.run(
+        [harness.rs274_path(), "-i", "m.ini", "-g", "p.ngc"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        env={**os.environ, "HOME": str(tmp_path)},
+        timeout=60,
+    )
+    settings = load_ini(str(tmp_path / "m.ini"))
+    assert done.stderr == "executing\n" + settings.stderr_report
+    assert settings.opened
+    angle = 1.0 + settings.orient_offset
+    assert f"ORIENT_SPINDLE(0, {angle:.4f}, 0)" in done.stdout

@@ -120,6 +120,7 @@ PROGRAMS = {
     "lathe": "G7\nG0 X10\nG8\nG0 X10\nG7 X4\nG8 X4\nG8\nM2\n",
     "m6_without_t": "M6\nG43\nM2\n",
     "io": "M62 P1\nM63 P2\nM64 P3\nM65 P4\nM67 E1 Q2.5\nM68 E2 Q3\nM2\n",
+    "forget_state": "M71\nG0 X1\nM2\n",
 }
 
 ERRORS = {
@@ -175,6 +176,54 @@ ERRORS = {
     "m19_p": "M19 P2.5\nM2\n",
     "m19_r": "M19 R400\nM2\n",
     "error_after_moves": "G0 X1\nG1 X2\nM2\n",
+    # Out-of-scope codes: rs274's checks fail before "not supported" would.
+    "spline_pq": "F100\nG5 X1 Y2\nM2\n",
+    "spline_ij": "F100\nG5 X1 Y2 I1 P1 Q1\nM2\n",
+    "spline_z": "F100\nG5 X1 Z2 I1 J1 P1 Q1\nM2\n",
+    "spline_plane": "F100 G18\nG5 X1 Y2 P1 Q1\nM2\n",
+    "spline_feed": "G5 X1 Y2 P1 Q1\nM2\n",
+    "spline_inverse": "G93\nG5 X1 Y2 P1 Q1\nM2\n",
+    "quadratic_ij": "F100\nG5.1 X1 Y2 I1\nM2\n",
+    "nurbs_xy": "F100\nG5.2 X1\nM2\n",
+    "nurbs_feed": "G5.2 X1 Y1 P1\nM2\n",
+    "nurbs_end": "S100 M3 G91 G5.3\nM2\n",
+    "g33_k": "S100 M3 G33 Z-1\nM2\n",
+    "g33_f": "G33 Z-1 K1 F1\nM2\n",
+    "g33_spindle": "G33 Z-1 K1\nM2\n",
+    "g33_1_spindle": "G33.1 Z-1 K1 I1 E1\nM2\n",
+    "probe_feed": "G38.2 Z-1\nM2\n",
+    "probe_per_rev": "G95 S0\nG38.3 Z-1 F1\nM2\n",
+    "probe_close": "F1\nG91 G38.2 Z0 A0\nM2\n",
+    "g76_p": "S100 G76 Z-1\nM2\n",
+    "g76_ijk": "S100 M3\nG76 P1 Z-1 J1 K2\nM2\n",
+    "g76_spindle": "G76 P1 Z-1 I1 J1 K2 E1\nM2\n",
+    "g76_rotary": "S100 M3\nG76 P1 Z-1 I0 J1 K2 A1\nM2\n",
+    "g76_i": "S100 M3\nG76 P1 Z-1 I0 J1 K2\nM2\n",
+    "g76_j": "S100 M3\nG76 P1 Z-1 I1 J0 K2\nM2\n",
+    "g76_k": "S100 M3\nG76 P1 Z-1 I1 J1 K1\nM2\n",
+    "cycle_r": "F1\nG81 Z-1\nM2\n",
+    "cycle_feed": "G81 Z-1 R1\nM2\n",
+    "cycle_inverse": "G93\nG81 Z-1 R1 F1\nM2\n",
+    "cycle_l0": "F1\nG81 Z-1 R1 L0\nM2\n",
+    "cycle_no_z": "F1\nG82 R1 X1\nM2\n",
+    "cycle_r_below": "F1 G91\nG83 Z1 R1\nM2\n",
+    "cycle_xz": "F1 G18\nG85 Y2 R1\nM2\n",
+    "cycle_yz": "F1 G19\nG89 Y1 R1\nM2\n",
+    "cycle_rotary": "F1\nG73 Z-1 R1 A1 Q1\nM2\n",
+    "cycle_uv_plane": "F1 G17.1\nG81 Z-1 R1\nM2\n",
+    "cycle_uw_plane": "F1 G18.1\nG74 X1 R1\nM2\n",
+    "lathe_q": "G71 Z-1\nM2\n",
+    "lathe_plane": "G72.2 Q1\nM2\n",
+    "lathe_p": "G71 P1 Q2\nM2\n",
+    "lathe_j": "G18\nG71.1 X1 Z1 Q1 J1\nM2\n",
+    "lathe_e": "G18\nG72 X1 Z1 Q1 E1\nM2\n",
+    "comp_plane": "G19\nG41\nM2\n",
+    "comp_d": "S100 G42 D1.5\nM2\n",
+    "comp_negative_d": "G41 D-1\nM2\n",
+    "comp_tool": "G41 D9\nM2\n",
+    "comp_no_d": "G42.1\nM2\n",
+    "comp_l": "G41.1 D1 L1\nM2\n",
+    "restore_nothing": "M64 P1 M72\nM2\n",
 }
 
 
@@ -424,6 +473,48 @@ def test_call_named_needs_a_definition():
     machine = Machine(RecordingCanon())
     with pytest.raises(GCodeError, match="Failed to find sub 'Ounknown' before EOF"):
         machine.call_named("unknown")
+
+
+@pytest.mark.rs274
+def test_lathe_tool_needs_g18_for_compensation_like_rs274(tmp_path):
+    need_rs274()
+    table = {"tools.tbl": "T1 P1 D6 Z25\nT3 P3 D3 Z1 Q2\n"}
+    compare("G41 D3\nM2\n", tmp_path, files=table, args=("-t", "tools.tbl"))
+
+
+_ABS_NAMES = ["_abs_" + axis for axis in "xyzabc"]
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize(
+    "text",
+    [
+        "G10 L2 P1 X100\nG0 X0\n",
+        "G10 L2 P1 X10 Y20 Z30 A5 R30\nG92 X1 Y2 A1\nG0 X3 Y1 Z3 A4\n",
+        "G10 L1 P1 X2 Z1 A5\nT1 M6 G43\nG0 X1 A1\nG43.1 Z2\nG92 Z1\nG20\n",
+    ],
+)
+def test_abs_position_parameters_match_rs274(text, tmp_path):
+    """#<_abs_x>..#<_abs_c>: the machine position (offsets, rotation and tool
+    length included), read as rs274 prints them; there is no _abs_u/v/w."""
+    need_rs274()
+    (tmp_path / "tools.tbl").write_text("T1 P1 D6 Z25\n")
+    probe = "(DEBUG," + " ".join(f"#<{name}>" for name in _ABS_NAMES + ["_abs_u"])
+    program = tmp_path / "prog.ngc"
+    program.write_text(text + probe + ")\nM2\n")
+    expected = harness.run_rs274(program, ["-t", "tools.tbl"])
+    machine = Machine(RecordingCanon(), tool_table=str(tmp_path / "tools.tbl"))
+    values = []
+
+    def main(m: Machine) -> None:
+        for number, codes, n, words in blocks_of(text):
+            m.block(number, *codes, n=n, **words)
+        values.extend(f"{m.predefined(name):.6f}" for name in _ABS_NAMES)
+        assert m.predefined("_abs_u") is None
+
+    machine.run(main)
+    message = re.search(r'MESSAGE\("(.*)"\)', expected.stdout.decode()).group(1)
+    assert message == " ".join(values + ["######"])
 
 
 def test_unsupported_codes_say_so():

@@ -173,3 +173,53 @@ def test_defaults_match_rs274_without_v(tmp_path):
     result = harness.run_rs274(tmp_path / "p.ngc", text=probe)
     expected = " ".join(f"{default_parameters().get(n, 0.0):.6f}" for n in _PROBED)
     assert re.search(r'MESSAGE\("(.*)"\)', result.stdout.decode()).group(1) == expected
+
+
+def test_new_file_is_created_like_any_file_and_backup_keeps_old_mode(tmp_path):
+    """rs274 writes FILE.new with fopen (0666 & ~umask), links the old file
+    to FILE.bak (so it keeps its mode) and renames FILE.new over FILE."""
+    path = tmp_path / "a.var"
+    path.write_text("5161 1\n")
+    os.chmod(path, 0o640)
+    save_parameter_file(str(path), {5161: 2.0})
+    umask = os.umask(0)
+    os.umask(umask)
+    assert oct(path.stat().st_mode & 0o777) == oct(0o666 & ~umask)
+    assert oct((tmp_path / "a.var.bak").stat().st_mode & 0o777) == oct(0o640)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.var", "a.var.bak"]
+
+
+def _rs274_with_var(folder: Path, var: str):
+    """rs274's stdout and stderr (without "executing") for a tiny program."""
+    (folder / "p.ngc").write_text("G0 X1\nM2\n")
+    home = folder / "home"
+    home.mkdir()
+    done = subprocess.run(
+        [harness.rs274_path(), "-v", var, "-g", "p.ngc"],
+        cwd=folder,
+        capture_output=True,
+        text=True,
+        env={**os.environ, "HOME": str(home)},
+        timeout=60,
+    )
+    return done.returncode, done.stderr.replace("executing\n", "")
+
+
+@pytest.mark.rs274
+def test_directory_as_var_file_matches_rs274(tmp_path, capsys):
+    """A folder given as -v reads as an empty file; both saves report the
+    failed link and rename (perror's words) and leave FILE.new behind."""
+    if harness.rs274_path() is None:
+        pytest.skip("rs274 not on PATH")
+    theirs, ours = tmp_path / "rs274", tmp_path / "ours"
+    for folder in (theirs, ours):
+        folder.mkdir()
+        (folder / "a.var").mkdir()
+    status, expected_err = _rs274_with_var(theirs, "a.var")
+    capsys.readouterr()
+    values = initial_parameters(str(ours / "a.var"))  # the start-up save
+    save_parameter_file(str(ours / "a.var"), values)  # the save at exit
+    assert status == 0
+    assert capsys.readouterr().err == expected_err
+    new = "a.var" + ".new"
+    assert (ours / new).read_text() == (theirs / new).read_text()
