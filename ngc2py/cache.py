@@ -117,17 +117,14 @@ def _probes_current(probes: List[Tuple[str, Optional[str]]]) -> bool:
 
 def cached_module(path: str, ini: Optional[str] = None) -> Path:
     """The path of an up-to-date generated module for ``path``, compiling
-    (and storing) it on a miss. Raises ``compiler.CompileError``."""
-    from ngc2py.compiler import CompileError
+    (and storing) it on a miss. Raises ``compiler.CompileError`` (an
+    ``OpenError`` when ``path`` cannot be read)."""
+    from ngc2py.compiler import open_failure
 
     try:
         key = cache_key(path, ini)
-    except IsADirectoryError:
-        raise CompileError("%s: is a directory" % path) from None
-    except FileNotFoundError:
-        raise CompileError("Unable to open file <%s>" % path) from None
     except OSError as error:
-        raise CompileError("%s: cannot read: %s" % (path, error.strerror)) from None
+        raise open_failure(path, error) from None
     folder = cache_dir()
     module = folder / ("m_%s.py" % key)
     meta = folder / ("m_%s.json" % key)

@@ -14,7 +14,8 @@ from pathlib import Path
 from typing import List, Optional
 
 from ngc2py import __version__
-from ngc2py.compiler import CompileError, compile_file
+from ngc2py.compiler import CompileError, OpenError, compile_file
+from runtime.errors import SourceMap
 
 DESCRIPTION = """\
 Compile LinuxCNC G-code (RS274/NGC, LinuxCNC 2.9) into a readable Python
@@ -116,10 +117,20 @@ def load_program(program: str, ini: Optional[str]):
             return load_module(path)
 
 
+def unopened(program: str, error: OpenError) -> SourceMap:
+    """The source map of a program rs274 cannot open: running it only
+    reports ``error`` after the start-up calls, as rs274 does."""
+    return SourceMap((program,), "", ("",), open_error=(error.rs274_message, 0))
+
+
 def run(args: argparse.Namespace) -> int:
     from runtime.main import run_cli
 
-    module = load_program(args.program, args.ini)
+    try:
+        module = load_program(args.program, args.ini)
+        main, source_map = module.main, module.__ngc__
+    except OpenError as error:
+        main, source_map = None, unopened(args.program, error)  # main never runs
     argv: List[str] = []
     for flag, value in (
         ("-t", args.tool_table),
@@ -130,7 +141,7 @@ def run(args: argparse.Namespace) -> int:
             argv += [flag, value]
     if args.block_delete:
         argv.append("-b")
-    return run_cli(module.main, module.__ngc__, argv)
+    return run_cli(main, source_map, argv)
 
 
 def main(argv: Optional[List[str]] = None) -> int:

@@ -16,6 +16,22 @@ tuple of literals with one G-code line per text line (``24, 0, 1.0, 2.0,``:
 line, shape, values). A flat tuple of literals compiles into one constant,
 about twice as fast as a tuple of row tuples (measured for 200k rows: 4 s
 against 8 s), and nothing is parsed at run time.
+
+Deep nesting: Python allows 20 statically nested blocks per function and
+about 100 indentation levels; G-code has no limit. An if or loop that starts
+deeper than ``NEST_LIMIT`` is written as a module-level helper function
+``nest_N(m)`` (written after the function that calls it, so code generation
+recursion stays bounded too). A helper returns None when control falls out
+of it; a ``break``/``continue`` of a loop outside it returns ``(kind, loop
+number)`` and a subroutine ``return`` returns ``("return", value)``, and the
+call site performs that jump or return itself.
+
+Skipping: rs274 reads every line it skips over (an untaken arm, the arms
+after a taken one, a loop body when the loop ends or breaks), and a line it
+cannot read at all (``structure.TEXT_ERRORS``: too long, bad comments) fails
+even then. Where such a line would be skipped, the generated code fails with
+its error: after a taken arm, in an ``else`` for an untaken one, and after a
+loop. Programs without such lines get none of this.
 """
 
 from __future__ import annotations
@@ -36,6 +52,10 @@ from runtime.params import Params
 LINE_LENGTH = 88
 INDENT = "    "
 CHUNK_STATEMENTS = 500  # statements per main chunk function
+# Python allows 20 statically nested blocks per function (and ~100
+# indentation levels): an if/loop starting deeper than this moves into a
+# helper function of its own (see CodeGen.nest).
+NEST_LIMIT = 8
 MIN_ROWS = 8  # shortest run of constant blocks kept as data
 
 BINARY_HELPERS = {
@@ -412,6 +432,16 @@ class CodeGen:
         self.row_tables: List[List[str]] = []  # ROWS_n = (...) definitions
         self.temp = 0
         self.loops: List[st.Loop] = []  # enclosing loops, innermost last
+        # self.loops[:self.frame] enclose the Python function being written
+        # from outside it (it is a nesting helper): jumps to them return.
+        self.frame = 0
+        self.in_helper = False
+        self.helpers: List[Helper] = []  # nesting helpers not written yet
+        self.helper_count = 0
+        # Does any line fail to be read at all? (Then skipping fails too.)
+        bodies = [program.body] + [sub.body for sub in program.externals]
+        self.text_errors = st.first_text_error(bodies) is not None
+        self.loop_numbers: Dict[int, int] = {}
         self.flags: Dict[int, str] = {}
 
     # -- entry point ------------------------------------------------------
@@ -434,7 +464,7 @@ class CodeGen:
             % (safe_doc(self.source_name), __version__),
             "",
         ]
-        head.append("from runtime import Machine, SourceMap, run_cli")
+        head.append("from runtime import Machine, SourceMap, run_cli, start")
         if self.codes or self.code_functions:
             names = sorted(self.codes, key=code_order) + sorted(self.code_functions)
             head.extend(import_lines("runtime.codes", names))
@@ -455,7 +485,11 @@ class CodeGen:
             final.out.extend(table)
         final.raw("")
         final.raw("")
-        for line in source_map_lines(final, self.sub_table(), self.end_of_main()):
+        opening = self.opening_error(final)
+        map_lines = source_map_lines(
+            final, self.sub_table(), self.end_of_main(), opening
+        )
+        for line in map_lines:
             final.raw(line)
         final.raw("")
         final.raw("")
@@ -463,12 +497,24 @@ class CodeGen:
         final.raw(
             '    """Run the program against ``canon`` (default: the rs274 trace)."""'
         )
-        final.raw("    return Machine(canon, source=__ngc__, **options).run(main)")
+        final.raw("    return start(Machine(canon, source=__ngc__, **options), main)")
         final.raw("")
         final.raw("")
         final.raw('if __name__ == "__main__":')
         final.raw("    raise SystemExit(run_cli(main, __ngc__))")
         return final.text()
+
+    def opening_error(self, w: ModuleWriter) -> Optional[str]:
+        """``(message, line)`` for the source map when rs274 fails opening
+        the file (see ``structure.opening_error``); the line's text is kept
+        for the report."""
+        if self.program.open_error is None:
+            return None
+        message, line = self.program.open_error
+        if line is None:
+            return "(%s, 0)" % string(message)
+        w.texts[0][line.number] = line.text
+        return "(%s, %d)" % (string(message), line.number)
 
     def sub_table(self) -> Coll:
         """``{"name": fn}`` for the main file's subroutines (for seeking)."""
@@ -507,12 +553,13 @@ class CodeGen:
             body = body[:-1]  # falling off the end is the plain endsub
         self.block(body)
         self.w.depth = 0
+        self.write_helpers()
         self.w.file_index = 0
 
     def main(self) -> None:
         body = list(self.program.body)
         if not any(isinstance(s, st.Finish) for s in body):
-            last = self.last_line()
+            last = self.program.last or self.last_line()
             if last is not None:
                 body.append(st.EndOfFile(last))
         chunks = self.chunked(body)
@@ -533,6 +580,7 @@ class CodeGen:
                 )
             self.block(chunk)
             self.w.depth = 0
+            self.write_helpers()
         if len(chunks) > 1:
             self.w.raw("")
             self.w.raw("")
@@ -601,7 +649,77 @@ class CodeGen:
     # -- single statements ------------------------------------------------
 
     def statement(self, stmt: st.Stmt) -> None:
+        if isinstance(stmt, (st.If, st.Loop)) and self.w.depth > NEST_LIMIT:
+            self.nest(stmt)
+            return
         getattr(self, "s_" + type(stmt).__name__.lower())(stmt)
+
+    # -- nesting helpers --------------------------------------------------
+
+    def nest(self, stmt: st.Stmt) -> None:
+        """Move ``stmt`` (an if or loop nested too deep) into a helper
+        function written later, and call it here.
+
+        A helper returns None when control falls out of it; a ``break`` or
+        ``continue`` of a loop outside it returns ``(kind, loop number)``
+        and a subroutine ``return`` returns ``("return", value)``; the call
+        site then does the jump or return itself.
+        """
+        self.helper_count += 1
+        name = "nest_%d" % self.helper_count
+        self.helpers.append(Helper(name, stmt, list(self.loops), self.w.file_index))
+        jumps, returns = outward_exits(stmt)
+        if not jumps and not returns:
+            self.w.stmt("%s(m)" % name, opening_line(stmt))
+            return
+        self.w.stmt("jump = %s(m)" % name, opening_line(stmt))
+        for kind, target in jumps:
+            self.w.raw(
+                "%sif jump == (%s, %d):"
+                % (self.indent(), string(kind), self.loop_number(target))
+            )
+            self.w.depth += 1
+            self.jump_to(kind, target, opening_line(stmt))
+            self.w.depth -= 1
+        if returns:
+            self.w.raw("%sif jump is not None:" % self.indent())
+            self.w.raw(
+                "%s    return %s"
+                % (self.indent(), "jump" if self.in_helper else "jump[1]")
+            )
+
+    def write_helpers(self) -> None:
+        """Write the nesting helpers the last function asked for (and those
+        they ask for in turn), each at module level."""
+        while self.helpers:
+            helper = self.helpers.pop(0)
+            self.w.file_index = helper.file_index
+            self.loops, self.frame, self.in_helper = (
+                helper.loops,
+                len(helper.loops),
+                True,
+            )
+            first = opening_line(helper.stmt).number
+            last = stmt_line(helper.stmt).number
+            self.w.raw("")
+            self.w.raw("")
+            self.w.raw("def %s(m: Machine):" % helper.name)
+            self.w.raw(
+                '%s"""Lines %d-%d, nested too deep for one function."""'
+                % (INDENT, first, last)
+            )
+            self.w.depth = 1
+            self.w.raw(INDENT + "p, g, v = m.params, m.globals, m.locals")
+            self.statement(helper.stmt)
+            self.w.depth = 0
+        self.loops, self.frame, self.in_helper = [], 0, False
+
+    def indent(self) -> str:
+        return INDENT * self.w.depth
+
+    def loop_number(self, loop: st.Loop) -> int:
+        """A number naming ``loop`` in the jumps helpers return."""
+        return self.loop_numbers.setdefault(id(loop), len(self.loop_numbers) + 1)
 
     def s_block(self, stmt: st.Block) -> None:
         self.line_block(stmt.line)
@@ -651,10 +769,13 @@ class CodeGen:
 
     def s_return(self, stmt: st.Return) -> None:
         self.w.comment(stmt.line)
-        if stmt.value is None:
+        value = None if stmt.value is None else self.x.expr(stmt.value)
+        if self.in_helper:
+            self.w.stmt('return ("return", %s)' % value, stmt.line)
+        elif value is None:
             self.w.stmt("return", stmt.line)
         else:
-            self.w.stmt("return %s" % self.x.expr(stmt.value), stmt.line)
+            self.w.stmt("return %s" % value, stmt.line)
 
     def s_finish(self, stmt: st.Finish) -> None:
         self.w.comment(stmt.line)
@@ -664,16 +785,27 @@ class CodeGen:
         self.w.comment(stmt.line)
         if stmt.kind == "break" and stmt.target.kind == "while" and self.break_flag:
             self.w.stmt("m.doing_break = True", stmt.line)
-        if stmt.crosses:
-            # Leave the inner loops; each checks the flag after it ends.
+        self.jump_to(stmt.kind, stmt.target, stmt.line)
+
+    def jump_to(self, kind: str, target: st.Loop, line: nodes.Line) -> None:
+        """``break``/``continue`` of ``target`` from the current point."""
+        if not self.in_function(target):
+            # A loop around this nesting helper: its caller jumps.
             self.w.stmt(
-                "%s = %s" % (self.flag(stmt.target), string(stmt.kind)), stmt.line
+                "return (%s, %d)" % (string(kind), self.loop_number(target)), line
             )
-            self.w.stmt("break", stmt.line)
-        elif stmt.kind == "continue":
-            self.continue_(stmt.target, stmt.line)
+        elif target is not self.loops[-1]:
+            # Leave the inner loops; each checks the flag after it ends.
+            self.w.stmt("%s = %s" % (self.flag(target), string(kind)), line)
+            self.w.stmt("break", line)
+        elif kind == "continue":
+            self.continue_(target, line)
         else:
-            self.w.stmt("break", stmt.line)
+            self.w.stmt("break", line)
+
+    def in_function(self, loop: st.Loop) -> bool:
+        """Is ``loop`` written in the current Python function?"""
+        return any(inner is loop for inner in self.loops[self.frame :])
 
     def continue_(self, loop: st.Loop, line: nodes.Line) -> None:
         """``continue``; rs274 continues a do-loop at its closing ``while``,
@@ -704,6 +836,8 @@ class CodeGen:
     def check_exits(self, loop: st.Loop, enclosing: Optional[st.Loop]) -> None:
         """After ``loop``: act on flags set by labelled jumps inside it."""
         for target in loop.exits:
+            if not self.in_function(target):
+                continue  # the jump returned from this nesting helper
             flag = self.flag(target)
             if target is not enclosing:
                 self.w.raw("%sif %s:" % (INDENT * self.w.depth, flag))
@@ -718,23 +852,58 @@ class CodeGen:
             self.w.depth -= 1
 
     def s_if(self, stmt: st.If) -> None:
+        arms = stmt.branches + ([stmt.orelse] if stmt.orelse else [])
         for i, branch in enumerate(stmt.branches):
             keyword_ = "if" if i == 0 else "elif"
             if i == 0:
                 self.w.comment(branch.line)
             test = self.x.condition(branch.line.oword.expr)
             self.w.stmt("%s %s:" % (keyword_, test), branch.line)
-            self.nested(branch, first=i > 0)
+            self.nested(
+                branch,
+                first=i > 0,
+                then=self.skip_error([arm.body for arm in arms[i + 1 :]]),
+            )
+            unreadable = self.skip_error([branch.body])
+            if unreadable is not None:
+                # A false condition makes rs274 read this arm while skipping
+                # it, and fail: the later arms are never reached.
+                self.w.stmt("else:", branch.line)
+                self.w.depth += 1
+                self.fail_skipped(unreadable)
+                self.w.depth -= 1
+                return
         if stmt.orelse is not None:
             self.w.stmt("else:", stmt.orelse.line)
             self.nested(stmt.orelse, first=True)
 
-    def nested(self, branch: st.Branch, first: bool) -> None:
+    def nested(
+        self, branch: st.Branch, first: bool, then: Optional[nodes.Line] = None
+    ) -> None:
+        """An arm's body; ``then`` fails after it (rs274 skipping the
+        arms after a taken one reads that line)."""
         self.w.depth += 1
         if first:
             self.w.comment(branch.line)
         self.block(branch.body)
+        if then is not None:
+            self.fail_skipped(then)
         self.w.depth -= 1
+
+    # -- lines read while skipping ----------------------------------------
+
+    def skip_error(self, bodies: List[List[st.Stmt]]) -> Optional[nodes.Line]:
+        """The first line in ``bodies`` rs274 cannot even read (see
+        structure.TEXT_ERRORS): skipping over it fails."""
+        if not self.text_errors:
+            return None  # the usual case: nothing to look for
+        return st.first_text_error(bodies)
+
+    def fail_skipped(self, line: nodes.Line) -> None:
+        self.w.raw(
+            "%s# rs274 skips ahead, reading line %d" % (self.indent(), line.number)
+        )
+        self.w.stmt(fail_call(line.number, line.error), line)
 
     def s_loop(self, stmt: st.Loop) -> None:
         self.w.comment(stmt.line)
@@ -750,12 +919,21 @@ class CodeGen:
         self.w.depth += 1
         self.loops.append(stmt)
         self.block(stmt.body)
-        if stmt.kind == "do" and stmt.end is not None:
+        if stmt.end is None:
+            # No closing line: rs274 reads on into what follows the body
+            # (the end of the file or of the subroutine), never looping.
+            self.w.raw(self.indent() + "break")
+        elif stmt.kind == "do":
             self.w.comment(stmt.end)
             self.do_test(stmt)
         self.loops.pop()
         self.w.depth -= 1
         self.check_exits(stmt, self.loops[-1] if self.loops else None)
+        unreadable = self.skip_error([stmt.body])
+        if unreadable is not None:
+            # The loop ends by skipping (the rest of) its body: rs274 reads
+            # it and fails at its first unreadable line.
+            self.fail_skipped(unreadable)
 
     # -- ordinary lines ---------------------------------------------------
 
@@ -1014,6 +1192,37 @@ def oword_values(line: nodes.Line) -> List[nodes.Expr]:
 
 
 @dataclass
+class Helper:
+    """A nesting helper to write: function ``name`` runs ``stmt``, inside
+    the enclosing ``loops`` of its call site, in file ``file_index``."""
+
+    name: str
+    stmt: st.Stmt
+    loops: List[st.Loop]
+    file_index: int
+
+
+def outward_exits(stmt: st.Stmt) -> Tuple[List[Tuple[str, st.Loop]], bool]:
+    """The jumps out of ``stmt`` to loops around it, as (kind, loop) in
+    first-use order, and whether a subroutine ``return`` is inside it."""
+    inside = {id(s) for s in st.walk([stmt], into_subs=False)}
+    jumps: List[Tuple[str, st.Loop]] = []
+    returns = False
+    for s in st.walk([stmt], into_subs=False):
+        if isinstance(s, st.Return):
+            returns = True
+        elif isinstance(s, st.Jump) and id(s.target) not in inside:
+            if not any(k == s.kind and t is s.target for k, t in jumps):
+                jumps.append((s.kind, s.target))
+    return jumps, returns
+
+
+def opening_line(stmt: st.Stmt) -> nodes.Line:
+    """The line an if or loop starts on."""
+    return stmt.branches[0].line if isinstance(stmt, st.If) else stmt.line
+
+
+@dataclass
 class ItemRead:
     """The code reading one item of a line: ``checks`` run first (a
     setting's index check, a name's creation), then ``value``; ``target`` is
@@ -1086,8 +1295,11 @@ def stmt_line(stmt: st.Stmt) -> Optional[nodes.Line]:
     return getattr(stmt, "line", None)
 
 
-def source_map_lines(w: ModuleWriter, subs: Coll, end: Tuple[int, bool]) -> List[str]:
-    """``__ngc__ = SourceMap(files, line map, texts, subs, end)``, black's layout.
+def source_map_lines(
+    w: ModuleWriter, subs: Coll, end: Tuple[int, bool], opening: Optional[str]
+) -> List[str]:
+    """``__ngc__ = SourceMap(files, line map, texts, subs, end[, open error])``,
+    black's layout.
 
     Texts are one string per file, lines joined by newlines (only the lines
     the map refers to; others are empty), which compiles to one constant.
@@ -1104,7 +1316,8 @@ def source_map_lines(w: ModuleWriter, subs: Coll, end: Tuple[int, bool]) -> List
             Coll("(", [string(t) for t in texts], ")"),
             subs,
             Coll("(", ["%d" % end[0], str(end[1])], ")"),
-        ],
+        ]
+        + ([opening] if opening else []),
         ")",
     )
     return call.layout(0)

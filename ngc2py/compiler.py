@@ -27,6 +27,26 @@ class CompileError(Exception):
     """The main file cannot be compiled at all (missing, unreadable...)."""
 
 
+class OpenError(CompileError):
+    """The main file cannot be read. The text says why, for ``convert``;
+    ``rs274_message`` is what rs274 reports when it cannot open it (a
+    directory opens, but reads as an empty file)."""
+
+    def __init__(self, text: str, rs274_message: str):
+        super().__init__(text)
+        self.rs274_message = rs274_message
+
+
+def open_failure(path: str, error: OSError) -> OpenError:
+    """The :class:`OpenError` for ``error`` raised reading ``path``."""
+    if isinstance(error, IsADirectoryError):
+        return OpenError("%s: is a directory" % path, st.EOF_NO_PERCENT)
+    unable = "Unable to open file <%s>" % path
+    if isinstance(error, FileNotFoundError):
+        return OpenError(unable, unable)
+    return OpenError("%s: cannot read: %s" % (path, error.strerror or error), unable)
+
+
 @dataclass
 class Compiled:
     """A generated module and the files its text depends on.
@@ -52,18 +72,12 @@ def subroutine_dirs(ini: Optional[str]) -> List[str]:
 
 
 def _parse(path: str):
-    if os.path.isdir(path):
-        raise CompileError("%s: is a directory" % path)
-    if not os.path.exists(path):
-        raise CompileError("Unable to open file <%s>" % path)
     from ngc2py import parser
 
     try:
         return parser.parse_file(path)
-    except FileNotFoundError:
-        raise CompileError("Unable to open file <%s>" % path) from None
-    except (OSError, UnicodeError) as error:
-        raise CompileError("%s: cannot read: %s" % (path, error)) from None
+    except OSError as error:
+        raise open_failure(path, error) from None
 
 
 def _program(parsed) -> st.Program:

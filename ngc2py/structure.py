@@ -9,13 +9,22 @@ placed where rs274 would notice it, carrying rs274's exact message, so the
 error happens at run time at the same point (the golden rule of
 docs/ARCHITECTURE.md).
 
-The tree is plain data; ``codegen.py`` turns it into Python.
+What rs274 does while it *skips* lines also shapes the tree: it still reads
+each one, so a line with a :data:`TEXT_ERRORS` problem fails even in an
+untaken arm (``first_text_error`` finds it; codegen.py places the failure),
+and a skipped opener reusing the label being skipped to fails as a duplicate
+(``_Builder._duplicate``). Other errors in skipped lines (bad words,
+expressions) are never noticed. :func:`opening_error` is what fails already
+while rs274 opens the file, before the program starts.
+
+The tree is plain data (nodes compare by identity); ``codegen.py`` turns it
+into Python. Every traversal is iterative: blocks may nest thousands deep.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Dict, List, Optional, Tuple, Union
+from typing import Dict, Iterator, List, Optional, Tuple, Union
 
 from ngc2py import lexer, nodes, source
 
@@ -39,7 +48,7 @@ class Fail:
     message: str
 
 
-@dataclass
+@dataclass(eq=False)
 class Sub:
     """``o<name> sub`` ... ``o<name> endsub``.
 
@@ -69,7 +78,7 @@ class Define:
     sub: Sub
 
 
-@dataclass
+@dataclass(eq=False)
 class Branch:
     """One arm of an ``if``: ``line`` is the if/elseif/else line."""
 
@@ -77,7 +86,7 @@ class Branch:
     body: List["Stmt"] = field(default_factory=list)
 
 
-@dataclass
+@dataclass(eq=False)
 class If:
     """``if`` / ``elseif`` ... / ``else`` / ``endif``."""
 
@@ -86,7 +95,7 @@ class If:
     end: Optional[nodes.Line] = None
 
 
-@dataclass
+@dataclass(eq=False)
 class Loop:
     """``while``/``endwhile``, ``do``/``while`` or ``repeat``/``endrepeat``.
 
@@ -109,13 +118,12 @@ class Loop:
 
 @dataclass
 class Jump:
-    """``break`` or ``continue`` of the enclosing loop ``target``;
-    ``crosses`` says whether inner loops are left on the way."""
+    """``break`` or ``continue`` of the enclosing loop ``target`` (which
+    is ``flagged`` when inner loops are left on the way)."""
 
     line: nodes.Line
     kind: str
     target: Loop
-    crosses: bool = False
 
 
 @dataclass
@@ -183,6 +191,11 @@ class Program:
     body: List[Stmt]
     subs: List[Sub]
     externals: List[Sub] = field(default_factory=list)
+    #: The last line rs274 reads before running off the end of the file
+    #: (blank ones count: rs274 echoes it with the end-of-file error).
+    last: Optional[nodes.Line] = None
+    #: (message, line) when rs274 fails already while opening the file.
+    open_error: Optional[Tuple[str, Optional[nodes.Line]]] = None
 
 
 # --------------------------------------------------------------------------
@@ -462,7 +475,7 @@ class _Builder:
                     for inner in crossed:
                         if target not in inner.exits:
                             inner.exits.append(target)
-                self.body.append(Jump(line, word.keyword, target, bool(crossed)))
+                self.body.append(Jump(line, word.keyword, target))
                 return
             crossed.append(entry.node)
         seen = self.labels.get(label)
@@ -515,6 +528,25 @@ class _Builder:
                 )
 
 
+def opening_error(
+    lines: List[nodes.Line],
+) -> Optional[Tuple[str, Optional[nodes.Line]]]:
+    """What rs274 says when it fails while *opening* a file, or None.
+
+    Opening reads up to the first non-blank line: end of file before it
+    ("File ended with no percent sign", naming the last blank line read),
+    or that line being too long, fails before the program starts.
+    """
+    last: Optional[nodes.Line] = None
+    for line in lines:
+        if not line.is_blank:
+            if line.error == source.COMMAND_TOO_LONG:
+                return line.error, line
+            return None
+        last = line
+    return EOF_NO_PERCENT, last
+
+
 def build(file: str, lines: List[nodes.Line], demarcated: bool = False) -> Program:
     """Pair the O-words of one file's ``lines`` into a :class:`Program`.
 
@@ -534,22 +566,54 @@ def build(file: str, lines: List[nodes.Line], demarcated: bool = False) -> Progr
         builder.add(line)
         last = line
     builder.finish(last)
-    return Program(file, builder.main, builder.subs)
+    if last is None and demarcated and lines:
+        # Only the opening %: rs274 then reads nothing more, and echoes "".
+        last = nodes.Line(lines[0].number + 1, "", file)
+    return Program(
+        file,
+        builder.main,
+        builder.subs,
+        last=last,
+        open_error=opening_error(lines),
+    )
 
 
-def walk(stmts: List[Stmt]):
-    """Yield every statement of ``stmts``, depth first, in source order."""
-    for stmt in stmts:
+def children(stmt: Stmt, into_subs: bool = True) -> List[List[Stmt]]:
+    """The statement lists directly inside ``stmt``, in source order (a
+    definition's body only with ``into_subs``)."""
+    if isinstance(stmt, If):
+        arms = stmt.branches + ([stmt.orelse] if stmt.orelse else [])
+        return [arm.body for arm in arms]
+    if isinstance(stmt, Loop):
+        return [stmt.body]
+    if isinstance(stmt, Define) and into_subs:
+        return [stmt.sub.body]
+    return []
+
+
+def walk(stmts: List[Stmt], into_subs: bool = True) -> Iterator[Stmt]:
+    """Yield every statement of ``stmts``, depth first, in source order.
+
+    Iterative: G-code may nest thousands of blocks deep, past Python's
+    recursion limit."""
+    pending = [iter(stmts)]
+    while pending:
+        stmt = next(pending[-1], None)
+        if stmt is None:
+            pending.pop()
+            continue
         yield stmt
-        if isinstance(stmt, If):
-            for branch in stmt.branches:
-                yield from walk(branch.body)
-            if stmt.orelse is not None:
-                yield from walk(stmt.orelse.body)
-        elif isinstance(stmt, Loop):
-            yield from walk(stmt.body)
-        elif isinstance(stmt, Define):
-            yield from walk(stmt.sub.body)
+        pending.extend(iter(body) for body in reversed(children(stmt, into_subs)))
+
+
+def first_text_error(bodies: List[List[Stmt]]) -> Optional[nodes.Line]:
+    """The first line in ``bodies`` (source order) with a :data:`TEXT_ERRORS`
+    error: rs274 fails on it even when only skipping over it."""
+    for body in bodies:
+        for stmt in walk(body):
+            if isinstance(stmt, Block) and stmt.line.error in TEXT_ERRORS:
+                return stmt.line
+    return None
 
 
 def called_names(program: Program) -> List[str]:

@@ -6,7 +6,7 @@ usable while (or if) the machine model cannot be imported.
 """
 
 from runtime.errors import GCodeError, SourceMap
-from runtime.main import run_cli
+from runtime.main import run_cli, start
 
 
 def __getattr__(name):
@@ -17,4 +17,4 @@ def __getattr__(name):
     raise AttributeError("module 'runtime' has no attribute %r" % name)
 
 
-__all__ = ["GCodeError", "SourceMap", "Machine", "run_cli"]
+__all__ = ["GCodeError", "SourceMap", "Machine", "run_cli", "start"]

@@ -39,7 +39,8 @@ class Location:
     text: str
 
     def __str__(self) -> str:
-        return "%s:%d" % (self.file, self.line)
+        # Line 0: the file itself (it could not be opened or read).
+        return "%s:%d" % (self.file, self.line) if self.line else self.file
 
 
 class SourceMap:
@@ -54,6 +55,9 @@ class SourceMap:
     function, so a call to a sub not yet defined can seek it the way rs274
     reads ahead; ``end`` is the main file's last line number and whether
     that line is a closing ``%`` (it decides the message when seeking fails).
+    ``open_error`` is set when rs274 already fails while *opening* the main
+    file: (its message, the G-code line it names, 0 for none). Such a
+    program never starts (see :meth:`opening_error`).
     """
 
     def __init__(
@@ -63,8 +67,10 @@ class SourceMap:
         texts: Sequence[str],
         subs: Optional[dict] = None,
         end: Tuple[int, bool] = (0, False),
+        open_error: Optional[Tuple[str, int]] = None,
     ):
         self.files = tuple(files)
+        self.open_error = open_error
         self.subs = dict(subs or {})
         self.end = end
         self._encoded = lines
@@ -109,6 +115,14 @@ class SourceMap:
             )
         lines = self._split[file]
         return lines[line - 1] if 0 < line <= len(lines) else ""
+
+    def opening_error(self) -> Optional[Tuple[str, Location]]:
+        """(message, location) of the failure rs274 meets opening the main
+        file, or None when it opens fine."""
+        if self.open_error is None:
+            return None
+        message, line = self.open_error
+        return message, Location(self.files[0], line, self.text(0, line))
 
     def missing_sub(self, name: str) -> GCodeError:
         """rs274's error for calling ``name`` when neither a definition nor

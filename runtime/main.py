@@ -33,16 +33,40 @@ def parse_options(argv: Sequence[str]) -> dict:
     return options
 
 
+def write_raw(stream: TextIO, text: str) -> None:
+    """Write ``text`` as the bytes it was read from: the front end decodes
+    G-code with surrogateescape, and rs274 echoes a line's bytes unchanged.
+    A stream without a byte buffer (a StringIO) gets the text itself."""
+    buffer = getattr(stream, "buffer", None)
+    if buffer is None:
+        stream.write(text)
+        return
+    stream.flush()
+    buffer.write(text.encode("utf-8", "surrogateescape"))
+    buffer.flush()
+
+
 def report(error: GCodeError, stderr: TextIO) -> None:
     """rs274's two lines (message, line text), then file:line and the calls."""
     frames = locate(error)
-    stderr.write(error.message + "\n")
+    write_raw(stderr, error.message + "\n")
     if not frames:
         return
-    stderr.write(frames[-1].text + "\n")
+    write_raw(stderr, frames[-1].text + "\n")
     stderr.write("  at %s\n" % frames[-1])
     for caller in reversed(frames[:-1]):
         stderr.write("  called from %s: %s\n" % (caller, caller.text))
+
+
+def start(machine, main: Callable) -> None:
+    """Run ``main`` on ``machine``, unless rs274 would already fail opening
+    the program (its source map says so): then only the start-up calls are
+    made before the error."""
+    opening = machine.source.opening_error() if machine.source else None
+    if opening is None:
+        machine.run(main)
+    else:
+        machine.fail_open(*opening)
 
 
 def run_cli(
@@ -72,7 +96,7 @@ def run_cli(
         # complaints on stdout (before the trace), the ini file's on stderr.
         stdout.write(machine.tool_table_report)
         stderr.write(machine.settings.stderr_report)
-        machine.run(main)
+        start(machine, main)
     except GCodeError as error:
         stdout.flush()
         report(error, stderr)
@@ -88,4 +112,4 @@ def run_cli(
     return 0
 
 
-__all__ = ["run_cli", "parse_options", "report"]
+__all__ = ["run_cli", "parse_options", "report", "start"]

@@ -1,11 +1,19 @@
 """Constant blocks kept as data by the code generator, and their loop.
 
-A long run of G-code lines that hold only literal words (a CAM file's moves)
-is compiled into a flat tuple of numbers instead of one statement per line:
-per row, the G-code line number, the index of its *shape* in the module's
-``SHAPES`` table (the row's G/M codes and the letters of its words), then
-one value per letter. ``ROWS = (24, 0, 1.0, 2.0, ...)`` with
-``SHAPES = (((G1,), ("x", "y")),)`` means line 24 is ``G1 X1 Y2``.
+A run of at least ``codegen.MIN_ROWS`` G-code lines that hold only literal
+words (a CAM file's moves: no expressions, settings, comments, block delete,
+O-words or read errors) is compiled into one flat tuple of literals instead
+of one statement per line. Each row is, in order:
+
+* the G-code line number;
+* the index of its *shape* in the module's ``SHAPES`` table: the row's G/M
+  codes (``runtime.codes`` numbers) and the keyword letters of its words;
+* one value per letter: floats, except ``"n"`` (first when present), whose
+  value is the N number as written, a string (rs274 prints it that way).
+
+``ROWS_1 = (24, 0, 1.0, 2.0, ...)`` with ``SHAPES = (((G1,), ("x", "y")),)``
+means line 24 is ``G1 X1 Y2``; the generated module writes one row per text
+line. Rows have different lengths, so they are walked by their shapes.
 """
 
 from __future__ import annotations

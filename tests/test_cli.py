@@ -17,7 +17,7 @@ import rs274 as harness
 REPO = Path(__file__).resolve().parent.parent
 
 
-def ngc2py(*args, cwd, env_extra=None):
+def ngc2py(*args, cwd, env_extra=None, text=True):
     env = dict(os.environ, PYTHONPATH=str(REPO), NGC2PY_CACHE=str(Path(cwd) / "cache"))
     env.update(env_extra or {})
     return subprocess.run(
@@ -25,7 +25,7 @@ def ngc2py(*args, cwd, env_extra=None):
         cwd=cwd,
         env=env,
         capture_output=True,
-        text=True,
+        text=text,
         timeout=120,
     )
 
@@ -60,16 +60,28 @@ def test_convert_to_stdout_and_to_a_chosen_file(tmp_path):
     assert out.stdout == (tmp_path / "other.py").read_text()
 
 
-@pytest.mark.parametrize("command", ["convert", "run"])
-def test_missing_file_is_one_clear_line(command, tmp_path):
-    message = one_line_error(ngc2py(command, "nope.ngc", cwd=tmp_path))
+def test_convert_of_a_missing_file_is_one_clear_line(tmp_path):
+    message = one_line_error(ngc2py("convert", "nope.ngc", cwd=tmp_path))
     assert "nope.ngc" in message
 
 
-@pytest.mark.parametrize("command", ["convert", "run"])
-def test_directory_is_one_clear_line(command, tmp_path):
+def test_convert_of_a_directory_is_one_clear_line(tmp_path):
     (tmp_path / "dir.ngc").mkdir()
-    assert "directory" in one_line_error(ngc2py(command, "dir.ngc", cwd=tmp_path))
+    assert "directory" in one_line_error(ngc2py("convert", "dir.ngc", cwd=tmp_path))
+
+
+# measured: rs274 -g on a directory opens it, reads nothing, and says this
+# after its 5 start-up calls; run adds where (the file) after rs274's lines.
+def test_run_of_a_directory_fails_like_rs274_opening_an_empty_file(tmp_path):
+    (tmp_path / "dir.ngc").mkdir()
+    proc = ngc2py("run", "dir.ngc", cwd=tmp_path)
+    assert proc.returncode == 1 and len(proc.stdout.splitlines()) == 5
+    assert proc.stderr.splitlines() == [
+        "executing",
+        "File ended with no percent sign",
+        "",
+        "  at dir.ngc",
+    ]
 
 
 def test_unreadable_file_is_one_clear_line(tmp_path):
@@ -83,8 +95,9 @@ def test_unreadable_file_is_one_clear_line(tmp_path):
 
 def test_binary_junk_never_gives_a_traceback(tmp_path):
     (tmp_path / "junk.ngc").write_bytes(bytes(range(256)) * 8)
-    proc = ngc2py("run", "junk.ngc", cwd=tmp_path)
-    assert proc.returncode == 1 and "Traceback" not in proc.stderr
+    # bytes: the offending line is echoed as the raw bytes it was read from
+    proc = ngc2py("run", "junk.ngc", cwd=tmp_path, text=False)
+    assert proc.returncode == 1 and b"Traceback" not in proc.stderr
 
 
 def test_generated_module_reports_file_line_and_call_stack(tmp_path):
@@ -155,9 +168,16 @@ def test_external_subroutine_from_the_current_directory(mode, tmp_path):
 
 
 def test_missing_program_message_is_rs274s(tmp_path):
-    # measured: rs274 -g absent.ngc prints this after "executing", exit 1
+    # measured: rs274 -g absent.ngc prints its 5 start-up calls, then the
+    # message and an empty line after "executing", exit 1; run adds where.
     proc = ngc2py("run", "absent.ngc", cwd=tmp_path)
-    assert proc.stderr.splitlines() == ["executing", "Unable to open file <absent.ngc>"]
+    assert proc.returncode == 1 and len(proc.stdout.splitlines()) == 5
+    assert proc.stderr.splitlines() == [
+        "executing",
+        "Unable to open file <absent.ngc>",
+        "",
+        "  at absent.ngc",
+    ]
 
 
 @pytest.mark.rs274

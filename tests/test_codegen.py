@@ -25,6 +25,30 @@ def assert_black_stable(code: str) -> None:
     assert black.format_str(code, mode=black.Mode()) == code
 
 
+def deep_program(depth: int) -> str:
+    """Ifs nested ``depth`` deep inside two loops and a subroutine, with
+    breaks, continues and a return from the innermost level (deeper than
+    Python nests blocks: the code generator moves inner parts into helpers)."""
+
+    def nest(body: str) -> str:
+        opening = "".join("o%d if [1]\n" % (500 + i) for i in range(depth))
+        closing = "".join("o%d endif\n" % (500 + i) for i in reversed(range(depth)))
+        return opening + body + closing
+
+    return (
+        "o<s> sub\n"
+        + nest("o<s> return [#1*2]\n")
+        + "o<s> endsub [-1]\n#<c>=0\no1 while [#<c> LT 4]\n#<c>=[#<c>+1]\n"
+        "#<d>=0\no2 while [#<d> LT 3]\n#<d>=[#<d>+1]\n"
+        + nest(
+            "(debug,c=#<c> d=#<d>)\no3 if [#<d> EQ 2]\no2 continue\no3 endif\n"
+            "o4 if [#<c> EQ 2]\no1 continue\no4 endif\n"
+            "o5 if [#<c> EQ 3]\no1 break\no5 endif\nG1 X#<d> F100\n"
+        )
+        + "o2 endwhile\no1 endwhile\no<s> call [5]\n(debug,v=#<_value>)\nM2\n"
+    )
+
+
 PROGRAMS = {
     "subs_and_loops": (
         "o<drill> sub\nG0 Z[#1]\no<drill> endsub\nG21 G90 (hello)\n#<i> = 0\n"
@@ -63,6 +87,7 @@ PROGRAMS = {
         "o2 endwhile\no1 while [0]\nM2\n"
     ),
     "demarcated": "%\nG0 X1\n%\nG0 X2\n",
+    "deep_nesting": deep_program(30),
     "cam": "G21\n" + "".join("G1 X%d Y%d F100\n" % (i, -i) for i in range(30)) + "M2\n",
 }
 
@@ -72,6 +97,13 @@ def test_generated_modules_are_black_stable_and_compile(name):
     code = compile_text(PROGRAMS[name], name + ".ngc")
     assert_black_stable(code)
     compile(code, name + ".py", "exec")
+
+
+def test_nesting_of_any_depth_compiles_with_bounded_python_nesting():
+    code = compile_text(deep_program(2000), "deep.ngc")
+    compile(code, "deep.py", "exec")
+    deepest = max(len(line) - len(line.lstrip()) for line in code.splitlines())
+    assert deepest <= 4 * (codegen.NEST_LIMIT + 6)
 
 
 def test_module_shape_follows_the_contract():
@@ -222,6 +254,14 @@ RUNS = [
     "G0 X[[10**400]*0]\nM2\n",
     "G0 X[10**400*0]\nM2\n",
     "#1=[10**400*0]\nM2\n",
+    # nested deeper than Python allows: jumps and returns leave helpers
+    deep_program(25),
+    # rs274 fails reading a bad line even while skipping over it
+    "o100 if [0]\nG0 X1 (a \no100 elseif [1]\nG0 X2\no100 endif\nM2\n",
+    "o100 if [0]\nG0 X1\no100 elseif [1]\nG0 X2\no100 else\n(a (b)\no100 endif\nM2\n",
+    "o100 while [1]\no100 break\n(a (b))\no100 endwhile\nM2\n",
+    "o100 repeat [2]\nG0 X1\no101 if [0]\n(a (b)\no101 endif\no100 endrepeat\nM2\n",
+    "o1 if [0]\nG0 X" + "1" * 300 + "\no1 endif\nM2\n",
     # N words in data rows print as written
     "G21\n" + "".join("N%03d G1 X%d Y1 F100\n" % (i, i) for i in range(12)) + "M2\n",
 ]

@@ -167,7 +167,7 @@ def test_labelled_jump_out_of_an_inner_loop_flags_its_target():
     outer = program.body[0]
     inner = outer.body[0]
     (jump,) = inner.body
-    assert jump.target is outer and jump.crosses
+    assert jump.target is outer
     assert outer.flagged and inner.exits == [outer]
 
 
@@ -230,3 +230,35 @@ def test_control_flow_matches_rs274(text, tmp_path):
     expected = harness.run_rs274(program, text=text)
     actual = harness.run_ngc2py(program, text=text)
     assert harness.compare(expected, actual) == []
+
+
+def test_walk_is_not_limited_by_python_recursion():
+    depth = 5000
+    text = "".join("o%d if [1]\n" % i for i in range(depth))
+    text += "G0 X1\n" + "".join("o%d endif\n" % i for i in reversed(range(depth)))
+    program = build(text + "M2\n")
+    assert sum(isinstance(s, st.If) for s in st.walk(program.body)) == depth
+
+
+def test_first_unreadable_line_is_found_inside_nested_blocks():
+    program = build("o1 if [0]\no2 while [0]\n(a (b)\no2 endwhile\n(c\no1 endif\nM2\n")
+    assert st.first_text_error([program.body]).number == 3
+
+
+# measured with rs274 -g: opening reads up to the first non-blank line
+@pytest.mark.parametrize(
+    "text,expected",
+    [
+        ("", (st.EOF_NO_PERCENT, None)),
+        ("\n  \n", (st.EOF_NO_PERCENT, 2)),
+        ("\nG0 X" + "1" * 300 + "\nM2\n", ("Command too long", 2)),
+        ("\nG0 X1\nG0 X" + "1" * 300 + "\n", None),
+        ("%\nG0 X" + "1" * 300 + "\n", None),
+    ],
+)
+def test_errors_rs274_meets_opening_a_file(text, expected):
+    error = build(text).open_error
+    if expected is None:
+        assert error is None
+    else:
+        assert (error[0], error[1] and error[1].number) == expected
