@@ -413,10 +413,16 @@ def layout(item, indent: int, suffix: str = "") -> List[str]:
 class CodeGen:
     """Turns a :class:`structure.Program` into module text."""
 
-    def __init__(self, program: st.Program, source_name: str, demarcated: bool):
+    def __init__(
+        self,
+        program: st.Program,
+        source_name: str,
+        opening: Optional[nodes.Line] = None,
+    ):
         self.program = program
         self.source_name = source_name
-        self.demarcated = demarcated
+        self.opening = opening
+        self.demarcated = opening is not None
         self.uses_comments = False  # import runtime.comments
         files = [program.file] + [
             s.line.file or program.file for s in program.externals
@@ -452,6 +458,10 @@ class CodeGen:
             sub.fn = identifier(sub.name, "o_", self.names)
         body = ModuleWriter(self.files)
         self.w = body
+        if self.opening is not None:
+            # M2 in a file that opens with % but never closes it makes rs274
+            # add a comment; the machine finds the opening % in these texts.
+            body.texts[0][self.opening.number] = self.opening.text
         for sub in subs:
             self.function(sub)
         self.main()
@@ -1323,6 +1333,9 @@ def source_map_lines(
     return call.layout(0)
 
 
-def generate(program: st.Program, source_name: str, demarcated: bool = False) -> str:
-    """The Python module text for ``program``."""
-    return CodeGen(program, source_name, demarcated).module()
+def generate(
+    program: st.Program, source_name: str, opening: Optional[nodes.Line] = None
+) -> str:
+    """The Python module text for ``program``; ``opening`` is the ``%`` line
+    that demarcates the file, if it is demarcated."""
+    return CodeGen(program, source_name, opening).module()

@@ -125,7 +125,8 @@ def _compile(parsed, name: str, ini: Optional[str]) -> Compiled:
     program = _program(parsed)
     probes = _externals(program, subroutine_dirs(ini))
     st.resolve_calls(program)
-    return Compiled(codegen.generate(program, name, parsed.demarcated), probes)
+    opening = next((line for line in parsed.lines if line.percent), None)
+    return Compiled(codegen.generate(program, name, opening), probes)
 
 
 def compile_program(path: str, ini: Optional[str] = None) -> Compiled:

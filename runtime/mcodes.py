@@ -238,8 +238,11 @@ class MCodesMixin:
     def _percent_unclosed(self) -> bool:
         """Does the main file open with a % line but never close with one?"""
         source = self.source
-        return (
-            source is not None
-            and source.text(0, 1).strip() == "%"
-            and not source.end[1]
-        )
+        if source is None or source.end[1]:
+            return False
+        # The file is demarcated when its first non-blank line is "%".
+        for number in range(1, source.end[0] + 1):
+            text = source.text(0, number).strip()
+            if text:
+                return text == "%"
+        return False
