@@ -189,9 +189,10 @@ class MCodesMixin:
             canon.program_stop()
         elif code == 1:
             canon.optional_program_stop()
-        elif code in (2, 30):
+        elif code in (2, 30) or (code == 99 and self.call_level == 0):
+            # M99 outside any call ends the program exactly as M2 does (a
+            # Fanuc subroutine's own M99 is compiled as its return).
             self._program_end(code == 30)
-        # M99 at the top level just returns (rs274 without loops: nothing).
 
     def _program_end(self, pallet: bool) -> None:
         """M2/M30: rs274 resets these settings, then ends the program."""
