@@ -247,19 +247,8 @@ def test_parse_text_never_raises_on_bytes(data):
 
 def _run_rs274(data: bytes) -> Tuple[int, List[str]]:
     """(exit status, stderr lines without the ``executing`` banner)."""
-    with tempfile.TemporaryDirectory() as home:
-        path = os.path.join(home, "t.ngc")
-        with open(path, "wb") as handle:
-            handle.write(data)
-        proc = subprocess.run(
-            [rs274_path(), "-g", path],
-            capture_output=True,
-            env={**os.environ, "HOME": home},
-            stdin=subprocess.DEVNULL,
-            timeout=60,
-        )
-    lines = [l for l in proc.stderr.split(b"\n") if l != b"executing"]
-    return proc.returncode, [source.decode(l) for l in lines]
+    status, _, errors = _run_rs274_stdout(data)
+    return status, errors
 
 
 def _run_lines(lines):
@@ -935,6 +924,8 @@ def _signed_expression(rng, depth: int = 0) -> str:
 
 
 def _run_rs274_stdout(data: bytes) -> Tuple[int, bytes, List[str]]:
+    """(exit status, stdout, stderr lines without the ``executing`` banner),
+    rs274 running in a private HOME."""
     with tempfile.TemporaryDirectory() as home:
         path = os.path.join(home, "t.ngc")
         with open(path, "wb") as handle:
