@@ -12,6 +12,18 @@ from runtime import arcs
 from runtime.inifile import IniFile, load_ini, settings_from
 
 
+def _rs274_with_ini(folder):
+    """rs274 -i m.ini -g p.ngc in ``folder``, which is also its HOME."""
+    return subprocess.run(
+        [harness.rs274_path(), "-i", "m.ini", "-g", "p.ngc"],
+        cwd=folder,
+        capture_output=True,
+        text=True,
+        env={**os.environ, "HOME": str(folder)},
+        timeout=60,
+    )
+
+
 def test_find_rules():
     ini = IniFile.parse(
         "# comment\n[EMCIO]\nTOOL_TABLE = a.tbl\n  ; note\n[RS274NGC]junk\n"
@@ -78,14 +90,7 @@ def test_arc_tolerance_matches_rs274(tmp_path, value):
     ini_text = f"[RS274NGC]\nCENTER_ARC_RADIUS_TOLERANCE_MM = {value}\n"
     (tmp_path / "m.ini").write_text(ini_text)
     (tmp_path / "p.ngc").write_text(_ARC)
-    done = subprocess.run(
-        [harness.rs274_path(), "-i", "m.ini", "-g", "p.ngc"],
-        cwd=tmp_path,
-        capture_output=True,
-        text=True,
-        env={**os.environ, "HOME": str(tmp_path)},
-        timeout=60,
-    )
+    done = _rs274_with_ini(tmp_path)
     settings = load_ini(str(tmp_path / "m.ini"))
     assert done.stderr.startswith("executing\n" + settings.stderr_report)
     try:
@@ -126,14 +131,7 @@ def test_odd_files_report_and_apply_like_rs274(tmp_path, content):
     else:
         (tmp_path / "m.ini").write_bytes(content)
     (tmp_path / "p.ngc").write_text("S100 M3\nM19 R1\nM2\n")
-    done = subprocess.run(
-        [harness.rs274_path(), "-i", "m.ini", "-g", "p.ngc"],
-        cwd=tmp_path,
-        capture_output=True,
-        text=True,
-        env={**os.environ, "HOME": str(tmp_path)},
-        timeout=60,
-    )
+    done = _rs274_with_ini(tmp_path)
     settings = load_ini(str(tmp_path / "m.ini"))
     assert done.stderr == "executing\n" + settings.stderr_report
     assert settings.opened

@@ -373,7 +373,6 @@ def _evaluate(expr, params=None):
 def _first_failure(line):
     """What running the line's reading would report: an evaluation error of
     items, then O-word values, then partial values; else the read error."""
-    from runtime import ops
     from runtime.errors import GCodeError
 
     values = []
@@ -792,20 +791,10 @@ N_LINES = (
 @pytest.mark.rs274
 def test_n_text_is_what_the_trace_prints():
     program = source.encode("\n".join(N_LINES) + "\nM2\n")
-    with tempfile.TemporaryDirectory() as home:
-        path = os.path.join(home, "t.ngc")
-        with open(path, "wb") as handle:
-            handle.write(program)
-        proc = subprocess.run(
-            [rs274_path(), "-g", path],
-            capture_output=True,
-            env={**os.environ, "HOME": home},
-            stdin=subprocess.DEVNULL,
-            timeout=60,
-        )
+    _, stdout, _ = _run_rs274_stdout(program)
     traverses = [
         source.decode(line[6:]).split("STRAIGHT_TRAVERSE")[0]
-        for line in proc.stdout.split(b"\n")
+        for line in stdout.split(b"\n")
         if b"STRAIGHT_TRAVERSE" in line
     ]
     assert len(traverses) == len(N_LINES)
