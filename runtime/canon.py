@@ -208,6 +208,16 @@ def _c_double(value: float) -> str:
     return f"{value:f}"
 
 
+def _no_arguments(call: str):
+    """A TraceCanon method for a call rs274 prints with no arguments."""
+
+    def emit(self) -> None:
+        self._emit(call + "()")
+
+    emit.__name__ = call.lower()
+    return emit
+
+
 class TraceCanon(Canon):
     """Prints calls exactly as ``rs274 -g`` does.
 
@@ -322,15 +332,13 @@ class TraceCanon(Canon):
     def start_cutter_radius_compensation(self, side):
         self._emit(f"START_CUTTER_RADIUS_COMPENSATION({side})")
 
-    def stop_cutter_radius_compensation(self):
-        self._emit("STOP_CUTTER_RADIUS_COMPENSATION()")
+    stop_cutter_radius_compensation = _no_arguments("STOP_CUTTER_RADIUS_COMPENSATION")
 
     def start_speed_feed_synch(self, spindle, sync, velocity_mode):
         # rs274 prints the name without the final H here.
         self._emit(f"START_SPEED_FEED_SYNC({_c_double(sync)},{int(velocity_mode)})")
 
-    def stop_speed_feed_synch(self):
-        self._emit("STOP_SPEED_FEED_SYNCH()")
+    stop_speed_feed_synch = _no_arguments("STOP_SPEED_FEED_SYNCH")
 
     # --- spindle ---------------------------------------------------------
     def set_spindle_mode(self, spindle, mode):
@@ -348,11 +356,9 @@ class TraceCanon(Canon):
     def stop_spindle_turning(self, spindle):
         self._emit(f"STOP_SPINDLE_TURNING({spindle})")
 
-    def spindle_retract(self):
-        self._emit("SPINDLE_RETRACT()")
+    spindle_retract = _no_arguments("SPINDLE_RETRACT")
 
-    def spindle_retract_traverse(self):
-        self._emit("SPINDLE_RETRACT_TRAVERSE()")
+    spindle_retract_traverse = _no_arguments("SPINDLE_RETRACT_TRAVERSE")
 
     def orient_spindle(self, spindle, orientation, mode):
         self._emit(f"ORIENT_SPINDLE({spindle}, {orientation:.4f}, {mode})")
@@ -360,15 +366,13 @@ class TraceCanon(Canon):
     def wait_spindle_orient_complete(self, spindle, timeout):
         self._emit(f"SPINDLE.{spindle}.WAIT_ORIENT_COMPLETE({timeout:.4f})")
 
-    def use_no_spindle_force(self):
-        self._emit("USE_NO_SPINDLE_FORCE()")
+    use_no_spindle_force = _no_arguments("USE_NO_SPINDLE_FORCE")
 
     # --- tools -----------------------------------------------------------
     def select_tool(self, tool):
         self._emit(f"SELECT_TOOL({tool})")
 
-    def start_change(self):
-        self._emit("START_CHANGE()")
+    start_change = _no_arguments("START_CHANGE")
 
     def change_tool(self, slot):
         self._emit(f"CHANGE_TOOL({slot})")
@@ -389,8 +393,7 @@ class TraceCanon(Canon):
             + f", {frontangle:.4f}, {backangle:.4f}, {orientation})"
         )
 
-    def reload_tooldata(self):
-        self._emit("RELOAD_TOOLDATA()")
+    reload_tooldata = _no_arguments("RELOAD_TOOLDATA")
 
     # --- miscellaneous -------------------------------------------------
     def comment(self, text):
@@ -408,26 +411,19 @@ class TraceCanon(Canon):
     def logappend(self, name):
         self._emit(f'LOGAPPEND("{name}")')
 
-    def logclose(self):
-        self._emit("LOGCLOSE()")
+    logclose = _no_arguments("LOGCLOSE")
 
-    def flood_on(self):
-        self._emit("FLOOD_ON()")
+    flood_on = _no_arguments("FLOOD_ON")
 
-    def flood_off(self):
-        self._emit("FLOOD_OFF()")
+    flood_off = _no_arguments("FLOOD_OFF")
 
-    def mist_on(self):
-        self._emit("MIST_ON()")
+    mist_on = _no_arguments("MIST_ON")
 
-    def mist_off(self):
-        self._emit("MIST_OFF()")
+    mist_off = _no_arguments("MIST_OFF")
 
-    def enable_feed_override(self):
-        self._emit("ENABLE_FEED_OVERRIDE()")
+    enable_feed_override = _no_arguments("ENABLE_FEED_OVERRIDE")
 
-    def disable_feed_override(self):
-        self._emit("DISABLE_FEED_OVERRIDE()")
+    disable_feed_override = _no_arguments("DISABLE_FEED_OVERRIDE")
 
     def enable_speed_override(self, spindle):
         self._emit(f"ENABLE_SPEED_OVERRIDE({spindle})")
@@ -435,23 +431,17 @@ class TraceCanon(Canon):
     def disable_speed_override(self, spindle):
         self._emit(f"DISABLE_SPEED_OVERRIDE({spindle})")
 
-    def enable_adaptive_feed(self):
-        self._emit("ENABLE_ADAPTIVE_FEED()")
+    enable_adaptive_feed = _no_arguments("ENABLE_ADAPTIVE_FEED")
 
-    def disable_adaptive_feed(self):
-        self._emit("DISABLE_ADAPTIVE_FEED()")
+    disable_adaptive_feed = _no_arguments("DISABLE_ADAPTIVE_FEED")
 
-    def enable_feed_hold(self):
-        self._emit("ENABLE_FEED_HOLD()")
+    enable_feed_hold = _no_arguments("ENABLE_FEED_HOLD")
 
-    def disable_feed_hold(self):
-        self._emit("DISABLE_FEED_HOLD()")
+    disable_feed_hold = _no_arguments("DISABLE_FEED_HOLD")
 
-    def turn_probe_on(self):
-        self._emit("TURN_PROBE_ON()")
+    turn_probe_on = _no_arguments("TURN_PROBE_ON")
 
-    def turn_probe_off(self):
-        self._emit("TURN_PROBE_OFF()")
+    turn_probe_off = _no_arguments("TURN_PROBE_OFF")
 
     def clamp_axis(self, axis):
         self._emit(f"CLAMP_AXIS(CANON_AXIS_{axis})")
@@ -481,23 +471,17 @@ class TraceCanon(Canon):
         self._emit(f"CANON_ERROR({text})")
 
     # --- program flow --------------------------------------------------
-    def program_stop(self):
-        self._emit("PROGRAM_STOP()")
+    program_stop = _no_arguments("PROGRAM_STOP")
 
-    def optional_program_stop(self):
-        self._emit("OPTIONAL_PROGRAM_STOP()")
+    optional_program_stop = _no_arguments("OPTIONAL_PROGRAM_STOP")
 
-    def pallet_shuttle(self):
-        self._emit("PALLET_SHUTTLE()")
+    pallet_shuttle = _no_arguments("PALLET_SHUTTLE")
 
-    def program_end(self):
-        self._emit("PROGRAM_END()")
+    program_end = _no_arguments("PROGRAM_END")
 
-    def finish(self):
-        self._emit("FINISH()")
+    finish = _no_arguments("FINISH")
 
-    def on_reset(self):
-        self._emit("ON_RESET()")
+    on_reset = _no_arguments("ON_RESET")
 
 
 __all__ = ["Canon", "NullCanon", "RecordingCanon", "TraceCanon", "CALLS"]
