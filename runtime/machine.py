@@ -17,7 +17,7 @@ moves, arcs, homing), :mod:`runtime.offsets` (coordinate systems, G92, units)
 and :mod:`runtime.tools` (T, M6, M61, G43). This module has the public API,
 the execution order and the simple modal codes.
 
-Codes not implemented yet (canned cycles, cutter compensation, probing,
+Codes not implemented yet (cutter compensation, probing,
 splines, threading, M70-M73) raise a GCodeError
 that says so, at the point rs274 would execute them.
 """
@@ -100,6 +100,7 @@ from runtime.codes import (
     to_integer,
 )
 from runtime.comments import execute_comment
+from runtime.cycles import CyclesMixin
 from runtime.errors import GCodeError, Location, g_code_frames_of_stack
 from runtime.inifile import IniSettings, load_ini
 from runtime.mcodes import MCodesMixin, ProgramEnd, not_supported
@@ -167,7 +168,6 @@ _UNSUPPORTED_MOTION = {
     52: "NURBS",
     760: "threading cycles",
     **dict.fromkeys(LATHE_CYCLES, "lathe cycles"),
-    **dict.fromkeys(DRILL_CYCLES, "canned cycles"),
 }
 
 
@@ -180,7 +180,12 @@ class _Subroutine(NamedTuple):
 
 
 class Machine(
-    MCodesMixin, MotionMixin, OutOfScopeChecksMixin, OffsetsMixin, ToolsMixin
+    MCodesMixin,
+    MotionMixin,
+    CyclesMixin,
+    OutOfScopeChecksMixin,
+    OffsetsMixin,
+    ToolsMixin,
 ):
     """rs274's interpreter state and block execution, printing through ``canon``."""
 
@@ -624,19 +629,28 @@ class Machine(
             raise GCodeError(
                 "Cannot change control mode with cutter radius compensation on"
             )
-        canon = self.canon
         if code == G61:
-            canon.set_motion_control_mode("EXACT_PATH", 0.0)
+            self._canon_control_mode("EXACT_PATH", 0.0)
         elif code == G61_1:
-            canon.set_motion_control_mode("EXACT_STOP", 0.0)
+            self._canon_control_mode("EXACT_STOP", 0.0)
         else:
             tolerance = words.get("p", -1.0)
             naive = words.get("q", -1.0)
             # A negative (or absent) P or Q means "none": 0, and Q defaults to P.
             tolerance = max(tolerance, 0.0)
-            canon.set_motion_control_mode("CONTINUOUS", tolerance)
-            canon.set_naivecam_tolerance(naive if naive >= 0 else tolerance)
+            self._canon_control_mode("CONTINUOUS", tolerance)
+            self._canon_naivecam(naive if naive >= 0 else tolerance)
         self.control_mode = code
+
+    def _canon_control_mode(self, mode: str, tolerance: float) -> None:
+        """SET_MOTION_CONTROL_MODE, remembered as the canon remembers it
+        (canned cycles read it back)."""
+        self.canon.set_motion_control_mode(mode, tolerance)
+        self.world.set_control_mode(mode, tolerance)
+
+    def _canon_naivecam(self, tolerance: float) -> None:
+        self.canon.set_naivecam_tolerance(tolerance)
+        self.world.naivecam_tolerance = tolerance
 
     def _distance_mode(self, incremental: bool) -> None:
         if incremental != self.distance_incremental:
@@ -706,6 +720,10 @@ class Machine(
 
     def _motion(self, motion: int, block: Block) -> None:
         """rs274's convert_motion."""
+        if motion in DRILL_CYCLES:
+            self._cycle(motion, block)
+            return
+        self._end_cycle_series()
         if motion in (G0, G1):
             self._straight(motion, block)
         elif motion in (G2, G3):

@@ -15,7 +15,7 @@ import math
 from typing import List
 
 from runtime import arcs
-from runtime.blockcheck import DRILL_CYCLES, LATHE_CYCLES, Block
+from runtime.blockcheck import LATHE_CYCLES, Block
 from runtime.codes import (
     G0,
     G1,
@@ -308,14 +308,6 @@ def _straight_length(start: List[float], end: List[float]) -> float:
 # motion before that motion's first canonical call, in rs274's order; the
 # caller raises "not supported" when they pass.
 
-#: Canned-cycle geometry of the XY, XZ and YZ planes: the hole axis and its
-#: index in a position.
-_CYCLE_AXIS = {"XY": ("z", 2), "XZ": ("y", 1), "YZ": ("x", 0)}
-
-#: The U/V/W planes: their G code and hole axis. rs274's stand-alone build
-#: has no U, V or W axis, so a cycle there always fails.
-_UVW_CYCLE_PLANES = {"UV": ("G17.1", "W"), "UW": ("G18.1", "V"), "VW": ("G19.1", "U")}
-
 
 class OutOfScopeChecksMixin:
     """rs274's pre-motion checks for the motions ngc2py does not generate."""
@@ -333,8 +325,6 @@ class OutOfScopeChecksMixin:
             self._check_threading(block)
         elif motion in LATHE_CYCLES:
             self._check_lathe_cycle(motion, block)
-        elif motion in DRILL_CYCLES:
-            self._check_drill_cycle(block)
 
     def _check_spline(self, motion: int, block: Block) -> None:
         """convert_spline: G5 (cubic) and G5.1 (quadratic)."""
@@ -403,50 +393,3 @@ class OutOfScopeChecksMixin:
             # rs274 always writes the decimal here: "G70.0".
             name = f"G{motion // 10}.{motion % 10}"
             raise GCodeError(f"{name} can only be used in XZ plane (G18)")
-
-    def _check_drill_cycle(self, block: Block) -> None:
-        """convert_cycle and convert_cycle_xy/yz/zx, up to the first move.
-
-        ngc2py never leaves a cycle as the motion mode, so this is always a
-        cycle's first block: R and the hole-axis word are both required.
-        """
-        words = block.words
-        if self.feed_rate == 0.0:
-            raise GCodeError("Cannot feed with zero feed rate")
-        if self.feed_mode == INVERSE_TIME:
-            raise GCodeError("Cannot use inverse time feed with canned cycles")
-        if "r" not in words:
-            raise GCodeError("R clearance plane unspecified in cycle")
-        if words.get("l") == 0:
-            raise GCodeError("Cannot do zero repeats of cycle")
-        if self.plane in _UVW_CYCLE_PLANES:
-            self._check_uvw_cycle(words)
-        self._check_cycle_depth(words)
-
-    def _check_uvw_cycle(self, words) -> None:
-        for letter in "XYZ":
-            if letter.lower() in words:
-                article = "an" if letter == "X" else "a"
-                raise GCodeError(
-                    f"Cannot put {article} {letter} in a canned cycle"
-                    f" in the {self.plane} plane"
-                )
-        code, axis = _UVW_CYCLE_PLANES[self.plane]
-        raise GCodeError(
-            f"{code} canned cycle is not possible on a machine without {axis} axis"
-        )
-
-    def _check_cycle_depth(self, words) -> None:
-        """The hole-axis word must be given, and R may not be below it."""
-        letter, index = _CYCLE_AXIS[self.plane]
-        plane = self.plane.lower()
-        if letter not in words:
-            raise GCodeError(
-                f"{letter.upper()} value unspecified in {plane} plane canned cycle"
-            )
-        r, bottom = words["r"], words[letter]
-        if self.distance_incremental:
-            r += self.current[index]
-            bottom += r
-        if r < bottom:
-            raise GCodeError(f"R less than {letter} in cycle in {plane} plane")

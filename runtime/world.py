@@ -10,7 +10,10 @@ differ from the interpreter's own idea:
   G5x/G92 offset change but never rotated and never moved by tool length
   offsets;
 * on a G20/G21 change the tool length offset and the feed rate are re-read,
-  and the model never converts them to the new units.
+  and the model never converts them to the new units;
+* a canned cycle reads back the path control mode (which starts as
+  continuous with tolerance 0 in the model, while the interpreter starts in
+  G61) to switch to exact path and restore it afterwards.
 
 :class:`World` models exactly that, independently of the canon back end, so
 every back end (trace, null, recording) sees the same calls.
@@ -26,7 +29,17 @@ MM_PER_INCH = 25.4
 class World:
     """The saicanon model: program position, offsets, units, tool offset, feed."""
 
-    __slots__ = ("position", "g5x", "g92", "inches", "tool_offset", "feed_rate")
+    __slots__ = (
+        "position",
+        "g5x",
+        "g92",
+        "inches",
+        "tool_offset",
+        "feed_rate",
+        "control_mode",
+        "control_tolerance",
+        "naivecam_tolerance",
+    )
 
     def __init__(self) -> None:
         self.position: List[float] = [0.0] * 6  # X Y Z A B C; U V W read as 0
@@ -35,6 +48,14 @@ class World:
         self.inches = False
         self.tool_offset: List[float] = [0.0] * 9
         self.feed_rate = 0.0
+        self.control_mode = "CONTINUOUS"
+        self.control_tolerance = 0.0
+        self.naivecam_tolerance = 0.0
+
+    def set_control_mode(self, mode: str, tolerance: float) -> None:
+        """SET_MOTION_CONTROL_MODE: only the continuous mode keeps a tolerance."""
+        self.control_mode = mode
+        self.control_tolerance = tolerance if mode == "CONTINUOUS" else 0.0
 
     def set_g5x(self, offsets: Sequence[float]) -> None:
         self._shift(self.g5x, offsets)

@@ -520,7 +520,7 @@ def test_abs_position_parameters_match_rs274(text, tmp_path):
 def test_unsupported_codes_say_so():
     machine = Machine(RecordingCanon())
     with pytest.raises(GCodeError, match="does not support"):
-        machine.run(lambda m: m.block(1, g_code(81), x=1.0, z=0.0, r=1.0, f=1.0))
+        machine.run(lambda m: m.block(1, g_code(38.2), z=-1.0, f=1.0))
 
 
 def test_repeat_rounds_like_rs274():

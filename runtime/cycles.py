@@ -1,0 +1,410 @@
+"""Drilling canned cycles: G73, G74, G81-G89 (G80 cancels them in machine.py).
+
+A mixin of :class:`runtime.machine.Machine`. A cycle stays the motion mode:
+a later line with only axis words drills again, with the R, hole-axis, P, Q
+and I/J/K values of the last cycle block unless the line gives new ones.
+What happens follows rs274 2.9 (interp_cycles.cc), including what the
+manual does not say:
+
+* The "initial level" a G98 cycle retracts to is the hole-axis position
+  before the *first* of a series of cycle blocks; only a non-cycle motion
+  (G0, G1, G2, G3, G80, ...) starts a new series. Changing the cycle, the
+  plane or running other codes in between keeps the old level.
+* The interpreter's position after a cycle is the last hole at the
+  clearance level, even where the tool really stopped elsewhere (G88 stops
+  at the bottom of the hole for a manual retract).
+* G74/G84 outside the XY plane feed along the wrong axes: rs274 hands its
+  plane-relative feed routine the three coordinates in a shuffled order.
+* Every cycle block switches the canon to exact path and back (read back
+  from the canon's own model, which starts out continuous).
+* The retract distance of the G73 and G83 pecks is fixed (0.010 inch or
+  0.254 mm), not read from the INI file.
+
+Moves leave through ``_emit_move`` only; dwell, spindle and override calls
+go straight to the canon.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Dict, Optional, Tuple
+
+from runtime.blockcheck import Block
+from runtime.codes import G73, G74, G81, G82, G83, G84, G85, G86, G87, G88, G89
+from runtime.errors import GCodeError
+from runtime.motion import AXES, INVERSE_TIME
+from runtime.ops import c_hypot
+
+#: For each plane, the position indexes of the two in-plane coordinates the
+#: cycle moves between holes ("aa", "bb" in rs274) and of the hole axis.
+_GEOMETRY: Dict[str, Tuple[int, int, int]] = {
+    "XY": (0, 1, 2),
+    "YZ": (1, 2, 0),
+    "XZ": (2, 0, 1),
+}
+
+#: The U/V/W planes: their G code and hole axis. rs274's stand-alone build
+#: has no U, V or W axis, so a cycle there always fails.
+_UVW_PLANES = {"UV": ("G17.1", "W"), "UW": ("G18.1", "V"), "VW": ("G19.1", "U")}
+
+#: G73/G83 back-off after each peck, in inches (rs274's G83_RAPID_DELTA).
+PECK_CLEARANCE_INCH = 0.010
+
+#: rs274 reads a missing P or Q as this value, so writing it means "missing".
+_ABSENT = -1.0
+
+_DWELL_CYCLES = (G82, G86, G88, G89)  # P is required when the cycle starts
+_PECK_CYCLES = (G73, G83)  # Q is required when the cycle starts
+
+
+def _code_name(code: int) -> str:
+    return f"G{code // 10}"
+
+
+def _radians(degrees: float) -> float:
+    # rs274's D2R: multiply by pi, then divide (not math.radians' one factor).
+    return degrees * math.pi / 180.0
+
+
+class CyclesMixin:
+    """Canned cycle execution (part of Machine)."""
+
+    # rs274's cycle memory (class defaults; a machine sets its own on use).
+    #: The hole-axis position before this series of cycles, or None.
+    cycle_initial_level: Optional[float] = None
+    cycle_depth = 0.0  # last hole-axis word (rs274's cycle_cc)
+    cycle_r = 0.0
+    cycle_p = 0.0
+    cycle_q = 0.0
+    cycle_i = 0.0
+    cycle_j = 0.0
+    cycle_k = 0.0
+
+    def _end_cycle_series(self) -> None:
+        """A motion that is not a cycle: the next cycle measures its initial level anew."""
+        self.cycle_initial_level = None
+
+    # ------------------------------------------------------------------
+    # convert_cycle
+    # ------------------------------------------------------------------
+    def _cycle(self, motion: int, block: Block) -> None:
+        """One canned cycle block, with its L repeats."""
+        words = block.words
+        if self.feed_rate == 0.0:
+            raise GCodeError("Cannot feed with zero feed rate")
+        if self.feed_mode == INVERSE_TIME:
+            raise GCodeError("Cannot use inverse time feed with canned cycles")
+        if self.cutter_comp:
+            raise GCodeError("Cannot use canned cycles with cutter compensation on")
+        r_word = words.get("r")
+        if r_word is None:
+            if self.motion_mode != motion:
+                raise GCodeError("R clearance plane unspecified in cycle")
+            r_word = self.cycle_r
+        repeats = int(words.get("l", 1))
+        if repeats == 0:
+            raise GCodeError("Cannot do zero repeats of cycle")
+        if self.plane in _UVW_PLANES:
+            self._uvw_cycle(words)
+        self._plane_cycle(motion, block, r_word, repeats)
+        self.cycle_r = r_word
+        self.motion_mode = motion
+
+    def _uvw_cycle(self, words) -> None:
+        for letter in "XYZ":
+            if letter.lower() in words:
+                article = "an" if letter == "X" else "a"
+                raise GCodeError(
+                    f"Cannot put {article} {letter} in a canned cycle"
+                    f" in the {self.plane} plane"
+                )
+        code, axis = _UVW_PLANES[self.plane]
+        raise GCodeError(
+            f"{code} canned cycle is not possible on a machine without {axis} axis"
+        )
+
+    # ------------------------------------------------------------------
+    # convert_cycle_xy / _yz / _zx
+    # ------------------------------------------------------------------
+    def _plane_cycle(self, motion: int, block: Block, r_word: float, repeats: int):
+        words = block.words
+        plane = self.plane
+        ia, ib, ic = _GEOMETRY[plane]
+        hole_letter = AXES[ic]
+        if self.motion_mode != motion and hole_letter not in words:
+            raise GCodeError(
+                f"{hole_letter.upper()} value unspecified in {plane.lower()}"
+                " plane canned cycle"
+            )
+        depth_word = words.get(hole_letter, self.cycle_depth)
+        cur = self.current
+        current_cc = cur[ic]
+        if self.cycle_initial_level is None:
+            self.cycle_initial_level = current_cc
+        old_cc = self.cycle_initial_level
+
+        step_a = step_b = 0.0
+        radius_step = angle_step = 0.0
+        if self.distance_incremental:
+            step_a = words.get(AXES[ia], 0.0)
+            step_b = words.get(AXES[ib], 0.0)
+            radius_step = words.get("polar_dist", 0.0)
+            angle_step = _radians(words.get("polar_angle", 0.0))
+            r = r_word + old_cc
+            bottom = r + depth_word
+            aa, bb = cur[ia], cur[ib]
+        else:
+            r = r_word
+            bottom = depth_word
+            aa, bb = self._absolute_hole(words, ia, ib)
+        if r < bottom:
+            raise GCodeError(
+                f"R less than {hole_letter} in cycle in {plane.lower()} plane"
+            )
+
+        # Below the R plane: straight up to it first.
+        if old_cc < r:
+            end = list(cur)
+            end[ic] = r
+            self._emit_move(True, end)
+            old_cc = current_cc = r
+        clear = r if self.retract_r_plane else old_cc
+
+        world = self.world
+        saved = (world.control_mode, world.control_tolerance, world.naivecam_tolerance)
+        if saved[0] != "EXACT_PATH":
+            self._canon_control_mode("EXACT_PATH", 0.0)
+
+        run = self._cycle_body(motion, words, plane, r, clear, bottom)
+        for repeat in range(repeats):
+            aa += step_a
+            bb += step_b
+            if radius_step:
+                aa, bb = _polar_step(aa, bb, radius_step, 0.0)
+            if angle_step:
+                aa, bb = _polar_step(aa, bb, 0.0, angle_step)
+            if repeat == 0 and current_cc > r:
+                self._cycle_move(True, aa, bb, current_cc)
+                self._cycle_move(True, aa, bb, r)
+            else:
+                self._cycle_move(True, aa, bb, clear)
+                if clear > r:
+                    self._cycle_move(True, aa, bb, r)
+            run(aa, bb)
+
+        end = list(self.current)
+        end[ia], end[ib], end[ic] = aa, bb, clear
+        self.current = end
+        self.cycle_depth = depth_word
+        if saved[0] != "EXACT_PATH":
+            self._canon_control_mode(saved[0], saved[1])
+            self._canon_naivecam(saved[2])
+
+    def _absolute_hole(self, words, ia: int, ib: int) -> Tuple[float, float]:
+        """The hole position in G90: the plane's words, or polar words (XY only)."""
+        cur = self.current
+        radius = words.get("polar_dist")
+        angle = words.get("polar_angle")
+        if radius is None and angle is None:
+            return words.get(AXES[ia], cur[ia]), words.get(AXES[ib], cur[ib])
+        # Unlike a G0/G1 end point, no "at the origin" check here.
+        if radius is None:
+            radius = c_hypot(cur[1], cur[0])
+        theta = math.atan2(cur[1], cur[0]) if angle is None else _radians(angle)
+        return radius * math.cos(theta), radius * math.sin(theta)
+
+    def _cycle_move(self, rapid: bool, end1: float, end2: float, end3: float) -> None:
+        """rs274's cycle_traverse/cycle_feed: the three values go to the
+        plane's first, second and hole axis; nothing else moves."""
+        ia, ib, ic = _GEOMETRY[self.plane]
+        end = list(self.current)
+        end[ia], end[ib], end[ic] = end1, end2, end3
+        self._emit_move(rapid, end)
+
+    # ------------------------------------------------------------------
+    # The cycles themselves (one hole each)
+    # ------------------------------------------------------------------
+    def _cycle_body(self, motion, words, plane, r, clear, bottom):
+        """Check and settle the cycle's own words (in rs274's order, after
+        the first moves), and return what drills one hole at (aa, bb)."""
+        name = _code_name(motion)
+        first = self.motion_mode != motion
+        move = self._cycle_move
+        if motion in _DWELL_CYCLES:
+            p = words.get("p", _ABSENT)
+            if first and p == _ABSENT:
+                raise GCodeError(f"Dwell time p word missing with {name.lower()}")
+            dwell = self.cycle_p if p == _ABSENT else p
+            self.cycle_p = dwell
+        elif motion in _PECK_CYCLES:
+            q = words.get("q", _ABSENT)
+            if first and q == _ABSENT:
+                raise GCodeError(f"Q word missing with {name.lower()}")
+            delta = self.cycle_q if q == _ABSENT else q
+            self.cycle_q = delta
+        elif motion in (G74, G84):
+            p = words.get("p", _ABSENT)
+            dwell = self.cycle_p if p == _ABSENT else p
+            self.cycle_p = dwell
+        elif motion == G87:
+            if first:
+                for letter in "ijk":
+                    if letter not in words:
+                        raise GCodeError(f"{letter.upper()} word missing with g87")
+            self.cycle_i = words.get("i", self.cycle_i)
+            self.cycle_j = words.get("j", self.cycle_j)
+            self.cycle_k = words.get("k", self.cycle_k)
+            offsets = (self.cycle_i, self.cycle_j, self.cycle_k)
+            ia, ib, ic = _GEOMETRY[plane]
+            off_a, off_b, middle = offsets[ia], offsets[ib], offsets[ic]
+            if self.distance_incremental:
+                middle += bottom
+
+        canon = self.canon
+
+        def g81(aa, bb):
+            move(False, aa, bb, bottom)
+            move(True, aa, bb, clear)
+
+        def g82(aa, bb):
+            move(False, aa, bb, bottom)
+            canon.dwell(dwell)
+            move(True, aa, bb, clear)
+
+        def pecks(aa, bb):
+            if delta <= 0.0:
+                raise GCodeError("Negative or zero q value used")
+            back_off = PECK_CLEARANCE_INCH * (1.0 if self.inches else 25.4)
+            depth = r - delta
+            while depth > bottom:
+                move(False, aa, bb, depth)
+                if motion == G83:
+                    move(True, aa, bb, r)
+                move(True, aa, bb, depth + back_off)
+                depth -= delta
+            move(False, aa, bb, bottom)
+            move(True, aa, bb, clear)
+
+        def tap(aa, bb):
+            self._check_tapping_spindle(motion)
+            # The override switches are the canon's, which follow M48-M51.
+            feed_override, speed_override = self.feed_override, self.speed_override
+            canon.disable_feed_override()
+            canon.disable_speed_override(0)
+            move(False, *_tapping_order(plane, aa, bb, bottom))
+            canon.stop_spindle_turning(0)
+            self._start_spindle(motion == G74)
+            canon.dwell(dwell)
+            move(False, *_tapping_order(plane, aa, bb, clear))
+            canon.stop_spindle_turning(0)
+            self._start_spindle(motion == G84)
+            if feed_override:
+                canon.enable_feed_override()
+            if speed_override:
+                canon.enable_speed_override(0)
+
+        def g85(aa, bb):
+            move(False, aa, bb, bottom)
+            move(False, aa, bb, r)
+            move(True, aa, bb, clear)
+
+        def g86(aa, bb):
+            clockwise = self._spindle_direction(name)
+            move(False, aa, bb, bottom)
+            canon.dwell(dwell)
+            canon.stop_spindle_turning(0)
+            move(True, aa, bb, clear)
+            self._start_spindle(clockwise)
+
+        def g87(aa, bb):
+            clockwise = self._spindle_direction(name)
+            direction = 2 if clockwise else 3  # rs274's CANON_DIRECTION values
+            out_a, out_b = aa + off_a, bb + off_b
+            move(True, out_a, out_b, r)
+            canon.stop_spindle_turning(0)
+            canon.orient_spindle(0, 0.0, direction)
+            move(True, out_a, out_b, bottom)
+            move(True, aa, bb, bottom)
+            self._start_spindle(clockwise)
+            move(False, aa, bb, middle)
+            move(False, aa, bb, bottom)
+            canon.stop_spindle_turning(0)
+            canon.orient_spindle(0, 0.0, direction)
+            move(True, out_a, out_b, bottom)
+            move(True, out_a, out_b, clear)
+            move(True, aa, bb, clear)
+            self._start_spindle(clockwise)
+
+        def g88(aa, bb):
+            clockwise = self._spindle_direction(name)
+            move(False, aa, bb, bottom)
+            canon.dwell(dwell)
+            canon.stop_spindle_turning(0)
+            canon.program_stop()  # the operator retracts by hand
+            self._start_spindle(clockwise)
+
+        def g89(aa, bb):
+            move(False, aa, bb, bottom)
+            canon.dwell(dwell)
+            move(False, aa, bb, clear)
+
+        return {
+            G73: pecks,
+            G74: tap,
+            G81: g81,
+            G82: g82,
+            G83: pecks,
+            G84: tap,
+            G85: g85,
+            G86: g86,
+            G87: g87,
+            G88: g88,
+            G89: g89,
+        }[motion]
+
+    # ------------------------------------------------------------------
+    # Spindle
+    # ------------------------------------------------------------------
+    def _spindle_direction(self, name: str) -> bool:
+        """G86-G88 need the spindle turning; True when it turns clockwise."""
+        if self.spindle == "stopped":
+            raise GCodeError(f"Spindle not turning in {name.lower()}")
+        return self.spindle == "cw"
+
+    def _check_tapping_spindle(self, motion: int) -> None:
+        """G84 taps right-hand (spindle clockwise), G74 left-hand."""
+        name = _code_name(motion)
+        if self.spindle == "stopped":
+            raise GCodeError(f"Spindle not turning in {name}")
+        if self.spindle == "cw" and motion == G74:
+            raise GCodeError("Spindle turning clockwise in G74")
+        if self.spindle == "ccw" and motion == G84:
+            raise GCodeError("Spindle turning counterclockwise in G84")
+
+    def _start_spindle(self, clockwise: bool) -> None:
+        """The canon call only: the interpreter's spindle state stays as it was."""
+        if clockwise:
+            self.canon.start_spindle_clockwise(0)
+        else:
+            self.canon.start_spindle_counterclockwise(0)
+
+
+def _tapping_order(plane: str, aa: float, bb: float, level: float):
+    """The order rs274's tapping cycle hands its three values to the plane's
+    feed routine: right in XY, shuffled in YZ and XZ."""
+    if plane == "YZ":
+        return level, aa, bb
+    if plane == "XZ":
+        return bb, level, aa
+    return aa, bb, level
+
+
+def _polar_step(aa: float, bb: float, radius_step: float, angle_step: float):
+    """One incremental polar step of a repeat (XY plane, G91)."""
+    if aa == 0 and bb == 0:
+        raise GCodeError(
+            "Incremental motion with polar coordinates is indeterminate when at the origin"
+        )
+    theta = math.atan2(bb, aa) + angle_step
+    radius = c_hypot(bb, aa) + radius_step
+    return radius * math.cos(theta), radius * math.sin(theta)
