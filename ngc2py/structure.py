@@ -282,6 +282,11 @@ class _Builder:
         word = line.oword
         if line.error in TEXT_ERRORS:
             self._text_error(line)
+        if word is not None and word.keyword == "endsub" and line.error is not None:
+            # Skipping over a definition, rs274 reads only the O-word: the
+            # endsub closes it, and the rest of the line fails when run.
+            self.on_endsub(line, word, failing=True)
+            return
         if word is None or line.error is not None:
             if not line.is_blank:
                 self.body.append(Block(line))
@@ -311,10 +316,15 @@ class _Builder:
         self.stack.append(_Open(sub.name, sub, sub.body))
         self.labels = {}
 
-    def on_endsub(self, line: nodes.Line, word: nodes.OWord) -> None:
+    def on_endsub(
+        self, line: nodes.Line, word: nodes.OWord, failing: bool = False
+    ) -> None:
         sub = self.open_sub()
-        if sub is None:
-            self.fail(line, NOT_IN_SUB % (line.number, line.text))
+        if sub is None or failing and word.name != sub.name:
+            if failing:
+                self.body.append(Block(line))
+            else:
+                self.fail(line, NOT_IN_SUB % (line.number, line.text))
             return
         if word.name != sub.name:
             # rs274 keeps skipping for the right endsub; nothing closes here.
@@ -323,7 +333,7 @@ class _Builder:
         while not isinstance(self.stack.pop().node, Sub):
             pass
         sub.end = line
-        sub.body.append(Return(line, word.expr))
+        sub.body.append(Block(line) if failing else Return(line, word.expr))
         self.labels = self.main_labels
 
     def on_return(self, line: nodes.Line, word: nodes.OWord) -> None:
