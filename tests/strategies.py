@@ -5,12 +5,14 @@ arcs built so they are always geometrically valid, parameters (numbered,
 named local, named global) and expressions that cannot fail (no division by
 a value that may be zero, no roots of negatives), subroutines with arguments
 and return values, loops with bounded iteration counts, comments of every
-active kind, and modal changes (units, distance mode, planes, coordinate
-systems, offsets, spindle, coolant, path control).
+active kind, modal changes (units, distance mode, planes, coordinate
+systems, offsets, spindle, coolant, path control), and drilling canned
+cycles in every plane with the lines that repeat them.
 
 ``invalid_programs()`` takes such a program and breaks one line: junk
 characters, unbalanced brackets, unknown letters, repeated words, bad or
-mismatched O-words, undefined parameters, arithmetic errors, truncation. The
+mismatched O-words, undefined parameters, arithmetic errors, broken canned
+cycles, truncation. The
 result may or may not be an error in rs274 -- the point is that ngc2py must
 behave the same either way.
 
@@ -292,6 +294,55 @@ def stmt_modal(w: Writer) -> None:
         w.emit(w.draw(st.sampled_from(["G52 X1 Y2", "G52 X0 Y0", "G30.1", "M0", "M1", "M60"])))
 
 
+#: Canned cycles: the plane's in-plane letters and its hole-axis letter.
+_CYCLE_PLANES = {17: ("XY", "Z"), 18: ("ZX", "Y"), 19: ("YZ", "X")}
+
+
+def stmt_cycle(w: Writer) -> None:
+    """A drilling cycle that rs274 runs: R at or above the bottom, the P, Q
+    or I/J/K the cycle needs, the spindle turning the way it must (M codes
+    run before G codes on a line), no L with G74; then maybe lines with only
+    in-plane words, which repeat the cycle with the same R and depth."""
+    plane = w.draw(st.sampled_from([17, 17, 18, 19]))
+    in_plane, hole = _CYCLE_PLANES[plane]
+    code = w.draw(st.sampled_from(["G81", "G82", "G83", "G73", "G84", "G74", "G85", "G86", "G87", "G88", "G89"]))
+    dist = w.dist if w.draw(st.integers(0, 3)) else 181 - w.dist  # 90 <-> 91
+    r = w.draw(st.integers(-30, 50)) / 10
+    depth = w.draw(st.integers(1, 40)) / 10
+    bottom = -depth if dist == 91 else r - depth
+    words = []
+    if dist == 90 and plane == 17 and w.draw(st.integers(0, 4)) == 0:
+        words.append(f"@{w.draw(numbers(0, 100, 10))} ^{w.draw(numbers(-360, 360, 1))}")
+    else:
+        words.append(_axes(w, in_plane, at_least=0))
+    words += [f"{hole}{fmt(bottom)}", f"R{fmt(r)}"]
+    if code in ("G82", "G86", "G88", "G89") or (code in ("G74", "G84") and w.draw(st.booleans())):
+        words.append(f"P{w.draw(numbers(0, 20, 10))}")
+    if code in ("G73", "G83"):
+        words.append(f"Q{fmt(w.draw(st.integers(2, 20)) / 10)}")
+    if code == "G87":
+        words += [f"{letter}{w.draw(numbers(-30, 30, 10))}" for letter in "IJK"]
+    if code != "G74" and w.draw(st.integers(0, 2)) == 0:
+        words.append(f"L{w.draw(st.integers(1, 3))}")
+    prefix = []
+    if code in ("G74", "G84", "G86", "G87", "G88"):
+        if code == "G84" or (code != "G74" and w.draw(st.booleans())):
+            prefix.append(f"S{w.draw(numbers(0, 2000, 1))} M3")
+        else:
+            prefix.append(f"S{w.draw(numbers(0, 2000, 1))} M4")
+    if w.draw(st.booleans()):
+        prefix.append(w.draw(st.sampled_from(["G98", "G99"])))
+    w.emit(" ".join(prefix + [f"G{plane}", f"G{dist}", code] + [x for x in words if x]))
+    for _ in range(w.draw(st.integers(0, 2))):
+        w.emit(_axes(w, in_plane))  # the same cycle again, elsewhere
+    if w.draw(st.booleans()):
+        w.emit("G80")
+    if dist != w.dist:
+        _restore_dist(w)
+    if plane != 17:
+        w.emit("G17")
+
+
 def _body(w: Writer, size: int) -> None:
     """Statements that may not run (untaken branch, zero-trip loop): what
     they assign is not counted as defined afterwards."""
@@ -378,6 +429,7 @@ def stmt(w: Writer, nested: bool = False) -> None:
         (stmt_comment, 2),
         (stmt_modal, 3),
         (stmt_call, 2),
+        (stmt_cycle, 2),
     ]
     if w.depth < 2:
         weights += [(stmt_if, 1), (stmt_loop, 1)]
@@ -474,6 +526,13 @@ def mutated_line(draw, line: str) -> str:
         return stripped[:pos]
     if kind == 9:  # words no G code uses
         return draw(st.sampled_from(["G80 X1", "X1 G4", "G2 X1", "G1 @1 X1", "G10 L9 P1", "G92", "G4"]))
+    if kind == 10 and draw(st.booleans()):  # broken canned cycles
+        return stripped + " " + draw(st.sampled_from([
+            "G81 X1 Z-1", "G82 X1 Z-1 R1", "G83 X1 Z-1 R1 Q0", "G73 X1 Z-1 R1", "G81 X1 Z1 R0",
+            "G84 X1 Z-1 R1", "G74 X1 Z-1 R1 L2", "G87 X1 Z-1 R1 I1 J1", "G81 X1 Z-1 R1 A1",
+            "G81 X1 Z-1 R1 L0", "G86 Z-1 R1 P1", "G18 G81 X1 Z-1 R1", "G91 G81 ^30 Z-1 R0 L2",
+            "G81 X1 Z-1 R1 P1", "G89 X1 Z-1 R1 Q1", "R1", "G93 G81 X1 Z-1 R1 F1",
+        ]))
     if kind == 10:  # unbalanced comments
         return stripped + draw(st.sampled_from([" (unclosed", " (a (nested) b)", " )"]))
     return "%" if draw(st.booleans()) else stripped + " G" + draw(st.sampled_from(["6", "100", "-1", "1.5", "[1/3]"]))
