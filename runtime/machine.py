@@ -13,8 +13,9 @@ the machine does what rs274 does after reading a line:
    control, distance modes, group 0, motion) and last the stopping M codes.
 
 The work is split over mixins by subject: :mod:`runtime.motion` (end points,
-moves, arcs, homing), :mod:`runtime.offsets` (coordinate systems, G92, units)
-and :mod:`runtime.tools` (T, M6, M61, G43). This module has the public API,
+moves, arcs, homing), :mod:`runtime.cycles` (drilling canned cycles),
+:mod:`runtime.offsets` (coordinate systems, G92, units) and
+:mod:`runtime.tools` (T, M6, M61, G43). This module has the public API,
 the execution order and the simple modal codes.
 
 Codes not implemented yet (cutter compensation, probing,
