@@ -284,7 +284,8 @@ def _check_other_words(block: Block) -> None:
         )
     if "p" in words:
         _check_p_word(block)
-    if "q" in words and not _q_is_used(motion, mode0, g, m):
+    # rs274 reads Q-1 as "no Q" here (its marker for a missing Q).
+    if words.get("q", -1.0) != -1.0 and not _q_is_used(motion, mode0, g, m):
         raise GCodeError(
             "Q word with no G5, G10, G64, G73, G76, G83, M19, M66, M67, M68 or user M code that uses it"
         )
