@@ -482,6 +482,21 @@ def valid_programs(draw, max_statements: int = 12) -> str:
     return "\n".join(w.lines) + "\n"
 
 
+@st.composite
+def cycle_programs(draw, max_statements: int = 8) -> str:
+    """A program that is mostly canned cycles, with moves and modal changes
+    (units, distance mode, offsets, spindle, path control) in between."""
+    w = Writer(draw)
+    w.emit(draw(st.sampled_from(["G21 G90 G17 G94", "G20 G90", "G21 G90 G64 P0.01"])))
+    w.emit(f"F{draw(numbers(50, 1000, 1))}")
+    w.emit(f"G0 {_axes(w, 'XYZ')}")
+    fns = [stmt_cycle] * 4 + [stmt_move, stmt_modal, stmt_assign]
+    for _ in range(draw(st.integers(1, max_statements))):
+        draw(st.sampled_from(fns))(w)
+    w.emit(draw(st.sampled_from(["M2", "M30"])))
+    return "\n".join(w.lines) + "\n"
+
+
 # --------------------------------------------------------------------------
 # invalid programs: break one line of a valid one
 # --------------------------------------------------------------------------

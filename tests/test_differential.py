@@ -81,6 +81,13 @@ def test_valid_programs_converted(text):
     check_same(text, "convert")
 
 
+@PROFILE
+@given(strategies.cycle_programs())
+def test_cycle_programs_run(text):
+    """Canned cycles in bulk: every plane, sticky values, repeats, series."""
+    check_same(text, "inprocess")
+
+
 @settings(PROFILE, max_examples=PROFILE.max_examples * 2)
 @given(strategies.invalid_programs())
 def test_invalid_programs_run(text):
