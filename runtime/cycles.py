@@ -19,6 +19,8 @@ manual does not say:
   from the canon's own model, which starts out continuous).
 * The retract distance of the G73 and G83 pecks is fixed (0.010 inch or
   0.254 mm), not read from the INI file.
+* A Q so small that a peck no longer changes the depth makes rs274 peck
+  forever; ngc2py stops with an error after the first peck instead.
 
 Moves leave through ``_emit_move`` only; dwell, spindle and override calls
 go straight to the canon.
@@ -281,6 +283,12 @@ class CyclesMixin:
                 if motion == G83:
                     move(True, aa, bb, r)
                 move(True, aa, bb, depth + back_off)
+                if depth - delta == depth:
+                    # rs274 pecks at the same depth forever; say why instead.
+                    raise GCodeError(
+                        f"Q value too small with {name.lower()}:"
+                        " the pecks never reach the bottom"
+                    )
                 depth -= delta
             move(False, aa, bb, bottom)
             move(True, aa, bb, clear)
