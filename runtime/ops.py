@@ -30,6 +30,7 @@ import math
 from fractions import Fraction
 from typing import Tuple
 
+from runtime import x87
 from runtime.errors import GCodeError
 
 #: rs274's TOLERANCE_EQUAL, used by EQ and NE.
@@ -158,15 +159,15 @@ def atan2(y: float, x: float) -> float:
 
 
 def cos(x: float) -> float:
-    return _trig(finite(x), "cos")
+    return _cos(finite(x))
 
 
 def sin(x: float) -> float:
-    return _trig(finite(x), "sin")
+    return _sin(finite(x))
 
 
 def tan(x: float) -> float:
-    return _trig(finite(x), "tan")
+    return _tan(finite(x))
 
 
 def exp(x: float) -> float:
@@ -430,3 +431,18 @@ def _sin_cos_series(r: int) -> Tuple[int, int]:
         cos_sum += term
         n += 2
     return sin_sum, cos_sum
+
+
+def _emulated(name: str):
+    def compute(degrees: float) -> float:
+        return _trig(degrees, name)
+
+    return compute
+
+
+# The C library's own sinl/cosl/tanl where this platform has the x87 long
+# double (exact, and ten times faster); the integer emulation elsewhere.
+_FAST = x87.trig_functions(_PI_L[0], _PI_L[1], _trig)
+_sin, _cos, _tan = (
+    (_FAST or {}).get(name) or _emulated(name) for name in ("sin", "cos", "tan")
+)
