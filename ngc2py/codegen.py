@@ -75,7 +75,7 @@ BINARY_HELPERS = {
 UNARY_HELPERS = {"abs": "abs_", "round": "round_"}  # others keep their name
 COMPARISONS = frozenset(("eq", "ne", "gt", "ge", "lt", "le", "and", "or", "xor"))
 WORD_KEYWORDS = {"@": "polar_dist", "^": "polar_angle"}
-GCODE_LETTERS = {"n": "N", "polar_dist": "@", "polar_angle": "^"}  # row shapes
+AXIS_LETTERS = frozenset("xyzabcuvw")
 GCODE_LETTERS = {keyword: letter for letter, keyword in WORD_KEYWORDS.items()}
 RESERVED = frozenset(
     keyword.kwlist + dir(builtins) + ["m", "p", "g", "v", "main", "run", "rows"]
@@ -1039,6 +1039,9 @@ class CodeGen:
         return "p[%s]" % temp
 
     def block_call(self, line: nodes.Line, words, values: List[str]) -> str:
+        move = self.move_call(line, words, values)
+        if move is not None:
+            return move
         args = ["%d" % line.number]
         kwargs = []
         for word, value in zip(words, values):
@@ -1053,6 +1056,34 @@ class CodeGen:
         if line.comment is not None:
             kwargs.append("comment=%s" % self.comment_arg(line.comment))
         return "m.block(%s)" % ", ".join(args + kwargs)
+
+    def move_call(self, line: nodes.Line, words, values: List[str]) -> Optional[str]:
+        """``m.move(line, G1, x=..)`` for a plain straight move: G0, G1 or no
+        motion code, axis words, F and N only (runtime.fastpath); else None."""
+        if line.comment is not None:
+            return None
+        motion = None
+        kwargs = []
+        for word, value in zip(words, values):
+            letter = word.letter
+            if letter in AXIS_LETTERS or letter == "f":
+                kwargs.append("%s=%s" % (letter, value))
+            elif letter == "g" and motion is None and is_constant(word.value):
+                motion = convert_code(letter, word.value.value)
+                if motion not in (codes.G0, codes.G1):
+                    return None
+            else:
+                return None
+        if not any(word.letter in AXIS_LETTERS for word in words):
+            return None
+        args = ["%d" % line.number]
+        if motion is not None:
+            name = code_name(motion)
+            self.codes.add(name)
+            args.append(name)
+        if line.n_text is not None:
+            kwargs.append("n=%s" % string(line.n_text))
+        return "m.move(%s)" % ", ".join(args + kwargs)
 
     def code_arg(self, word: nodes.Word, value: str) -> str:
         """A G/M code: its constant's name, or a run-time conversion."""
