@@ -57,6 +57,7 @@ CHUNK_STATEMENTS = 500  # statements per main chunk function
 # helper function of its own (see CodeGen.nest).
 NEST_LIMIT = 8
 MIN_ROWS = 8  # shortest run of constant blocks kept as data
+ROWS_PER_TABLE = 20000  # rows of one table: bounds the memory of running one
 
 BINARY_HELPERS = {
     "/": "div",
@@ -608,12 +609,23 @@ class CodeGen:
 
     @staticmethod
     def chunked(body: List[st.Stmt]) -> List[List[st.Stmt]]:
-        if len(body) <= CHUNK_STATEMENTS:
-            return [body]
-        return [
-            body[i : i + CHUNK_STATEMENTS]
-            for i in range(0, len(body), CHUNK_STATEMENTS)
-        ]
+        """Split the main program into functions of bounded size; a run of
+        data rows weighs one statement per table it fills."""
+        chunks: List[List[st.Stmt]] = [[]]
+        weight = rows = 0
+        for stmt in body:
+            if constant_row(stmt) is None:
+                weight += 1
+                rows = 0
+            else:
+                weight += rows % ROWS_PER_TABLE == 0
+                rows += 1
+            if weight > CHUNK_STATEMENTS:
+                chunks.append([])
+                weight = 1
+                rows = rows and 1
+            chunks[-1].append(stmt)
+        return chunks
 
     # -- statement lists --------------------------------------------------
 
@@ -640,14 +652,16 @@ class CodeGen:
             for line, _ in run:
                 self.line_block(line)
             return
-        name = "ROWS_%d" % (len(self.row_tables) + 1)
-        cells = []
-        for line, (shape, values) in run:
-            head = ["%d" % line.number, "%d" % self.shape(shape)]
-            cells.append(", ".join(head + values))
-            self.w.texts[self.w.file_index][line.number] = line.text
-        self.row_tables.append(row_table(name, cells))
-        self.w.row_loop("run_rows(m, SHAPES, %s)" % name)
+        for first in range(0, len(run), ROWS_PER_TABLE):
+            part = run[first : first + ROWS_PER_TABLE]
+            name = "ROWS_%d" % (len(self.row_tables) + 1)
+            cells = []
+            for line, (shape, values) in part:
+                head = ["%d" % line.number, "%d" % self.shape(shape)]
+                cells.append(" ".join(head + values))
+                self.w.texts[self.w.file_index][line.number] = line.text
+            self.row_tables.append(row_table(name, cells))
+            self.w.row_loop("run_rows(m, SHAPES, %s)" % name)
 
     def shape(self, shape: Shape) -> int:
         """The index of ``shape`` in the module's SHAPES table."""
@@ -1144,10 +1158,12 @@ def constant_row(stmt: st.Stmt) -> Optional[Row]:
             codes_.append(code)
         else:
             letters.append(WORD_KEYWORDS.get(word.letter, word.letter))
-            values.append(number(word.value.value))
+            values.append(repr(float(word.value.value)))
     if line.n_text is not None:
+        if not line.n_text or line.n_text.split() != [line.n_text]:
+            return None  # not one cell of a text table
         letters.insert(0, "n")  # first, as it is written
-        values.insert(0, string(line.n_text))
+        values.insert(0, line.n_text)
     return (tuple(codes_), tuple(letters)), values
 
 
@@ -1176,17 +1192,16 @@ def shapes_table(shapes: Dict[Shape, int]) -> List[str]:
 
 
 def row_table(name: str, cells: List[str]) -> List[str]:
-    """``ROWS_n = (...)``: one G-code line per text line (black would put
-    each number on a line of its own, hence fmt: off)."""
+    """``ROWS_n`` as a triple-quoted string: one G-code line per text line
+    (see runtime.rows for why a table is text)."""
     lines = [
         "",
         "",
         "# G-code line, shape (see SHAPES), word values",
-        "# fmt: off",
-        "%s = (" % name,
+        '%s = """' % name,
     ]
-    lines.extend("%s%s," % (INDENT, cell) for cell in cells)
-    lines += [")", "# fmt: on"]
+    lines.extend(cells)
+    lines.append('"""')
     return lines
 
 

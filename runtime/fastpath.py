@@ -27,7 +27,7 @@ data rows.
 
 from __future__ import annotations
 
-from typing import Optional
+from typing import List, Optional
 
 from runtime.codes import G0, G1
 from runtime.motion import UNITS_PER_MINUTE
@@ -78,14 +78,97 @@ class FastPathMixin:
         given = motion
         if motion is None:
             motion = self.motion_mode
-        if (
-            not self._plain
-            or (motion != G1 and motion != G0)
-            or (f is not None and f < 0.0)
-            or (motion == G1 and (self.feed_rate if f is None else f) == 0.0)
-        ):
+        if not self._plain or not self._straight_ok(motion, f):
             self._general_move(line, given, (x, y, z, a, b, c, u, v, w), f, n)
             return
+        cur = self.current
+        self._plain_straight(
+            line,
+            motion,
+            [
+                cur[0] if x is None else x,
+                cur[1] if y is None else y,
+                cur[2] if z is None else z,
+                cur[3] if a is None else a,
+                cur[4] if b is None else b,
+                cur[5] if c is None else c,
+                cur[6] if u is None else u,
+                cur[7] if v is None else v,
+                cur[8] if w is None else w,
+            ],
+            f,
+            n,
+        )
+
+    def plain_rows(self, cells: List[str], at: int, end: int, plans) -> int:
+        """Run data rows (runtime.rows) from ``cells[at]`` while they are
+        plain straight moves; returns where it stopped (a row for the
+        general path, or ``end``).
+
+        The same steps as :meth:`_plain_straight`, with the machine's state
+        in local variables for the whole run: this loop is where a CAM
+        file's time goes.
+        """
+        if not self._plain:
+            return at
+        canon = self.canon
+        feed, traverse = canon.straight_feed, canon.straight_traverse
+        cur = self.current
+        motion_mode, feed_rate, block_n = self.motion_mode, self.feed_rate, self._block_n
+        row = at
+        try:
+            while at < end:
+                row = at
+                plan = plans[int(cells[at + 1])]
+                slots = plan.slots
+                if slots is None:
+                    break
+                motion = motion_mode if plan.motion is None else plan.motion
+                start = at + 2
+                if plan.has_n:
+                    n = cells[start]
+                    start += 1
+                else:
+                    n = None
+                f = None if plan.f_at < 0 else float(cells[start + plan.f_at])
+                if motion == G1:
+                    if (feed_rate if f is None else f) <= 0.0:
+                        break
+                elif motion != G0 or (f is not None and f < 0.0):
+                    break
+                if n != block_n:
+                    canon.set_block_number(n)
+                    block_n = n
+                if f is not None:
+                    feed_rate = f
+                    canon.set_feed_rate(f)
+                point = cur[:]
+                for i, axis in slots:
+                    point[axis] = float(cells[start + i])
+                if motion == G1:
+                    feed(*point)
+                else:
+                    traverse(*point)
+                cur = point
+                motion_mode = motion
+                at += 2 + plan.width
+        finally:
+            self.line = int(cells[row])
+            self.current = self.world.position = self._params.position = cur
+            self.motion_mode = motion_mode
+            self.feed_rate = self.world.feed_rate = feed_rate
+            self._block_n = block_n
+        return at
+
+    def _straight_ok(self, motion: Optional[int], f: Optional[float]) -> bool:
+        """The value-dependent part of "nothing but a move": G0/G1, a valid F,
+        and a feed rate for G1."""
+        if motion == G1:
+            return (self.feed_rate if f is None else f) > 0.0
+        return motion == G0 and (f is None or f >= 0.0)
+
+    def _plain_straight(self, line, motion, end, f, n) -> None:
+        """Set F, announce N, emit the move, publish the end point."""
         self.line = line
         canon = self.canon
         if n != self._block_n:
@@ -95,18 +178,6 @@ class FastPathMixin:
             self.feed_rate = f
             canon.set_feed_rate(f)
             self.world.feed_rate = f
-        cur = self.current
-        end = [
-            cur[0] if x is None else x,
-            cur[1] if y is None else y,
-            cur[2] if z is None else z,
-            cur[3] if a is None else a,
-            cur[4] if b is None else b,
-            cur[5] if c is None else c,
-            cur[6] if u is None else u,
-            cur[7] if v is None else v,
-            cur[8] if w is None else w,
-        ]
         if motion == G1:
             canon.straight_feed(*end)
         else:
