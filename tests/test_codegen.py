@@ -209,7 +209,7 @@ def test_big_cam_files_become_data_rows():
 
 
 def test_long_programs_become_chunks_of_bounded_size():
-    lines = ["G21 G90 F100"] + ["G1 X[%d * 2] Y1" % i for i in range(1200)]
+    lines = ["G21 G90 F100"] + ["G1 X[#1 + %d] Y1" % i for i in range(1200)]
     code = compile_text("\n".join(lines + ["M2"]) + "\n", "long.ngc")
     assert code.count("\ndef main_") == 3  # 1201 statements, 500 a function
     assert "\n    main_3(m)\n" in code
