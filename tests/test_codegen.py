@@ -231,7 +231,7 @@ def test_line_reads_declare_names_and_check_indices_in_order():
         "    t2 = finite(p[2] * 3.0)\n"
         "    t3 = p[1]\n"
         "    p[i1] = t2\n"
-        "    m.block(2, G0, x=t3)\n"
+        "    m.move(2, G0, x=t3)\n"
     ) in code
     assert_black_stable(code)
 
