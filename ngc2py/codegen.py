@@ -75,6 +75,7 @@ BINARY_HELPERS = {
 }
 UNARY_HELPERS = {"abs": "abs_", "round": "round_"}  # others keep their name
 COMPARISONS = frozenset(("eq", "ne", "gt", "ge", "lt", "le", "and", "or", "xor"))
+PYTHON_COMPARISONS = {"gt": ">", "ge": ">=", "lt": "<", "le": "<="}
 WORD_KEYWORDS = {"@": "polar_dist", "^": "polar_angle"}
 AXIS_LETTERS = frozenset("xyzabcuvw")
 GCODE_LETTERS = {keyword: letter for letter, keyword in WORD_KEYWORDS.items()}
@@ -166,6 +167,10 @@ class ExprWriter:
         """An if/while test: comparison helpers already return 1.0/0.0."""
         if isinstance(e, nodes.Bracket) and not may_overflow(e.inner):
             e = e.inner
+        if isinstance(e, nodes.Binary) and e.op in PYTHON_COMPARISONS:
+            # GT GE LT LE have no tolerance: Python's operators are exact.
+            op = PYTHON_COMPARISONS[e.op]
+            return "%s %s %s" % (self.expr(e.left), op, self.expr(e.right))
         if isinstance(e, nodes.Binary) and e.op in COMPARISONS:
             return self.expr(e)
         return "%s(%s)" % (self.helper("truth"), self.expr(e))
