@@ -45,6 +45,7 @@ from typing import Dict, Iterable, List, Optional, Sequence, Tuple
 
 from ngc2py import __version__, nodes
 from ngc2py import structure as st
+from ngc2py.parser import RowLine
 from runtime import codes
 from runtime.errors import GCodeError
 from runtime.params import Params
@@ -655,16 +656,17 @@ class CodeGen:
         a data table executed by ``runtime.rows.run_rows``."""
         if len(run) < MIN_ROWS:
             for line, _ in run:
-                self.line_block(line)
+                self.line_block(line.full() if isinstance(line, RowLine) else line)
             return
         for first in range(0, len(run), ROWS_PER_TABLE):
             part = run[first : first + ROWS_PER_TABLE]
             name = "ROWS_%d" % (len(self.row_tables) + 1)
             cells = []
+            texts = self.w.texts[self.w.file_index]
             for line, (shape, values) in part:
-                head = ["%d" % line.number, "%d" % self.shape(shape)]
-                cells.append(" ".join(head + values))
-                self.w.texts[self.w.file_index][line.number] = line.text
+                head = "%d %d" % (line.number, self.shape(shape))
+                cells.append(head + " " + values if values else head)
+                texts[line.number] = line.text
             self.row_tables.append(row_table(name, cells))
             self.w.row_loop("run_rows(m, SHAPES, %s)" % name)
 
@@ -1139,7 +1141,7 @@ def convert_code(letter: str, value: float) -> Optional[int]:
 # literals, which compiles in one constant (nested row tuples take twice as
 # long; see the module docstring).
 Shape = Tuple[Tuple[int, ...], Tuple[str, ...]]
-Row = Tuple[Shape, List[str]]
+Row = Tuple[Shape, str]  # the shape and the row's value cells
 
 
 def constant_row(stmt: st.Stmt) -> Optional[Row]:
@@ -1148,6 +1150,8 @@ def constant_row(stmt: st.Stmt) -> Optional[Row]:
     if not isinstance(stmt, st.Block):
         return None
     line = stmt.line
+    if isinstance(line, RowLine):
+        return line.shape, line.cells
     if line.error or line.comments or line.block_delete or line.oword:
         return None
     codes_: List[int] = []
@@ -1169,7 +1173,7 @@ def constant_row(stmt: st.Stmt) -> Optional[Row]:
             return None  # not one cell of a text table
         letters.insert(0, "n")  # first, as it is written
         values.insert(0, line.n_text)
-    return (tuple(codes_), tuple(letters)), values
+    return (tuple(codes_), tuple(letters)), " ".join(values)
 
 
 def shape_text(shape: Shape) -> str:

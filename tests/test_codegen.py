@@ -111,7 +111,7 @@ def test_module_shape_follows_the_contract():
     assert code.startswith('"""pocket.ngc, compiled by ngc2py')
     assert "def o_drill(m: Machine) -> None:" in code
     assert "    # 7: G1 X[#<i>*10] Y0 F100\n" in code
-    assert "while lt(" in code
+    assert "while v.i < 3.0:" in code
     assert "m.call(o_drill, 5.0)" in code
     assert code.rstrip().endswith("raise SystemExit(run_cli(main, __ngc__))")
     assert "def run(canon=None, **options):" in code
@@ -199,9 +199,9 @@ def test_big_cam_files_become_data_rows():
     code = compile_text("\n".join(lines + ["M2"]) + "\n", "cam.ngc")
     assert "run_rows(m, SHAPES, ROWS_1)" in code
     assert "run_rows(m, SHAPES, ROWS_2)" in code  # after the comment
-    # line 3 is "G1 X1.5 Y1 F1200": shape 1 (G1 X Y F) and its three values
+    # line 3 is "G1 X1.5 Y1 F1200": shape 1 (G1 X Y F) and its values as written
     assert '    # 1: G1 X Y F\n    ((G1,), ("x", "y", "f")),' in code
-    assert '\nROWS_1 = """\n1 0\n2 1 0.5 0.0 1200.0\n3 1 1.5 1.0 1200.0\n' in code
+    assert '\nROWS_1 = """\n1 0\n2 1 0.5 0 1200\n3 1 1.5 1 1200\n' in code
     table = code.split('ROWS_1 = """')[1].split('"""')[0]
     assert "G1" not in table and "X" not in table  # no G-code text to parse
     assert_black_stable(code)
