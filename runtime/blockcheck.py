@@ -25,6 +25,7 @@ from runtime.codes import (  # the codes this module reasons about, and helpers
     G5,
     G5_1,
     G5_2,
+    G5_3,
     G10,
     G28,
     G30,
@@ -94,6 +95,9 @@ DRILL_CYCLES = (G73, G74, G81, G82, G83, G84, G85, G86, G87, G88, G89)
 
 #: Motions whose line may have no axis word.
 _NO_AXES_NEEDED = (G0, G1, G2, G3, G5_2) + LATHE_CYCLES
+
+#: rs274's motion mode after G5.3: none at all (not even G80).
+NO_MOTION = -1
 
 #: rs274 reads at most this many M codes on a line.
 MAX_M_CODES = 4
@@ -179,7 +183,7 @@ def enhance(block: Block, plane: str, motion_mode: Optional[int]) -> None:
         _check_g52_g92(block, mode0, polar, axes)
     elif axes or polar:
         g43_1 = block.g.get(TOOL_OFFSET) == G43_1
-        if motion_mode in (None, G80) and not g43_1:
+        if motion_mode in (None, NO_MOTION, G80) and not g43_1:
             raise GCodeError("Cannot use axis values without a g code that uses them")
         if not g43_1:
             block.motion = motion_mode
@@ -215,6 +219,11 @@ def _check_g_codes(block: Block, distance_incremental: bool) -> None:
             raise GCodeError("G4 not allowed with G2 or G3 because they both use P")
     elif mode0 == G10:
         _check_g10(words)
+    elif mode0 == G5_3:
+        if block.g.get(MOTION) not in (None, G5_2):
+            raise GCodeError(
+                "Between G5.2 and G5.3 codes, only additional G5.2 codes are allowed."
+            )
     elif mode0 == G53:
         if block.motion not in (G0, G1):
             raise GCodeError("Must use g0 or g1 with g53")

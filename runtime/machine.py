@@ -70,8 +70,18 @@ from runtime.codes import (
     G28_1,
     G30,
     G30_1,
+    G33,
+    G33_1,
+    G38_2,
+    G38_3,
+    G38_4,
+    G38_5,
     G40,
+    G5,
+    G5_1,
+    G5_2,
     G5_3,
+    G76,
     G52,
     G54,
     G55,
@@ -111,6 +121,9 @@ from runtime.motion import (
     MotionMixin,
     OutOfScopeChecksMixin,
 )
+from runtime.lathe import ThreadingMixin
+from runtime.probing import ProbingMixin
+from runtime.splines import SplinesMixin
 from runtime.offsets import COORD_SYSTEM, G92_ENABLED, OffsetsMixin
 from runtime.params import Globals, Locals, Params
 from runtime.tooltable import ToolTable, default_tool_table, load_tool_table
@@ -156,16 +169,6 @@ POSITION_PARAMS = 5420
 
 #: Motion codes outside this version's scope, by what they are.
 _UNSUPPORTED_MOTION = {
-    330: "spindle-synchronized motion",
-    331: "rigid tapping",
-    382: "probing",
-    383: "probing",
-    384: "probing",
-    385: "probing",
-    50: "splines",
-    51: "splines",
-    52: "NURBS",
-    760: "threading cycles",
     **dict.fromkeys(LATHE_CYCLES, "lathe cycles"),
     **dict.fromkeys(DRILL_CYCLES, "canned cycles"),
 }
@@ -180,7 +183,14 @@ class _Subroutine(NamedTuple):
 
 
 class Machine(
-    MCodesMixin, MotionMixin, OutOfScopeChecksMixin, OffsetsMixin, ToolsMixin
+    MCodesMixin,
+    MotionMixin,
+    ThreadingMixin,
+    ProbingMixin,
+    SplinesMixin,
+    OutOfScopeChecksMixin,
+    OffsetsMixin,
+    ToolsMixin,
 ):
     """rs274's interpreter state and block execution, printing through ``canon``."""
 
@@ -521,6 +531,8 @@ class Machine(
         blockcheck.check(block, self.distance_incremental)
         self._execute(block, comment)
         self._publish_position()
+        if self.probe_flag:
+            self._after_probe()  # as for a tool change, below
         if self.toolchange_flag:
             # rs274 does this as it reads the next line, before evaluating any
             # of its expressions; nothing can happen in between, so do it now.
@@ -694,8 +706,7 @@ class Machine(
         elif code == G52:
             self._g52(words)
         elif code == G5_3:
-            # G5.2 never becomes the motion mode here (it is not supported).
-            raise GCodeError("Cannot use G5.3 without G5.2 first")
+            self._nurbs_end()
         # G4 and G53 are handled elsewhere (dwell first, G53 with the motion).
 
     def _g92_family(self, code: int) -> None:
@@ -710,9 +721,17 @@ class Machine(
             self._straight(motion, block)
         elif motion in (G2, G3):
             self._arc(motion, block)
+        elif motion in (G33, G33_1, G76):
+            self._spindle_synchronized(motion, block)
+        elif motion in (G38_2, G38_3, G38_4, G38_5):
+            self._probe(motion, block)
         elif motion == G80:
             self.canon.comment("interpreter: motion mode set to none")
             self.motion_mode = G80
+        elif motion in (G5, G5_1):
+            self._spline(motion, block)
+        elif motion == G5_2:
+            self._nurbs(block)
         else:
             # rs274 checks the block before it would move: its errors first.
             self._check_out_of_scope(motion, block)
