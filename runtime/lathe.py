@@ -14,7 +14,7 @@ import math
 from typing import List
 
 from runtime.blockcheck import Block
-from runtime.codes import G33, G33_1, G76
+from runtime.codes import G33, G76
 from runtime.errors import GCodeError
 from runtime.ops import c_hypot, long_double_product, PI_L_OVER_180
 
@@ -49,6 +49,10 @@ class ThreadingMixin:
         were; rs274 still takes the block's A, B, C, U, V and W."""
         self.canon.rigid_tap(end[0], end[1], end[2], scale)
         self.current = self.current[:3] + end[3:]
+
+    def _check_spindle_turning(self, name: str) -> None:
+        if self.spindle == "stopped":
+            raise GCodeError(f"Spindle not turning in {name}")
 
     def _check_spindle_turning_for_g76(self) -> None:
         if self.spindle == "stopped":

@@ -17,8 +17,9 @@ moves, arcs, homing), :mod:`runtime.offsets` (coordinate systems, G92, units)
 and :mod:`runtime.tools` (T, M6, M61, G43). This module has the public API,
 the execution order and the simple modal codes.
 
-Codes not implemented yet (canned cycles, cutter compensation, probing,
-splines, threading, M70-M73) raise a GCodeError
+Threading (:mod:`runtime.lathe`), probing (:mod:`runtime.probing`) and
+splines (:mod:`runtime.splines`) are mixins of their own. Codes not
+implemented yet (canned cycles, cutter compensation, M70-M73) raise a GCodeError
 that says so, at the point rs274 would execute them.
 """
 
