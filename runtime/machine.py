@@ -123,6 +123,7 @@ from runtime.motion import (
     OutOfScopeChecksMixin,
 )
 from runtime.lathe import ThreadingMixin
+from runtime.lathe_cycles import LatheCyclesMixin
 from runtime.probing import ProbingMixin
 from runtime.splines import SplinesMixin
 from runtime.offsets import COORD_SYSTEM, G92_ENABLED, OffsetsMixin
@@ -170,7 +171,6 @@ POSITION_PARAMS = 5420
 
 #: Motion codes outside this version's scope, by what they are.
 _UNSUPPORTED_MOTION = {
-    **dict.fromkeys(LATHE_CYCLES, "lathe cycles"),
     **dict.fromkeys(DRILL_CYCLES, "canned cycles"),
 }
 
@@ -189,6 +189,7 @@ class Machine(
     ThreadingMixin,
     ProbingMixin,
     SplinesMixin,
+    LatheCyclesMixin,
     OutOfScopeChecksMixin,
     OffsetsMixin,
     ToolsMixin,
@@ -729,6 +730,8 @@ class Machine(
         elif motion == G80:
             self.canon.comment("interpreter: motion mode set to none")
             self.motion_mode = G80
+        elif motion in LATHE_CYCLES:
+            self._lathe_cycle(motion, block)
         elif motion in (G5, G5_1):
             self._spline(motion, block)
         elif motion == G5_2:

@@ -15,7 +15,7 @@ import math
 from typing import List
 
 from runtime import arcs
-from runtime.blockcheck import DRILL_CYCLES, LATHE_CYCLES, Block
+from runtime.blockcheck import DRILL_CYCLES, Block
 from runtime.codes import (
     G0,
     G1,
@@ -311,19 +311,8 @@ class OutOfScopeChecksMixin:
     """rs274's pre-motion checks for the motions ngc2py does not generate."""
 
     def _check_out_of_scope(self, motion: int, block: Block) -> None:
-        if motion in LATHE_CYCLES:
-            self._check_lathe_cycle(motion, block)
-        elif motion in DRILL_CYCLES:
+        if motion in DRILL_CYCLES:
             self._check_drill_cycle(block)
-
-    def _check_lathe_cycle(self, motion: int, block: Block) -> None:
-        """convert_g7x, up to the rapid move to the cycle's start."""
-        if "q" not in block.words:
-            raise GCodeError("G7x.x  requires a Q word")  # sic: two spaces
-        if self.plane != "XZ":
-            # rs274 always writes the decimal here: "G70.0".
-            name = f"G{motion // 10}.{motion % 10}"
-            raise GCodeError(f"{name} can only be used in XZ plane (G18)")
 
     def _check_drill_cycle(self, block: Block) -> None:
         """convert_cycle and convert_cycle_xy/yz/zx, up to the first move.

@@ -27,7 +27,6 @@ NCFILES = Path("/usr/share/linuxcnc/ncfiles")
 OUT_OF_SCOPE = {
     **{f"G{n}": "canned cycles" for n in (73, 74, 81, 82, 83, 84, 85, 86, 87, 88, 89)},
     **{c: "cutter radius compensation" for c in ("G41", "G41.1", "G42", "G42.1")},
-    **{c: "lathe cycles" for c in ("G70", "G71", "G71.1", "G71.2", "G72", "G72.1", "G72.2")},
     **{c: "tool table edits" for c in ("G10 L1", "G10 L10", "G10 L11")},
     **{c: "modal state save/restore" for c in ("M70", "M71", "M72", "M73")},
     **{f"M{n}": "user M codes / remaps" for n in range(100, 200)},
