@@ -14,7 +14,7 @@ four decimals:
 * a complex times or divided by a real works on the two parts;
 * complex products are ``(ac - bd) + (ad + bc)i`` (Python's, too);
 * complex quotients are libgcc's ``__divdc3`` (:func:`cdiv`);
-* ``abs`` is C's ``hypot`` and ``norm`` is ``abs`` squared (libstdc++).
+* ``abs`` is C's ``hypot`` and ``norm`` the sum of the squared parts.
 
 Where rs274 itself never finishes (a pocket that makes no progress, an
 offset that can no longer grow), :class:`G7xError` says so instead.
@@ -49,8 +49,7 @@ def cabs(z: complex) -> float:
 
 
 def norm(z: complex) -> float:
-    size = cabs(z)
-    return size * size
+    return z.real * z.real + z.imag * z.imag
 
 
 def scale(factor: float, z: complex) -> complex:
