@@ -74,7 +74,7 @@ BINARY_HELPERS = {
 }
 UNARY_HELPERS = {"abs": "abs_", "round": "round_"}  # others keep their name
 COMPARISONS = frozenset(("eq", "ne", "gt", "ge", "lt", "le", "and", "or", "xor"))
-WORD_KEYWORDS = {"@": "polar_dist", "^": "polar_angle"}
+WORD_KEYWORDS = {"@": "polar_dist", "^": "polar_angle", "$": "dollar"}
 GCODE_LETTERS = {"n": "N", "polar_dist": "@", "polar_angle": "^"}  # row shapes
 GCODE_LETTERS = {keyword: letter for letter, keyword in WORD_KEYWORDS.items()}
 RESERVED = frozenset(

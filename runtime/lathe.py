@@ -27,6 +27,12 @@ class ThreadingMixin:
         self.motion_mode = motion
         end = self._find_ends(block)
         words = block.words
+        if "dollar" in words and int(words["dollar"]) != 0:
+            # $ (read as an int) must name one of rs274's spindles: it has one.
+            if motion == G76:
+                raise GCodeError("Invalid D-number in G76 cycle")
+            name = "G33" if motion == G33 else "G33.1"
+            raise GCodeError(f"Invalid spindle ($) number in {name} move")
         if motion == G76:
             self._check_spindle_turning_for_g76()
             if end[3:] != self.current[3:]:

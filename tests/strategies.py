@@ -436,6 +436,47 @@ def stmt_spline(w: Writer) -> None:
     w.emit("(debug, #5420 #5421)")
 
 
+def stmt_lathe_cycle(w: Writer) -> None:
+    """A G70/G71/G72 cycle and its profile subroutine, defined just before it.
+
+    The profile runs with X growing and Z falling, in diagonal or stepped
+    pieces long enough for the small corner fillets (A) and chamfers (C).
+    rs274 only allows a definition where it is read once, so cycles are
+    written at the top level only.
+    """
+    if w.depth or w.scope.args:
+        stmt_move(w)
+        return
+    label = 9000 + w.new_label()
+    x = w.draw(st.integers(0, 30)) / 10
+    z = 0.0
+    w.emit(f"o{label} sub")
+    w.emit(f"  G1 X{fmt(x)} Z0")
+    for _ in range(w.draw(st.integers(1, 4))):
+        dx = w.draw(st.integers(5, 30)) / 10
+        dz = w.draw(st.integers(10, 50)) / 10
+        corner = w.draw(st.sampled_from(["", "", " A0.2", " C0.2"]))
+        if w.draw(st.booleans()):
+            x, z = x + dx, z - dz
+            w.emit(f"  G1 X{fmt(x)} Z{fmt(z)}{corner}")
+        else:
+            z -= dz
+            w.emit(f"  G1 Z{fmt(z)}{corner}")
+            x += dx
+            w.emit(f"  X{fmt(x)}")
+    w.emit(f"o{label} endsub")
+    cycle = w.draw(st.sampled_from(["G70", "G71", "G71.1", "G71.2", "G72", "G72.1", "G72.2"]))
+    words = [f"Q{label}", f"D{w.draw(numbers(0, 5, 10))}"]
+    if cycle == "G70":
+        words.append(f"P{w.draw(st.integers(1, 3))}")
+    else:
+        words += [f"I{w.draw(numbers(3, 20, 10))}", f"R{w.draw(numbers(1, 10, 10))}"]
+    w.emit(f"G18 G90 G0 X{fmt(x + 2)} Z2")
+    w.emit(f"{cycle} " + " ".join(w.draw(st.permutations(words))))
+    w.emit("G17")
+    _restore_dist(w)
+
+
 def stmt(w: Writer, nested: bool = False) -> None:
     weights = [
         (stmt_move, 6),
@@ -447,6 +488,7 @@ def stmt(w: Writer, nested: bool = False) -> None:
         (stmt_thread, 1),
         (stmt_probe, 1),
         (stmt_spline, 1),
+        (stmt_lathe_cycle, 1),
     ]
     if w.depth < 2:
         weights += [(stmt_if, 1), (stmt_loop, 1)]
