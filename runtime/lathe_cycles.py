@@ -125,11 +125,13 @@ class _ProfileReader:
         m = self.m
         name = "%d" % q if q == int(q) else repr(q)
         m.block = self.block  # the generated code calls m.block for each line
+        m.reading_profile = True
         m._publish_position()
         try:
             m.call_named(name)
         finally:
             del m.block
+            m.reading_profile = False
 
     def block(
         self, line: int, *codes: int, n: Optional[str] = None, comment=None, **words
@@ -149,9 +151,16 @@ class _ProfileReader:
     def _add(self, block: Block) -> None:
         m, words, start = self.m, block.words, self.start
         end = complex(0.0, 0.0) if self.incremental else start
-        if "x" in words:
+        if "u" in words:
+            self._check_incremental_word("U", "X", words)
+            u = words["u"] / 2 if m.lathe_diameter else words["u"]
+            end = complex(end.real, end.imag + u)
+        elif "x" in words:
             end = complex(end.real, words["x"])
-        if "z" in words:
+        if "w" in words:
+            self._check_incremental_word("W", "Z", words)
+            end = complex(end.real + words["w"], end.imag)
+        elif "z" in words:
             end = complex(words["z"], end.imag)
         centre = complex(words.get("k", 0.0), words.get("i", 0.0))
         if self.incremental:
@@ -175,6 +184,17 @@ class _ProfileReader:
                 self.segments.append(Chamfer(words["c"], end))
         m.current = [end.imag, m.current[1], end.real] + m.current[3:]
         self.start = end
+
+    def _check_incremental_word(self, letter: str, axis: str, words) -> None:
+        """U and W are increments of X and Z, for absolute mode only."""
+        if self.incremental:
+            raise GCodeError(
+                f"G7x error: Cannot use {letter} in incremental mode (G91)"
+            )
+        if axis.lower() in words:
+            raise GCodeError(
+                f"G7x error: Cannot use {letter} and {axis} in the same block"
+            )
 
     def _arc(self, mode: int, words, start: complex, end: complex, centre: complex):
         if "r" in words:

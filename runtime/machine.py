@@ -278,6 +278,8 @@ class Machine(
         self.selected_tool = 0
         self.current_pocket = 1
         self.toolchange_flag = False
+        #: rs274 is reading a G7x profile (it reads U and W words then).
+        self.reading_profile = False
         self.origin_index = 1
         self.origin = [0.0] * 9
         self.g92 = [0.0] * 9
