@@ -465,7 +465,10 @@ def stmt_lathe_cycle(w: Writer) -> None:
                 dx += 0.5
             slope = dx / dz
             x, z = x + dx, z - dz
-            w.emit(f"  G1 X{fmt(x)} Z{fmt(z)}{corner}")
+            if w.draw(st.integers(0, 3)) == 0:  # U and W: increments of X and Z
+                w.emit(f"  G1 U{fmt(dx)} W{fmt(-dz)}{corner}")
+            else:
+                w.emit(f"  G1 X{fmt(x)} Z{fmt(z)}{corner}")
         else:
             slope = None
             z -= dz
