@@ -22,7 +22,7 @@ from typing import List, Optional
 
 from runtime import blockcheck
 from runtime.blockcheck import Block
-from runtime.codes import G0, G1, G2, G3, G70, G72
+from runtime.codes import G0, G1, G2, G3, G70, G72, to_integer
 from runtime.errors import GCodeError
 from runtime.g7x import (
     Chamfer,
@@ -123,7 +123,8 @@ class _ProfileReader:
 
     def read(self, q: float) -> None:
         m = self.m
-        name = "%d" % q if q == int(q) else repr(q)
+        # rs274 writes the call out as text ("O100.000000 CALL") and reads it.
+        name = "%d" % to_integer(float("%f" % q))
         m.block = self.block  # the generated code calls m.block for each line
         m.reading_profile = True
         m._publish_position()
