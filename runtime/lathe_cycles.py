@@ -4,8 +4,8 @@ cycles, as rs274's convert_g7x runs them.
 A mixin of :class:`runtime.machine.Machine`. The cycle's profile is the
 subroutine ``o<Q>``: rs274 calls it and reads its lines one by one, running
 their O-words and parameter settings but taking nothing from the other
-lines except the motion code and the X, Z, I, K, R, A (fillet) and C
-(chamfer) words. Here the subroutine's compiled function runs with the
+lines except the motion code and the X, Z, U and W (increments of X and
+Z, read only here), I, K, R, A (fillet) and C (chamfer) words. Here the subroutine's compiled function runs with the
 machine's ``block`` replaced by a recorder that does the same, so control
 flow and parameters work as they do everywhere else.
 
