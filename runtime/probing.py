@@ -68,12 +68,16 @@ class ProbingMixin:
         self._probe_point = end[:6] + [0.0, 0.0, 0.0]
         dx, dy, dz = pos[0] - end[0], pos[1] - end[1], pos[2] - end[2]
         distance = math.sqrt((dx * dx) + (dy * dy) + (dz * dz))
+        xyz = list(pos[:3])
         if distance != 0:
             backoff = _BACKOFF_INCH if world.inches else _BACKOFF_MM
-            pos[0] = end[0] + (backoff * (dx / distance))
-            pos[1] = end[1] + (backoff * (dy / distance))
-            pos[2] = end[2] + (backoff * (dz / distance))
-        pos[3:6] = end[3:6]
+            xyz = [
+                end[0] + (backoff * (dx / distance)),
+                end[1] + (backoff * (dy / distance)),
+                end[2] + (backoff * (dz / distance)),
+            ]
+        # A new list: the machine may share the old one (runtime.fastpath).
+        world.position = xyz + list(end[3:6])
 
     def _after_probe(self) -> None:
         """rs274's set_probe_data, done as it reads the next line."""

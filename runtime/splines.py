@@ -137,7 +137,7 @@ class SplinesMixin:
         self.canon.nurbs_feed(list(self._nurbs_points), order)
         self._nurbs_points = []
         # The stand-alone canon's read past the end of the list (see above).
-        self.world.position[0] = self.world.position[1] = 0.0
+        self.world.position = [0.0, 0.0] + list(self.world.position[2:6])
 
 
 __all__ = ["SplinesMixin", "NO_MOTION"]
