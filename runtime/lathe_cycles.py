@@ -125,14 +125,18 @@ class _ProfileReader:
         m = self.m
         # rs274 writes the call out as text ("O100.000000 CALL") and reads it.
         name = "%d" % to_integer(float("%f" % q))
-        m.block = self.block  # the generated code calls m.block for each line
+        # The generated code calls m.block for each line, or m.move for
+        # plain moves, which falls back to m.block when _plain is off.
+        m.block = self.block
         m.reading_profile = True
+        m._plain = False
         m._publish_position()
         try:
             m.call_named(name)
         finally:
             del m.block
             m.reading_profile = False
+            m.refresh_plain()
 
     def block(
         self, line: int, *codes: int, n: Optional[str] = None, comment=None, **words
