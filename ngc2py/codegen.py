@@ -43,7 +43,8 @@ import re
 from dataclasses import dataclass, field
 from typing import Dict, Iterable, List, Optional, Sequence, Tuple
 
-from ngc2py import __version__, nodes
+from ngc2py import __version__, nodes, parser
+from ngc2py.parser import DEFAULT_AXES
 from ngc2py import structure as st
 from ngc2py.parser import RowLine
 from runtime import codes
@@ -77,7 +78,7 @@ BINARY_HELPERS = {
 UNARY_HELPERS = {"abs": "abs_", "round": "round_"}  # others keep their name
 COMPARISONS = frozenset(("eq", "ne", "gt", "ge", "lt", "le", "and", "or", "xor"))
 PYTHON_COMPARISONS = {"gt": ">", "ge": ">=", "lt": "<", "le": "<="}
-WORD_KEYWORDS = {"@": "polar_dist", "^": "polar_angle"}
+WORD_KEYWORDS = {"@": "polar_dist", "^": "polar_angle", "$": "dollar"}
 AXIS_LETTERS = frozenset("xyzabcuvw")
 GCODE_LETTERS = {keyword: letter for letter, keyword in WORD_KEYWORDS.items()}
 RESERVED = frozenset(
@@ -981,6 +982,18 @@ class CodeGen:
 
     def line_body(self, line: nodes.Line) -> None:
         if line.error is not None:
+            profile = profile_reading(line)
+            if profile is not None:
+                # rs274 reads U and W while it reads a G7x profile only.
+                self.w.stmt("if m.reading_profile:", line)
+                self.w.depth += 1
+                self.line_body(profile)
+                self.w.depth -= 1
+                self.w.stmt("else:", line)
+                self.w.depth += 1
+                self.read_error(line)
+                self.w.depth -= 1
+                return
             self.read_error(line)
             return
         reads = self.item_reads(line)
@@ -1327,6 +1340,18 @@ def valid_setting_index(n: float) -> bool:
     except GCodeError:
         return False
     return True
+
+
+#: The read errors a G7x profile line does not have: rs274 reads U and W
+#: (as incremental X and Z) while it reads one.
+_PROFILE_LETTERS = {"Bad character 'u' used", "Bad character 'w' used"}
+
+
+def profile_reading(line: nodes.Line) -> Optional[nodes.Line]:
+    """How rs274 reads ``line`` inside a G7x profile, if that differs."""
+    if line.error not in _PROFILE_LETTERS:
+        return None
+    return parser.parse_line(line.text, line.number, line.file, DEFAULT_AXES + "uw")
 
 
 def fail_call(line: int, message: str) -> str:

@@ -808,7 +808,9 @@ def read_simple_line(text: str, number: int, file: str, axes: str) -> Optional[L
     if scanned is None:
         return None
     n_digits, found, comment = scanned
-    items = tuple(Word(letter, Num(value), column) for letter, _, value, _, column in found)
+    items = tuple(
+        Word(letter, Num(value), column) for letter, _, value, _, column in found
+    )
     if n_digits is None:
         n = n_text = None
     else:

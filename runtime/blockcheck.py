@@ -25,6 +25,7 @@ from runtime.codes import (  # the codes this module reasons about, and helpers
     G5,
     G5_1,
     G5_2,
+    G5_3,
     G10,
     G28,
     G30,
@@ -94,6 +95,9 @@ DRILL_CYCLES = (G73, G74, G81, G82, G83, G84, G85, G86, G87, G88, G89)
 
 #: Motions whose line may have no axis word.
 _NO_AXES_NEEDED = (G0, G1, G2, G3, G5_2) + LATHE_CYCLES
+
+#: rs274's motion mode after G5.3: none at all (not even G80).
+NO_MOTION = -1
 
 #: rs274 reads at most this many M codes on a line.
 MAX_M_CODES = 4
@@ -179,7 +183,7 @@ def enhance(block: Block, plane: str, motion_mode: Optional[int]) -> None:
         _check_g52_g92(block, mode0, polar, axes)
     elif axes or polar:
         g43_1 = block.g.get(TOOL_OFFSET) == G43_1
-        if motion_mode in (None, G80) and not g43_1:
+        if motion_mode in (None, NO_MOTION, G80) and not g43_1:
             raise GCodeError("Cannot use axis values without a g code that uses them")
         if not g43_1:
             block.motion = motion_mode
@@ -215,6 +219,11 @@ def _check_g_codes(block: Block, distance_incremental: bool) -> None:
             raise GCodeError("G4 not allowed with G2 or G3 because they both use P")
     elif mode0 == G10:
         _check_g10(words)
+    elif mode0 == G5_3:
+        if block.g.get(MOTION) not in (None, G5_2):
+            raise GCodeError(
+                "Between G5.2 and G5.3 codes, only additional G5.2 codes are allowed."
+            )
     elif mode0 == G53:
         if block.motion not in (G0, G1):
             raise GCodeError("Must use g0 or g1 with g53")
@@ -265,6 +274,8 @@ def _check_other_words(block: Block) -> None:
         raise GCodeError(
             "D word with no G41, G41.1, G42, G42.1, G71, G71.1, G71.2 or G96 to use it"
         )
+    if "dollar" in words:
+        _check_dollar_word(block)
     if "e" in words and motion not in _E_MOTIONS and m.get(M_IO) not in (66, 67, 68):
         raise GCodeError("E word with no G70, G76, M66, M67 or M68 to use it")
     if "h" in words and g.get(TOOL_OFFSET) not in (G43, G43_2) and motion != G76:
@@ -295,6 +306,31 @@ def _check_other_words(block: Block) -> None:
         if m.get(M_SPINDLE) == 19 and not 0.0 <= words["r"] <= 360.0:
             raise GCodeError("R value must be within 0..360 with M19")
     _check_motion_words(motion, words)
+
+
+def _check_dollar_word(block: Block) -> None:
+    """$ (spindle selection). rs274 also names G95-G97, but compares them with
+    the motion code, so they never count."""
+    spindle_m = block.m.get(M_SPINDLE)
+    used = (
+        block.motion in (G33, G33_1, G76)
+        or spindle_m in (3, 4, 5, 19)
+        or block.m.get(M_OVERRIDE) == 51
+        or "s" in block.words
+    )
+    if not used:
+        raise GCodeError(
+            "$ (spindle selection) word with no M3, M4, M5, M19, M51, G33, G33.1,"
+            " G76, G95, G96 or G97 to use it"
+        )
+    if block.motion in (G33, G33_1, G76):
+        return  # runtime.lathe checks the number when it gets there
+    number = int(block.words["dollar"])  # rs274 keeps $ as an int
+    # The stand-alone rs274 has one spindle: $0, or $-1 ("all") for S, M3,
+    # M4 and M5. Its messages for other numbers depend on the code.
+    everything = number == -1 and spindle_m != 19 and SPINDLE_MODE not in block.g
+    if number != 0 and not (everything and block.m.get(M_OVERRIDE) != 51):
+        raise GCodeError("ngc2py does not support spindle selection ($%d) yet" % number)
 
 
 def _check_motion_words(motion: Optional[int], words) -> None:

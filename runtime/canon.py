@@ -133,6 +133,8 @@ class Canon:
     def clear_aux_output_bit(self, index): ...
     def set_aux_output_value(self, index, value): ...
     def canon_error(self, text): ...
+    def print_line(self, text):
+        """A line rs274 prints on stdout outside the trace (G7x's "Oops")."""
 
     # --- program flow --------------------------------------------------
     def program_stop(self): ...
@@ -489,6 +491,9 @@ class TraceCanon(Canon):
 
     def canon_error(self, text):
         self._emit(f"CANON_ERROR({text})")
+
+    def print_line(self, text):
+        self._write(text + "\n")
 
     # --- program flow --------------------------------------------------
     program_stop = _no_arguments("PROGRAM_STOP")

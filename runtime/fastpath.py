@@ -117,7 +117,11 @@ class FastPathMixin:
         canon = self.canon
         feed, traverse = canon.straight_feed, canon.straight_traverse
         cur = self.current
-        motion_mode, feed_rate, block_n = self.motion_mode, self.feed_rate, self._block_n
+        motion_mode, feed_rate, block_n = (
+            self.motion_mode,
+            self.feed_rate,
+            self._block_n,
+        )
         row = at
         try:
             while at < end:

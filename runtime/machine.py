@@ -18,9 +18,10 @@ moves, arcs, homing), :mod:`runtime.cycles` (drilling canned cycles),
 :mod:`runtime.tools` (T, M6, M61, G43). This module has the public API,
 the execution order and the simple modal codes.
 
-Codes not implemented yet (cutter compensation, probing,
-splines, threading, M70-M73) raise a GCodeError
-that says so, at the point rs274 would execute them.
+Threading (:mod:`runtime.lathe`), probing (:mod:`runtime.probing`),
+splines (:mod:`runtime.splines`) and lathe cycles (:mod:`runtime.lathe_cycles`)
+are mixins of their own. Codes not implemented yet (cutter compensation,
+M70-M73) raise a GCodeError that says so, at the point rs274 would execute them.
 """
 
 from __future__ import annotations
@@ -71,8 +72,18 @@ from runtime.codes import (
     G28_1,
     G30,
     G30_1,
+    G33,
+    G33_1,
+    G38_2,
+    G38_3,
+    G38_4,
+    G38_5,
     G40,
+    G5,
+    G5_1,
+    G5_2,
     G5_3,
+    G76,
     G52,
     G54,
     G55,
@@ -112,8 +123,11 @@ from runtime.motion import (
     UNITS_PER_MINUTE,
     UNITS_PER_REVOLUTION,
     MotionMixin,
-    OutOfScopeChecksMixin,
 )
+from runtime.lathe import ThreadingMixin
+from runtime.lathe_cycles import LatheCyclesMixin
+from runtime.probing import ProbingMixin
+from runtime.splines import SplinesMixin
 from runtime.offsets import COORD_SYSTEM, G92_ENABLED, OffsetsMixin
 from runtime.params import Globals, Locals, Params
 from runtime.tooltable import ToolTable, default_tool_table, load_tool_table
@@ -154,22 +168,6 @@ MAX_PARAMETER = 5602
 #: rs274 refuses a call made from this call level (nine nested calls at most).
 MAX_CALL_LEVEL = 9
 
-#: Motion codes outside this version's scope, by what they are.
-_UNSUPPORTED_MOTION = {
-    330: "spindle-synchronized motion",
-    331: "rigid tapping",
-    382: "probing",
-    383: "probing",
-    384: "probing",
-    385: "probing",
-    50: "splines",
-    51: "splines",
-    52: "NURBS",
-    760: "threading cycles",
-    **dict.fromkeys(LATHE_CYCLES, "lathe cycles"),
-}
-
-
 class _Subroutine(NamedTuple):
     """A known subroutine: its function, and the file its definition was
     read in (None when rs274 found it by reading ahead for a call)."""
@@ -183,7 +181,10 @@ class Machine(
     MCodesMixin,
     MotionMixin,
     CyclesMixin,
-    OutOfScopeChecksMixin,
+    ThreadingMixin,
+    ProbingMixin,
+    SplinesMixin,
+    LatheCyclesMixin,
     OffsetsMixin,
     ToolsMixin,
 ):
@@ -271,6 +272,8 @@ class Machine(
         self.selected_tool = 0
         self.current_pocket = 1
         self.toolchange_flag = False
+        #: rs274 is reading a G7x profile (it reads U and W words then).
+        self.reading_profile = False
         self.origin_index = 1
         self.origin = [0.0] * 9
         self.g92 = [0.0] * 9
@@ -530,6 +533,8 @@ class Machine(
         blockcheck.check(block, self.distance_incremental)
         self._execute(block, comment)
         self._publish_position()
+        if self.probe_flag:
+            self._after_probe()  # as for a tool change, below
         if self.toolchange_flag:
             # rs274 does this as it reads the next line, before evaluating any
             # of its expressions; nothing can happen in between, so do it now.
@@ -710,8 +715,7 @@ class Machine(
         elif code == G52:
             self._g52(words)
         elif code == G5_3:
-            # G5.2 never becomes the motion mode here (it is not supported).
-            raise GCodeError("Cannot use G5.3 without G5.2 first")
+            self._nurbs_end()
         # G4 and G53 are handled elsewhere (dwell first, G53 with the motion).
 
     def _g92_family(self, code: int) -> None:
@@ -730,13 +734,21 @@ class Machine(
             self._straight(motion, block)
         elif motion in (G2, G3):
             self._arc(motion, block)
+        elif motion in (G33, G33_1, G76):
+            self._spindle_synchronized(motion, block)
+        elif motion in (G38_2, G38_3, G38_4, G38_5):
+            self._probe(motion, block)
         elif motion == G80:
             self.canon.comment("interpreter: motion mode set to none")
             self.motion_mode = G80
-        else:
-            # rs274 checks the block before it would move: its errors first.
-            self._check_out_of_scope(motion, block)
-            raise not_supported(f"{_UNSUPPORTED_MOTION[motion]} ({g_name(motion)})")
+        elif motion in LATHE_CYCLES:
+            self._lathe_cycle(motion, block)
+        elif motion in (G5, G5_1):
+            self._spline(motion, block)
+        elif motion == G5_2:
+            self._nurbs(block)
+        else:  # every motion code of rs274 2.9 is handled above
+            raise not_supported(f"motion {g_name(motion)}")
 
     # ------------------------------------------------------------------
     # Predefined named parameters

@@ -15,24 +15,14 @@ import math
 from typing import List
 
 from runtime import arcs
-from runtime.blockcheck import LATHE_CYCLES, Block
+from runtime.blockcheck import Block
 from runtime.codes import (
     G0,
     G1,
     G2,
-    G5,
-    G5_1,
-    G5_2,
     G28,
     G28_1,
-    G33,
-    G33_1,
-    G38_2,
-    G38_3,
-    G38_4,
-    G38_5,
     G53,
-    G76,
 )
 from runtime.errors import GCodeError
 from runtime.ops import c_hypot
@@ -297,99 +287,3 @@ def _straight_length(start: List[float], end: List[float]) -> float:
         if any(abs(start[i] - end[i]) > _TINY for i in group):
             return distance(group)
     return distance((3, 4, 5))
-
-
-# ----------------------------------------------------------------------
-# Out-of-scope motions: rs274's checks only
-# ----------------------------------------------------------------------
-# ngc2py does not generate these motions yet, but a malformed block must
-# still fail with rs274's message (a "G5 X1 Y2" meant as G54 reports the
-# missing P and Q). Each function below makes the checks rs274 makes for its
-# motion before that motion's first canonical call, in rs274's order; the
-# caller raises "not supported" when they pass.
-
-
-class OutOfScopeChecksMixin:
-    """rs274's pre-motion checks for the motions ngc2py does not generate."""
-
-    def _check_out_of_scope(self, motion: int, block: Block) -> None:
-        if motion in (G5, G5_1):
-            self._check_spline(motion, block)
-        elif motion == G5_2:
-            self._check_nurbs(block)
-        elif motion in (G33, G33_1):
-            self._check_spindle_turning("G33" if motion == G33 else "G33.1")
-        elif motion in (G38_2, G38_3, G38_4, G38_5):
-            self._check_probe(block)
-        elif motion == G76:
-            self._check_threading(block)
-        elif motion in LATHE_CYCLES:
-            self._check_lathe_cycle(motion, block)
-
-    def _check_spline(self, motion: int, block: Block) -> None:
-        """convert_spline: G5 (cubic) and G5.1 (quadratic)."""
-        words = block.words
-        if self.feed_mode == UNITS_PER_MINUTE and self.feed_rate == 0.0:
-            raise GCodeError("Cannot make arc with zero feed rate")
-        if self.feed_mode == INVERSE_TIME and "f" not in words:
-            raise GCodeError("F word missing with inverse time arc move")
-        if self.plane != "XY":
-            raise GCodeError("Splines must be in the XY plane")
-        if any(letter in words for letter in "zabc"):
-            raise GCodeError("Splines may not have motion in Z, A, B, or C")
-        has_i, has_j = "i" in words, "j" in words
-        if motion == G5_1:
-            if not (has_i and has_j):
-                raise GCodeError("Must specify both I and J with G5.1")
-            self._find_ends(block)
-            return
-        if has_i != has_j:
-            raise GCodeError("Must specify both I and J, or neither")
-        self._find_ends(block)
-        if "p" not in words or "q" not in words:
-            raise GCodeError("Must specify both P and Q with G5")
-
-    def _check_nurbs(self, block: Block) -> None:
-        """convert_nurbs for G5.2 (the first control point: the list is empty)."""
-        if ("x" in block.words) != ("y" in block.words):
-            raise GCodeError(
-                "You must specify both X and Y coordinates for Control Points"
-            )
-        if self.feed_mode == UNITS_PER_MINUTE and self.feed_rate == 0.0:
-            raise GCodeError("Cannot make a NURBS with 0 feedrate")
-
-    def _check_spindle_turning(self, name: str) -> None:
-        if self.spindle == "stopped":
-            raise GCodeError(f"Spindle not turning in {name}")
-
-    def _check_probe(self, block: Block) -> None:
-        """convert_probe (G38.2-G38.5); 2.9 allows rotary axes and inverse time."""
-        if self.feed_mode != INVERSE_TIME and self.feed_rate == 0.0:
-            raise GCodeError("Cannot probe with zero feed rate")
-        if self.feed_mode == UNITS_PER_REVOLUTION:
-            raise GCodeError("Cannot probe with feed per rev mode")
-        if self._find_ends(block) == self.current:
-            raise GCodeError("Start point too close to probe point")
-
-    def _check_threading(self, block: Block) -> None:
-        """convert_straight and convert_threading_cycle for G76."""
-        words = block.words
-        if self.spindle == "stopped":
-            raise GCodeError("Chosen spindle (0) not turning in G76")
-        if self._find_ends(block)[3:] != self.current[3:]:
-            raise GCodeError("Cannot move rotary axes with G76")
-        if words["i"] == 0:
-            raise GCodeError("In G76, I must not be 0")
-        if words["j"] <= 0:
-            raise GCodeError("In G76, J must be greater than 0")
-        if words["k"] <= words["j"]:
-            raise GCodeError("In G76, K must be greater than J")
-
-    def _check_lathe_cycle(self, motion: int, block: Block) -> None:
-        """convert_g7x, up to the rapid move to the cycle's start."""
-        if "q" not in block.words:
-            raise GCodeError("G7x.x  requires a Q word")  # sic: two spaces
-        if self.plane != "XZ":
-            # rs274 always writes the decimal here: "G70.0".
-            name = f"G{motion // 10}.{motion % 10}"
-            raise GCodeError(f"{name} can only be used in XZ plane (G18)")

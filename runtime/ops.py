@@ -443,3 +443,17 @@ _FAST = x87.trig_functions(_PI_L[0], _PI_L[1], _trig)
 _sin, _cos, _tan = (
     (_FAST or {}).get(name) or _emulated(name) for name in ("sin", "cos", "tan")
 )
+
+
+#: M_PIl / 180.0 as a compiler folds it: a long double ``(m, e)``.
+PI_L_OVER_180 = _rounded_ratio(_PI_L[0], 180, _PI_L[1], _LD_BITS)
+
+
+def long_double_product(x: float, constant: Tuple[int, int]) -> float:
+    """``x * constant`` computed as a long double and stored into a double
+    (rs274's ``angle *= M_PIl/180.0``)."""
+    if x == 0.0:
+        return x
+    m, e = _double_parts(x)
+    cm, ce = constant
+    return _to_double(*_rounded_ratio(m * cm, 1, e + ce, _LD_BITS))

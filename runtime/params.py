@@ -89,7 +89,9 @@ class Params:
         for number, value in (initial or {}).items():
             self._values[number] = float(value)
         self.cutter_comp = False
-        self.position: Sequence[float] = self._values[_FIRST_POSITION : _LAST_POSITION + 1]
+        self.position: Sequence[float] = self._values[
+            _FIRST_POSITION : _LAST_POSITION + 1
+        ]
 
     def __getitem__(self, n: float) -> float:
         index = _PLAIN_READ.get(n)

@@ -421,6 +421,123 @@ def stmt_call(w: Writer) -> None:
         w.emit("(debug, value #<_value> returned #<_value_returned> level #<_call_level>)")
 
 
+def stmt_thread(w: Writer) -> None:
+    """G33, G33.1 or G76 with the spindle turning (rs274 refuses them otherwise)."""
+    w.emit(f"S{w.draw(numbers(100, 2000, 1))} {w.draw(st.sampled_from(['M3', 'M4']))}")
+    kind = w.draw(st.integers(0, 3))
+    if kind == 0:
+        w.emit(f"G33 {_axes(w, 'XZ')} K{w.draw(numbers(1, 40, 10))}")
+    elif kind == 1:
+        scale = f" I{w.draw(numbers(0, 40, 10))}" if w.draw(st.booleans()) else ""
+        w.emit(f"G33.1 Z{w.value()} K{w.draw(numbers(1, 30, 10))}{scale}")
+    else:
+        # G76 needs I non-zero, J > 0 and K > J; the other words are optional.
+        j = w.draw(st.integers(1, 20)) / 100
+        k = j + w.draw(st.integers(1, 150)) / 100
+        i = w.draw(st.sampled_from([-1, 1])) * w.draw(st.integers(1, 30)) / 10
+        words = [f"P{w.draw(numbers(2, 40, 10))}", f"Z{w.value()}", f"I{fmt(i)}", f"J{fmt(j)}", f"K{fmt(k)}"]
+        optional = {
+            "Q": numbers(0, 600, 10),
+            "R": numbers(5, 30, 10),
+            "H": st.integers(0, 2).map(str),
+            "E": numbers(-10, 30, 10),
+            "L": st.integers(0, 3).map(str),
+        }
+        for letter, values in optional.items():
+            if w.draw(st.booleans()):
+                words.append(f"{letter}{w.draw(values)}")
+        words = w.draw(st.permutations(words))
+        diameter = w.draw(st.integers(0, 3)) == 0
+        if diameter:
+            w.emit("G7")  # X, I, J and K are diameters
+        w.emit("G76 " + " ".join(words))
+        if diameter:
+            w.emit("G8")
+    if w.draw(st.booleans()):
+        w.emit("M5")
+
+
+def stmt_probe(w: Writer) -> None:
+    """G38.2-G38.5 (the program's feed rate is never zero), then the results."""
+    code = w.draw(st.sampled_from(["G38.2", "G38.3", "G38.4", "G38.5"]))
+    if code in ("G38.2", "G38.4"):
+        # These refuse to probe towards the current point: move for sure.
+        w.emit(f"G91 {code} Z-{w.draw(numbers(1, 100, 10))} {_axes(w, 'XYA', 0)}".rstrip())
+        _restore_dist(w)
+    else:
+        w.emit(f"{code} {_axes(w, 'XYZ')}")
+    w.emit("(debug, #5061 #5062 #5063 #5064 #5070 #5420 #5421 #5422)")
+
+
+def stmt_spline(w: Writer) -> None:
+    """G5, G5.1, or a G5.2 ... G5.3 NURBS, in the XY plane without Z."""
+    kind = w.draw(st.integers(0, 2))
+    if kind == 0:
+        ij = f"I{w.value()} J{w.value()} " if w.draw(st.integers(0, 3)) else ""
+        w.emit(f"G5 {ij}P{w.value()} Q{w.value()} X{w.value()} Y{w.value()}")
+    elif kind == 1:
+        w.emit(f"G5.1 I{w.value()} J{w.value()} X{w.value()} Y{w.value()}")
+    else:
+        order = w.draw(st.integers(3, 5))
+        first = f"G5.2 X{w.value()} Y{w.value()} P{w.draw(numbers(1, 30, 10))}"
+        w.emit(first + (f" L{order}" if order > 3 else ""))
+        for _ in range(w.draw(st.integers(order - 1, order + 2))):
+            w.emit(f"X{w.value()} Y{w.value()} P{w.draw(numbers(1, 30, 10))}")
+        w.emit("G5.3")
+    w.emit("(debug, #5420 #5421)")
+
+
+def stmt_lathe_cycle(w: Writer) -> None:
+    """A G70/G71/G72 cycle and its profile subroutine, defined just before it.
+
+    The profile runs with X growing and Z falling, in diagonal or stepped
+    pieces long enough for the small corner fillets (A) and chamfers (C).
+    rs274 only allows a definition where it is read once, so cycles are
+    written at the top level only.
+    """
+    if w.depth or w.scope.args:
+        stmt_move(w)
+        return
+    label = 9000 + w.new_label()
+    cycle = w.draw(st.sampled_from(["G70", "G71", "G71.1", "G71.2", "G72", "G72.1", "G72.2"]))
+    # rs274 finds a G70 profile with corners "not monotonic" more often than not.
+    corners = ["", "", " A0.2", " C0.2"] if cycle != "G70" else [""]
+    x = w.draw(st.integers(0, 30)) / 10
+    z = 0.0
+    w.emit(f"o{label} sub")
+    w.emit(f"  G1 X{fmt(x)} Z0")
+    slope = None  # of the last diagonal: two in a row must not be parallel
+    for _ in range(w.draw(st.integers(1, 4))):
+        dx = w.draw(st.integers(5, 30)) / 10
+        dz = w.draw(st.integers(10, 50)) / 10
+        corner = w.draw(st.sampled_from(corners))
+        if w.draw(st.booleans()):
+            if slope is not None and abs(dx / dz - slope) < 0.05:
+                dx += 0.5
+            slope = dx / dz
+            x, z = x + dx, z - dz
+            if w.draw(st.integers(0, 3)) == 0:  # U and W: increments of X and Z
+                w.emit(f"  G1 U{fmt(dx)} W{fmt(-dz)}{corner}")
+            else:
+                w.emit(f"  G1 X{fmt(x)} Z{fmt(z)}{corner}")
+        else:
+            slope = None
+            z -= dz
+            w.emit(f"  G1 Z{fmt(z)}{corner}")
+            x += dx
+            w.emit(f"  X{fmt(x)}")
+    w.emit(f"o{label} endsub")
+    words = [f"Q{label}", f"D{w.draw(numbers(0, 5, 10))}"]
+    if cycle == "G70":
+        words.append(f"P{w.draw(st.integers(1, 3))}")
+    else:
+        words += [f"I{w.draw(numbers(3, 20, 10))}", f"R{w.draw(numbers(1, 10, 10))}"]
+    w.emit(f"G18 G90 G0 X{fmt(x + 2)} Z2")
+    w.emit(f"{cycle} " + " ".join(w.draw(st.permutations(words))))
+    w.emit("G17")
+    _restore_dist(w)
+
+
 def stmt(w: Writer, nested: bool = False) -> None:
     weights = [
         (stmt_move, 6),
@@ -430,6 +547,10 @@ def stmt(w: Writer, nested: bool = False) -> None:
         (stmt_modal, 3),
         (stmt_call, 2),
         (stmt_cycle, 2),
+        (stmt_thread, 1),
+        (stmt_probe, 1),
+        (stmt_spline, 1),
+        (stmt_lathe_cycle, 1),
     ]
     if w.depth < 2:
         weights += [(stmt_if, 1), (stmt_loop, 1)]
