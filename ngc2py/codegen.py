@@ -981,7 +981,7 @@ class CodeGen:
             targets = ", ".join(r.target for r in settings)
             sources = ", ".join(r.value for r in settings)
             self.w.stmt("%s = %s" % (targets, sources), line)
-        if line.words or line.comments or line.n is not None or not settings:
+        if line.words or line.comment is not None or line.n is not None or not settings:
             words = [r for r in reads if r.target is None]
             self.w.stmt(
                 self.block_call(line, line.words, [r.value for r in words]), line
@@ -1098,7 +1098,7 @@ def constant_row(stmt: st.Stmt) -> Optional[Row]:
     if not isinstance(stmt, st.Block):
         return None
     line = stmt.line
-    if line.error or line.comments or line.block_delete or line.oword:
+    if line.error or line.comment is not None or line.block_delete or line.oword:
         return None
     codes_: List[int] = []
     letters: List[str] = []
