@@ -432,6 +432,7 @@ class CodeGen:
         self.x = ExprWriter()
         self.codes: set = set()  # runtime.codes constants used
         self.break_flag = stale_break_flag(program)
+        self.continue_flag = stale_continue_flag(program)
         self.code_functions: set = set()  # runtime.codes functions used
         self.names: set = set()
         self.shapes: Dict[Shape, int] = {}  # row shape -> index in SHAPES
@@ -587,6 +588,10 @@ class CodeGen:
             if i == 0 and self.break_flag:
                 self.w.raw(
                     INDENT + "m.doing_break = False  # set by a while-loop break"
+                )
+            if i == 0 and self.continue_flag:
+                self.w.raw(
+                    INDENT + "m.doing_continue = False  # set by a do-loop continue"
                 )
             self.block(chunk)
             self.w.depth = 0
@@ -795,7 +800,22 @@ class CodeGen:
         self.w.comment(stmt.line)
         if stmt.kind == "break" and stmt.target.kind == "while" and self.break_flag:
             self.w.stmt("m.doing_break = True", stmt.line)
+        if self.continue_flag:
+            self.stale_continue(stmt)
         self.jump_to(stmt.kind, stmt.target, stmt.line)
+
+    def stale_continue(self, stmt: st.Jump) -> None:
+        """rs274's ``doing_continue`` (runtime.loopflags) at a break or
+        continue: a while-loop break with the flag set is a continue."""
+        if stmt.kind == "continue":
+            value = "True" if stmt.target.kind == "do" else "False"
+            self.w.stmt("m.doing_continue = %s" % value, stmt.line)
+        elif stmt.target.kind == "while":
+            self.w.stmt("if m.doing_continue:", stmt.line)
+            self.w.depth += 1
+            self.w.stmt("m.doing_continue = False", stmt.line)
+            self.jump_to("continue", stmt.target, stmt.line)
+            self.w.depth -= 1
 
     def jump_to(self, kind: str, target: st.Loop, line: nodes.Line) -> None:
         """``break``/``continue`` of ``target`` from the current point."""
@@ -923,7 +943,10 @@ class CodeGen:
         if stmt.kind == "while":
             self.w.stmt("while %s:" % self.x.condition(word.expr), stmt.line)
         elif stmt.kind == "repeat":
-            self.w.stmt("for _ in m.repeat(%s):" % self.x.expr(word.expr), stmt.line)
+            repeat = "m.repeat_again" if self.continue_flag else "m.repeat"
+            self.w.stmt(
+                "for _ in %s(%s):" % (repeat, self.x.expr(word.expr)), stmt.line
+            )
         else:
             self.w.stmt("while True:", stmt.line)
         self.w.depth += 1
@@ -938,6 +961,15 @@ class CodeGen:
             self.do_test(stmt)
         self.loops.pop()
         self.w.depth -= 1
+        if stmt.eof is not None:
+            # Not entered, a loop without its closing line skips to the end.
+            self.w.stmt("else:", stmt.line)
+            self.w.depth += 1
+            self.s_fail(stmt.eof)
+            self.w.depth -= 1
+        if self.continue_flag and stmt.kind == "while":
+            # Ending by its condition, a while-loop clears rs274's flag.
+            self.w.raw(self.indent() + "m.doing_continue = False")
         self.check_exits(stmt, self.loops[-1] if self.loops else None)
         unreadable = self.skip_error([stmt.body])
         if unreadable is not None:
@@ -1187,6 +1219,25 @@ def stale_break_flag(program: st.Program) -> bool:
     )
     loops = any(isinstance(s, st.Loop) and s.kind == "do" for s in stmts)
     return jumps and loops
+
+
+def stale_continue_flag(program: st.Program) -> bool:
+    """Must the code track rs274's ``doing_continue`` (runtime.loopflags)?
+    Only when a do-loop's continue can leave it set for a while-loop's break
+    or a repeat loop."""
+    stmts = list(st.walk(program.body))
+    for sub in program.externals:
+        stmts.extend(st.walk(sub.body))
+    sets = any(
+        isinstance(s, st.Jump) and s.kind == "continue" and s.target.kind == "do"
+        for s in stmts
+    )
+    hit = any(
+        isinstance(s, st.Jump) and s.kind == "break" and s.target.kind == "while"
+        or isinstance(s, st.Loop) and s.kind == "repeat"
+        for s in stmts
+    )
+    return sets and hit
 
 
 def oword_values(line: nodes.Line) -> List[nodes.Expr]:

@@ -114,6 +114,11 @@ class Loop:
     end: Optional[nodes.Line] = None
     flagged: bool = False
     exits: List["Loop"] = field(default_factory=list)
+    #: Never closed, but left by the closing line of an enclosing construct
+    #: (``o1 if`` ... ``o2 while`` ... ``o1 endif``): rs274 runs the rest of
+    #: the body once, and when it does not enter the loop it skips to the
+    #: end of the file looking for the label; this is that failure.
+    eof: Optional[Fail] = None
 
 
 @dataclass
@@ -260,6 +265,8 @@ class _Builder:
         # The Fanuc definition being read: (sub, the body it is in, where
         # its lines start in that body).
         self.fanuc: Optional[Tuple[Sub, List[Stmt], int]] = None
+        # Failures at the end of the file, for abandoned constructs.
+        self.eof_fails: List[Fail] = []
 
     # -- helpers ----------------------------------------------------------
 
@@ -320,8 +327,9 @@ class _Builder:
             # rs274 keeps skipping for the right endsub; nothing closes here.
             return
         # Constructs left open inside the body end with it.
-        while not isinstance(self.stack.pop().node, Sub):
-            pass
+        while not isinstance(self.stack[-1].node, Sub):
+            self._abandon(self.stack.pop())
+        self.stack.pop()
         sub.end = line
         sub.body.append(Return(line, word.expr))
         self.labels = self.main_labels
@@ -374,8 +382,8 @@ class _Builder:
     def _if_arm(self, line: nodes.Line, word: nodes.OWord) -> Optional[_Open]:
         """The open ``if`` an elseif/else/endif belongs to, or None after failing."""
         label = str(word.name)
-        top = self.stack[-1] if self.stack else None
-        if top is not None and top.label == label and isinstance(top.node, If):
+        top = self._enclosing(label, lambda node: isinstance(node, If))
+        if top is not None:
             return top
         seen = self.labels.get(label)
         if seen is None:
@@ -424,13 +432,10 @@ class _Builder:
         self._open_loop("repeat", line, word)
 
     def on_while(self, line: nodes.Line, word: nodes.OWord) -> None:
-        top = self.stack[-1] if self.stack else None
-        if (
-            top is not None
-            and top.label == str(word.name)
-            and isinstance(top.node, Loop)
-            and top.node.kind == "do"
-        ):
+        top = self._enclosing(
+            str(word.name), lambda node: isinstance(node, Loop) and node.kind == "do"
+        )
+        if top is not None:
             top.node.end = line
             self.stack.pop()
             return
@@ -438,12 +443,13 @@ class _Builder:
 
     def _close_loop(self, kind: str, line: nodes.Line, word: nodes.OWord) -> None:
         label = str(word.name)
-        top = self.stack[-1] if self.stack else None
-        if top is not None and top.label == label and isinstance(top.node, Loop):
-            if top.node.kind == kind:
-                top.node.end = line
-                self.stack.pop()
-                return
+        top = self._enclosing(
+            label, lambda node: isinstance(node, Loop) and node.kind == kind
+        )
+        if top is not None:
+            top.node.end = line
+            self.stack.pop()
+            return
         seen = self.labels.get(label)
         if seen is None:
             self.fail(line, UNDEFINED_LABEL % (line.number, line.text))
@@ -489,6 +495,53 @@ class _Builder:
     on_break = _jump
     on_continue = _jump
 
+    # -- constructs left open ----------------------------------------------
+
+    def _enclosing(self, label: str, fits) -> Optional[_Open]:
+        """The open construct a closing line with ``label`` belongs to, now
+        on top of the stack, or None.
+
+        rs274 pairs nothing: a closing line acts on whatever its label was
+        last opened as. So an ``o1 endif`` also closes ``o1 if`` when an
+        ``o2 while`` inside it was never closed; the constructs between are
+        abandoned (:meth:`_abandon`)."""
+        for depth in range(len(self.stack) - 1, -1, -1):
+            entry = self.stack[depth]
+            if isinstance(entry.node, Sub):
+                return None
+            if entry.label == label:
+                if not fits(entry.node) or self._reopened(label, depth):
+                    return None
+                while len(self.stack) > depth + 1:
+                    self._abandon(self.stack.pop())
+                return entry
+        return None
+
+    def _reopened(self, label: str, depth: int) -> bool:
+        """Is ``label`` also open above ``depth`` (a reused label)?"""
+        return any(entry.label == label for entry in self.stack[depth + 1 :])
+
+    def _abandon(self, entry: _Open) -> None:
+        """A construct whose closing line never comes: where rs274 would
+        skip forward to its label, it reads to the end of the file and fails
+        there (the line is known at :meth:`finish`)."""
+        node = entry.node
+        if isinstance(node, Loop):
+            if node.kind != "do":  # a do-loop's body runs once, as it is
+                node.eof = self._eof_fail()
+        elif isinstance(node, If):
+            arms = node.branches + ([node.orelse] if node.orelse else [])
+            for arm in arms[:-1]:
+                # after a taken arm, the next arm's line starts the skip
+                arm.body.append(self._eof_fail())
+            if node.orelse is None:
+                node.orelse = Branch(node.branches[-1].line, [self._eof_fail()])
+
+    def _eof_fail(self) -> Fail:
+        fail = Fail(None, eof_message(self.demarcated))  # line set at finish
+        self.eof_fails.append(fail)
+        return fail
+
     # -- labels -----------------------------------------------------------
 
     def _duplicate(self, line: nodes.Line, word: nodes.OWord, message: str) -> bool:
@@ -515,6 +568,8 @@ class _Builder:
     # -- end of file ------------------------------------------------------
 
     def finish(self, last: Optional[nodes.Line]) -> None:
+        for fail in self.eof_fails:
+            fail.line = last
         if self.fanuc is not None and last is not None:
             # A call runs the definition into the end of the file.
             sub, body, start = self.fanuc

@@ -27,7 +27,7 @@ from __future__ import annotations
 import sys
 from typing import Callable, Dict, Iterator, NamedTuple, Optional
 
-from runtime import blockcheck
+from runtime import blockcheck, loopflags
 from runtime.canon import Canon, TraceCanon
 from runtime.blockcheck import (
     DRILL_CYCLES,
@@ -496,6 +496,11 @@ class Machine(
     def repeat(n: float) -> Iterator[int]:
         """``o.. repeat [n]``: n rounded to the nearest integer times (none if negative)."""
         return iter(range(round_to_int(n)))
+
+    def repeat_again(self, n: float) -> Iterator[int]:
+        """``repeat`` where a do-loop's continue may have left rs274's
+        ``doing_continue`` set (see runtime.loopflags)."""
+        return loopflags.repeat_with_stale_continue(self, round_to_int(n))
 
     # ------------------------------------------------------------------
     # Blocks
