@@ -1233,8 +1233,8 @@ def stale_continue_flag(program: st.Program) -> bool:
         for s in stmts
     )
     hit = any(
-        isinstance(s, st.Jump) and s.kind == "break" and s.target.kind == "while"
-        or isinstance(s, st.Loop) and s.kind == "repeat"
+        (isinstance(s, st.Jump) and s.kind == "break" and s.target.kind == "while")
+        or (isinstance(s, st.Loop) and s.kind == "repeat")
         for s in stmts
     )
     return sets and hit
