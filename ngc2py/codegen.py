@@ -798,7 +798,11 @@ class CodeGen:
 
     def s_jump(self, stmt: st.Jump) -> None:
         self.w.comment(stmt.line)
-        if stmt.kind == "break" and stmt.target.kind == "while" and self.break_flag:
+        if self.break_flag and (
+            (stmt.kind == "break" and stmt.target.kind == "while")
+            or (stmt.kind == "continue" and break_after(stmt))
+        ):
+            # A continue skips forward past a later break line of its loop.
             self.w.stmt("m.doing_break = True", stmt.line)
         if self.continue_flag:
             self.stale_continue(stmt)
@@ -961,12 +965,7 @@ class CodeGen:
             self.do_test(stmt)
         self.loops.pop()
         self.w.depth -= 1
-        if stmt.eof is not None:
-            # Not entered, a loop without its closing line skips to the end.
-            self.w.stmt("else:", stmt.line)
-            self.w.depth += 1
-            self.s_fail(stmt.eof)
-            self.w.depth -= 1
+        self.loop_else(stmt)
         if self.continue_flag and stmt.kind == "while":
             # Ending by its condition, a while-loop clears rs274's flag.
             self.w.raw(self.indent() + "m.doing_continue = False")
@@ -976,6 +975,27 @@ class CodeGen:
             # The loop ends by skipping (the rest of) its body: rs274 reads
             # it and fails at its first unreadable line.
             self.fail_skipped(unreadable)
+
+    def loop_else(self, stmt: st.Loop) -> None:
+        """What rs274 does when a loop ends by skipping forward to its label
+        (a false while condition, a repeat count run out): it stops at every
+        line with that label on the way."""
+        fail = stmt.eof or stmt.skip_fail
+        sets_break = (
+            self.break_flag
+            and stmt.kind == "while"
+            and any(j.kind == "break" for j in own_jumps(stmt))
+        )
+        if fail is None and not sets_break:
+            return
+        self.w.stmt("else:", stmt.line)
+        self.w.depth += 1
+        if sets_break:
+            # a break line of this loop on the way sets doing_break
+            self.w.stmt("m.doing_break = True", stmt.line)
+        if fail is not None:
+            self.s_fail(fail)
+        self.w.depth -= 1
 
     # -- ordinary lines ---------------------------------------------------
 
@@ -1207,18 +1227,33 @@ def stale_break_flag(program: st.Program) -> bool:
     rs274 sets it on every ``break`` and clears it only at the closing
     ``while`` of a do-loop, which then does not loop back. A do-loop's own
     break clears it there, but a while-loop's break leaves it set, so the
-    next do-loop to reach its ``while`` ends after one pass. Only programs
-    with both pay for the flag (``m.doing_break``).
+    next do-loop to reach its ``while`` ends after one pass. rs274 also
+    *skips* through break lines: a while-loop ending by its condition, or a
+    continue, skips forward to the next line with the loop's label and a
+    break line on the way sets the flag too. Only programs with breaks and
+    do-loops pay for the flag (``m.doing_break``).
     """
     stmts = list(st.walk(program.body))
     for sub in program.externals:
         stmts.extend(st.walk(sub.body))
-    jumps = any(
-        isinstance(s, st.Jump) and s.kind == "break" and s.target.kind == "while"
-        for s in stmts
-    )
+    jumps = any(isinstance(s, st.Jump) and s.kind == "break" for s in stmts)
     loops = any(isinstance(s, st.Loop) and s.kind == "do" for s in stmts)
     return jumps and loops
+
+
+def own_jumps(loop: st.Loop) -> List[st.Jump]:
+    """The break and continue lines of ``loop``, at any depth of its body."""
+    return [
+        s for s in st.walk(loop.body) if isinstance(s, st.Jump) and s.target is loop
+    ]
+
+
+def break_after(jump: st.Jump) -> bool:
+    """Is there a break line of ``jump``'s loop after ``jump``?"""
+    return any(
+        j.kind == "break" and j.line.number > jump.line.number
+        for j in own_jumps(jump.target)
+    )
 
 
 def stale_continue_flag(program: st.Program) -> bool:

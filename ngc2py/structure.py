@@ -119,6 +119,10 @@ class Loop:
     #: the body once, and when it does not enter the loop it skips to the
     #: end of the file looking for the label; this is that failure.
     eof: Optional[Fail] = None
+    #: A repeat loop with a break or continue line of its own label: when
+    #: the count runs out rs274 skips forward to the first such line, and
+    #: fails there (break and continue are for while and do loops only).
+    skip_fail: Optional[Fail] = None
 
 
 @dataclass
@@ -467,6 +471,7 @@ class _Builder:
     def _jump(self, line: nodes.Line, word: nodes.OWord) -> None:
         label = str(word.name)
         crossed: List[Loop] = []
+        repeat: Optional[Loop] = None
         for entry in reversed(self.stack):
             if isinstance(entry.node, Sub):
                 break
@@ -475,7 +480,8 @@ class _Builder:
             if entry.label == label:
                 target = entry.node
                 if target.kind == "repeat":
-                    break  # rs274: break/continue only for while and do
+                    repeat = target  # rs274: break/continue only for while and do
+                    break
                 if crossed:
                     target.flagged = True
                     for inner in crossed:
@@ -491,6 +497,8 @@ class _Builder:
             self.fail(
                 line, NO_MATCHING_LOOP % (line.number, line.text, seen[0], seen[1])
             )
+        if repeat is not None and repeat.skip_fail is None:
+            repeat.skip_fail = self.body[-1]
 
     on_break = _jump
     on_continue = _jump
