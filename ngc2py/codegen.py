@@ -739,6 +739,11 @@ class CodeGen:
     def s_block(self, stmt: st.Block) -> None:
         self.line_block(stmt.line)
 
+    def s_labelcheck(self, stmt: st.LabelCheck) -> None:
+        args = (string(stmt.key), string(stmt.kind), stmt.line.number)
+        text = string(stmt.line.text)
+        self.w.stmt("m.check_label(%s, %s, %d, %s)" % (args + (text,)), stmt.line)
+
     def s_fail(self, stmt: st.Fail) -> None:
         self.w.comment(stmt.line)
         self.w.stmt(fail_call(stmt.line.number, stmt.message), stmt.line)

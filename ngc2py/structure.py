@@ -136,6 +136,19 @@ class Jump:
 
 
 @dataclass
+class LabelCheck:
+    """rs274 remembers the first line each label was *executed* on (per
+    subroutine) and fails when another opener reuses it. Where a label is
+    reused in the text this is decided at run time, here: ``kind`` is the
+    opener's keyword (``if``, ``while``, ``repeat``, ``do``) or ``do-end``
+    for the ``while`` line that closes a do-loop."""
+
+    line: nodes.Line
+    key: str
+    kind: str
+
+
+@dataclass
 class Return:
     """``return [expr]`` or ``endsub [expr]`` inside a subroutine body."""
 
@@ -184,7 +197,18 @@ class EndOfFile:
 
 
 Stmt = Union[
-    Block, Fail, Define, If, Loop, Jump, Return, Call, FanucCall, Finish, EndOfFile
+    Block,
+    Fail,
+    Define,
+    If,
+    Loop,
+    Jump,
+    LabelCheck,
+    Return,
+    Call,
+    FanucCall,
+    Finish,
+    EndOfFile,
 ]
 
 
@@ -264,8 +288,11 @@ class _Builder:
         self.subs: List[Sub] = []
         # Labels of if/loop openers seen so far, per scope (main or a sub):
         # rs274 remembers each label's first line and complains on reuse.
-        self.labels: Dict[str, Tuple[str, int]] = {}
+        # Values: (keyword, line number, the body it is in, the node).
+        self.labels: Dict[str, tuple] = {}
         self.main_labels = self.labels
+        # Labels reused by openers, checked at run time ("scope#label").
+        self.tracked: set = set()
         # The Fanuc definition being read: (sub, the body it is in, where
         # its lines start in that body).
         self.fanuc: Optional[Tuple[Sub, List[Stmt], int]] = None
@@ -381,6 +408,7 @@ class _Builder:
             return
         node = If([Branch(line)])
         self.body.append(node)
+        self._register(line, word, node)
         self.stack.append(_Open(str(word.name), node, node.branches[0].body))
 
     def _if_arm(self, line: nodes.Line, word: nodes.OWord) -> Optional[_Open]:
@@ -427,6 +455,7 @@ class _Builder:
             return
         node = Loop(kind, line)
         self.body.append(node)
+        self._register(line, word, node)
         self.stack.append(_Open(str(word.name), node, node.body))
 
     def on_do(self, line: nodes.Line, word: nodes.OWord) -> None:
@@ -441,6 +470,9 @@ class _Builder:
         )
         if top is not None:
             top.node.end = line
+            key = self._key(str(word.name))
+            if key in self.tracked:
+                top.node.body.append(LabelCheck(line, key, "do-end"))
             self.stack.pop()
             return
         self._open_loop("while", line, word)
@@ -525,6 +557,15 @@ class _Builder:
                 return entry
         return None
 
+    def _scope_entries(self) -> List[_Open]:
+        """The open constructs of the current subroutine (or main body)."""
+        entries: List[_Open] = []
+        for entry in reversed(self.stack):
+            if isinstance(entry.node, Sub):
+                break
+            entries.append(entry)
+        return entries
+
     def _reopened(self, label: str, depth: int) -> bool:
         """Is ``label`` also open above ``depth`` (a reused label)?"""
         return any(entry.label == label for entry in self.stack[depth + 1 :])
@@ -552,12 +593,41 @@ class _Builder:
 
     # -- labels -----------------------------------------------------------
 
-    def _duplicate(self, line: nodes.Line, word: nodes.OWord, message: str) -> bool:
-        """Record an opener's label; fail (and return True) if it is reused."""
+    def _key(self, label: str) -> str:
+        """rs274's name for a label: the subroutine's name, ``#``, the label."""
+        sub = self.open_sub()
+        return "%s#%s" % (sub.name if sub is not None else "", label)
+
+    def _register(self, line: nodes.Line, word: nodes.OWord, node) -> None:
+        """Remember an opener's label. A label already used by a closed
+        opener is checked at run time (:class:`LabelCheck`), at every opener
+        with it: whether rs274 fails depends on which of them it executed."""
         label = str(word.name)
         seen = self.labels.get(label)
         if seen is None:
-            self.labels[label] = (word.keyword, line.number)
+            self.labels[label] = (word.keyword, line.number, self.body, node)
+            return
+        key = self._key(label)
+        if key not in self.tracked:
+            self.tracked.add(key)
+            _, _, body, first = seen
+            index = next(i for i, stmt in enumerate(body) if stmt is first)
+            line1 = first.branches[0].line if isinstance(first, If) else first.line
+            body.insert(index, LabelCheck(line1, key, seen[0]))
+            if isinstance(first, Loop) and first.kind == "do" and first.end:
+                first.body.append(LabelCheck(first.end, key, "do-end"))
+        self.body.insert(len(self.body) - 1, LabelCheck(line, key, word.keyword))
+
+    def _duplicate(self, line: nodes.Line, word: nodes.OWord, message: str) -> bool:
+        """Fail (and return True) if an opener reuses the label of a
+        construct still open around it; a closed one's label is checked at
+        run time (:meth:`_register`)."""
+        label = str(word.name)
+        seen = self.labels.get(label)
+        if seen is None or not any(
+            entry.label == label and not isinstance(entry.node, Sub)
+            for entry in self._scope_entries()
+        ):
             return False
         if message == DUPLICATE_IF:
             text = message % (line.number, seen[1], line.text)

@@ -27,7 +27,7 @@ from __future__ import annotations
 import sys
 from typing import Callable, Dict, Iterator, NamedTuple, Optional
 
-from runtime import blockcheck, loopflags
+from runtime import blockcheck, loopflags, olabels
 from runtime.canon import Canon, TraceCanon
 from runtime.blockcheck import (
     DRILL_CYCLES,
@@ -496,6 +496,10 @@ class Machine(
     def repeat(n: float) -> Iterator[int]:
         """``o.. repeat [n]``: n rounded to the nearest integer times (none if negative)."""
         return iter(range(round_to_int(n)))
+
+    def check_label(self, key: str, kind: str, line: int, text: str) -> None:
+        """A reused O-word label (see runtime.olabels)."""
+        olabels.check_label(self, key, kind, line, text)
 
     def repeat_again(self, n: float) -> Iterator[int]:
         """``repeat`` where a do-loop's continue may have left rs274's

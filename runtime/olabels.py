@@ -1,0 +1,37 @@
+"""rs274's table of O-word labels, for programs that reuse a label.
+
+rs274 records a label (``subroutine#label``) the first time it *executes*
+an opener with it (``if``, ``while``, ``repeat``, ``do``) and never forgets
+it. A later opener with the same label on another line fails as a
+duplicate, except a ``do`` (which silently keeps the old record) and a
+``while`` after a ``do``. The ``while`` closing a do-loop fails when the
+label was recorded by an opener other than a ``do``. Whether a program
+fails therefore depends on which openers ran: the compiler emits these
+checks only for labels it sees reused.
+"""
+
+from __future__ import annotations
+
+DUPLICATE_IF = "%d: duplicate O-word label - already defined in line %d: '%s'"
+DUPLICATE_LOOP = "%d: duplicate O-word label: '%s' - defined in line %d"
+
+
+def check_label(machine, key: str, kind: str, line: int, text: str) -> None:
+    """An opener (or a do-loop's closing ``while``: ``kind`` ``do-end``)
+    with a reused label is executed on ``line``."""
+    table = machine.__dict__.setdefault("_olabels", {})
+    seen = table.get(key)
+    if seen is None:
+        if kind != "do-end":
+            table[key] = (kind, line)
+        return
+    seen_kind, seen_line = seen
+    if seen_line == line or kind == "do" or (kind == "while" and seen_kind == "do"):
+        return
+    if kind == "do-end":
+        if seen_kind != "do":
+            machine.fail(line, DUPLICATE_LOOP % (line, text, seen_line))
+        return
+    if kind == "if":
+        machine.fail(line, DUPLICATE_IF % (line, seen_line, text))
+    machine.fail(line, DUPLICATE_LOOP % (line, text, seen_line))
