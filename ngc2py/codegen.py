@@ -237,6 +237,35 @@ def is_constant(e: nodes.Expr) -> bool:
 
 ARITHMETIC = frozenset(("+", "-", "*", "/", "mod", "**"))
 
+#: Functions that fail for some arguments (domain) or overflow.
+_PARTIAL = frozenset(("sqrt", "ln", "acos", "asin", "exp"))
+
+
+def may_fail(e: nodes.Expr) -> bool:
+    """Can evaluating ``e`` raise (an unset name, a bad index, a division by
+    zero, an argument out of a function's domain)?"""
+    pending = [e]
+    while pending:
+        e = pending.pop()
+        if isinstance(e, nodes.NamedParam):
+            return True
+        if isinstance(e, nodes.NumParam):
+            if not is_constant(e.index):
+                return True
+        elif isinstance(e, nodes.Binary):
+            if e.op in ("/", "mod", "**"):
+                return True
+            pending += [e.left, e.right]
+        elif isinstance(e, nodes.Unary):
+            if e.op in _PARTIAL:
+                return True
+            pending.append(e.arg)
+        elif isinstance(e, nodes.Atan2):
+            pending += [e.y, e.x]
+        elif isinstance(e, nodes.Bracket):
+            pending.append(e.inner)
+    return False
+
 
 def may_overflow(e: nodes.Expr) -> bool:
     """Can ``e`` make an inf/nan that nothing has checked yet?"""
@@ -902,6 +931,7 @@ class CodeGen:
                 branch,
                 first=i > 0,
                 then=self.skip_error([arm.body for arm in arms[i + 1 :]]),
+                later=stmt.branches[i + 1 :],
             )
             unreadable = self.skip_error([branch.body])
             if unreadable is not None:
@@ -917,7 +947,11 @@ class CodeGen:
             self.nested(stmt.orelse, first=True)
 
     def nested(
-        self, branch: st.Branch, first: bool, then: Optional[nodes.Line] = None
+        self,
+        branch: st.Branch,
+        first: bool,
+        then: Optional[nodes.Line] = None,
+        later: Sequence[st.Branch] = (),
     ) -> None:
         """An arm's body; ``then`` fails after it (rs274 skipping the
         arms after a taken one reads that line)."""
@@ -925,6 +959,12 @@ class CodeGen:
         if first:
             self.w.comment(branch.line)
         self.block(branch.body)
+        for arm in later:
+            # rs274 still reads the condition of each later elseif (it
+            # skips the arm, not the line): only its errors matter.
+            if may_fail(arm.line.oword.expr):
+                self.w.comment(arm.line)
+                self.w.stmt(self.x.condition(arm.line.oword.expr), arm.line)
         if then is not None:
             self.fail_skipped(then)
         self.w.depth -= 1

@@ -599,6 +599,9 @@ class LanguageWriter:
 
     def condition(self) -> str:
         options = ["[1]", "[0]", "[#1 GT 0]", "[#<_g> LT 2]", "[1 EQ 1]"]
+        if self.chance(12):
+            # fails wherever rs274 evaluates it (#3 is 0 outside calls)
+            options = ["[1/#3]", "[#<_unset> GT 0]"]
         for c in self.counters:
             options += [f"[#<{c}> EQ 2]", f"[#<{c}> GT 1]", f"[#<{c}> LT 2]"]
         return self.pick(options)
