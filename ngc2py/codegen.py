@@ -1039,7 +1039,7 @@ class CodeGen:
             # a break line of this loop on the way sets doing_break
             self.w.stmt("m.doing_break = True", stmt.line)
         if fail is not None:
-            self.s_fail(fail)
+            self.statement(fail)
         self.w.depth -= 1
 
     # -- ordinary lines ---------------------------------------------------

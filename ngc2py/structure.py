@@ -122,7 +122,7 @@ class Loop:
     #: A repeat loop with a break or continue line of its own label: when
     #: the count runs out rs274 skips forward to the first such line, and
     #: fails there (break and continue are for while and do loops only).
-    skip_fail: Optional[Fail] = None
+    skip_fail: Optional[Union[Fail, "LabelCheck"]] = None
 
 
 @dataclass
@@ -417,16 +417,7 @@ class _Builder:
         top = self._enclosing(label, lambda node: isinstance(node, If))
         if top is not None:
             return top
-        seen = self.labels.get(label)
-        if seen is None:
-            self.fail(line, UNDEFINED_LABEL % (line.number, line.text))
-        elif word.keyword == "endif":
-            self.fail(
-                line,
-                NO_MATCHING_ENDIF % (line.number, label, seen[0], seen[1], line.text),
-            )
-        else:
-            self.fail(line, NO_MATCHING_IF % (line.number, line.text, seen[0], seen[1]))
+        self._label_error(line, word)
         return None
 
     def on_elseif(self, line: nodes.Line, word: nodes.OWord) -> None:
@@ -486,13 +477,7 @@ class _Builder:
             top.node.end = line
             self.stack.pop()
             return
-        seen = self.labels.get(label)
-        if seen is None:
-            self.fail(line, UNDEFINED_LABEL % (line.number, line.text))
-        else:
-            self.fail(
-                line, NO_MATCHING_END % (line.number, line.text, seen[0], seen[1])
-            )
+        self._label_error(line, word)
 
     def on_endwhile(self, line: nodes.Line, word: nodes.OWord) -> None:
         self._close_loop("while", line, word)
@@ -522,18 +507,37 @@ class _Builder:
                 self.body.append(Jump(line, word.keyword, target))
                 return
             crossed.append(entry.node)
-        seen = self.labels.get(label)
-        if seen is None:
-            self.fail(line, UNDEFINED_LABEL % (line.number, line.text))
-        else:
-            self.fail(
-                line, NO_MATCHING_LOOP % (line.number, line.text, seen[0], seen[1])
-            )
+        self._label_error(line, word)
         if repeat is not None and repeat.skip_fail is None:
             repeat.skip_fail = self.body[-1]
 
     on_break = _jump
     on_continue = _jump
+
+    def _label_error(self, line: nodes.Line, word: nodes.OWord) -> None:
+        """A closing line (elseif, else, endif, endwhile, endrepeat, break,
+        continue) whose label is not open as it needs: rs274 names what the
+        label was recorded as. For a reused label that depends on which
+        opener ran, so it is looked up at run time (:class:`LabelCheck`)."""
+        label = str(word.name)
+        key = self._key(label)
+        if key in self.tracked:
+            self.body.append(LabelCheck(line, key, word.keyword))
+            return
+        seen = self.labels.get(label)
+        if seen is None:
+            self.fail(line, UNDEFINED_LABEL % (line.number, line.text))
+            return
+        found = (seen[0], seen[1])
+        if word.keyword == "endif":
+            message = NO_MATCHING_ENDIF % ((line.number, key) + found + (line.text,))
+        elif word.keyword in ("elseif", "else"):
+            message = NO_MATCHING_IF % ((line.number, line.text) + found)
+        elif word.keyword in ("break", "continue"):
+            message = NO_MATCHING_LOOP % ((line.number, line.text) + found)
+        else:
+            message = NO_MATCHING_END % ((line.number, line.text) + found)
+        self.fail(line, message)
 
     # -- constructs left open ----------------------------------------------
 

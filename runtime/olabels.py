@@ -12,15 +12,33 @@ checks only for labels it sees reused.
 
 from __future__ import annotations
 
+UNDEFINED_LABEL = "%d: undefined O-word label: '%s'"
+NO_MATCHING = {
+    "elseif": "%d: no matching 'if' label: '%s' (found '%s' in line %d)",
+    "else": "%d: no matching 'if' label: '%s' (found '%s' in line %d)",
+    "break": "%d: no matching while/do label: '%s' (found '%s' in line %d)",
+    "continue": "%d: no matching while/do label: '%s' (found '%s' in line %d)",
+    "endwhile": "%d: no matching label: '%s' (found '%s' in line %d)",
+    "endrepeat": "%d: no matching label: '%s' (found '%s' in line %d)",
+}
+NO_MATCHING_ENDIF = "%d: no matching label: '%s' (found '%s' in line %d): '%s'"
 DUPLICATE_IF = "%d: duplicate O-word label - already defined in line %d: '%s'"
 DUPLICATE_LOOP = "%d: duplicate O-word label: '%s' - defined in line %d"
 
 
 def check_label(machine, key: str, kind: str, line: int, text: str) -> None:
     """An opener (or a do-loop's closing ``while``: ``kind`` ``do-end``)
-    with a reused label is executed on ``line``."""
+    with a reused label is executed on ``line``; or a closing line with a
+    reused label that fits no open construct (``kind`` is its keyword)."""
     table = machine.__dict__.setdefault("_olabels", {})
     seen = table.get(key)
+    if kind == "endif" or kind in NO_MATCHING:
+        # a closing line that does not fit the open constructs around it
+        if seen is None:
+            machine.fail(line, UNDEFINED_LABEL % (line, text))
+        if kind == "endif":
+            machine.fail(line, NO_MATCHING_ENDIF % ((line, key) + seen + (text,)))
+        machine.fail(line, NO_MATCHING[kind] % ((line, text) + seen))
     if seen is None:
         if kind != "do-end":
             table[key] = (kind, line)
