@@ -773,6 +773,12 @@ class CodeGen:
         text = string(stmt.line.text)
         self.w.stmt("m.check_label(%s, %s, %d, %s)" % (args + (text,)), stmt.line)
 
+    def s_topreturn(self, stmt: st.TopReturn) -> None:
+        self.w.comment(stmt.line)
+        value = "" if stmt.value is None else ", %s" % self.x.expr(stmt.value)
+        args = (stmt.line.number, string(stmt.keyword), string(stmt.line.text), value)
+        self.w.stmt("m.top_level_return(%d, %s, %s%s)" % args, stmt.line)
+
     def s_fail(self, stmt: st.Fail) -> None:
         self.w.comment(stmt.line)
         self.w.stmt(fail_call(stmt.line.number, stmt.message), stmt.line)

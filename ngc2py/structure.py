@@ -149,6 +149,18 @@ class LabelCheck:
 
 
 @dataclass
+class TopReturn:
+    """``return`` or ``endsub`` outside any subroutine: rs274 fails as "not
+    in a subroutine definition", unless a call has returned to the main
+    program since the last definition (then ``return`` does nothing and
+    ``endsub`` fails differently)."""
+
+    line: nodes.Line
+    keyword: str
+    value: Optional[nodes.Expr] = None
+
+
+@dataclass
 class Return:
     """``return [expr]`` or ``endsub [expr]`` inside a subroutine body."""
 
@@ -204,6 +216,7 @@ Stmt = Union[
     Loop,
     Jump,
     LabelCheck,
+    TopReturn,
     Return,
     Call,
     FanucCall,
@@ -352,7 +365,7 @@ class _Builder:
     def on_endsub(self, line: nodes.Line, word: nodes.OWord) -> None:
         sub = self.open_sub()
         if sub is None:
-            self.fail(line, NOT_IN_SUB % (line.number, line.text))
+            self.body.append(TopReturn(line, "endsub", word.expr))
             return
         if word.name != sub.name:
             # rs274 keeps skipping for the right endsub; nothing closes here.
@@ -367,7 +380,7 @@ class _Builder:
 
     def on_return(self, line: nodes.Line, word: nodes.OWord) -> None:
         if self.open_sub() is None:
-            self.fail(line, NOT_IN_SUB % (line.number, line.text))
+            self.body.append(TopReturn(line, "return", word.expr))
             return
         self.body.append(Return(line, word.expr))
 

@@ -53,3 +53,21 @@ def check_label(machine, key: str, kind: str, line: int, text: str) -> None:
     if kind == "if":
         machine.fail(line, DUPLICATE_IF % (line, seen_line, text))
     machine.fail(line, DUPLICATE_LOOP % (line, text, seen_line))
+
+
+NOT_IN_SUB = "%d: not in a subroutine definition: '%s'"
+NOT_IN_SUB_DEFINITION = "Not in subroutine definition"
+
+
+def top_level_return(machine, line: int, keyword: str, text: str, value=None) -> None:
+    """``return``/``endsub`` in the main program. rs274 fails unless it
+    still knows a subroutine name, which it does from the first return of
+    a call to the main program until it next reads a definition; then
+    ``return`` only sets ``#<_value>`` and ``endsub`` fails for not
+    defining one."""
+    machine.value = 0.0 if value is None else value
+    machine.value_returned = 0.0 if value is None else 1.0
+    if not getattr(machine, "returned_to_main", False):
+        machine.fail(line, NOT_IN_SUB % (line, text))
+    if keyword == "endsub":
+        machine.fail(line, NOT_IN_SUB_DEFINITION)
