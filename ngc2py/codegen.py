@@ -998,10 +998,15 @@ class CodeGen:
         if stmt.kind == "while":
             self.w.stmt("while %s:" % self.x.condition(word.expr), stmt.line)
         elif stmt.kind == "repeat":
-            repeat = "m.repeat_again" if self.continue_flag else "m.repeat"
-            self.w.stmt(
-                "for _ in %s(%s):" % (repeat, self.x.expr(word.expr)), stmt.line
-            )
+            count = self.x.expr(word.expr)
+            if left_early(stmt):
+                # rs274 keeps the count left for the next time
+                repeat = "m.repeat_kept(%s, %s)" % (string(stmt.key), count)
+            elif self.continue_flag:
+                repeat = "m.repeat_again(%s)" % count
+            else:
+                repeat = "m.repeat(%s)" % count
+            self.w.stmt("for _ in %s:" % repeat, stmt.line)
         else:
             self.w.stmt("while True:", stmt.line)
         self.w.depth += 1
@@ -1290,6 +1295,20 @@ def stale_break_flag(program: st.Program) -> bool:
     jumps = any(isinstance(s, st.Jump) and s.kind == "break" for s in stmts)
     loops = any(isinstance(s, st.Loop) and s.kind == "do" for s in stmts)
     return jumps and loops
+
+
+def left_early(loop: st.Loop) -> bool:
+    """Can ``loop`` be left before it ends by itself: a return from inside,
+    a jump to an outer loop, no closing line?"""
+    if loop.end is None:
+        return True
+    inside = list(st.walk(loop.body, into_subs=False))
+    loops = {id(s) for s in inside if isinstance(s, st.Loop)}
+    return any(
+        isinstance(s, (st.Return, st.TopReturn))
+        or (isinstance(s, st.Jump) and id(s.target) not in loops)
+        for s in inside
+    )
 
 
 def own_jumps(loop: st.Loop) -> List[st.Jump]:

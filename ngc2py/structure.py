@@ -123,6 +123,8 @@ class Loop:
     #: the count runs out rs274 skips forward to the first such line, and
     #: fails there (break and continue are for while and do loops only).
     skip_fail: Optional[Union[Fail, "LabelCheck"]] = None
+    #: rs274's name of the label (``subroutine#label``).
+    key: str = ""
 
 
 @dataclass
@@ -457,7 +459,7 @@ class _Builder:
     def _open_loop(self, kind: str, line: nodes.Line, word: nodes.OWord) -> None:
         if kind != "do" and self._duplicate(line, word, DUPLICATE_LOOP):
             return
-        node = Loop(kind, line)
+        node = Loop(kind, line, key=self._key(str(word.name)))
         self.body.append(node)
         self._register(line, word, node)
         self.stack.append(_Open(str(word.name), node, node.body))

@@ -15,6 +15,12 @@ neither is always cleared by the loop that set it:
   continues that loop once more instead, and the next ``repeat`` loop runs
   its count again after it ends (rs274 goes back to the ``repeat`` line and
   counts afresh). The generated code keeps it in ``m.doing_continue``.
+
+A repeat loop's count also outlives the loop: rs274 keeps the count left
+under the loop's label and computes a new one only after the loop has run
+out. A repeat loop left early (a return from inside it, a break or continue
+of an outer loop, a missing ``endrepeat``) resumes with the count it had
+left the next time its ``repeat`` line is reached.
 """
 
 from __future__ import annotations
@@ -27,6 +33,23 @@ def repeat_with_stale_continue(machine, count: int) -> Iterator[int]:
     the count again each time the loop ends with the flag set."""
     while True:
         yield from range(count)
+        if not getattr(machine, "doing_continue", False):
+            return
+        machine.doing_continue = False
+
+
+def repeat_keeping_count(machine, key: str, count: int) -> Iterator[int]:
+    """``o.. repeat [n]`` that may be left early: the count left is kept
+    under ``key`` (rs274's name of the label) for the next time."""
+    counts = machine.__dict__.setdefault("_repeat_counts", {})
+    while True:
+        if counts.get(key, -1) == -1:
+            counts[key] = count
+        if counts[key] > 0:
+            counts[key] -= 1
+            yield counts[key]
+            continue
+        counts[key] = -1
         if not getattr(machine, "doing_continue", False):
             return
         machine.doing_continue = False
