@@ -250,7 +250,6 @@ class Program:
 # rs274's messages (texts measured against rs274 -g, LinuxCNC 2.9)
 # --------------------------------------------------------------------------
 
-NOT_IN_SUB = "%d: not in a subroutine definition: '%s'"
 UNDEFINED_LABEL = "%d: undefined O-word label: '%s'"
 NO_MATCHING_IF = "%d: no matching 'if' label: '%s' (found '%s' in line %d)"
 NO_MATCHING_END = "%d: no matching label: '%s' (found '%s' in line %d)"

@@ -698,6 +698,18 @@ def lang_jump(w: LanguageWriter) -> None:
     w.emit(f"o{label} {w.pick(['break', 'continue'])}", slash_ok=False)
 
 
+def lang_guarded_jump(w: LanguageWriter) -> None:
+    """The usual shape: ``if [counter test]`` around a break or continue
+    (which then may never run: rs274 still skips over its line)."""
+    label = w.label()
+    w.emit(f"o{label} if {w.condition()}", slash_ok=False)
+    w.depth += 1
+    lang_jump(w)
+    w.depth -= 1
+    w.emit(f"o{label} endif", slash_ok=False)
+    w.closed.append((label, "if"))
+
+
 def lang_call(w: LanguageWriter) -> None:
     if not w.subs:
         lang_plain(w)
@@ -713,7 +725,7 @@ def lang_statement(w: LanguageWriter) -> None:
     if w.depth < 3 and w.size < 40:
         options += [lang_if, lang_loop, lang_loop]
     if w.loops or w.sub:
-        options += [lang_jump]
+        options += [lang_jump, lang_guarded_jump]
     w.pick(options)(w)
 
 
