@@ -464,7 +464,30 @@ class _Builder:
         self.stack.append(_Open(str(word.name), node, node.body))
 
     def on_do(self, line: nodes.Line, word: nodes.OWord) -> None:
+        label = str(word.name)
+        seen = self.labels.get(label)
+        if (
+            seen is not None
+            and seen[0] == "do"
+            and seen[2] is self.body
+            and seen[3].end is not None
+            and not any(entry.label == label for entry in self._scope_entries())
+        ):
+            self._reopen_do(label, seen[3])
+            return
         self._open_loop("do", line, word)
+
+    def _reopen_do(self, label: str, first: Loop) -> None:
+        """A second ``do`` with the label of an earlier do-loop in the same
+        body: rs274 keeps the first one's place, so the closing ``while`` of
+        the second loop jumps back to the *first* ``do``. Everything from
+        the first do-loop on becomes the body of one loop that the second
+        ``while`` closes; the second ``do`` line itself does nothing."""
+        start = next(i for i, stmt in enumerate(self.body) if stmt is first)
+        outer = Loop("do", first.line, self.body[start:], key=first.key)
+        del self.body[start:]
+        self.body.append(outer)
+        self.stack.append(_Open(label, outer, outer.body))
 
     def on_repeat(self, line: nodes.Line, word: nodes.OWord) -> None:
         self._open_loop("repeat", line, word)
