@@ -769,6 +769,10 @@ class CodeGen:
         self.line_block(stmt.line)
 
     def s_labelcheck(self, stmt: st.LabelCheck) -> None:
+        expr = stmt.line.oword.expr if stmt.kind in ("if", "while", "repeat") else None
+        if expr is not None and may_fail(expr):
+            # rs274 reads the condition (and fails there) before the label
+            self.w.stmt(self.x.condition(expr), stmt.line)
         args = (string(stmt.key), string(stmt.kind), stmt.line.number)
         text = string(stmt.line.text)
         self.w.stmt("m.check_label(%s, %s, %d, %s)" % (args + (text,)), stmt.line)
@@ -846,6 +850,10 @@ class CodeGen:
             self.w.stmt("m.doing_break = True", stmt.line)
         if self.continue_flag:
             self.stale_continue(stmt)
+        if stmt.target.end is None and stmt.target.eof is not None:
+            # no line with the loop's label follows: rs274 skips to the end
+            self.s_fail(stmt.target.eof)
+            return
         self.jump_to(stmt.kind, stmt.target, stmt.line)
 
     def stale_continue(self, stmt: st.Jump) -> None:
@@ -1036,7 +1044,7 @@ class CodeGen:
         """What rs274 does when a loop ends by skipping forward to its label
         (a false while condition, a repeat count run out): it stops at every
         line with that label on the way."""
-        fail = stmt.eof or stmt.skip_fail
+        fail = (stmt.eof if stmt.kind != "do" else None) or stmt.skip_fail
         sets_break = (
             self.break_flag
             and stmt.kind == "while"

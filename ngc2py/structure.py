@@ -114,10 +114,11 @@ class Loop:
     end: Optional[nodes.Line] = None
     flagged: bool = False
     exits: List["Loop"] = field(default_factory=list)
-    #: Never closed, but left by the closing line of an enclosing construct
-    #: (``o1 if`` ... ``o2 while`` ... ``o1 endif``): rs274 runs the rest of
-    #: the body once, and when it does not enter the loop it skips to the
-    #: end of the file looking for the label; this is that failure.
+    #: Never closed (``o1 if`` ... ``o2 while`` ... ``o1 endif``, or open at
+    #: the end of the file): rs274 runs the rest of the body once, and when
+    #: it does not enter the loop, or a break or continue of it runs, it
+    #: skips to the end of the file looking for the label; this is that
+    #: failure.
     eof: Optional[Fail] = None
     #: A repeat loop with a break or continue line of its own label: when
     #: the count runs out rs274 skips forward to the first such line, and
@@ -541,6 +542,10 @@ class _Builder:
                     for inner in crossed:
                         if target not in inner.exits:
                             inner.exits.append(target)
+                key = self._key(label)
+                if key in self.tracked:
+                    # a do-loop reusing a label finds what rs274 recorded
+                    self.body.append(LabelCheck(line, key, word.keyword))
                 self.body.append(Jump(line, word.keyword, target))
                 return
             crossed.append(entry.node)
@@ -617,8 +622,7 @@ class _Builder:
         there (the line is known at :meth:`finish`)."""
         node = entry.node
         if isinstance(node, Loop):
-            if node.kind != "do":  # a do-loop's body runs once, as it is
-                node.eof = self._eof_fail()
+            node.eof = self._eof_fail()
         elif isinstance(node, If):
             arms = node.branches + ([node.orelse] if node.orelse else [])
             for arm in arms[:-1]:
@@ -695,6 +699,9 @@ class _Builder:
             sub.body = body[start:] + [Fail(last, eof_message(self.demarcated))]
         while self.stack:
             entry = self.stack.pop()
+            if isinstance(entry.node, Loop) and last is not None:
+                # its break and continue lines skip to the end of the file
+                entry.node.eof = Fail(last, eof_message(self.demarcated))
             if isinstance(entry.node, Sub) and last is not None:
                 # Reading the definition runs into the end of the file.
                 entry.node.define_error = entry.node.define_error or Fail(

@@ -21,6 +21,16 @@ NO_MATCHING = {
     "endwhile": "%d: no matching label: '%s' (found '%s' in line %d)",
     "endrepeat": "%d: no matching label: '%s' (found '%s' in line %d)",
 }
+#: The openers each closing line needs.
+_FITTING = {
+    "elseif": ("if",),
+    "else": ("if",),
+    "endif": ("if",),
+    "break": ("while", "do"),
+    "continue": ("while", "do"),
+    "endwhile": ("while",),
+    "endrepeat": ("repeat",),
+}
 NO_MATCHING_ENDIF = "%d: no matching label: '%s' (found '%s' in line %d): '%s'"
 DUPLICATE_IF = "%d: duplicate O-word label - already defined in line %d: '%s'"
 DUPLICATE_LOOP = "%d: duplicate O-word label: '%s' - defined in line %d"
@@ -33,9 +43,11 @@ def check_label(machine, key: str, kind: str, line: int, text: str) -> None:
     table = machine.__dict__.setdefault("_olabels", {})
     seen = table.get(key)
     if kind == "endif" or kind in NO_MATCHING:
-        # a closing line that does not fit the open constructs around it
+        # a closing line: it needs the label recorded by a fitting opener
         if seen is None:
             machine.fail(line, UNDEFINED_LABEL % (line, text))
+        if seen[0] in _FITTING[kind]:
+            return
         if kind == "endif":
             machine.fail(line, NO_MATCHING_ENDIF % ((line, key) + seen + (text,)))
         machine.fail(line, NO_MATCHING[kind] % ((line, text) + seen))

@@ -726,6 +726,8 @@ def lang_statement(w: LanguageWriter) -> None:
         options += [lang_if, lang_loop, lang_loop]
     if w.loops or w.sub:
         options += [lang_jump, lang_guarded_jump]
+    if w.loops:
+        options += [lang_guarded_jump]
     w.pick(options)(w)
 
 
