@@ -672,6 +672,11 @@ def lang_loop(w: LanguageWriter) -> None:
     w.loops.append((label, kind))
     w.counters.append(counter)
     lang_body(w)
+    if kind != "repeat" and w.chance(2):
+        # the usual last statement: a guarded break or continue
+        w.depth += 1
+        lang_guarded_jump(w)
+        w.depth -= 1
     w.counters.pop()
     w.loops.pop()
     unclosed = w.chance(25)
