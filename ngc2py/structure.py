@@ -467,16 +467,21 @@ class _Builder:
     def on_do(self, line: nodes.Line, word: nodes.OWord) -> None:
         label = str(word.name)
         seen = self.labels.get(label)
-        if (
+        if self._reopens_do(label, seen):
+            self._reopen_do(label, seen[3])
+            return
+        self._open_loop("do", line, word)
+
+    def _reopens_do(self, label: str, seen) -> bool:
+        """Is ``label`` that of a finished do-loop earlier in this body (so
+        rs274 has recorded that do-loop's place for it)?"""
+        return (
             seen is not None
             and seen[0] == "do"
             and seen[2] is self.body
             and seen[3].end is not None
             and not any(entry.label == label for entry in self._scope_entries())
-        ):
-            self._reopen_do(label, seen[3])
-            return
-        self._open_loop("do", line, word)
+        )
 
     def _reopen_do(self, label: str, first: Loop) -> None:
         """A second ``do`` with the label of an earlier do-loop in the same
@@ -503,6 +508,14 @@ class _Builder:
             if key in self.tracked:
                 top.node.body.append(LabelCheck(line, key, "do-end"))
             self.stack.pop()
+            return
+        label = str(word.name)
+        seen = self.labels.get(label)
+        if self._reopens_do(label, seen):
+            # rs274 takes it for the end of that do-loop: it loops back to
+            # the first ``do``, or goes on into what follows.
+            self._reopen_do(label, seen[3])
+            self.stack.pop().node.end = line
             return
         self._open_loop("while", line, word)
 
