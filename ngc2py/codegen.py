@@ -245,6 +245,35 @@ def is_constant(e: nodes.Expr) -> bool:
 
 ARITHMETIC = frozenset(("+", "-", "*", "/", "mod", "**"))
 
+#: Functions that fail for some arguments (domain) or overflow.
+_PARTIAL = frozenset(("sqrt", "ln", "acos", "asin", "exp"))
+
+
+def may_fail(e: nodes.Expr) -> bool:
+    """Can evaluating ``e`` raise (an unset name, a bad index, a division by
+    zero, an argument out of a function's domain)?"""
+    pending = [e]
+    while pending:
+        e = pending.pop()
+        if isinstance(e, nodes.NamedParam):
+            return True
+        if isinstance(e, nodes.NumParam):
+            if not is_constant(e.index):
+                return True
+        elif isinstance(e, nodes.Binary):
+            if e.op in ("/", "mod", "**"):
+                return True
+            pending += [e.left, e.right]
+        elif isinstance(e, nodes.Unary):
+            if e.op in _PARTIAL:
+                return True
+            pending.append(e.arg)
+        elif isinstance(e, nodes.Atan2):
+            pending += [e.y, e.x]
+        elif isinstance(e, nodes.Bracket):
+            pending.append(e.inner)
+    return False
+
 
 def may_overflow(e: nodes.Expr) -> bool:
     """Can ``e`` make an inf/nan that nothing has checked yet?"""
@@ -440,6 +469,7 @@ class CodeGen:
         self.x = ExprWriter()
         self.codes: set = set()  # runtime.codes constants used
         self.break_flag = stale_break_flag(program)
+        self.continue_flag = stale_continue_flag(program)
         self.code_functions: set = set()  # runtime.codes functions used
         self.names: set = set()
         self.shapes: Dict[Shape, int] = {}  # row shape -> index in SHAPES
@@ -595,6 +625,10 @@ class CodeGen:
             if i == 0 and self.break_flag:
                 self.w.raw(
                     INDENT + "m.doing_break = False  # set by a while-loop break"
+                )
+            if i == 0 and self.continue_flag:
+                self.w.raw(
+                    INDENT + "m.doing_continue = False  # set by a do-loop continue"
                 )
             self.block(chunk)
             self.w.depth = 0
@@ -756,6 +790,21 @@ class CodeGen:
     def s_block(self, stmt: st.Block) -> None:
         self.line_block(stmt.line)
 
+    def s_labelcheck(self, stmt: st.LabelCheck) -> None:
+        expr = stmt.line.oword.expr if stmt.kind in ("if", "while", "repeat") else None
+        if expr is not None and may_fail(expr):
+            # rs274 reads the condition (and fails there) before the label
+            self.w.stmt(self.x.condition(expr), stmt.line)
+        args = (string(stmt.key), string(stmt.kind), stmt.line.number)
+        text = string(stmt.line.text)
+        self.w.stmt("m.check_label(%s, %s, %d, %s)" % (args + (text,)), stmt.line)
+
+    def s_topreturn(self, stmt: st.TopReturn) -> None:
+        self.w.comment(stmt.line)
+        value = "" if stmt.value is None else ", %s" % self.x.expr(stmt.value)
+        args = (stmt.line.number, string(stmt.keyword), string(stmt.line.text), value)
+        self.w.stmt("m.top_level_return(%d, %s, %s%s)" % args, stmt.line)
+
     def s_fail(self, stmt: st.Fail) -> None:
         self.w.comment(stmt.line)
         self.w.stmt(fail_call(stmt.line.number, stmt.message), stmt.line)
@@ -815,9 +864,32 @@ class CodeGen:
 
     def s_jump(self, stmt: st.Jump) -> None:
         self.w.comment(stmt.line)
-        if stmt.kind == "break" and stmt.target.kind == "while" and self.break_flag:
+        if self.break_flag and (
+            (stmt.kind == "break" and stmt.target.kind == "while")
+            or (stmt.kind == "continue" and break_after(stmt))
+        ):
+            # A continue skips forward past a later break line of its loop.
             self.w.stmt("m.doing_break = True", stmt.line)
+        if self.continue_flag:
+            self.stale_continue(stmt)
+        if stmt.target.end is None and stmt.target.eof is not None:
+            # no line with the loop's label follows: rs274 skips to the end
+            self.s_fail(stmt.target.eof)
+            return
         self.jump_to(stmt.kind, stmt.target, stmt.line)
+
+    def stale_continue(self, stmt: st.Jump) -> None:
+        """rs274's ``doing_continue`` (runtime.loopflags) at a break or
+        continue: a while-loop break with the flag set is a continue."""
+        if stmt.kind == "continue":
+            value = "True" if stmt.target.kind == "do" else "False"
+            self.w.stmt("m.doing_continue = %s" % value, stmt.line)
+        elif stmt.target.kind == "while":
+            self.w.stmt("if m.doing_continue:", stmt.line)
+            self.w.depth += 1
+            self.w.stmt("m.doing_continue = False", stmt.line)
+            self.jump_to("continue", stmt.target, stmt.line)
+            self.w.depth -= 1
 
     def jump_to(self, kind: str, target: st.Loop, line: nodes.Line) -> None:
         """``break``/``continue`` of ``target`` from the current point."""
@@ -895,6 +967,7 @@ class CodeGen:
                 branch,
                 first=i > 0,
                 then=self.skip_error([arm.body for arm in arms[i + 1 :]]),
+                later=stmt.branches[i + 1 :],
             )
             unreadable = self.skip_error([branch.body])
             if unreadable is not None:
@@ -910,7 +983,11 @@ class CodeGen:
             self.nested(stmt.orelse, first=True)
 
     def nested(
-        self, branch: st.Branch, first: bool, then: Optional[nodes.Line] = None
+        self,
+        branch: st.Branch,
+        first: bool,
+        then: Optional[nodes.Line] = None,
+        later: Sequence[st.Branch] = (),
     ) -> None:
         """An arm's body; ``then`` fails after it (rs274 skipping the
         arms after a taken one reads that line)."""
@@ -918,6 +995,12 @@ class CodeGen:
         if first:
             self.w.comment(branch.line)
         self.block(branch.body)
+        for arm in later:
+            # rs274 still reads the condition of each later elseif (it
+            # skips the arm, not the line): only its errors matter.
+            if may_fail(arm.line.oword.expr):
+                self.w.comment(arm.line)
+                self.w.stmt(self.x.condition(arm.line.oword.expr), arm.line)
         if then is not None:
             self.fail_skipped(then)
         self.w.depth -= 1
@@ -945,7 +1028,15 @@ class CodeGen:
         if stmt.kind == "while":
             self.w.stmt("while %s:" % self.x.condition(word.expr), stmt.line)
         elif stmt.kind == "repeat":
-            self.w.stmt("for _ in m.repeat(%s):" % self.x.expr(word.expr), stmt.line)
+            count = self.x.expr(word.expr)
+            if left_early(stmt):
+                # rs274 keeps the count left for the next time
+                repeat = "m.repeat_kept(%s, %s)" % (string(stmt.key), count)
+            elif self.continue_flag:
+                repeat = "m.repeat_again(%s)" % count
+            else:
+                repeat = "m.repeat(%s)" % count
+            self.w.stmt("for _ in %s:" % repeat, stmt.line)
         else:
             self.w.stmt("while True:", stmt.line)
         self.w.depth += 1
@@ -960,12 +1051,37 @@ class CodeGen:
             self.do_test(stmt)
         self.loops.pop()
         self.w.depth -= 1
+        self.loop_else(stmt)
+        if self.continue_flag and stmt.kind == "while":
+            # Ending by its condition, a while-loop clears rs274's flag.
+            self.w.raw(self.indent() + "m.doing_continue = False")
         self.check_exits(stmt, self.loops[-1] if self.loops else None)
         unreadable = self.skip_error([stmt.body])
         if unreadable is not None:
             # The loop ends by skipping (the rest of) its body: rs274 reads
             # it and fails at its first unreadable line.
             self.fail_skipped(unreadable)
+
+    def loop_else(self, stmt: st.Loop) -> None:
+        """What rs274 does when a loop ends by skipping forward to its label
+        (a false while condition, a repeat count run out): it stops at every
+        line with that label on the way."""
+        fail = (stmt.eof if stmt.kind != "do" else None) or stmt.skip_fail
+        sets_break = (
+            self.break_flag
+            and stmt.kind == "while"
+            and any(j.kind == "break" for j in own_jumps(stmt))
+        )
+        if fail is None and not sets_break:
+            return
+        self.w.stmt("else:", stmt.line)
+        self.w.depth += 1
+        if sets_break:
+            # a break line of this loop on the way sets doing_break
+            self.w.stmt("m.doing_break = True", stmt.line)
+        if fail is not None:
+            self.statement(fail)
+        self.w.depth -= 1
 
     # -- ordinary lines ---------------------------------------------------
 
@@ -1015,7 +1131,7 @@ class CodeGen:
             targets = ", ".join(r.target for r in settings)
             sources = ", ".join(r.value for r in settings)
             self.w.stmt("%s = %s" % (targets, sources), line)
-        if line.words or line.comments or line.n is not None or not settings:
+        if line.words or line.comment is not None or line.n is not None or not settings:
             words = [r for r in reads if r.target is None]
             self.w.stmt(
                 self.block_call(line, line.words, [r.value for r in words]), line
@@ -1165,7 +1281,7 @@ def constant_row(stmt: st.Stmt) -> Optional[Row]:
     line = stmt.line
     if isinstance(line, RowLine):
         return line.shape, line.cells
-    if line.error or line.comments or line.block_delete or line.oword:
+    if line.error or line.comment is not None or line.block_delete or line.oword:
         return None
     codes_: List[int] = []
     letters: List[str] = []
@@ -1243,18 +1359,66 @@ def stale_break_flag(program: st.Program) -> bool:
     rs274 sets it on every ``break`` and clears it only at the closing
     ``while`` of a do-loop, which then does not loop back. A do-loop's own
     break clears it there, but a while-loop's break leaves it set, so the
-    next do-loop to reach its ``while`` ends after one pass. Only programs
-    with both pay for the flag (``m.doing_break``).
+    next do-loop to reach its ``while`` ends after one pass. rs274 also
+    *skips* through break lines: a while-loop ending by its condition, or a
+    continue, skips forward to the next line with the loop's label and a
+    break line on the way sets the flag too. Only programs with breaks and
+    do-loops pay for the flag (``m.doing_break``).
     """
     stmts = list(st.walk(program.body))
     for sub in program.externals:
         stmts.extend(st.walk(sub.body))
-    jumps = any(
-        isinstance(s, st.Jump) and s.kind == "break" and s.target.kind == "while"
-        for s in stmts
-    )
+    jumps = any(isinstance(s, st.Jump) and s.kind == "break" for s in stmts)
     loops = any(isinstance(s, st.Loop) and s.kind == "do" for s in stmts)
     return jumps and loops
+
+
+def left_early(loop: st.Loop) -> bool:
+    """Can ``loop`` be left before it ends by itself: a return from inside,
+    a jump to an outer loop, no closing line?"""
+    if loop.end is None:
+        return True
+    inside = list(st.walk(loop.body, into_subs=False))
+    loops = {id(s) for s in inside if isinstance(s, st.Loop)}
+    return any(
+        isinstance(s, (st.Return, st.TopReturn))
+        or (isinstance(s, st.Jump) and id(s.target) not in loops)
+        for s in inside
+    )
+
+
+def own_jumps(loop: st.Loop) -> List[st.Jump]:
+    """The break and continue lines of ``loop``, at any depth of its body."""
+    return [
+        s for s in st.walk(loop.body) if isinstance(s, st.Jump) and s.target is loop
+    ]
+
+
+def break_after(jump: st.Jump) -> bool:
+    """Is there a break line of ``jump``'s loop after ``jump``?"""
+    return any(
+        j.kind == "break" and j.line.number > jump.line.number
+        for j in own_jumps(jump.target)
+    )
+
+
+def stale_continue_flag(program: st.Program) -> bool:
+    """Must the code track rs274's ``doing_continue`` (runtime.loopflags)?
+    Only when a do-loop's continue can leave it set for a while-loop's break
+    or a repeat loop."""
+    stmts = list(st.walk(program.body))
+    for sub in program.externals:
+        stmts.extend(st.walk(sub.body))
+    sets = any(
+        isinstance(s, st.Jump) and s.kind == "continue" and s.target.kind == "do"
+        for s in stmts
+    )
+    hit = any(
+        (isinstance(s, st.Jump) and s.kind == "break" and s.target.kind == "while")
+        or (isinstance(s, st.Loop) and s.kind == "repeat")
+        for s in stmts
+    )
+    return sets and hit
 
 
 def oword_values(line: nodes.Line) -> List[nodes.Expr]:

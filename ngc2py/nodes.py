@@ -351,8 +351,10 @@ class Line:
 
     @property
     def comment(self) -> Optional[Comment]:
-        """The comment rs274 acts on: the last one."""
-        return self.comments[-1] if self.comments else None
+        """The comment rs274 acts on: the last one, unless it is ``()``."""
+        if not self.comments or self.comments[-1].kind == "none":
+            return None
+        return self.comments[-1]
 
     @property
     def words(self) -> Tuple[Word, ...]:

@@ -114,6 +114,18 @@ class Loop:
     end: Optional[nodes.Line] = None
     flagged: bool = False
     exits: List["Loop"] = field(default_factory=list)
+    #: Never closed (``o1 if`` ... ``o2 while`` ... ``o1 endif``, or open at
+    #: the end of the file): rs274 runs the rest of the body once, and when
+    #: it does not enter the loop, or a break or continue of it runs, it
+    #: skips to the end of the file looking for the label; this is that
+    #: failure.
+    eof: Optional[Fail] = None
+    #: A repeat loop with a break or continue line of its own label: when
+    #: the count runs out rs274 skips forward to the first such line, and
+    #: fails there (break and continue are for while and do loops only).
+    skip_fail: Optional[Union[Fail, "LabelCheck"]] = None
+    #: rs274's name of the label (``subroutine#label``).
+    key: str = ""
 
 
 @dataclass
@@ -124,6 +136,31 @@ class Jump:
     line: nodes.Line
     kind: str
     target: Loop
+
+
+@dataclass
+class LabelCheck:
+    """rs274 remembers the first line each label was *executed* on (per
+    subroutine) and fails when another opener reuses it. Where a label is
+    reused in the text this is decided at run time, here: ``kind`` is the
+    opener's keyword (``if``, ``while``, ``repeat``, ``do``) or ``do-end``
+    for the ``while`` line that closes a do-loop."""
+
+    line: nodes.Line
+    key: str
+    kind: str
+
+
+@dataclass
+class TopReturn:
+    """``return`` or ``endsub`` outside any subroutine: rs274 fails as "not
+    in a subroutine definition", unless a call has returned to the main
+    program since the last definition (then ``return`` does nothing and
+    ``endsub`` fails differently)."""
+
+    line: nodes.Line
+    keyword: str
+    value: Optional[nodes.Expr] = None
 
 
 @dataclass
@@ -175,7 +212,19 @@ class EndOfFile:
 
 
 Stmt = Union[
-    Block, Fail, Define, If, Loop, Jump, Return, Call, FanucCall, Finish, EndOfFile
+    Block,
+    Fail,
+    Define,
+    If,
+    Loop,
+    Jump,
+    LabelCheck,
+    TopReturn,
+    Return,
+    Call,
+    FanucCall,
+    Finish,
+    EndOfFile,
 ]
 
 
@@ -202,7 +251,6 @@ class Program:
 # rs274's messages (texts measured against rs274 -g, LinuxCNC 2.9)
 # --------------------------------------------------------------------------
 
-NOT_IN_SUB = "%d: not in a subroutine definition: '%s'"
 UNDEFINED_LABEL = "%d: undefined O-word label: '%s'"
 NO_MATCHING_IF = "%d: no matching 'if' label: '%s' (found '%s' in line %d)"
 NO_MATCHING_END = "%d: no matching label: '%s' (found '%s' in line %d)"
@@ -255,11 +303,16 @@ class _Builder:
         self.subs: List[Sub] = []
         # Labels of if/loop openers seen so far, per scope (main or a sub):
         # rs274 remembers each label's first line and complains on reuse.
-        self.labels: Dict[str, Tuple[str, int]] = {}
+        # Values: (keyword, line number, the body it is in, the node).
+        self.labels: Dict[str, tuple] = {}
         self.main_labels = self.labels
+        # Labels reused by openers, checked at run time ("scope#label").
+        self.tracked: set = set()
         # The Fanuc definition being read: (sub, the body it is in, where
         # its lines start in that body).
         self.fanuc: Optional[Tuple[Sub, List[Stmt], int]] = None
+        # Failures at the end of the file, for abandoned constructs.
+        self.eof_fails: List[Fail] = []
 
     # -- helpers ----------------------------------------------------------
 
@@ -321,24 +374,25 @@ class _Builder:
     ) -> None:
         sub = self.open_sub()
         if sub is None or failing and word.name != sub.name:
-            if failing:
+            if failing:  # words after it: a block that fails when reached
                 self.body.append(Block(line))
             else:
-                self.fail(line, NOT_IN_SUB % (line.number, line.text))
+                self.body.append(TopReturn(line, "endsub", word.expr))
             return
         if word.name != sub.name:
             # rs274 keeps skipping for the right endsub; nothing closes here.
             return
         # Constructs left open inside the body end with it.
-        while not isinstance(self.stack.pop().node, Sub):
-            pass
+        while not isinstance(self.stack[-1].node, Sub):
+            self._abandon(self.stack.pop())
+        self.stack.pop()
         sub.end = line
         sub.body.append(Block(line) if failing else Return(line, word.expr))
         self.labels = self.main_labels
 
     def on_return(self, line: nodes.Line, word: nodes.OWord) -> None:
         if self.open_sub() is None:
-            self.fail(line, NOT_IN_SUB % (line.number, line.text))
+            self.body.append(TopReturn(line, "return", word.expr))
             return
         self.body.append(Return(line, word.expr))
 
@@ -379,24 +433,16 @@ class _Builder:
             return
         node = If([Branch(line)])
         self.body.append(node)
+        self._register(line, word, node)
         self.stack.append(_Open(str(word.name), node, node.branches[0].body))
 
     def _if_arm(self, line: nodes.Line, word: nodes.OWord) -> Optional[_Open]:
         """The open ``if`` an elseif/else/endif belongs to, or None after failing."""
         label = str(word.name)
-        top = self.stack[-1] if self.stack else None
-        if top is not None and top.label == label and isinstance(top.node, If):
+        top = self._enclosing(label, lambda node: isinstance(node, If))
+        if top is not None:
             return top
-        seen = self.labels.get(label)
-        if seen is None:
-            self.fail(line, UNDEFINED_LABEL % (line.number, line.text))
-        elif word.keyword == "endif":
-            self.fail(
-                line,
-                NO_MATCHING_ENDIF % (line.number, label, seen[0], seen[1], line.text),
-            )
-        else:
-            self.fail(line, NO_MATCHING_IF % (line.number, line.text, seen[0], seen[1]))
+        self._label_error(line, word)
         return None
 
     def on_elseif(self, line: nodes.Line, word: nodes.OWord) -> None:
@@ -423,44 +469,76 @@ class _Builder:
     def _open_loop(self, kind: str, line: nodes.Line, word: nodes.OWord) -> None:
         if kind != "do" and self._duplicate(line, word, DUPLICATE_LOOP):
             return
-        node = Loop(kind, line)
+        node = Loop(kind, line, key=self._key(str(word.name)))
         self.body.append(node)
+        self._register(line, word, node)
         self.stack.append(_Open(str(word.name), node, node.body))
 
     def on_do(self, line: nodes.Line, word: nodes.OWord) -> None:
+        label = str(word.name)
+        seen = self.labels.get(label)
+        if self._reopens_do(label, seen):
+            self._reopen_do(label, seen[3])
+            return
         self._open_loop("do", line, word)
+
+    def _reopens_do(self, label: str, seen) -> bool:
+        """Is ``label`` that of a finished do-loop earlier in this body (so
+        rs274 has recorded that do-loop's place for it)?"""
+        return (
+            seen is not None
+            and seen[0] == "do"
+            and seen[2] is self.body
+            and seen[3].end is not None
+            and not any(entry.label == label for entry in self._scope_entries())
+        )
+
+    def _reopen_do(self, label: str, first: Loop) -> None:
+        """A second ``do`` with the label of an earlier do-loop in the same
+        body: rs274 keeps the first one's place, so the closing ``while`` of
+        the second loop jumps back to the *first* ``do``. Everything from
+        the first do-loop on becomes the body of one loop that the second
+        ``while`` closes; the second ``do`` line itself does nothing."""
+        start = next(i for i, stmt in enumerate(self.body) if stmt is first)
+        outer = Loop("do", first.line, self.body[start:], key=first.key)
+        del self.body[start:]
+        self.body.append(outer)
+        self.stack.append(_Open(label, outer, outer.body))
 
     def on_repeat(self, line: nodes.Line, word: nodes.OWord) -> None:
         self._open_loop("repeat", line, word)
 
     def on_while(self, line: nodes.Line, word: nodes.OWord) -> None:
-        top = self.stack[-1] if self.stack else None
-        if (
-            top is not None
-            and top.label == str(word.name)
-            and isinstance(top.node, Loop)
-            and top.node.kind == "do"
-        ):
+        top = self._enclosing(
+            str(word.name), lambda node: isinstance(node, Loop) and node.kind == "do"
+        )
+        if top is not None:
             top.node.end = line
+            key = self._key(str(word.name))
+            if key in self.tracked:
+                top.node.body.append(LabelCheck(line, key, "do-end"))
             self.stack.pop()
+            return
+        label = str(word.name)
+        seen = self.labels.get(label)
+        if self._reopens_do(label, seen):
+            # rs274 takes it for the end of that do-loop: it loops back to
+            # the first ``do``, or goes on into what follows.
+            self._reopen_do(label, seen[3])
+            self.stack.pop().node.end = line
             return
         self._open_loop("while", line, word)
 
     def _close_loop(self, kind: str, line: nodes.Line, word: nodes.OWord) -> None:
         label = str(word.name)
-        top = self.stack[-1] if self.stack else None
-        if top is not None and top.label == label and isinstance(top.node, Loop):
-            if top.node.kind == kind:
-                top.node.end = line
-                self.stack.pop()
-                return
-        seen = self.labels.get(label)
-        if seen is None:
-            self.fail(line, UNDEFINED_LABEL % (line.number, line.text))
-        else:
-            self.fail(
-                line, NO_MATCHING_END % (line.number, line.text, seen[0], seen[1])
-            )
+        top = self._enclosing(
+            label, lambda node: isinstance(node, Loop) and node.kind == kind
+        )
+        if top is not None:
+            top.node.end = line
+            self.stack.pop()
+            return
+        self._label_error(line, word)
 
     def on_endwhile(self, line: nodes.Line, word: nodes.OWord) -> None:
         self._close_loop("while", line, word)
@@ -471,6 +549,7 @@ class _Builder:
     def _jump(self, line: nodes.Line, word: nodes.OWord) -> None:
         label = str(word.name)
         crossed: List[Loop] = []
+        repeat: Optional[Loop] = None
         for entry in reversed(self.stack):
             if isinstance(entry.node, Sub):
                 break
@@ -479,34 +558,144 @@ class _Builder:
             if entry.label == label:
                 target = entry.node
                 if target.kind == "repeat":
-                    break  # rs274: break/continue only for while and do
+                    repeat = target  # rs274: break/continue only for while and do
+                    break
                 if crossed:
                     target.flagged = True
                     for inner in crossed:
                         if target not in inner.exits:
                             inner.exits.append(target)
+                key = self._key(label)
+                if key in self.tracked:
+                    # a do-loop reusing a label finds what rs274 recorded
+                    self.body.append(LabelCheck(line, key, word.keyword))
                 self.body.append(Jump(line, word.keyword, target))
                 return
             crossed.append(entry.node)
-        seen = self.labels.get(label)
-        if seen is None:
-            self.fail(line, UNDEFINED_LABEL % (line.number, line.text))
-        else:
-            self.fail(
-                line, NO_MATCHING_LOOP % (line.number, line.text, seen[0], seen[1])
-            )
+        self._label_error(line, word)
+        if repeat is not None and repeat.skip_fail is None:
+            repeat.skip_fail = self.body[-1]
 
     on_break = _jump
     on_continue = _jump
 
+    def _label_error(self, line: nodes.Line, word: nodes.OWord) -> None:
+        """A closing line (elseif, else, endif, endwhile, endrepeat, break,
+        continue) whose label is not open as it needs: rs274 names what the
+        label was recorded as. For a reused label that depends on which
+        opener ran, so it is looked up at run time (:class:`LabelCheck`)."""
+        label = str(word.name)
+        key = self._key(label)
+        if key in self.tracked:
+            self.body.append(LabelCheck(line, key, word.keyword))
+            return
+        seen = self.labels.get(label)
+        if seen is None:
+            self.fail(line, UNDEFINED_LABEL % (line.number, line.text))
+            return
+        found = (seen[0], seen[1])
+        if word.keyword == "endif":
+            message = NO_MATCHING_ENDIF % ((line.number, key) + found + (line.text,))
+        elif word.keyword in ("elseif", "else"):
+            message = NO_MATCHING_IF % ((line.number, line.text) + found)
+        elif word.keyword in ("break", "continue"):
+            message = NO_MATCHING_LOOP % ((line.number, line.text) + found)
+        else:
+            message = NO_MATCHING_END % ((line.number, line.text) + found)
+        self.fail(line, message)
+
+    # -- constructs left open ----------------------------------------------
+
+    def _enclosing(self, label: str, fits) -> Optional[_Open]:
+        """The open construct a closing line with ``label`` belongs to, now
+        on top of the stack, or None.
+
+        rs274 pairs nothing: a closing line acts on whatever its label was
+        last opened as. So an ``o1 endif`` also closes ``o1 if`` when an
+        ``o2 while`` inside it was never closed; the constructs between are
+        abandoned (:meth:`_abandon`)."""
+        for depth in range(len(self.stack) - 1, -1, -1):
+            entry = self.stack[depth]
+            if isinstance(entry.node, Sub):
+                return None
+            if entry.label == label:
+                if not fits(entry.node) or self._reopened(label, depth):
+                    return None
+                while len(self.stack) > depth + 1:
+                    self._abandon(self.stack.pop())
+                return entry
+        return None
+
+    def _scope_entries(self) -> List[_Open]:
+        """The open constructs of the current subroutine (or main body)."""
+        entries: List[_Open] = []
+        for entry in reversed(self.stack):
+            if isinstance(entry.node, Sub):
+                break
+            entries.append(entry)
+        return entries
+
+    def _reopened(self, label: str, depth: int) -> bool:
+        """Is ``label`` also open above ``depth`` (a reused label)?"""
+        return any(entry.label == label for entry in self.stack[depth + 1 :])
+
+    def _abandon(self, entry: _Open) -> None:
+        """A construct whose closing line never comes: where rs274 would
+        skip forward to its label, it reads to the end of the file and fails
+        there (the line is known at :meth:`finish`)."""
+        node = entry.node
+        if isinstance(node, Loop):
+            node.eof = self._eof_fail()
+        elif isinstance(node, If):
+            arms = node.branches + ([node.orelse] if node.orelse else [])
+            for arm in arms[:-1]:
+                # after a taken arm, the next arm's line starts the skip
+                arm.body.append(self._eof_fail())
+            if node.orelse is None:
+                node.orelse = Branch(node.branches[-1].line, [self._eof_fail()])
+
+    def _eof_fail(self) -> Fail:
+        fail = Fail(None, eof_message(self.demarcated))  # line set at finish
+        self.eof_fails.append(fail)
+        return fail
+
     # -- labels -----------------------------------------------------------
 
-    def _duplicate(self, line: nodes.Line, word: nodes.OWord, message: str) -> bool:
-        """Record an opener's label; fail (and return True) if it is reused."""
+    def _key(self, label: str) -> str:
+        """rs274's name for a label: the subroutine's name, ``#``, the label."""
+        sub = self.open_sub()
+        return "%s#%s" % (sub.name if sub is not None else "", label)
+
+    def _register(self, line: nodes.Line, word: nodes.OWord, node) -> None:
+        """Remember an opener's label. A label already used by a closed
+        opener is checked at run time (:class:`LabelCheck`), at every opener
+        with it: whether rs274 fails depends on which of them it executed."""
         label = str(word.name)
         seen = self.labels.get(label)
         if seen is None:
-            self.labels[label] = (word.keyword, line.number)
+            self.labels[label] = (word.keyword, line.number, self.body, node)
+            return
+        key = self._key(label)
+        if key not in self.tracked:
+            self.tracked.add(key)
+            _, _, body, first = seen
+            index = next(i for i, stmt in enumerate(body) if stmt is first)
+            line1 = first.branches[0].line if isinstance(first, If) else first.line
+            body.insert(index, LabelCheck(line1, key, seen[0]))
+            if isinstance(first, Loop) and first.kind == "do" and first.end:
+                first.body.append(LabelCheck(first.end, key, "do-end"))
+        self.body.insert(len(self.body) - 1, LabelCheck(line, key, word.keyword))
+
+    def _duplicate(self, line: nodes.Line, word: nodes.OWord, message: str) -> bool:
+        """Fail (and return True) if an opener reuses the label of a
+        construct still open around it; a closed one's label is checked at
+        run time (:meth:`_register`)."""
+        label = str(word.name)
+        seen = self.labels.get(label)
+        if seen is None or not any(
+            entry.label == label and not isinstance(entry.node, Sub)
+            for entry in self._scope_entries()
+        ):
             return False
         if message == DUPLICATE_IF:
             text = message % (line.number, seen[1], line.text)
@@ -525,12 +714,17 @@ class _Builder:
     # -- end of file ------------------------------------------------------
 
     def finish(self, last: Optional[nodes.Line]) -> None:
+        for fail in self.eof_fails:
+            fail.line = last
         if self.fanuc is not None and last is not None:
             # A call runs the definition into the end of the file.
             sub, body, start = self.fanuc
             sub.body = body[start:] + [Fail(last, eof_message(self.demarcated))]
         while self.stack:
             entry = self.stack.pop()
+            if isinstance(entry.node, Loop) and last is not None:
+                # its break and continue lines skip to the end of the file
+                entry.node.eof = Fail(last, eof_message(self.demarcated))
             if isinstance(entry.node, Sub) and last is not None:
                 # Reading the definition runs into the end of the file.
                 entry.node.define_error = entry.node.define_error or Fail(

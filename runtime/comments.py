@@ -13,6 +13,9 @@ Facts measured against rs274 (LinuxCNC 2.9) that shape this module:
   the number is outside 0..5601, or the text would be 30 characters or
   more. Values within 0.0001 of zero print as zero (no ``-0.000000``). A
   ``#`` followed by anything else is kept.
+* The last comment of a line is the one acted on, and only when its text is
+  not empty: ``()`` prints nothing and silences an earlier comment on the
+  line; ``( )`` prints ``COMMENT("")``.  O-word lines act on no comment.
 * ``%d`` and ``%.Nf`` (N one digit) in the text are not printed; they set the
   number of decimals for the parameters after them (``%d`` means 0). Any
   other ``%.`` loses its ``%``; any other ``%`` is kept.
@@ -36,6 +39,9 @@ from runtime.errors import GCodeError
 from runtime.ops import TOLERANCE_EQUAL
 from runtime.params import MAX_PARAMETERS
 from runtime.varfile import DEBUG_SWITCH
+
+#: The kind of ``()``: a comment rs274 does not act on.
+SILENT = "none"
 
 #: Comment kinds whose text has parameters expanded.
 EXPANDING_KINDS = frozenset({"debug", "print", "log", "abort"})
@@ -101,6 +107,12 @@ class Comment:
 
 def classify(comment: str) -> Comment:
     """The :class:`Comment` for the text between ``(`` and ``)`` (or after ``;``)."""
+    if not comment:
+        # rs274 keeps only the last comment of a line in a buffer and acts
+        # on it when the buffer is not empty: ``()`` does nothing, and as the
+        # last comment it silences an earlier one (``(foo) ()``).  ``( )`` is
+        # not empty and prints COMMENT("").
+        return Comment(SILENT, "")
     start = len(comment) - len(comment.lstrip(_C_SPACE))
     body = comment[start:]
     lowered = _ascii_lower(body[:_CLASSIFY_LENGTH])
@@ -203,6 +215,8 @@ def execute_comment(machine, comment: Comment) -> None:
     """Do what rs274 does with the comment of a block (its first action)."""
     kind = comment.kind
     canon = machine.canon
+    if kind == SILENT:
+        return
     if kind == "msg":
         canon.message(comment.text)
     elif kind == "debug":

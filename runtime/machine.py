@@ -29,7 +29,7 @@ from __future__ import annotations
 import sys
 from typing import Callable, Dict, Iterator, NamedTuple, Optional
 
-from runtime import blockcheck
+from runtime import blockcheck, loopflags, olabels
 from runtime.canon import Canon, TraceCanon
 from runtime.blockcheck import (
     DRILL_CYCLES,
@@ -419,6 +419,7 @@ class Machine(
                 % (here.file, here.line, name, known.file)
             )
         self._subroutines[name] = _Subroutine(fn, here.file)
+        self.returned_to_main = False  # see runtime.olabels.top_level_return
 
     def call_named(self, name: str, *args: float):
         """Call a subroutine by name (for calls the compiler could not resolve)."""
@@ -490,6 +491,8 @@ class Machine(
         finally:
             self.call_level -= 1
             self._locals = caller_locals
+            if not self.call_level:
+                self.returned_to_main = True  # see olabels.top_level_return
 
     def _enter_sub(self) -> Locals:
         """Go one call level down, with fresh named locals; returns the caller's."""
@@ -505,6 +508,25 @@ class Machine(
     def repeat(n: float) -> Iterator[int]:
         """``o.. repeat [n]``: n rounded to the nearest integer times (none if negative)."""
         return iter(range(round_to_int(n)))
+
+    def top_level_return(
+        self, line: int, keyword: str, text: str, value: Optional[float] = None
+    ) -> None:
+        """``return``/``endsub`` outside a subroutine (see runtime.olabels)."""
+        olabels.top_level_return(self, line, keyword, text, value)
+
+    def check_label(self, key: str, kind: str, line: int, text: str) -> None:
+        """A reused O-word label (see runtime.olabels)."""
+        olabels.check_label(self, key, kind, line, text)
+
+    def repeat_kept(self, key: str, n: float) -> Iterator[int]:
+        """``repeat`` that may be left early (see runtime.loopflags)."""
+        return loopflags.repeat_keeping_count(self, key, round_to_int(n))
+
+    def repeat_again(self, n: float) -> Iterator[int]:
+        """``repeat`` where a do-loop's continue may have left rs274's
+        ``doing_continue`` set (see runtime.loopflags)."""
+        return loopflags.repeat_with_stale_continue(self, round_to_int(n))
 
     # ------------------------------------------------------------------
     # Blocks

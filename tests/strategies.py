@@ -683,3 +683,282 @@ def invalid_programs(draw, max_statements: int = 10) -> str:
     idx = draw(st.sampled_from(candidates))
     lines[idx] = draw(mutated_line(lines[idx]))
     return "\n".join(lines) + "\n"
+
+
+# --------------------------------------------------------------------------
+# the language: every kind of line, and O-word structures in every nesting
+# --------------------------------------------------------------------------
+#
+# Written from the G Code Overview's "Format of a line" (an optional block
+# delete slash, an optional line number, words, parameter settings and
+# comments in any number; `;` comments to the end of the line; only the
+# last comment is acted on) and the O Codes chapter (while/endwhile,
+# do/while, repeat/endrepeat, if/elseif/else/endif, break and continue of
+# a while or do loop, return and endsub inside a subroutine), not from
+# ngc2py's implementation. Every O-word line may carry an N number and
+# comments too.
+#
+# Loops always terminate: each has its own counter, incremented first thing
+# in its body, and its condition is `counter LT n`. Labels are unique unless
+# the generator deliberately reuses one (a `do` label reused by a later
+# `do`, an `if`/`while` label reused: rs274 jumps back to the first `do`, or
+# fails "duplicate O-word label"); a closing line may be left out on purpose
+# (an unclosed `while` inside an `if`). Such programs may end in an error:
+# the differential test only requires ngc2py to behave as rs274 does.
+
+#: Comments as written after a line's words (or alone on a line): plain,
+#: empty, blank, active (MSG, DEBUG, PRINT, LOG) and several on one line.
+LINE_COMMENTS = [
+    "()",
+    "( )",
+    "(  )",
+    "(plain words)",
+    "(Mixed Case; with semicolon)",
+    "(MSG,a message)",
+    "(msg, spaced message)",
+    "(MSG,)",
+    "(DEBUG,one=#1 two=#<_g>)",
+    "(debug,)",
+    "(PRINT,printed #1)",
+    "(LOG,logged #2)",
+    "(first) ()",
+    "() (MSG,after an empty one)",
+    "(MSG,not acted on) (later plain)",
+    "(plain) (DEBUG,last wins #1)",
+    "() ()",
+]
+
+#: `;` comments: to the end of the line (a `(` in them is no comment).
+SEMICOLON_COMMENTS = ["; trailing", ";", "; (not a comment", "; MSG,no"]
+
+
+class LanguageWriter:
+    """Lines of a program, and what the generator must know to keep its
+    loops finite: the open loops of the current subroutine or main body."""
+
+    def __init__(self, draw, block_delete: bool):
+        self.draw = draw
+        self.block_delete = block_delete
+        self.lines: List[str] = []
+        self.depth = 0
+        self.next_label = 100
+        self.next_counter = 0
+        # open loops of the body being written: (label, kind)
+        self.loops: List[tuple] = []
+        # labels of constructs already closed in this body: (label, kind)
+        self.closed: List[tuple] = []
+        self.counters: List[str] = []  # loop counters visible here
+        self.sub: str = ""  # name of the subroutine being written
+        self.subs: List[str] = []  # callable subroutines
+        self.size = 0  # statements written (bounds the program)
+        self.globals: List[str] = []  # do-loop counters, set at the top
+
+    def pick(self, options):
+        return self.draw(st.sampled_from(options))
+
+    def chance(self, one_in: int) -> bool:
+        return self.draw(st.integers(0, one_in - 1)) == 0
+
+    def number_prefix(self) -> str:
+        """An optional line number: N, a number, maybe leading zeros, a
+        decimal part, either case."""
+        if not self.chance(3):
+            return ""
+        n = self.draw(st.integers(0, 9999))
+        spelled = self.pick([f"N{n}", f"n{n}", f"N{n:05d}", f"N{n}.5", f"N {n}"])
+        return spelled + self.pick([" ", "", "  "])
+
+    def comment_suffix(self, required: bool = False) -> str:
+        parts = []
+        if required or self.chance(3):
+            parts.append(self.pick(LINE_COMMENTS))
+        if self.chance(5):
+            parts.append(self.pick(SEMICOLON_COMMENTS))
+        if not parts:
+            return ""
+        return self.pick([" ", "", "\t"]) + " ".join(parts)
+
+    def emit(self, body: str, slash_ok: bool = True, oline: bool = False) -> None:
+        """One line: [/] [N..] body [comments]."""
+        slash = "/" if slash_ok and self.chance(6) else ""
+        text = slash + self.number_prefix() + body + self.comment_suffix()
+        self.lines.append("  " * self.depth + text)
+
+    def label(self) -> str:
+        """A label for a new construct: usually new, sometimes one already
+        used by a closed construct of this body."""
+        if self.closed and self.chance(10):
+            return self.pick(self.closed)[0]
+        self.next_label += 1
+        return str(self.next_label)
+
+    def condition(self) -> str:
+        options = ["[1]", "[0]", "[#1 GT 0]", "[#<_g> LT 2]", "[1 EQ 1]"]
+        if self.chance(12):
+            # fails wherever rs274 evaluates it (#3 is 0 outside calls)
+            options = ["[1/#3]", "[#<_unset> GT 0]"]
+        for c in self.counters:
+            options += [f"[#<{c}> EQ 2]", f"[#<{c}> GT 1]", f"[#<{c}> LT 2]"]
+        return self.pick(options)
+
+
+def lang_plain(w: LanguageWriter) -> None:
+    """An ordinary line of some kind."""
+    kind = w.draw(st.integers(0, 7))
+    if kind == 0:
+        w.emit(f"G1 X{w.draw(numbers(-50, 50, 10))} F{w.draw(numbers(10, 900, 1))}")
+    elif kind == 1:
+        w.emit(f"G0 Y{w.draw(numbers(-50, 50, 10))} Z{w.draw(numbers(0, 50, 10))}")
+    elif kind == 2:
+        target = w.pick(["#1", "#2", "#<_g>", "#<local>"])
+        w.emit(f"{target} = [#1 + {w.draw(numbers(-20, 20, 10))}]")
+    elif kind == 3:
+        # a comment alone on a line, with or without a line number
+        slash = "/" if w.chance(5) else ""
+        w.lines.append("  " * w.depth + slash + w.number_prefix() + w.pick(LINE_COMMENTS))
+    elif kind == 4:
+        w.lines.append(w.pick(["", "  ", "\t"]))
+    elif kind == 5:
+        w.lines.append("  " * w.depth + w.pick(["/", "N20", "/N30", "; only a comment", "/()"]))
+    elif kind == 6:
+        w.emit(w.pick(["M3 S1000", "M5", "G91 G0 X1", "G90", "M8", "M9"]))
+    else:
+        w.emit("(DEBUG,counters " + " ".join(f"#<{c}>" for c in w.counters) + ")")
+
+
+def lang_if(w: LanguageWriter) -> None:
+    label = w.label()
+    w.emit(f"o{label} if {w.condition()}", slash_ok=False)
+    arms = 1 + w.draw(st.integers(0, 2))
+    for arm in range(arms):
+        if arm:
+            w.emit(f"o{label} elseif {w.condition()}", slash_ok=False)
+        lang_body(w)
+    if w.chance(2):
+        w.emit(f"o{label} else", slash_ok=False)
+        lang_body(w)
+    w.emit(f"o{label} endif", slash_ok=False)
+    w.closed.append((label, "if"))
+
+
+def lang_loop(w: LanguageWriter) -> None:
+    kind = w.pick(["while", "do", "repeat"])
+    label = w.label()
+    w.next_counter += 1
+    counter = f"k{w.next_counter}"
+    count = w.draw(st.integers(0, 3))
+    if kind == "do":
+        # a global counter set once at the top and never reset: a do-loop
+        # whose label was used before jumps back to the first one
+        # (rs274), and must still end
+        counter = "_" + counter
+        w.globals.append(counter)
+    else:
+        w.lines.append("  " * w.depth + f"#<{counter}> = 0")
+    if kind == "while":
+        w.emit(f"o{label} while [#<{counter}> LT {count}]", slash_ok=False)
+    elif kind == "do":
+        w.emit(f"o{label} do", slash_ok=False)
+    else:
+        w.emit(f"o{label} repeat [{count}]", slash_ok=False)
+    w.depth += 1
+    w.lines.append("  " * w.depth + f"#<{counter}> = [#<{counter}> + 1]")
+    w.depth -= 1
+    w.loops.append((label, kind))
+    w.counters.append(counter)
+    lang_body(w)
+    if kind != "repeat" and w.chance(2):
+        # the usual last statement: a guarded break or continue
+        w.depth += 1
+        lang_guarded_jump(w)
+        w.depth -= 1
+    w.counters.pop()
+    w.loops.pop()
+    unclosed = w.chance(25)
+    if kind == "while" and not unclosed:
+        w.emit(f"o{label} endwhile", slash_ok=False)
+    elif kind == "do" and not unclosed:
+        w.emit(f"o{label} while [#<{counter}> LT {count}]", slash_ok=False)
+    elif kind == "repeat" and not unclosed:
+        w.emit(f"o{label} endrepeat", slash_ok=False)
+    w.closed.append((label, kind))
+
+
+def lang_jump(w: LanguageWriter) -> None:
+    """break or continue of an enclosing loop (any of them), or return."""
+    if w.sub and (not w.loops or w.chance(3)):
+        value = w.pick(["", " [7]", " [#1 + 1]"])
+        w.emit(f"o{w.sub} return{value}", slash_ok=False)
+        return
+    loops = [entry for entry in w.loops if entry[1] != "repeat" or w.chance(8)]
+    if not loops:
+        lang_plain(w)
+        return
+    label, _ = w.pick(loops)
+    w.emit(f"o{label} {w.pick(['break', 'continue'])}", slash_ok=False)
+
+
+def lang_guarded_jump(w: LanguageWriter) -> None:
+    """The usual shape: ``if [counter test]`` around a break or continue
+    (which then may never run: rs274 still skips over its line)."""
+    label = w.label()
+    w.emit(f"o{label} if {w.condition()}", slash_ok=False)
+    w.depth += 1
+    lang_jump(w)
+    w.depth -= 1
+    w.emit(f"o{label} endif", slash_ok=False)
+    w.closed.append((label, "if"))
+
+
+def lang_call(w: LanguageWriter) -> None:
+    if not w.subs:
+        lang_plain(w)
+        return
+    name = w.pick(w.subs)
+    args = w.pick(["", " [1]", " [2] [3]", " [#1]"])
+    w.emit(f"o{name} call{args}", slash_ok=False)
+
+
+def lang_statement(w: LanguageWriter) -> None:
+    w.size += 1
+    options = [lang_plain] * 4 + [lang_call]
+    if w.depth < 3 and w.size < 40:
+        options += [lang_if, lang_loop, lang_loop]
+    if w.loops or w.sub:
+        options += [lang_jump, lang_guarded_jump]
+    if w.loops:
+        options += [lang_guarded_jump]
+    w.pick(options)(w)
+
+
+def lang_body(w: LanguageWriter) -> None:
+    w.depth += 1
+    for _ in range(w.draw(st.integers(1, 3))):
+        lang_statement(w)
+    w.depth -= 1
+
+
+def lang_sub(w: LanguageWriter, index: int) -> None:
+    name = w.pick([f"<s{index}>", f"{900 + index}"])
+    w.emit(f"o{name} sub", slash_ok=False)
+    w.sub, w.closed, w.counters = name, [], []
+    lang_body(w)
+    w.emit(f"o{name} endsub" + w.pick(["", " [2]"]), slash_ok=False)
+    w.sub, w.closed = "", []
+    w.subs.append(name)
+
+
+@st.composite
+def language_programs(draw, max_statements: int = 8) -> tuple:
+    """(program text, rs274 options): a program exercising the line format
+    and the O-word structures, run with or without block delete (-b)."""
+    block_delete = draw(st.booleans())
+    w = LanguageWriter(draw, block_delete)
+    w.lines.append("#<_g> = 1")
+    for index in range(draw(st.integers(0, 2))):
+        lang_sub(w, index)
+    for _ in range(draw(st.integers(1, max_statements))):
+        lang_statement(w)
+    w.lines.append(draw(st.sampled_from(["M2", "m30", "N999 M2", "M2 ()", "M2 (end)"])))
+    w.lines[1:1] = [f"#<{name}> = 0" for name in w.globals]
+    return "\n".join(w.lines) + "\n", (["-b"] if block_delete else [])

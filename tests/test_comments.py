@@ -248,3 +248,14 @@ def test_abort_matches_rs274(tmp_path):
     with pytest.raises(GCodeError) as info:
         execute_comment(setup_machine(), classify("abort, stop #1 %d#2 #<nope>"))
     assert info.value.message == err
+
+
+def test_empty_comment_is_silent():
+    """rs274 acts on the last comment only when its text is not empty."""
+    assert classify("").kind == "none"
+    assert classify(" ") == Comment("plain", "")
+    from ngc2py.parser import parse_text
+
+    lines = parse_text(b"()\n(foo) ()\n() (foo)\nG0 X1 ( )\n", "t.ngc").lines
+    acted_on = [line.comment and (line.comment.kind, line.comment.text) for line in lines]
+    assert acted_on == [None, None, ("plain", "foo"), ("plain", "")]

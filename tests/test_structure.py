@@ -71,8 +71,6 @@ def test_break_and_continue_target_their_loop():
 @pytest.mark.parametrize(
     "text, message",
     [
-        ("o<a> endsub\nM2\n", "1: not in a subroutine definition: 'o<a> endsub'"),
-        ("o<a> return\nM2\n", "1: not in a subroutine definition: 'o<a> return'"),
         ("o1 endif\nM2\n", "1: undefined O-word label: 'o1 endif'"),
         ("o1 else\nM2\n", "1: undefined O-word label: 'o1 else'"),
         ("o1 endwhile\nM2\n", "1: undefined O-word label: 'o1 endwhile'"),
@@ -262,3 +260,29 @@ def test_errors_rs274_meets_opening_a_file(text, expected):
         assert error is None
     else:
         assert (error[0], error[1] and error[1].number) == expected
+
+
+@pytest.mark.parametrize("keyword", ["endsub", "return"])
+def test_return_outside_a_sub_is_decided_at_run_time(keyword):
+    """rs274 fails unless a call has returned to the main program since the
+    last definition (runtime.olabels.top_level_return)."""
+    program = build("o<a> %s [2]\nM2\n" % keyword)
+    stray = program.body[0]
+    assert isinstance(stray, st.TopReturn) and stray.keyword == keyword
+    assert stray.value is not None
+
+
+def test_a_closing_line_abandons_unclosed_constructs_inside():
+    program = build("o1 if [1]\no2 while [1]\nG0 X1\no1 endif\nM2\n")
+    branch_if = program.body[0]
+    loop = branch_if.branches[0].body[0]
+    assert branch_if.end.number == 4
+    assert loop.kind == "while" and loop.end is None
+    assert isinstance(loop.eof, st.Fail) and loop.eof.line.number == 5
+
+
+def test_a_reused_label_is_checked_at_run_time():
+    program = build("o1 if [0]\no1 endif\no1 while [0]\no1 endwhile\nM2\n")
+    assert kinds(program.body) == ["LabelCheck", "If", "LabelCheck", "Loop", "Block"]
+    first, _, second, _, _ = program.body
+    assert (first.key, first.kind, second.kind) == ("#1", "if", "while")

@@ -1,0 +1,63 @@
+"""Differential tests from the language: the line format and O-word structures.
+
+``strategies.language_programs()`` writes programs from the G Code
+Overview's line format and the O Codes chapter (see the comment above it in
+tests/strategies.py): every kind of line with or without a block delete
+slash, a line number, comments (empty, blank, plain, active, several, `;`),
+O-word lines carrying line numbers and comments, and while / do-while /
+repeat loops and if / elseif / else nested in each other, with break,
+continue and return at every depth, in subroutines and the main program.
+Some reuse a label or leave a loop unclosed on purpose. Each program runs
+through the live rs274 and ngc2py (half of them with block delete on, -b);
+stdout must be byte-identical, with the same exit status and error message.
+
+Profiles as in tests/test_differential.py: ``ci`` (the default) is
+derandomised, so CI sees the same examples every run.
+"""
+
+from __future__ import annotations
+
+import pytest
+from hypothesis import given, reject, settings
+
+import rs274 as harness
+import strategies
+from test_differential import PROFILE
+
+pytestmark = pytest.mark.rs274
+
+#: rs274 on a generated program: a reused do-label can make it loop for a
+#: long time; such examples are discarded (no reference to compare with).
+TIMEOUT = 5.0
+
+_PROGRAM = harness.REPO / "tests" / "_generated" / "lang.ngc"
+
+
+def check_same(text: str, args, mode: str) -> None:
+    expected = harness.run_rs274(_PROGRAM, args, text=text, timeout=TIMEOUT)
+    if expected.timed_out or expected.rc < 0:
+        reject()
+    actual = harness.run_ngc2py(_PROGRAM, args, text=text, mode=mode, timeout=TIMEOUT * 6)
+    problems = harness.compare(expected, actual)
+    if problems:
+        numbered = "\n".join(f"{i:4d}  {ln}" for i, ln in enumerate(text.splitlines(), 1))
+        pytest.fail(
+            f"ngc2py ({mode}, options {args}) differs from rs274 on:\n{numbered}\n\n"
+            + "\n".join(problems),
+            pytrace=False,
+        )
+
+
+@settings(PROFILE, max_examples=PROFILE.max_examples * 3)
+@given(strategies.language_programs())
+def test_language_programs(program):
+    text, args = program
+    check_same(text, args, "inprocess")
+
+
+@settings(PROFILE, max_examples=max(5, PROFILE.max_examples // 4))
+@given(strategies.language_programs(max_statements=5))
+def test_language_programs_converted(program):
+    """The generated module on its own, not only `ngc2py run`."""
+    text, args = program
+    check_same(text, args, "convert")
