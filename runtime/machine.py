@@ -17,8 +17,9 @@ moves, arcs, homing), :mod:`runtime.offsets` (coordinate systems, G92, units)
 and :mod:`runtime.tools` (T, M6, M61, G43). This module has the public API,
 the execution order and the simple modal codes.
 
-Codes not implemented yet (canned cycles, cutter compensation, probing,
-splines, threading, M70-M73) raise a GCodeError
+Cutter radius compensation is :mod:`runtime.cutter_comp`. Codes not
+implemented yet (canned cycles, probing, splines, threading, M70-M73) raise a
+GCodeError
 that says so, at the point rs274 would execute them.
 """
 
@@ -71,6 +72,8 @@ from runtime.codes import (
     G30,
     G30_1,
     G40,
+    G41,
+    G42,
     G5_3,
     G52,
     G54,
@@ -100,6 +103,7 @@ from runtime.codes import (
     to_integer,
 )
 from runtime.comments import execute_comment
+from runtime.cutter_comp import LEFT, RIGHT, CompState, CutterCompMixin
 from runtime.errors import GCodeError, Location, g_code_frames_of_stack
 from runtime.inifile import IniSettings, load_ini
 from runtime.mcodes import MCodesMixin, ProgramEnd, not_supported
@@ -180,7 +184,12 @@ class _Subroutine(NamedTuple):
 
 
 class Machine(
-    MCodesMixin, MotionMixin, OutOfScopeChecksMixin, OffsetsMixin, ToolsMixin
+    MCodesMixin,
+    MotionMixin,
+    CutterCompMixin,
+    OutOfScopeChecksMixin,
+    OffsetsMixin,
+    ToolsMixin,
 ):
     """rs274's interpreter state and block execution, printing through ``canon``."""
 
@@ -259,6 +268,7 @@ class Machine(
         self.retract_r_plane = True
         self.lathe_diameter = False
         self.cutter_comp = False
+        self._cc = CompState()
         # Before any T word M6 changes to pocket 0, yet #<_selected_pocket>
         # reads -1; the canon reports slot 1 as the loaded one.
         self.selected_pocket = 0
@@ -612,13 +622,6 @@ class Machine(
         kind = "diameter" if diameter else "radius"
         self.canon.comment(f"interpreter: Lathe diameter mode changed to {kind}")
 
-    def _cutter_comp(self, code: int, words) -> None:
-        if code != G40:
-            self._check_cutter_comp_on(code, words)
-            raise not_supported(f"cutter radius compensation ({g_name(code)})")
-        self.canon.comment("interpreter: cutter radius compensation off")
-        self.cutter_comp = False
-
     def _control_mode(self, code: int, words) -> None:
         if self.cutter_comp:
             raise GCodeError(
@@ -762,7 +765,7 @@ _PREDEFINED_VALUES: Dict[str, Callable[[Machine], float]] = {
     "_line": lambda m: m.current_line(),
     "_motion_mode": lambda m: m.motion_mode,
     "_plane": lambda m: _PLANE_CODES[m.plane],
-    "_ccomp": lambda m: G40,
+    "_ccomp": lambda m: {LEFT: G41, RIGHT: G42}.get(m._cc.side, G40),
     "_metric": lambda m: not m.inches,
     "_imperial": lambda m: m.inches,
     "_absolute": lambda m: not m.distance_incremental,

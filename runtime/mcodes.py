@@ -181,6 +181,7 @@ class MCodesMixin:
     # M0, M1, M2, M30, M60
     # ------------------------------------------------------------------
     def _stop(self, code: int) -> None:
+        self._comp_flush_for_stop()
         canon = self.canon
         if code == 0:
             canon.program_stop()
@@ -217,7 +218,7 @@ class MCodesMixin:
             canon.enable_feed_override()
             self.feed_override = True
         # (rs274 2.9 re-enables only the feed override, not the speed override.)
-        self.cutter_comp = False
+        self._comp_stop()
         canon.stop_spindle_turning(0)
         self.spindle = "stopped"
         canon.set_spindle_mode(0, 0.0)

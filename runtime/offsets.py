@@ -64,6 +64,7 @@ class OffsetsMixin:
         for values in (self.current, self.g92, self.origin):
             for i in LINEAR:
                 values[i] *= factor
+        self._comp_scale(factor)
         # rs274 re-reads these from its canon, which never converts them.
         self.tool_offset = list(self.world.tool_offset)
         self.feed_rate = self.world.feed_rate
