@@ -357,6 +357,8 @@ class OutOfScopeChecksMixin:
     def _check_spline(self, motion: int, block: Block) -> None:
         """convert_spline: G5 (cubic) and G5.1 (quadratic)."""
         words = block.words
+        if self.cutter_comp:
+            raise GCodeError("Cannot convert spline with cutter radius compensation")
         if self.feed_mode == UNITS_PER_MINUTE and self.feed_rate == 0.0:
             raise GCodeError("Cannot make arc with zero feed rate")
         if self.feed_mode == INVERSE_TIME and "f" not in words:
@@ -392,6 +394,8 @@ class OutOfScopeChecksMixin:
 
     def _check_probe(self, block: Block) -> None:
         """convert_probe (G38.2-G38.5); 2.9 allows rotary axes and inverse time."""
+        if self.cutter_comp:
+            raise GCodeError("Cannot probe with cutter radius comp on")
         if self.feed_mode != INVERSE_TIME and self.feed_rate == 0.0:
             raise GCodeError("Cannot probe with zero feed rate")
         if self.feed_mode == UNITS_PER_REVOLUTION:
@@ -433,6 +437,8 @@ class OutOfScopeChecksMixin:
             raise GCodeError("Cannot feed with zero feed rate")
         if self.feed_mode == INVERSE_TIME:
             raise GCodeError("Cannot use inverse time feed with canned cycles")
+        if self.cutter_comp:
+            raise GCodeError("Cannot use canned cycles with cutter compensation on")
         if "r" not in words:
             raise GCodeError("R clearance plane unspecified in cycle")
         if words.get("l") == 0:

@@ -203,9 +203,7 @@ class OffsetsMixin:
     # ------------------------------------------------------------------
     def _check_axis_offsets_allowed(self) -> None:
         if self.cutter_comp:
-            raise GCodeError(
-                "Cannot change axis offsets with cutter radius compensation"
-            )
+            raise GCodeError("Cannot change axis offsets with cutter radius comp")
 
     def _g92(self, words) -> None:
         """Offset so the current point reads as the given values."""

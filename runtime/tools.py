@@ -71,6 +71,8 @@ class ToolsMixin:
             stored = [self.params[5181 + i] for i in range(9)]
             self._hidden_traverse(self._find_relative(self._user_to_program(stored)))
         self.canon.change_tool(self.selected_pocket)
+        # rs274's own copy of the spindle entry changes only on the next line.
+        self._spindle_before_change = self._entry(0)
         self.tools.slots[0] = self._entry(self.selected_pocket)
         self.current_pocket = self.selected_pocket
         self.toolchange_flag = True
@@ -95,6 +97,7 @@ class ToolsMixin:
     def _after_tool_change(self) -> None:
         """What rs274 does when it reads the line after a tool change."""
         self.toolchange_flag = False
+        self._spindle_before_change = None
         self.current = self.world.reported_position()
         # rs274 refreshes #5420-#5428 too, before the line's words are read.
         self._publish_position()
