@@ -26,7 +26,6 @@ NCFILES = Path("/usr/share/linuxcnc/ncfiles")
 #: Codes outside ngc2py's current scope, with the feature they belong to.
 OUT_OF_SCOPE = {
     **{f"G{n}": "canned cycles" for n in (73, 74, 76, 81, 82, 83, 84, 85, 86, 87, 88, 89)},
-    **{c: "cutter radius compensation" for c in ("G41", "G41.1", "G42", "G42.1")},
     **{c: "spindle-synchronised motion" for c in ("G33", "G33.1")},
     **{c: "probing" for c in ("G38.2", "G38.3", "G38.4", "G38.5")},
     **{c: "splines and NURBS" for c in ("G5", "G5.1", "G5.2", "G5.3")},
