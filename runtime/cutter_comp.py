@@ -34,7 +34,7 @@ from runtime.ops import HALF_PI_L, PI_L, c_hypot, long_double_sum
 LEFT, RIGHT = 1, 2
 
 #: rs274's TOLERANCE_CONCAVE_CORNER (radians) and TOLERANCE_EQUAL.
-_SMALL = 0.01
+_SMALL = 0.05
 _TOLERANCE_EQUAL = 0.0001
 
 _TOOL_RADIUS_TOO_BIG = "Tool radius not less than arc radius with comp"

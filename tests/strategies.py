@@ -488,3 +488,94 @@ def invalid_programs(draw, max_statements: int = 10) -> str:
     idx = draw(st.sampled_from(candidates))
     lines[idx] = draw(mutated_line(lines[idx]))
     return "\n".join(lines) + "\n"
+
+
+# --------------------------------------------------------------------------
+# cutter radius compensation
+# --------------------------------------------------------------------------
+
+
+def _comp_edge(draw, start, end, plane_words, scale) -> str:
+    """A move from ``start`` to ``end`` in the compensation plane: a line, or
+    an arc (radius or centre format, either direction)."""
+    a1, a2, c1, c2 = plane_words
+    target = f"{a1}{end[0]:.4f} {a2}{end[1]:.4f}"
+    kind = draw(st.integers(0, 4))
+    if kind <= 1:
+        return f"G1 {target}"
+    code = draw(st.sampled_from(["G2", "G3"]))
+    chord = math.hypot(end[0] - start[0], end[1] - start[1])
+    if chord < 1e-3:
+        return f"G1 {target}"
+    if kind == 2:
+        r = chord / 2 + draw(st.integers(0, 30)) / 10 * scale
+        sign = draw(st.sampled_from(["", "-"]))
+        return f"{code} {target} R{sign}{r:.4f}"
+    # centre on the chord's perpendicular bisector, either side
+    h = draw(st.integers(-30, 30)) / 10 * scale
+    mx, my = (start[0] + end[0]) / 2, (start[1] + end[1]) / 2
+    nx, ny = -(end[1] - start[1]) / chord, (end[0] - start[0]) / chord
+    cx, cy = mx + h * nx, my + h * ny
+    return f"{code} {target} {c1}{cx - start[0]:.4f} {c2}{cy - start[1]:.4f}"
+
+
+def _comp_extra(draw, axis: str, scale: float) -> str:
+    """Something between compensated moves: calls rs274 queues, a move along
+    the axis, a rapid or a stop that flushes the queue."""
+    return draw(
+        st.sampled_from(
+            [
+                "(a comment)",
+                "(MSG, a message)",
+                f"F{draw(st.integers(5, 50)) * scale:g}",
+                "M3 S1000",
+                "M5",
+                "M8",
+                "M9",
+                "G4 P0.5",
+                f"G1 {axis}{draw(st.integers(-10, 10)) / 10 * scale:.4f}",
+                f"G0 {axis}{draw(st.integers(0, 10)) / 10 * scale:.4f}",
+                "M1",
+                "G17" if axis == "Z" else "G18",
+            ]
+        )
+    )
+
+
+@st.composite
+def compensated_programs(draw) -> str:
+    """A closed profile (a star-shaped polygon whose edges may be arcs) cut
+    with G41.1/G42.1 and a random tool diameter, entered and left with G40,
+    with queued calls, axis moves and stops between the moves. The tool may
+    not fit every corner: then both must fail the same way."""
+    inch = draw(st.booleans())
+    scale = 1.0 if inch else 25.0
+    plane = draw(st.sampled_from([17, 17, 17, 18]))
+    words = ("X", "Y", "I", "J") if plane == 17 else ("Z", "X", "K", "I")
+    axis = "Z" if plane == 17 else "Y"
+    n = draw(st.integers(3, 7))
+    angles = sorted(draw(st.lists(st.integers(0, 359), min_size=n, max_size=n, unique=True)))
+    if draw(st.booleans()):
+        angles.reverse()
+    points = []
+    for a in angles:
+        r = draw(st.integers(10, 50)) / 10 * scale
+        points.append((r * math.cos(math.radians(a)), r * math.sin(math.radians(a))))
+    diameter = draw(st.integers(1, 40)) / 100 * scale
+    side = draw(st.sampled_from(["G41.1", "G42.1"]))
+    out = -8 * scale
+    lines = [
+        f"G{20 if inch else 21} G{plane} G90 F{10 * scale:g}",
+        f"G0 {words[0]}{out:.4f} {words[1]}{out:.4f}",
+        f"{side} D{diameter:.4f}",
+    ]
+    lines.append(_comp_edge(draw, (out, out), points[0], words, scale))
+    for k in range(n):
+        start, end = points[k], points[(k + 1) % n]
+        lines.append(_comp_edge(draw, start, end, words, scale))
+        if draw(st.integers(0, 3)) == 0:
+            lines.append(_comp_extra(draw, axis, scale))
+    exit_move = draw(st.sampled_from(["G0", "G1"]))
+    lines.append(f"G40 {exit_move} {words[0]}{out:.4f} {words[1]}{out:.4f}")
+    lines.append(draw(st.sampled_from(["M2", "M30"])))
+    return "\n".join(f"N{10 * (i + 1)} {line}" for i, line in enumerate(lines)) + "\n"

@@ -133,3 +133,9 @@ def test_generator_writes_valid_programs(text):
     if result.timed_out:
         reject()
     assert result.rc == 0, f"rs274 rejects a generated valid program:\n{text}\n{result.describe()}"
+
+
+@settings(PROFILE, max_examples=PROFILE.max_examples * 2)
+@given(strategies.compensated_programs())
+def test_compensated_profiles_run(text):
+    check_same(text)
