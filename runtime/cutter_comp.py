@@ -137,6 +137,12 @@ class CutterCompMixin:
     # ------------------------------------------------------------------
     # Modes
     # ------------------------------------------------------------------
+    def unqueued_canon(self):
+        """The canon itself, for the few calls rs274 makes unqueued even
+        while a compensated move is pending."""
+        canon = self.canon
+        return canon.inner if isinstance(canon, QueueingCanon) else canon
+
     def _comp_engaged(self) -> bool:
         """Do moves go through compensation (rs274: side set, radius > 0)?"""
         return self.cutter_comp and self._cc.radius > 0.0
@@ -301,9 +307,7 @@ class CutterCompMixin:
         queue = st.queue
         if not queue:
             return
-        canon = (
-            self.canon.inner if isinstance(self.canon, QueueingCanon) else self.canon
-        )
+        canon = self.unqueued_canon()
         for item in queue:
             if isinstance(item, _Move):
                 self._emit_queued(canon, item)

@@ -620,7 +620,10 @@ class Machine(
         if "x" in words:
             words["x"] = words["x"] / 2 if diameter else words["x"] * 2
         kind = "diameter" if diameter else "radius"
-        self.canon.comment(f"interpreter: Lathe diameter mode changed to {kind}")
+        # rs274 never queues this comment behind a compensated move.
+        self.unqueued_canon().comment(
+            f"interpreter: Lathe diameter mode changed to {kind}"
+        )
 
     def _control_mode(self, code: int, words) -> None:
         if self.cutter_comp:
