@@ -75,6 +75,8 @@ class CompState:
 
     def __init__(self) -> None:
         self.side = 0  # 0 (off), LEFT or RIGHT
+        #: Moves are compensated: a side is set and the radius is not 0.
+        self.engaged = False
         self.radius = 0.0
         self.orientation = 0
         self.firstmove = True
@@ -143,10 +145,6 @@ class CutterCompMixin:
         canon = self.canon
         return canon.inner if isinstance(canon, QueueingCanon) else canon
 
-    def _comp_engaged(self) -> bool:
-        """Do moves go through compensation (rs274: side set, radius > 0)?"""
-        return self.cutter_comp and self._cc.radius > 0.0
-
     def _cutter_comp(self, code: int, words) -> None:
         if code == G40:
             self._comp_off()
@@ -200,6 +198,7 @@ class CutterCompMixin:
         st.radius = radius
         st.orientation = orientation
         st.side = side
+        st.engaged = radius > 0.0
         self.cutter_comp = True
         if not isinstance(self.canon, QueueingCanon):
             self.canon = QueueingCanon(self.canon, st.queue)
@@ -220,6 +219,7 @@ class CutterCompMixin:
         """Compensation off (G40, program end); the queue is empty by now."""
         st = self._cc
         st.side = 0
+        st.engaged = False
         st.firstmove = True
         self.cutter_comp = False
         if isinstance(self.canon, QueueingCanon):
@@ -257,7 +257,7 @@ class CutterCompMixin:
 
     def _comp_feed_start(self) -> List[float]:
         """Where an inverse-time straight move's length is measured from."""
-        if self._comp_engaged() and not self._cc.firstmove:
+        if self._cc.engaged and not self._cc.firstmove:
             return list(self._cc.program) + self.current[3:]
         return self.current
 
@@ -391,7 +391,7 @@ class CutterCompMixin:
     # Straight moves (rs274's convert_straight_comp1 and comp2)
     # ------------------------------------------------------------------
     def _comp_check_straight(self, block) -> None:
-        if block.g.get(0) == G53 and self._comp_engaged():
+        if block.g.get(0) == G53 and self._cc.engaged:
             raise GCodeError("Cannot use g53 with cutter radius comp")
 
     def _comp_straight(self, rapid: bool, end: List[float]) -> None:

@@ -72,7 +72,7 @@ class MotionMixin:
         words = block.words
         if block.g.get(0) == G53:
             return self._machine_ends(block)
-        cur = self._comp_base() if self.cutter_comp else self.current
+        cur = self._comp_base() if self._cc.side else self.current
         end = list(cur)
         if self.distance_incremental:
             for i, letter in enumerate(AXES):
@@ -168,7 +168,8 @@ class MotionMixin:
     def _straight(self, move: int, block: Block) -> None:
         """G0/G1 (and G53 moves): rs274's convert_straight."""
         words = block.words
-        self._cc.arc_not_allowed = False
+        comp = self._cc
+        comp.arc_not_allowed = False
         if move == G1:
             self._check_feed_for_g1("f" in words)
         self.motion_mode = move
@@ -176,7 +177,7 @@ class MotionMixin:
         if move == G1 and self.feed_mode == INVERSE_TIME:
             start = self._comp_feed_start()
             self._inverse_time_feed(_straight_length(start, end), words["f"])
-        if self.cutter_comp:
+        if comp.side:
             self._comp_check_straight(block)
         self._emit_move(move == G0, end)
 
@@ -196,7 +197,7 @@ class MotionMixin:
 
     def _emit_move(self, rapid: bool, end: List[float]) -> None:
         """The one exit of straight motion: canon call, world model, position."""
-        if self.cutter_comp and self._comp_engaged():
+        if self._cc.engaged:
             self._comp_straight(rapid, end)
             return
         if rapid:
@@ -223,7 +224,7 @@ class MotionMixin:
         s1, s2, s3 = arcs.to_plane(plane, cur[0], cur[1], cur[2])
         e1, e2, e3 = arcs.to_plane(plane, end[0], end[1], end[2])
         turns = arcs.check_arc_turns(words.get("p"))
-        if self.cutter_comp and self._comp_engaged():
+        if self._cc.engaged:
             self._comp_arc(move, block, centre_words, end, turns)
             return
         clockwise = move == G2
