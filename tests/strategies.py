@@ -580,32 +580,50 @@ def _profile(draw, scale: float, n: int) -> list:
     return points
 
 
+#: golden/cutter_comp/tools.tbl: mill tools (one undersize, one with no
+#: diameter) and lathe tools with tool orientations.
+_COMP_MILL_TOOLS = (1, 2, 3, 4)
+_COMP_LATHE_TOOLS = (5, 6, 7)
+
+
+def _comp_start(draw, plane: int, tool_table: bool, scale: float) -> str:
+    """The line that turns compensation on."""
+    if tool_table:
+        side = draw(st.sampled_from(["G41", "G42"]))
+        tools = _COMP_MILL_TOOLS + (_COMP_LATHE_TOOLS if plane == 18 else ())
+        choice = draw(st.sampled_from(("", " D0") + tuple(f" D{t}" for t in tools)))
+        return f"{side}{choice}"
+    diameter = draw(st.integers(-10, 40)) / 100 * scale
+    side = draw(st.sampled_from(["G41.1", "G42.1"]))
+    orientation = ""
+    if plane == 18 and draw(st.booleans()):
+        orientation = f" L{draw(st.integers(0, 9))}"
+    return f"{side} D{diameter:.4f}{orientation}"
+
+
 @st.composite
-def compensated_programs(draw) -> str:
+def compensated_programs(draw, tool_table: bool = False) -> str:
     """Closed profiles (polygons whose edges may be arcs or rapids) cut with
     G41.1/G42.1 and random tool diameters (negative ones switch sides),
     entered and left with G40, with queued calls, axis moves, stops and
     distance-mode changes between the moves; in XY, or XZ with a lathe tool
     orientation. The tool may not fit every corner: then both must fail the
-    same way."""
+    same way. With ``tool_table``, G41/G42 take the diameter from the tools
+    in golden/cutter_comp/tools.tbl (D, D0 or no D)."""
     inch = draw(st.booleans())
     scale = 1.0 if inch else 25.0
     plane = draw(st.sampled_from([17, 17, 17, 18]))
     words = ("X", "Y", "I", "J") if plane == 17 else ("Z", "X", "K", "I")
     axis = "Z" if plane == 17 else "Y"
     out = -8 * scale
-    lines = [
+    lines = [f"T{draw(st.sampled_from(_COMP_MILL_TOOLS))} M6"] if tool_table else []
+    lines += [
         f"G{20 if inch else 21} G{plane} G90 F{10 * scale:g}",
         f"G0 {words[0]}{out:.4f} {words[1]}{out:.4f}",
     ]
     for _ in range(draw(st.integers(1, 2))):
         points = _profile(draw, scale, draw(st.integers(3, 7)))
-        diameter = draw(st.integers(-10, 40)) / 100 * scale
-        side = draw(st.sampled_from(["G41.1", "G42.1"]))
-        orientation = ""
-        if plane == 18 and draw(st.booleans()):
-            orientation = f" L{draw(st.integers(0, 9))}"
-        lines.append(f"{side} D{diameter:.4f}{orientation}")
+        lines.append(_comp_start(draw, plane, tool_table, scale))
         lines.append(_comp_edge(draw, (out, out), points[0], words, scale, axis))
         n = len(points)
         for k in range(n):
