@@ -46,7 +46,8 @@ CENTER_ARC_RADIUS_TOLERANCE_INCH = 2 * 0.001 * math.sqrt(2)
 CENTER_ARC_RADIUS_TOLERANCE_MM = 2 * 0.01 * math.sqrt(2)
 
 #: Allowed relative difference of the two radii. rs274 2.9 rejects an arc
-#: only when BOTH the absolute and the relative tolerance are exceeded.
+#: when BOTH the absolute and the relative tolerance are exceeded, or the
+#: absolute one a hundred times over.
 SPIRAL_RELATIVE_TOLERANCE = 0.001
 
 #: An R arc whose chord is within this ratio of the diameter is treated as an
@@ -249,7 +250,10 @@ def arc_from_center(
     rel_err = abs_err / max(r1, r2)
     if spiral_tolerance is None:
         spiral_tolerance = center_tolerance(inch)
-    if abs_err > spiral_tolerance and rel_err > SPIRAL_RELATIVE_TOLERANCE:
+    # A difference a hundred times the tolerance fails even on a huge arc.
+    if abs_err > spiral_tolerance * 100.0 or (
+        abs_err > spiral_tolerance and rel_err > SPIRAL_RELATIVE_TOLERANCE
+    ):
         raise GCodeError(
             "Radius to end of arc differs from radius to start: "
             f"{_describe_points(plane, start, center, end, r1, r2)} abs_err={abs_err:.4g} rel_err={rel_err * 100:.4f}%"

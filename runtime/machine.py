@@ -19,9 +19,10 @@ moves, arcs, homing), :mod:`runtime.cycles` (drilling canned cycles),
 the execution order and the simple modal codes.
 
 Threading (:mod:`runtime.lathe`), probing (:mod:`runtime.probing`),
-splines (:mod:`runtime.splines`) and lathe cycles (:mod:`runtime.lathe_cycles`)
-are mixins of their own. Codes not implemented yet (cutter compensation,
-M70-M73) raise a GCodeError that says so, at the point rs274 would execute them.
+splines (:mod:`runtime.splines`), lathe cycles (:mod:`runtime.lathe_cycles`)
+and cutter radius compensation (:mod:`runtime.cutter_comp`) are mixins of
+their own. Codes not implemented yet (M70-M73) raise a GCodeError that says
+so, at the point rs274 would execute them.
 """
 
 from __future__ import annotations
@@ -82,6 +83,8 @@ from runtime.codes import (
     G5,
     G5_1,
     G5_2,
+    G41,
+    G42,
     G5_3,
     G76,
     G52,
@@ -112,6 +115,7 @@ from runtime.codes import (
     to_integer,
 )
 from runtime.comments import execute_comment
+from runtime.cutter_comp import LEFT, RIGHT, CompState, CutterCompMixin
 from runtime.cycles import CyclesMixin
 from runtime.errors import GCodeError, Location, g_code_frames_of_stack
 from runtime.fastpath import FastPathMixin
@@ -185,6 +189,7 @@ class Machine(
     ProbingMixin,
     SplinesMixin,
     LatheCyclesMixin,
+    CutterCompMixin,
     OffsetsMixin,
     ToolsMixin,
 ):
@@ -265,6 +270,7 @@ class Machine(
         self.retract_r_plane = True
         self.lathe_diameter = False
         self.cutter_comp = False
+        self._cc = CompState()
         # Before any T word M6 changes to pocket 0, yet #<_selected_pocket>
         # reads -1; the canon reports slot 1 as the loaded one.
         self.selected_pocket = 0
@@ -644,14 +650,10 @@ class Machine(
         if "x" in words:
             words["x"] = words["x"] / 2 if diameter else words["x"] * 2
         kind = "diameter" if diameter else "radius"
-        self.canon.comment(f"interpreter: Lathe diameter mode changed to {kind}")
-
-    def _cutter_comp(self, code: int, words) -> None:
-        if code != G40:
-            self._check_cutter_comp_on(code, words)
-            raise not_supported(f"cutter radius compensation ({g_name(code)})")
-        self.canon.comment("interpreter: cutter radius compensation off")
-        self.cutter_comp = False
+        # rs274 never queues this comment behind a compensated move.
+        self.unqueued_canon().comment(
+            f"interpreter: Lathe diameter mode changed to {kind}"
+        )
 
     def _control_mode(self, code: int, words) -> None:
         if self.cutter_comp:
@@ -816,7 +818,7 @@ _PREDEFINED_VALUES: Dict[str, Callable[[Machine], float]] = {
     "_line": lambda m: m.current_line(),
     "_motion_mode": lambda m: m.motion_mode,
     "_plane": lambda m: _PLANE_CODES[m.plane],
-    "_ccomp": lambda m: G40,
+    "_ccomp": lambda m: {LEFT: G41, RIGHT: G42}.get(m._cc.side, G40),
     "_metric": lambda m: not m.inches,
     "_imperial": lambda m: m.inches,
     "_absolute": lambda m: not m.distance_incremental,

@@ -34,6 +34,17 @@ def not_supported(what: str) -> GCodeError:
     return GCodeError(f"ngc2py does not support {what} yet")
 
 
+#: M62-M68 under cutter radius compensation: what rs274 refuses to set.
+_IO_UNDER_COMP = {
+    62: "motion output",
+    63: "motion digital output",
+    64: "auxiliary digital output",
+    65: "auxiliary digital output",
+    67: "motion analog output",
+    68: "auxiliary analog output",
+}
+
+
 class MCodesMixin:
     """rs274's M code execution (part of Machine)."""
 
@@ -60,6 +71,10 @@ class MCodesMixin:
 
     def _io(self, code: int, words) -> None:
         canon = self.canon
+        if self.cutter_comp and code in _IO_UNDER_COMP:
+            raise GCodeError(
+                f"Cannot set {_IO_UNDER_COMP[code]} with cutter radius compensation on"
+            )
         if code in (62, 63, 64, 65):
             if "p" not in words:
                 raise GCodeError(f"No valid P word with M{code}")
@@ -139,6 +154,11 @@ class MCodesMixin:
             or (p is None and e is None)
         ):
             raise GCodeError("Need to have either a valid P or a valid E word with M66")
+        if self.cutter_comp:
+            kind = "digital" if p is not None else "analog"
+            raise GCodeError(
+                f"Cannot wait for {kind} input with cutter radius compensation on"
+            )
         if p is not None:
             self._params.set_internal(
                 INPUT_PARAM, 1.0 if self._params[INPUT_PARAM] else 0.0
@@ -158,12 +178,13 @@ class MCodesMixin:
             self.mist = self.flood = False
 
     def _overrides(self, code: int, words) -> None:
+        on = code == 48 or (code != 49 and words.get("p", -1.0) != 0)
         if self.cutter_comp:
             raise GCodeError(
-                "Cannot enable overrides with cutter radius compensation on"
+                f"Cannot {'enable' if on else 'disable'} overrides"
+                " with cutter radius compensation on"
             )
         canon = self.canon
-        on = code == 48 or (code != 49 and words.get("p", -1.0) != 0)
         if code in (48, 49, 50):
             (canon.enable_feed_override if on else canon.disable_feed_override)()
             self.feed_override = on
@@ -181,6 +202,7 @@ class MCodesMixin:
     # M0, M1, M2, M30, M60
     # ------------------------------------------------------------------
     def _stop(self, code: int) -> None:
+        self._comp_flush_for_stop()
         canon = self.canon
         if code == 0:
             canon.program_stop()
@@ -217,7 +239,7 @@ class MCodesMixin:
             canon.enable_feed_override()
             self.feed_override = True
         # (rs274 2.9 re-enables only the feed override, not the speed override.)
-        self.cutter_comp = False
+        self._comp_stop()
         canon.stop_spindle_turning(0)
         self.spindle = "stopped"
         canon.set_spindle_mode(0, 0.0)

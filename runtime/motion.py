@@ -2,8 +2,9 @@
 
 A mixin of :class:`runtime.machine.Machine`; it reads and updates the
 machine's position state (see ``Machine.__init__``). Every move leaves the
-machine through :meth:`MotionMixin._emit_move` or :meth:`_emit_arc`, the one
-place a cutter-compensation look-ahead stage will later hook into.
+machine through :meth:`MotionMixin._emit_move` or :meth:`_emit_arc`; while
+cutter radius compensation is engaged, moves go to :mod:`runtime.cutter_comp`
+instead.
 
 Positions are 9-element lists in axis order X Y Z A B C U V W, in program
 units (mm or inch by G21/G20) and degrees.
@@ -61,7 +62,7 @@ class MotionMixin:
         words = block.words
         if block.g.get(0) == G53:
             return self._machine_ends(block)
-        cur = self.current
+        cur = self._comp_base() if self._cc.side else self.current
         end = list(cur)
         if self.distance_incremental:
             for i, letter in enumerate(AXES):
@@ -155,14 +156,19 @@ class MotionMixin:
     # Straight moves
     # ------------------------------------------------------------------
     def _straight(self, move: int, block: Block) -> None:
-        """G0/G1 (and G53 moves): rs274's convert_straight without cutter comp."""
+        """G0/G1 (and G53 moves): rs274's convert_straight."""
         words = block.words
+        comp = self._cc
+        comp.arc_not_allowed = False
         if move == G1:
             self._check_feed_for_g1("f" in words)
         self.motion_mode = move
         end = self._find_ends(block)
         if move == G1 and self.feed_mode == INVERSE_TIME:
-            self._inverse_time_feed(_straight_length(self.current, end), words["f"])
+            start = self._comp_feed_start()
+            self._inverse_time_feed(_straight_length(start, end), words["f"])
+        if comp.side:
+            self._comp_check_straight(block)
         self._emit_move(move == G0, end)
 
     def _check_feed_for_g1(self, has_f: bool) -> None:
@@ -181,6 +187,9 @@ class MotionMixin:
 
     def _emit_move(self, rapid: bool, end: List[float]) -> None:
         """The one exit of straight motion: canon call, world model, position."""
+        if self._cc.engaged:
+            self._comp_straight(rapid, end)
+            return
         if rapid:
             self.canon.straight_traverse(*end)
         else:
@@ -195,6 +204,7 @@ class MotionMixin:
         """G2/G3 in any of the three planes (rs274's convert_arc/convert_arc2)."""
         words = block.words
         plane = self.plane
+        self._comp_check_arc_allowed()
         arcs.check_arc_format(plane, words)
         arcs.check_arc_feed(self.feed_mode, self.feed_rate, self.speed, "f" in words)
         centre_words = arcs.arc_center_words(plane, words, self.ijk_absolute)
@@ -204,6 +214,9 @@ class MotionMixin:
         s1, s2, s3 = arcs.to_plane(plane, cur[0], cur[1], cur[2])
         e1, e2, e3 = arcs.to_plane(plane, end[0], end[1], end[2])
         turns = arcs.check_arc_turns(words.get("p"))
+        if self._cc.engaged:
+            self._comp_arc(move, block, centre_words, end, turns)
+            return
         clockwise = move == G2
         if centre_words is None:
             arc = arcs.arc_from_radius(
@@ -246,6 +259,8 @@ class MotionMixin:
         """Traverse to the programmed point, then to the stored reference point."""
         words = block.words
         waypoint = self._find_ends(block)
+        if self.cutter_comp:
+            raise GCodeError("Cannot use g28 or g30 with cutter radius comp")
         self._emit_move(True, waypoint)
         first = 5161 if code == G28 else 5181
         stored = [self.params[first + i] for i in range(9)]
@@ -259,6 +274,10 @@ class MotionMixin:
 
     def _save_home(self, code: int) -> None:
         """Store the current point, in machine coordinates, as a reference point."""
+        if self.cutter_comp:
+            raise GCodeError(
+                "Cannot set reference point with cutter compensation in effect"
+            )
         first = 5161 if code == G28_1 else 5181
         for i, value in enumerate(self._program_to_user(self.machine_position())):
             self.params.set_internal(first + i, value)

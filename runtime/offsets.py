@@ -64,6 +64,7 @@ class OffsetsMixin:
         for values in (self.current, self.g92, self.origin):
             for i in LINEAR:
                 values[i] *= factor
+        self._comp_scale(factor)
         # rs274 re-reads these from its canon, which never converts them.
         self.tool_offset = list(self.world.tool_offset)
         self.feed_rate = self.world.feed_rate
@@ -202,9 +203,7 @@ class OffsetsMixin:
     # ------------------------------------------------------------------
     def _check_axis_offsets_allowed(self) -> None:
         if self.cutter_comp:
-            raise GCodeError(
-                "Cannot change axis offsets with cutter radius compensation"
-            )
+            raise GCodeError("Cannot change axis offsets with cutter radius comp")
 
     def _g92(self, words) -> None:
         """Offset so the current point reads as the given values."""

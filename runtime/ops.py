@@ -360,6 +360,28 @@ def plus_half_pi(x: float, sign: int = 1) -> float:
     return _to_double(*_rounded_ratio(exact.numerator, exact.denominator, 0, _LD_BITS))
 
 
+#: M_PIl and M_PI_2l exactly, for `long_double_sum`.
+PI_L = Fraction(_PI_L[0]) * Fraction(2) ** _PI_L[1]
+HALF_PI_L = PI_L / 2
+
+
+def long_double_sum(first: float, *terms) -> float:
+    """A C sum that mixes doubles with the long double ``M_PIl`` constants
+    (`PI_L`, `HALF_PI_L`, or multiples), evaluated left to right as x86-64
+    does: each partial sum rounded to a long double, the result stored into a
+    double. Sums of doubles alone must be done before (they round to double).
+    """
+    acc = Fraction(first)
+    for term in terms:
+        acc += Fraction(term)
+        if acc:
+            m, e = _rounded_ratio(acc.numerator, acc.denominator, 0, _LD_BITS)
+            acc = Fraction(m) * Fraction(2) ** e
+    if acc == 0:
+        return 0.0
+    return _to_double(*_rounded_ratio(acc.numerator, acc.denominator, 0, _LD_BITS))
+
+
 def _degrees(radians: float) -> float:
     """rs274's ``(r * 180.0) / M_PIl``: a double product, a long double quotient."""
     product = radians * 180.0

@@ -45,7 +45,7 @@ class ProbingMixin:
         the probe does not trip) may probe towards the current point."""
         probe_type = motion - G38_2
         if self.cutter_comp:
-            raise GCodeError("Cannot probe with cutter radius compensation on")
+            raise GCodeError("Cannot probe with cutter radius comp on")
         if self.feed_rate == 0.0:
             raise GCodeError("Cannot probe with zero feed rate")
         if self.feed_mode == UNITS_PER_REVOLUTION:

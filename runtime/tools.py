@@ -19,7 +19,7 @@ from __future__ import annotations
 from dataclasses import replace
 from typing import List
 
-from runtime.blockcheck import g_name, round_to_int
+from runtime.blockcheck import round_to_int
 from runtime.codes import G43, G43_1, G49
 from runtime.errors import GCodeError
 from runtime.motion import AXES, rotate
@@ -71,6 +71,8 @@ class ToolsMixin:
             stored = [self.params[5181 + i] for i in range(9)]
             self._hidden_traverse(self._find_relative(self._user_to_program(stored)))
         self.canon.change_tool(self.selected_pocket)
+        # rs274's own copy of the spindle entry changes only on the next line.
+        self._spindle_before_change = self._entry(0)
         self.tools.slots[0] = self._entry(self.selected_pocket)
         self.current_pocket = self.selected_pocket
         self.toolchange_flag = True
@@ -95,6 +97,7 @@ class ToolsMixin:
     def _after_tool_change(self) -> None:
         """What rs274 does when it reads the line after a tool change."""
         self.toolchange_flag = False
+        self._spindle_before_change = None
         self.current = self.world.reported_position()
         # rs274 refreshes #5420-#5428 too, before the line's words are read.
         self._publish_position()
@@ -215,28 +218,6 @@ class ToolsMixin:
             )
             offset = [a + b for a, b in zip(self.tool_offset, extra)]
         self._apply_tool_offset(offset)
-
-    def _check_cutter_comp_on(self, code: int, words) -> None:
-        """rs274's convert_cutter_compensation_on checks (G41, G42, G41.1, G42.1),
-        made before it announces compensation; ngc2py does not compensate yet."""
-        name = g_name(code)
-        if self.plane not in ("XY", "XZ"):
-            raise GCodeError("Cutter radius compensation allowed only in XY, XZ planes")
-        if code % 10:  # G41.1/G42.1: the D word is the diameter
-            if "d" not in words:
-                raise GCodeError(f"{name} with no D word")
-            if "l" in words and self.plane != "XZ":
-                raise GCodeError(f"{name} with L word, but plane is not G18")
-            return
-        if "d" in words:
-            tool = round_to_int(words["d"])
-            if abs(tool - words["d"]) >= 0.0001 or tool < 0:
-                raise GCodeError(f"{name} requires D word to be a whole number")
-            pocket = self._pocket_of(tool)
-        else:
-            pocket = self._offset_pocket({})
-        if self._entry(pocket).orientation not in (0, 9) and self.plane != "XZ":
-            raise GCodeError(f"{name} with lathe tool, but plane is not G18")
 
     def _offset_pocket(self, words) -> int:
         if "h" in words:

@@ -962,3 +962,151 @@ def language_programs(draw, max_statements: int = 8) -> tuple:
     w.lines.append(draw(st.sampled_from(["M2", "m30", "N999 M2", "M2 ()", "M2 (end)"])))
     w.lines[1:1] = [f"#<{name}> = 0" for name in w.globals]
     return "\n".join(w.lines) + "\n", (["-b"] if block_delete else [])
+
+
+# --------------------------------------------------------------------------
+# cutter radius compensation
+# --------------------------------------------------------------------------
+
+
+def _comp_edge(draw, start, end, plane_words, scale, axis) -> str:
+    """A move from ``start`` to ``end`` in the compensation plane: a line, a
+    rapid, or an arc (radius or centre format, either direction, sometimes a
+    helix), in absolute or incremental distance mode."""
+    a1, a2, c1, c2 = plane_words
+    incremental = draw(st.integers(0, 4)) == 0
+    if incremental:
+        d1, d2 = end[0] - start[0], end[1] - start[1]
+        target = f"{a1}{d1:.4f} {a2}{d2:.4f}"
+        # rs274 reads G91 before the motion: the words are offsets already
+        wrap = ("G91 ", "\nG90")
+    else:
+        target = f"{a1}{end[0]:.4f} {a2}{end[1]:.4f}"
+        wrap = ("", "")
+    if end[0] == start[0] and not incremental and draw(st.booleans()):
+        target = f"{a2}{end[1]:.4f}"  # the unchanged word left out
+    kind = draw(st.integers(0, 5))
+    chord = math.hypot(end[0] - start[0], end[1] - start[1])
+    if kind <= 1 or chord < 1e-3:
+        return f"{wrap[0]}G1 {target}{wrap[1]}"
+    if kind == 2:
+        return f"{wrap[0]}G0 {target}{wrap[1]}"
+    code = draw(st.sampled_from(["G2", "G3"]))
+    if draw(st.integers(0, 5)) == 0:
+        target += f" {axis}{draw(st.integers(-10, 10)) / 10 * scale:.4f}"
+    if kind == 3:
+        r = chord / 2 + draw(st.integers(0, 30)) / 10 * scale
+        sign = draw(st.sampled_from(["", "-"]))
+        return f"{wrap[0]}{code} {target} R{sign}{r:.4f}{wrap[1]}"
+    # centre on the chord's perpendicular bisector, either side
+    h = draw(st.integers(-30, 30)) / 10 * scale
+    mx, my = (start[0] + end[0]) / 2, (start[1] + end[1]) / 2
+    nx, ny = -(end[1] - start[1]) / chord, (end[0] - start[0]) / chord
+    cx, cy = mx + h * nx, my + h * ny
+    return f"{wrap[0]}{code} {target} {c1}{cx - start[0]:.4f} {c2}{cy - start[1]:.4f}{wrap[1]}"
+
+
+def _comp_extra(draw, axis: str, scale: float) -> str:
+    """Something between compensated moves: calls rs274 queues, a move along
+    the axis, a stop that flushes the queue, a plane or unit word."""
+    return draw(
+        st.sampled_from(
+            [
+                "(a comment)",
+                "(MSG, a message)",
+                f"F{draw(st.integers(5, 50)) * scale:g}",
+                "M3 S1000",
+                "M5",
+                "M8",
+                "M9",
+                "G4 P0.5",
+                f"G1 {axis}{draw(st.integers(-10, 10)) / 10 * scale:.4f}",
+                f"G0 {axis}{draw(st.integers(0, 10)) / 10 * scale:.4f}",
+                "M1",
+                "M0",
+                "G17" if axis == "Z" else "G18",
+                "G21" if scale == 1.0 else "G20",
+                "(debug, #<_ccomp> #<_x>)",
+            ]
+        )
+    )
+
+
+def _profile(draw, scale: float, n: int) -> list:
+    """The corners of a closed profile: a star-shaped polygon around the
+    origin, or a rectilinear one (straight-on lines, square corners)."""
+    if draw(st.booleans()):
+        angles = sorted(draw(st.lists(st.integers(0, 359), min_size=n, max_size=n, unique=True)))
+        points = []
+        for a in angles:
+            r = draw(st.integers(10, 50)) / 10 * scale
+            points.append((r * math.cos(math.radians(a)), r * math.sin(math.radians(a))))
+    else:
+        w = draw(st.integers(2, 8)) * scale / 2
+        h = draw(st.integers(2, 8)) * scale / 2
+        points = [(0.0, 0.0), (w, 0.0), (w, h), (0.0, h)]
+        if draw(st.booleans()):
+            points.insert(1, (w / 2, 0.0))  # straight on through a point
+        if draw(st.booleans()):
+            points.insert(-1, (w / 2, h * 1.5))
+    if draw(st.booleans()):
+        points.reverse()
+    return points
+
+
+#: golden/cutter_comp/tools.tbl: mill tools (one undersize, one with no
+#: diameter) and lathe tools with tool orientations.
+_COMP_MILL_TOOLS = (1, 2, 3, 4)
+_COMP_LATHE_TOOLS = (5, 6, 7)
+
+
+def _comp_start(draw, plane: int, tool_table: bool, scale: float) -> str:
+    """The line that turns compensation on."""
+    if tool_table:
+        side = draw(st.sampled_from(["G41", "G42"]))
+        tools = _COMP_MILL_TOOLS + (_COMP_LATHE_TOOLS if plane == 18 else ())
+        choice = draw(st.sampled_from(("", " D0") + tuple(f" D{t}" for t in tools)))
+        return f"{side}{choice}"
+    diameter = draw(st.integers(-10, 40)) / 100 * scale
+    side = draw(st.sampled_from(["G41.1", "G42.1"]))
+    orientation = ""
+    if plane == 18 and draw(st.booleans()):
+        orientation = f" L{draw(st.integers(0, 9))}"
+    return f"{side} D{diameter:.4f}{orientation}"
+
+
+@st.composite
+def compensated_programs(draw, tool_table: bool = False) -> str:
+    """Closed profiles (polygons whose edges may be arcs or rapids) cut with
+    G41.1/G42.1 and random tool diameters (negative ones switch sides),
+    entered and left with G40, with queued calls, axis moves, stops and
+    distance-mode changes between the moves; in XY, or XZ with a lathe tool
+    orientation. The tool may not fit every corner: then both must fail the
+    same way. With ``tool_table``, G41/G42 take the diameter from the tools
+    in golden/cutter_comp/tools.tbl (D, D0 or no D)."""
+    inch = draw(st.booleans())
+    scale = 1.0 if inch else 25.0
+    plane = draw(st.sampled_from([17, 17, 17, 18]))
+    words = ("X", "Y", "I", "J") if plane == 17 else ("Z", "X", "K", "I")
+    axis = "Z" if plane == 17 else "Y"
+    out = -8 * scale
+    lines = [f"T{draw(st.sampled_from(_COMP_MILL_TOOLS))} M6"] if tool_table else []
+    lines += [
+        f"G{20 if inch else 21} G{plane} G90 F{10 * scale:g}",
+        f"G0 {words[0]}{out:.4f} {words[1]}{out:.4f}",
+    ]
+    for _ in range(draw(st.integers(1, 2))):
+        points = _profile(draw, scale, draw(st.integers(3, 7)))
+        lines.append(_comp_start(draw, plane, tool_table, scale))
+        lines.append(_comp_edge(draw, (out, out), points[0], words, scale, axis))
+        n = len(points)
+        for k in range(n):
+            start, end = points[k], points[(k + 1) % n]
+            lines.append(_comp_edge(draw, start, end, words, scale, axis))
+            if draw(st.integers(0, 3)) == 0:
+                lines.append(_comp_extra(draw, axis, scale))
+        exit_move = draw(st.sampled_from(["G0", "G1"]))
+        lines.append(f"G40 {exit_move} {words[0]}{out:.4f} {words[1]}{out:.4f}")
+    lines.append(draw(st.sampled_from(["M2", "M30"])))
+    text = "\n".join(lines).split("\n")
+    return "\n".join(f"N{10 * (i + 1)} {line}" for i, line in enumerate(text)) + "\n"

@@ -140,3 +140,25 @@ def test_generator_writes_valid_programs(text):
     if result.timed_out:
         reject()
     assert result.rc == 0, f"rs274 rejects a generated valid program:\n{text}\n{result.describe()}"
+
+
+@settings(PROFILE, max_examples=PROFILE.max_examples * 2)
+@given(strategies.compensated_programs())
+def test_compensated_profiles_run(text):
+    check_same(text)
+
+
+#: Programs drawn with a tool table run in its folder (never written there).
+_COMP_PROGRAM = harness.GOLDEN / "cutter_comp" / "_generated.ngc"
+
+
+@PROFILE
+@given(strategies.compensated_programs(tool_table=True))
+def test_compensated_profiles_with_tool_table_run(text):
+    expected = harness.run_rs274(_COMP_PROGRAM, ["-t", "tools.tbl"], text=text, timeout=TIMEOUT)
+    if expected.timed_out or (expected.rc is not None and expected.rc < 0):
+        reject()
+    actual = harness.run_ngc2py(_COMP_PROGRAM, ["-t", "tools.tbl"], text=text, timeout=TIMEOUT * 3)
+    problems = harness.compare(expected, actual)
+    if problems:
+        pytest.fail(f"ngc2py differs from rs274 on this program:\n{text}\n" + "\n".join(problems), pytrace=False)

@@ -25,7 +25,6 @@ NCFILES = Path("/usr/share/linuxcnc/ncfiles")
 
 #: Codes outside ngc2py's current scope, with the feature they belong to.
 OUT_OF_SCOPE = {
-    **{c: "cutter radius compensation" for c in ("G41", "G41.1", "G42", "G42.1")},
     **{c: "tool table edits" for c in ("G10 L1", "G10 L10", "G10 L11")},
     **{c: "modal state save/restore" for c in ("M70", "M71", "M72", "M73")},
     **{f"M{n}": "user M codes / remaps" for n in range(100, 200)},
