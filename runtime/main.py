@@ -75,8 +75,12 @@ def run_cli(
     argv: Optional[List[str]] = None,
     stdout: Optional[TextIO] = None,
     stderr: Optional[TextIO] = None,
+    wrap_canon: Optional[Callable] = None,
 ) -> int:
-    """Run ``main`` like ``rs274 -g``; return the exit status (0 or 1)."""
+    """Run ``main`` like ``rs274 -g``; return the exit status (0 or 1).
+
+    ``wrap_canon``, if given, takes the trace canon and returns the canon
+    to use (the ngc2py command wraps it to draw a progress bar)."""
     from runtime.canon import TraceCanon
     from runtime.machine import Machine
 
@@ -91,7 +95,12 @@ def run_cli(
     stderr.write("executing\n")
     stderr.flush()
     try:
-        machine = Machine(TraceCanon(stdout), source=source_map, **options)
+        canon = TraceCanon(stdout)
+        machine = Machine(
+            canon if wrap_canon is None else wrap_canon(canon),
+            source=source_map,
+            **options,
+        )
         # What rs274 says while reading its files: the tool table's
         # complaints on stdout (before the trace), the ini file's on stderr.
         stdout.write(machine.tool_table_report)
