@@ -46,7 +46,7 @@ from decimal import Decimal
 from typing import List, Optional, Sequence, Tuple
 
 from runtime.canon import CALLS, Canon
-from runtime.errors import SourceMap, g_code_frames_of_stack
+from runtime.errors import g_code_frames_of_stack
 
 AXES6 = "XYZABC"
 SYSTEM_CODES = ("G54", "G55", "G56", "G57", "G58", "G59", "G59.1", "G59.2", "G59.3")

@@ -10,10 +10,11 @@ O-call stack that led there.
 from __future__ import annotations
 
 import getopt
+import os
 import sys
 from typing import Callable, List, Optional, Sequence, TextIO
 
-from runtime.errors import GCodeError, SourceMap, describe, locate
+from runtime.errors import GCodeError, SourceMap, describe, format_traceback, locate
 
 USAGE = "usage: %s [-t tool.tbl] [-v file.var] [-i file.ini] [-b]"
 
@@ -47,13 +48,25 @@ def write_raw(stream: TextIO, text: str) -> None:
 
 
 def report(error: GCodeError, stderr: TextIO) -> None:
-    """rs274's two lines (message, line text), then file:line and the calls."""
+    """rs274's two lines (message, line text: parity checks read the first),
+    then a caret under the word the error is about (when it is known),
+    ``file:line[:column]`` and the O-calls that led there."""
+    from runtime.caret import column
+
     frames = locate(error)
     write_raw(stderr, error.message + "\n")
     if not frames:
         return
-    write_raw(stderr, frames[-1].text + "\n")
-    stderr.write("  at %s\n" % frames[-1])
+    here = frames[-1]
+    write_raw(stderr, here.text + "\n")
+    col = column(error, here.text) if here.line else None
+    if col is not None:
+        # tabs kept so the caret lines up under the word on any terminal
+        pad = "".join(c if c == "\t" else " " for c in here.text[: col - 1])
+        write_raw(stderr, pad + "^\n")
+        stderr.write("  at %s:%d\n" % (here, col))
+    else:
+        stderr.write("  at %s\n" % here)
     for caller in reversed(frames[:-1]):
         stderr.write("  called from %s: %s\n" % (caller, caller.text))
 
@@ -115,6 +128,8 @@ def run_cli(
     except Exception as error:  # noqa: BLE001 - never a bare traceback
         stdout.flush()
         stderr.write(describe(error) + "\n")
+        if os.environ.get("NGC2PY_TRACEBACK"):
+            stderr.write(format_traceback(error))
         return 1
     finally:
         stdout.flush()
