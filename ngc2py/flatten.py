@@ -178,7 +178,10 @@ class FlattenCanon(Canon):
     def set_block_number(self, n) -> None:
         self._flush()
         if self.started and self._params is None:
-            self._parameter_changes()  # what the program starts with
+            # what the program starts with: parameters, and the start point
+            # (the same for the flat program, run with the same options)
+            self._parameter_changes()
+            self._pos = [float(v) for v in self.machine.current[:6]]
         if not self.started or self.ended:
             return
         machine = self.machine
