@@ -378,8 +378,9 @@ class FlattenCanon(Canon):
             second + number(second_end),
             axis + number(axis_end),
         ]
-        for letter, value in zip("ABC", args[6:9]):
-            words.append(letter + number(value))
+        for k, (letter, value) in enumerate(zip("ABC", args[6:9])):
+            if not same(value, pos[3 + k]):
+                words.append(letter + number(value))
         words.append(first_letter + number(centre[0]))
         words.append(second_letter + number(centre[1]))
         if abs(rotation) != 1:
