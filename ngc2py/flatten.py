@@ -249,6 +249,8 @@ class FlattenCanon(Canon):
             nxt = following[0] if following else None
             used = 1
             text: Optional[str]
+            # G20/G21 that changes nothing leaves the current point alone
+            same_units = name == "use_length_units" and bool(args[0]) == self._inches
             if name == "set_feed_rate" and nxt in ("straight_feed", "arc_feed"):
                 pending_f = "F" + number(args[0])
                 i += 1
@@ -305,7 +307,7 @@ class FlattenCanon(Canon):
                 text, used = "M60", 2
             else:
                 text = self._single(name, args)
-            if any(c[0] in MOVES_ORIGIN for c in calls[i : i + used]):
+            if not same_units and any(c[0] in MOVES_ORIGIN for c in calls[i : i + used]):
                 pos[:] = [UNKNOWN] * 6
             if text is not None:
                 if pending_f is not None:
