@@ -537,6 +537,19 @@ class _PrintCatcher:
         sys.stdout = self.saved
 
 
+def _flatten_machine():
+    """A Machine whose every block takes the general path: the fast path
+    (runtime/fastpath.py) announces only changes of N, and flatten needs
+    each block's start to group its calls."""
+    from runtime.machine import Machine
+
+    class FlattenMachine(Machine):
+        def refresh_plain(self) -> None:
+            self._plain = False
+
+    return FlattenMachine
+
+
 def flatten(
     program: str,
     tool_table: Optional[str] = None,
@@ -550,7 +563,8 @@ def flatten(
     from ngc2py.cli import load_program, unopened
     from ngc2py.compiler import OpenError
     from runtime.main import start
-    from runtime.machine import Machine
+
+    Machine = _flatten_machine()
 
     try:
         module = load_program(program, ini)

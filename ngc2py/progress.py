@@ -13,9 +13,9 @@ from __future__ import annotations
 import sys
 from typing import IO, Optional
 
-#: Blocks between two updates of a run's bar: the bar must cost nothing
-#: measurable per block.
-BLOCK_STRIDE = 4096
+#: Moves between two updates of a run's bar: the bar must cost nothing
+#: measurable per move.
+MOVE_STRIDE = 4096
 
 
 def wanted(quiet: bool = False, stream: Optional[IO] = None) -> bool:
@@ -94,38 +94,48 @@ def progress(total: Optional[int], description: str, unit: str, quiet: bool = Fa
 
 
 def progress_canon(canon, quiet: bool = False):
-    """``canon`` wrapped so that a run shows how many blocks it executed, or
+    """``canon`` wrapped so that a run shows how many moves it made, or
     ``canon`` itself when no bar is wanted."""
     if not wanted(quiet):
         return canon
     try:
-        bar = _Bar(None, "running", "block")
+        bar = _Bar(None, "running", "move")
     except ImportError:
         return canon
     return ProgressCanon(canon, bar)
 
 
 class ProgressCanon:
-    """Forwards every canonical call to ``inner``, counting blocks (the
-    machine announces each block with ``set_block_number``). The bar is
-    cleared on ``finish`` of the wrapper's own :meth:`close`."""
+    """Forwards every canonical call to ``inner`` (bound directly: no cost
+    per call), counting moves on the way: the machine's fast path announces
+    only changes of N, so moves are what can be counted."""
 
     def __init__(self, inner, bar) -> None:
+        from runtime.canon import CALLS
+
         self._inner = inner
         self._bar = bar
-        self._blocks = 0
+        self._moves = 0
+        self.set_block_number = inner.set_block_number
+        for name in CALLS:
+            setattr(self, name, getattr(inner, name))
+        for name in ("straight_feed", "straight_traverse", "arc_feed"):
+            setattr(self, name, self._counting(getattr(inner, name)))
 
-    def set_block_number(self, n) -> None:
-        self._blocks += 1
-        if self._blocks % BLOCK_STRIDE == 0:
-            self._bar.update(BLOCK_STRIDE)
-        self._inner.set_block_number(n)
+    def _counting(self, call):
+        def counted(*args):
+            self._moves += 1
+            if self._moves % MOVE_STRIDE == 0:
+                self._bar.update(MOVE_STRIDE)
+            return call(*args)
+
+        return counted
 
     def close(self) -> None:
         self._bar.close()
 
     def __getattr__(self, name):
-        # every other canon call goes straight to the wrapped canon
+        # anything else a machine may read from its canon
         return getattr(self._inner, name)
 
 

@@ -40,13 +40,14 @@ def test_bar_on_a_terminal_forwards_every_call(monkeypatch):
     inner = RecordingCanon()
     canon = progress.progress_canon(inner)
     assert isinstance(canon, progress.ProgressCanon)
-    for k in range(progress.BLOCK_STRIDE + 1):
+    for k in range(progress.MOVE_STRIDE + 1):
         canon.set_block_number(str(k))
         canon.straight_feed(k, 0, 0, 0, 0, 0, 0, 0, 0)
+    canon.comment("done")
     canon.close()
-    assert len(inner.calls) == progress.BLOCK_STRIDE + 1
-    assert inner.numbers[-1] == str(progress.BLOCK_STRIDE)
-    assert "block" in terminal.getvalue()  # the bar was drawn on "stderr"
+    assert len(inner.calls) == progress.MOVE_STRIDE + 2
+    assert inner.numbers[-1] == str(progress.MOVE_STRIDE)
+    assert "move" in terminal.getvalue()  # the bar was drawn on "stderr"
 
 
 def test_piped_run_has_no_bar(tmp_path):
