@@ -139,6 +139,18 @@ def test_help_documents_file_names_and_exit_status():
 # --- the pytest plugin -------------------------------------------------------
 
 
+def _plugin_args():
+    """``-p ngc2py.pytest_plugin`` unless an installed ngc2py already loads
+    it through its pytest11 entry point (pytest refuses it twice)."""
+    from importlib.metadata import entry_points
+
+    found = entry_points()
+    group = found.select(group="pytest11") if hasattr(found, "select") else found.get("pytest11", [])
+    if any(e.value == "ngc2py.pytest_plugin" for e in group):
+        return []
+    return ["-p", "ngc2py.pytest_plugin"]
+
+
 def _user_folder(pytester):
     folder = pytester.path
     (folder / "good.ngc").write_text(GOOD)
@@ -151,7 +163,7 @@ def test_pytest_collects_and_passes_recorded_programs(pytester):
     folder = _user_folder(pytester)
     ngc2py(folder, "golden", "record", ".")
     (folder / "new.ngc").write_text(GOOD)  # not recorded: not a test
-    result = pytester.runpytest("-p", "ngc2py.pytest_plugin", "-v")
+    result = pytester.runpytest_subprocess(*_plugin_args(), "-v")
     result.assert_outcomes(passed=2)
     result.stdout.fnmatch_lines(["*bad.ngc::bad.ngc PASSED*", "*good.ngc::good.ngc PASSED*"])
 
@@ -160,7 +172,7 @@ def test_pytest_fails_a_changed_program_with_a_diff(pytester):
     folder = _user_folder(pytester)
     ngc2py(folder, "golden", "record", ".")
     (folder / "good.ngc").write_text(GOOD.replace("X3", "X4"))
-    result = pytester.runpytest("-p", "ngc2py.pytest_plugin")
+    result = pytester.runpytest_subprocess(*_plugin_args())
     result.assert_outcomes(passed=1, failed=1)
     result.stdout.fnmatch_lines(
         ["*good.ngc changed against its recording*", "-*STRAIGHT_FEED(3.0000*", "+*STRAIGHT_FEED(4.0000*"]
@@ -169,10 +181,10 @@ def test_pytest_fails_a_changed_program_with_a_diff(pytester):
 
 def test_pytest_ngc_record_records_then_checks(pytester):
     folder = _user_folder(pytester)
-    result = pytester.runpytest("-p", "ngc2py.pytest_plugin", "--ngc-record")
+    result = pytester.runpytest_subprocess(*_plugin_args(), "--ngc-record")
     result.assert_outcomes(passed=2)  # the subroutine file is not a program
     assert (folder / "good.rc").exists() and not (folder / "helper.rc").exists()
-    pytester.runpytest("-p", "ngc2py.pytest_plugin").assert_outcomes(passed=2)
+    pytester.runpytest_subprocess(*_plugin_args()).assert_outcomes(passed=2)
 
 
 def test_pytest_plugin_runs_in_parallel(pytester):
@@ -180,7 +192,7 @@ def test_pytest_plugin_runs_in_parallel(pytester):
     for k in range(6):
         (folder / f"p{k}.ngc").write_text(GOOD.replace("X3", f"X{k}"))
     ngc2py(folder, "golden", "record", ".")
-    result = pytester.runpytest_subprocess("-p", "ngc2py.pytest_plugin", "-n", "2")
+    result = pytester.runpytest_subprocess(*_plugin_args(), "-n", "2")
     result.assert_outcomes(passed=8)
 
 
@@ -193,7 +205,7 @@ def test_plugin_passes_the_projects_rs274_recordings(pytester):
     """The corpus recorded from rs274, checked by the plugin (a sample folder)."""
     shutil.copytree(REPO / "golden" / "arcs", pytester.path / "arcs")
     recorded = len(list((pytester.path / "arcs").glob("*.rc")))
-    result = pytester.runpytest("-p", "ngc2py.pytest_plugin", "arcs")
+    result = pytester.runpytest_subprocess(*_plugin_args(), "arcs")
     result.assert_outcomes(passed=recorded)
 
 
