@@ -38,6 +38,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "tests"))
 
 import rs274 as harness  # noqa: E402  (tests/rs274.py)
+from ngc2py import golden  # noqa: E402  (the recording format users' golden files share)
 
 
 def is_helper(path: Path) -> bool:
@@ -81,9 +82,7 @@ def record_one(path_str: str, timeout: float):
         return path_str, "TIMEOUT", result
     if result.rc < 0:
         return path_str, f"SIGNAL {-result.rc}", result
-    path.with_suffix(".out").write_bytes(result.stdout)
-    path.with_suffix(".err").write_text(result.err + ("\n" if result.err else ""))
-    path.with_suffix(".rc").write_text(f"{result.rc}\n")
+    golden.save(path, result)
     return path_str, "ok", result
 
 

@@ -23,8 +23,26 @@ module, or run it. A generated module prints exactly what `rs274 -g PROG.ngc`
 prints, and fails where and how rs274 fails."""
 
 
+QUIET_HELP = "no progress bar (one is drawn only when stderr is a terminal)"
+
+#: Modules that each add a sub-command: ``register(commands)`` adds the
+#: parser and ``set_defaults(handler=...)``, the handler returns the exit status.
+WORKFLOWS = ("ngc2py.golden", "ngc2py.flatten")
+
+EPILOG = """\
+exit status: 0 success; 1 the G-code program failed (as rs274 fails:
+message on stderr), or ngc2py could not do what was asked (missing file,
+bad usage); golden: 1 a program changed, 2 nothing to check. See the
+README's "Exit status" section."""
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="ngc2py", description=DESCRIPTION)
+    parser = argparse.ArgumentParser(
+        prog="ngc2py",
+        description=DESCRIPTION,
+        epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     parser.add_argument("--version", action="version", version="ngc2py " + __version__)
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
     commands.required = True
@@ -35,7 +53,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Compile PROG.ngc into a Python module. Run the module "
         "with `python OUT.py [-t TBL] [-v VAR] [-i INI] [-b]`.",
     )
-    convert.add_argument("program", metavar="PROG.ngc", help="the G-code file")
+    convert.add_argument("program", metavar="PROG.ngc", help="the G-code file ('-': stdin)")
     convert.add_argument(
         "-o",
         "--output",
@@ -49,6 +67,7 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="INI",
         help="ini file whose SUBROUTINE_PATH is searched",
     )
+    convert.add_argument("-q", "--quiet", action="store_true", help=QUIET_HELP)
 
     run = commands.add_parser(
         "run",
@@ -57,13 +76,16 @@ def build_parser() -> argparse.ArgumentParser:
         "it: the canonical-call trace on stdout, errors on stderr, exit status "
         "1 on error -- the same as `rs274 -g`.",
     )
-    run.add_argument("program", metavar="PROG.ngc", help="the G-code file")
+    run.add_argument("program", metavar="PROG.ngc", help="the G-code file ('-': stdin)")
     run.add_argument("-t", dest="tool_table", metavar="TBL", help="tool table file")
     run.add_argument("-v", dest="var_file", metavar="VAR", help="parameter (.var) file")
     run.add_argument("-i", dest="ini", metavar="INI", help="ini file")
     run.add_argument(
         "-b", dest="block_delete", action="store_true", help="turn block delete on"
     )
+    run.add_argument("-q", "--quiet", action="store_true", help=QUIET_HELP)
+    for workflow in WORKFLOWS:  # each adds its sub-command and handler
+        importlib.import_module(workflow).register(commands)
     return parser
 
 
@@ -82,10 +104,18 @@ def same_file(a: str, b: str) -> bool:
 def convert(args: argparse.Namespace) -> int:
     from ngc2py.cache import write_atomic
 
-    output = args.output or default_output(args.program)
-    if output != "-" and same_file(output, args.program):
-        raise CompileError("%s: the output would overwrite the G-code file" % output)
-    text = compile_file(args.program, args.ini)
+    from ngc2py.progress import spinner
+    from ngc2py.stdin import STDIN, compile_stdin
+
+    if args.program == STDIN:
+        output = args.output or "-"
+        text = compile_stdin(args.ini)
+    else:
+        output = args.output or default_output(args.program)
+        if output != "-" and same_file(output, args.program):
+            raise CompileError("%s: the output would overwrite the G-code file" % output)
+        with spinner("converting " + args.program, args.quiet):
+            text = compile_file(args.program, args.ini)
     if output == "-":
         sys.stdout.write(text)
     else:
@@ -105,16 +135,24 @@ def load_program(program: str, ini: Optional[str]):
     """The generated module for ``program``: from the cache, or compiled in
     a temporary directory when the cache cannot be written."""
     from ngc2py.cache import cached_module
+    from ngc2py.stdin import STDIN, compile_stdin
 
+    if program == STDIN:
+        return load_text(compile_stdin(ini))
     try:
         return load_module(cached_module(program, ini))
     except PermissionError:
-        import tempfile
+        return load_text(compile_file(program, ini))
 
-        with tempfile.TemporaryDirectory() as folder:
-            path = Path(folder) / "program.py"
-            path.write_text(compile_file(program, ini), encoding="utf-8")
-            return load_module(path)
+
+def load_text(text: str):
+    """Import generated module ``text`` through a temporary file."""
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "program.py"
+        path.write_text(text, encoding="utf-8")
+        return load_module(path)
 
 
 def unopened(program: str, error: OpenError) -> SourceMap:
@@ -124,10 +162,12 @@ def unopened(program: str, error: OpenError) -> SourceMap:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ngc2py.progress import progress_canon, spinner
     from runtime.main import run_cli
 
     try:
-        module = load_program(args.program, args.ini)
+        with spinner("compiling " + args.program, args.quiet):
+            module = load_program(args.program, args.ini)
         main, source_map = module.main, module.__ngc__
     except OpenError as error:
         main, source_map = None, unopened(args.program, error)  # main never runs
@@ -141,7 +181,17 @@ def run(args: argparse.Namespace) -> int:
             argv += [flag, value]
     if args.block_delete:
         argv.append("-b")
-    return run_cli(main, source_map, argv)
+    wrapped = []
+
+    def wrap(canon):
+        wrapped.append(progress_canon(canon, args.quiet))
+        return wrapped[-1]
+
+    try:
+        return run_cli(main, source_map, argv, wrap_canon=wrap)
+    finally:
+        for canon in wrapped:
+            getattr(canon, "close", lambda: None)()
 
 
 def main(argv: Optional[List[str]] = None) -> int:
@@ -153,14 +203,17 @@ def main(argv: Optional[List[str]] = None) -> int:
     except SystemExit as stop:  # argparse: --help, --version, or a usage error
         # A usage error exits 1, as rs274 does (argparse would say 2).
         return 0 if stop.code in (0, None) else 1
+    handler = getattr(args, "handler", None)
     try:
+        if handler is not None:
+            return handler(args)
         return convert(args) if args.command == "convert" else run(args)
     except CompileError as error:
         if args.command == "run":
             sys.stderr.write("executing\n")  # rs274 says this before failing
         sys.stderr.write("%s\n" % error)
     except OSError as error:
-        name = error.filename or args.program
+        name = error.filename or getattr(args, "program", "ngc2py")
         sys.stderr.write("ngc2py: %s: %s\n" % (name, error.strerror or error))
     except Exception as error:  # noqa: BLE001 - one line, never a traceback
         sys.stderr.write(

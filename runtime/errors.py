@@ -186,6 +186,34 @@ def locate(error: BaseException) -> List[Location]:
     return frames
 
 
+def format_traceback(error: BaseException) -> str:
+    """``error``'s traceback with each frame of a generated module shown as
+    the G-code it runs (file, line, text) instead of the generated Python;
+    other frames as Python shows them. For reports of internal errors."""
+    import traceback
+
+    out = ["Traceback (most recent call last; G-code frames as G-code):\n"]
+    tb = error.__traceback__
+    row_line = getattr(error, "ngc_row_line", None)
+    while tb is not None:
+        frame = tb.tb_frame
+        source_map = frame.f_globals.get("__ngc__")
+        location = (
+            source_map.lookup(tb.tb_lineno, row_line)
+            if isinstance(source_map, SourceMap)
+            else None
+        )
+        if location is not None:
+            out.append('  File "%s", line %d (G-code)\n' % (location.file, location.line))
+            out.append("    %s\n" % location.text.strip())
+        else:
+            summary = traceback.extract_tb(tb, limit=1)
+            out.extend(traceback.format_list(summary))
+        tb = tb.tb_next
+    out.extend(traceback.format_exception_only(type(error), error))
+    return "".join(out)
+
+
 def describe(error: BaseException) -> str:
     """One line for a Python exception that escaped a program: what and where."""
     frames = locate(error)

@@ -10,10 +10,11 @@ O-call stack that led there.
 from __future__ import annotations
 
 import getopt
+import os
 import sys
 from typing import Callable, List, Optional, Sequence, TextIO
 
-from runtime.errors import GCodeError, SourceMap, describe, locate
+from runtime.errors import GCodeError, SourceMap, describe, format_traceback, locate
 
 USAGE = "usage: %s [-t tool.tbl] [-v file.var] [-i file.ini] [-b]"
 
@@ -47,13 +48,25 @@ def write_raw(stream: TextIO, text: str) -> None:
 
 
 def report(error: GCodeError, stderr: TextIO) -> None:
-    """rs274's two lines (message, line text), then file:line and the calls."""
+    """rs274's two lines (message, line text: parity checks read the first),
+    then a caret under the word the error is about (when it is known),
+    ``file:line[:column]`` and the O-calls that led there."""
+    from runtime.caret import column
+
     frames = locate(error)
     write_raw(stderr, error.message + "\n")
     if not frames:
         return
-    write_raw(stderr, frames[-1].text + "\n")
-    stderr.write("  at %s\n" % frames[-1])
+    here = frames[-1]
+    write_raw(stderr, here.text + "\n")
+    col = column(error, here.text) if here.line else None
+    if col is not None:
+        # tabs kept so the caret lines up under the word on any terminal
+        pad = "".join(c if c == "\t" else " " for c in here.text[: col - 1])
+        write_raw(stderr, pad + "^\n")
+        stderr.write("  at %s:%d\n" % (here, col))
+    else:
+        stderr.write("  at %s\n" % here)
     for caller in reversed(frames[:-1]):
         stderr.write("  called from %s: %s\n" % (caller, caller.text))
 
@@ -75,8 +88,12 @@ def run_cli(
     argv: Optional[List[str]] = None,
     stdout: Optional[TextIO] = None,
     stderr: Optional[TextIO] = None,
+    wrap_canon: Optional[Callable] = None,
 ) -> int:
-    """Run ``main`` like ``rs274 -g``; return the exit status (0 or 1)."""
+    """Run ``main`` like ``rs274 -g``; return the exit status (0 or 1).
+
+    ``wrap_canon``, if given, takes the trace canon and returns the canon
+    to use (the ngc2py command wraps it to draw a progress bar)."""
     from runtime.canon import TraceCanon
     from runtime.machine import Machine
 
@@ -91,7 +108,12 @@ def run_cli(
     stderr.write("executing\n")
     stderr.flush()
     try:
-        machine = Machine(TraceCanon(stdout), source=source_map, **options)
+        canon = TraceCanon(stdout)
+        machine = Machine(
+            canon if wrap_canon is None else wrap_canon(canon),
+            source=source_map,
+            **options,
+        )
         # What rs274 says while reading its files: the tool table's
         # complaints on stdout (before the trace), the ini file's on stderr.
         stdout.write(machine.tool_table_report)
@@ -106,6 +128,8 @@ def run_cli(
     except Exception as error:  # noqa: BLE001 - never a bare traceback
         stdout.flush()
         stderr.write(describe(error) + "\n")
+        if os.environ.get("NGC2PY_TRACEBACK"):
+            stderr.write(format_traceback(error))
         return 1
     finally:
         stdout.flush()

@@ -20,42 +20,27 @@ file name do not depend on where the scratch directory is.
 from __future__ import annotations
 
 import os
-import shlex
 import shutil
 import subprocess
 import sys
-import tempfile
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Iterable, List, Optional, Sequence, Union
 
 REPO = Path(__file__).resolve().parent.parent
+if str(REPO) not in sys.path:
+    sys.path.insert(0, str(REPO))
+
+# The recording format, the comparison and the in-process runner are the
+# ones `ngc2py golden` uses for users' programs (ngc2py/golden.py); only the
+# reference differs: this corpus is recorded from rs274.
+from ngc2py import golden  # noqa: E402
+from ngc2py.golden import Result, first_error_line, read_args  # noqa: E402,F401
+
+#: How the two sides of a comparison are named in messages and diffs.
+SIDES = ("rs274", "ngc2py")
 
 #: Seconds before a run is declared hung.
 DEFAULT_TIMEOUT = float(os.environ.get("NGC2PY_TEST_TIMEOUT", "60"))
-
-#: Folders larger than this are not copied wholesale (only the program is).
-_MAX_COPY_BYTES = 5_000_000
-
-
-@dataclass(frozen=True)
-class Result:
-    stdout: bytes
-    err: str
-    rc: Optional[int]
-    stderr: bytes = b""
-
-    @property
-    def timed_out(self) -> bool:
-        return self.rc is None
-
-    def describe(self) -> str:
-        tail = self.stdout.decode("utf-8", "replace").splitlines()[-5:]
-        return (
-            f"rc={self.rc} err={self.err!r}\n"
-            f"stderr={self.stderr.decode('utf-8', 'replace')[:600]!r}\n"
-            "stdout tail:\n  " + "\n  ".join(tail)
-        )
 
 
 def rs274_path() -> Optional[str]:
@@ -66,61 +51,9 @@ def rs274_path() -> Optional[str]:
     return shutil.which("rs274")
 
 
-def first_error_line(stderr: Union[bytes, str]) -> str:
-    """rs274's error message: the first stderr line that is not ``executing``."""
-    if isinstance(stderr, bytes):
-        stderr = stderr.decode("utf-8", "replace")
-    for line in stderr.splitlines():
-        if line.strip() == "executing":
-            continue
-        if line.strip() == "":
-            continue
-        return line.rstrip("\r")
-    return ""
-
-
-def read_args(path: Path) -> List[str]:
-    """Extra options for a golden program from ``<name>.args`` (shell words)."""
-    args_file = path.with_suffix(".args")
-    if args_file.exists():
-        return shlex.split(args_file.read_text())
-    return []
-
-
-def _folder_size(folder: Path) -> int:
-    total = 0
-    for p in folder.rglob("*"):
-        if p.is_file():
-            total += p.stat().st_size
-            if total > _MAX_COPY_BYTES:
-                break
-    return total
-
-
-class Scratch:
-    """A temporary working copy of a program's folder plus a private HOME."""
-
-    def __init__(self, program: Path, text: Optional[str] = None):
-        self.tmp = Path(tempfile.mkdtemp(prefix="ngc2py-test-"))
-        self.home = self.tmp / "home"
-        self.home.mkdir()
-        self.work = self.tmp / "work"
-        src = program.parent
-        if text is None and src.is_dir() and _folder_size(src) <= _MAX_COPY_BYTES:
-            shutil.copytree(
-                src,
-                self.work,
-                ignore=shutil.ignore_patterns(
-                    "*.out", "*.err", "*.rc", "__pycache__", ".ngc2py_cache"
-                ),
-            )
-        else:
-            self.work.mkdir()
-        self.program = self.work / program.name
-        if text is not None:
-            self.program.write_text(text)
-        elif not self.program.exists():
-            shutil.copy2(program, self.program)
+class Scratch(golden.Scratch):
+    """A temporary working copy of a program's folder plus a private HOME
+    (ngc2py.golden's), with the environment for subprocesses."""
 
     def env(self, extra: Optional[dict] = None) -> dict:
         env = dict(os.environ)
@@ -137,12 +70,6 @@ class Scratch:
 
     def cleanup(self) -> None:
         shutil.rmtree(self.tmp, ignore_errors=True)
-
-    def __enter__(self) -> "Scratch":
-        return self
-
-    def __exit__(self, *exc) -> None:
-        self.cleanup()
 
 
 def _run(cmd: Sequence[str], scratch: Scratch, timeout: float) -> Result:
@@ -231,10 +158,6 @@ def run_ngc2py(
         raise ValueError(f"unknown mode {mode!r}")
 
 
-class _InProcessTimeout(Exception):
-    pass
-
-
 def run_ngc2py_inprocess(
     program: Union[str, Path],
     args: Iterable[str] = (),
@@ -243,53 +166,14 @@ def run_ngc2py_inprocess(
     timeout: float = DEFAULT_TIMEOUT,
 ) -> Result:
     """``ngc2py run`` without a new interpreter: ``ngc2py.cli.main`` called in
-    this process, with stdout/stderr captured as bytes, the scratch folder as
-    cwd and a private HOME and compile cache. Saves the interpreter start-up
-    and imports (most of the cost of a small program); the subprocess runner
-    stays the reference because it is exactly what a user runs. The timeout
-    uses SIGALRM, so this works only in the main thread (pytest and
-    pytest-xdist workers run tests there).
+    this process in a scratch copy of the folder, as ``ngc2py golden`` runs a
+    user's program (:func:`ngc2py.golden.run`). Saves the interpreter
+    start-up and imports (most of the cost of a small program); the
+    subprocess runner stays the reference because it is exactly what a user
+    runs. The timeout uses SIGALRM, so it applies in the main thread only
+    (pytest and pytest-xdist workers run tests there).
     """
-    import io
-    import signal
-
-    from ngc2py import cli  # imported here: the harness must load without ngc2py
-
-    program = Path(program)
-    with Scratch(program, text) as s:
-        out, err = io.BytesIO(), io.BytesIO()
-        new_out = io.TextIOWrapper(out, encoding="utf-8", write_through=True)
-        new_err = io.TextIOWrapper(err, encoding="utf-8", write_through=True)
-        saved = (sys.stdout, sys.stderr, os.getcwd(), dict(os.environ))
-
-        def on_alarm(signum, frame):
-            raise _InProcessTimeout()
-
-        old_handler = signal.signal(signal.SIGALRM, on_alarm)
-        os.environ["HOME"] = str(s.home)
-        os.environ["NGC2PY_CACHE"] = str(s.tmp / "cache")
-        os.chdir(s.work)
-        sys.stdout, sys.stderr = new_out, new_err
-        signal.setitimer(signal.ITIMER_REAL, timeout)
-        try:
-            rc: Optional[int] = cli.main(["run", s.program.name, *args])
-        except SystemExit as exc:
-            rc = exc.code if isinstance(exc.code, int) else 1
-        except _InProcessTimeout:
-            rc = None
-        finally:
-            signal.setitimer(signal.ITIMER_REAL, 0)
-            signal.signal(signal.SIGALRM, old_handler)
-            for stream in (new_out, new_err):
-                try:
-                    stream.flush()
-                except ValueError:
-                    pass
-            sys.stdout, sys.stderr = saved[0], saved[1]
-            os.chdir(saved[2])
-            os.environ.clear()
-            os.environ.update(saved[3])
-        return Result(out.getvalue(), first_error_line(err.getvalue()), rc, err.getvalue())
+    return golden.run(Path(program), list(args), text=text, timeout=timeout)
 
 
 def _module_name(stem: str) -> str:
@@ -305,31 +189,11 @@ def compare(expected: Result, actual: Result) -> List[str]:
     Equal means: byte-identical stdout, same exit status, same first error
     line (rs274's message).
     """
-    problems: List[str] = []
-    if actual.timed_out:
-        problems.append("ngc2py timed out")
-    if expected.rc != actual.rc:
-        problems.append(f"exit status: expected {expected.rc}, got {actual.rc}")
-    if expected.err != actual.err:
-        problems.append(f"error message: expected {expected.err!r}, got {actual.err!r}")
-    if expected.stdout != actual.stdout:
-        problems.append("stdout differs:\n" + stdout_diff(expected.stdout, actual.stdout))
-    return problems
+    return golden.compare(expected, actual, SIDES)
 
 
 def stdout_diff(expected: bytes, actual: bytes, context: int = 3, limit: int = 40) -> str:
-    import difflib
-
-    a = expected.decode("utf-8", "replace").splitlines(keepends=True)
-    b = actual.decode("utf-8", "replace").splitlines(keepends=True)
-    lines = list(difflib.unified_diff(a, b, "rs274", "ngc2py", n=context))
-    if not lines and expected != actual:
-        return f"  (line endings/trailing bytes differ: {expected[-20:]!r} vs {actual[-20:]!r})"
-    more = len(lines) - limit
-    text = "".join(lines[:limit])
-    if more > 0:
-        text += f"... {more} more diff lines\n"
-    return text
+    return golden.unified_diff(expected, actual, SIDES, context, limit)
 
 
 # --------------------------------------------------------------------------
@@ -355,10 +219,7 @@ def golden_programs(root: Path = GOLDEN) -> List[Path]:
 
 def load_expected(program: Path) -> Result:
     """The recorded rs274 result of a golden program."""
-    out = program.with_suffix(".out").read_bytes()
-    err = program.with_suffix(".err").read_text().rstrip("\n")
-    rc = int(program.with_suffix(".rc").read_text().strip())
-    return Result(out, err, rc)
+    return golden.load(program)
 
 
 def load_expect(program: Path) -> dict:

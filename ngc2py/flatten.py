@@ -1,0 +1,655 @@
+"""``ngc2py flatten``: a program as plain G-code, everything resolved.
+
+The program runs against :class:`FlattenCanon`, a canon back end that
+writes G-code back from the canonical calls: subroutines, loops,
+conditionals, expressions and parameters are gone, and what is left is the
+sequence of moves and settings they produced. rs274 runs the result to the
+same STRAIGHT_TRAVERSE / STRAIGHT_FEED / ARC_FEED calls as the original.
+
+How calls become G-code (decisions, see the README's "Flatten" section):
+
+* Positions: canonical calls carry positions in the active coordinate
+  system, in the active length units, so moves are written absolute (G90)
+  with exactly those numbers. Each block's start point is the machine's own
+  idea of the current point, which is what rs274 recomputes after offset,
+  unit or tool-offset changes, so only the axes that change are written.
+* Numbers are written with every digit Python's ``repr`` needs to read back
+  the same double, in plain decimal notation (G-code has no exponents).
+* Arcs are written in centre format (G2/G3 with I/J/K relative to the start
+  point, P for extra turns) from ARC_FEED's centre and end point.
+* Offsets: G5x selection becomes ``G10 L2 P.. ... R..`` (when the stored
+  values differ from what the flat program already set) and the G5x code;
+  a change of the active system's offset becomes ``G10 L2``; G92-type
+  offsets (G92, G52, G92.1-G92.3) become ``G52`` with the resulting offset;
+  tool length offsets (G43, G43.1, G49) become ``G43.1`` with the offset.
+* Feed rates are written as F in units per minute: inverse-time (G93) moves
+  come out as the per-minute rate rs274 computed, under G94.
+* M2/M30's own resets are not written out: the flat program's M2 makes them.
+* Each line ends with a ``;`` comment naming the source line (and the
+  O-calls that led there); ``;`` comments make no COMMENT call. N words are
+  kept as written, so the trace's N column stays the same.
+
+Where the full trace cannot be the same (a G5x selection or G94 written out
+adds a COMMENT or offset call rs274 did not make in the original), only
+those bookkeeping calls differ; the motion calls never do. Calls with no
+G-code that makes them alone (probing, cutter compensation...) stop the
+flattening with an error that names them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+from decimal import Decimal
+from typing import List, Optional, Sequence, Tuple
+
+from runtime.canon import CALLS, Canon
+from runtime.errors import g_code_frames_of_stack
+
+AXES6 = "XYZABC"
+SYSTEM_CODES = ("G54", "G55", "G56", "G57", "G58", "G59", "G59.1", "G59.2", "G59.3")
+# rs274 reports the three U/V/W planes alike; any of them makes that call
+PLANE_CODES = {"XY": "G17", "XZ": "G18", "YZ": "G19", "UNKNOWN": "G17.1"}
+#: ARC_FEED's first/second axis and the axis-end axis per plane, and the
+#: centre-offset letters of the first and second axis.
+ARC_AXES = {
+    "XY": ("X", "Y", "Z", "I", "J"),
+    "XZ": ("Z", "X", "Y", "K", "I"),
+    "YZ": ("Y", "Z", "X", "J", "K"),
+}
+#: Calls rs274's M2/M30 makes on its own before PROGRAM_END.
+END_RESETS = {
+    "set_g5x_offset",
+    "set_g92_offset",
+    "set_xy_rotation",
+    "set_feed_mode",
+    "set_feed_rate",
+    "enable_feed_override",
+    "enable_speed_override",
+    "disable_adaptive_feed",
+    "enable_feed_hold",
+    "stop_spindle_turning",
+    "set_spindle_mode",
+    "select_plane",
+    "set_motion_control_mode",
+    "mist_off",
+    "flood_off",
+    "stop_cutter_radius_compensation",
+    "use_length_units",
+    "comment",
+    "pallet_shuttle",
+}
+FEED_MODE_COMMENTS = {
+    "interpreter: feed mode set to units per minute": "G94",
+    "interpreter: feed mode set to units per revolution": "G95",
+    # moves in inverse time come with the per-minute rate rs274 computed
+    "interpreter: feed mode set to inverse time": "G94",
+}
+#: Calls after which the flat program's current point is rs274's to work
+#: out again: the next move writes every axis.
+MOVES_ORIGIN = {
+    "use_length_units",
+    "set_g5x_offset",
+    "set_g92_offset",
+    "set_xy_rotation",
+    "use_tool_length_offset",
+}
+#: Longest line written with its location comment on the same line
+#: (rs274 refuses lines of 253 characters and more).
+MAX_LINE = 240
+#: Parameters that G-codes read: G28 and G30 homes, G92 offsets, the active
+#: system and the coordinate systems' offsets and rotations.
+CODE_PARAMETERS = range(5161, 5391)
+UNKNOWN = float("nan")
+
+
+class FlattenError(Exception):
+    """The program made a call flatten cannot write as G-code."""
+
+
+def number(value: float) -> str:
+    """``value`` in G-code: plain decimal, enough digits to read it back."""
+    value = float(value)
+    if value == int(value) and abs(value) < 1e15:
+        return "%d" % value if value or str(value)[0] != "-" else "-0"
+    text = repr(value)
+    if "e" in text or "E" in text:
+        text = format(Decimal(text), "f")
+    return text
+
+
+def same(a: float, b: float) -> bool:
+    """Equal, and with the same sign when zero (rs274 prints -0.0000)."""
+    return a == b and math.copysign(1.0, a) == math.copysign(1.0, b)
+
+
+def _offset(start: float, centre: float) -> Optional[float]:
+    """An offset that rs274 adds to ``start`` to get exactly ``centre``, or
+    None (unknown start; or -0.0, which no sum of non-zeros gives)."""
+    guess = centre - start
+    for _ in range(4):
+        if same(start + guess, centre):
+            return guess
+        guess = math.nextafter(guess, math.inf if start + guess < centre else -math.inf)
+    return None
+
+
+class _Group:
+    """The calls of one executed block, and where it came from."""
+
+    __slots__ = ("n", "where", "start", "calls")
+
+    def __init__(self, n, where, start):
+        self.n = n
+        self.where = where
+        self.start = start
+        self.calls: List[Tuple[str, tuple]] = []
+
+
+class FlattenCanon(Canon):
+    """Collects canonical calls block by block and writes them as G-code.
+
+    ``machine`` must be set before the program runs (it gives each block's
+    start point and source line).
+    """
+
+    def __init__(self, main_file: str = "") -> None:
+        self.machine = None
+        self.main_file = main_file
+        self.lines: List[str] = []
+        self.started = False
+        self.ended = False
+        self.finished = False
+        self._group: Optional[_Group] = None
+        self._stored = {}  # coordinate system -> (offsets, rotation, inches)
+        self._system = 1
+        self._startup = (0.0,) * 6
+        self._inches = False
+        self._plane = "XY"
+        self._ijk_absolute = False
+        self._params = None
+        #: the flat program's current point as far as moves tell it; UNKNOWN
+        #: after an offset, unit or tool-offset change until the next move
+        self._pos = [UNKNOWN] * 6
+
+    # --- bookkeeping ---------------------------------------------------
+    def set_block_number(self, n) -> None:
+        self._flush()
+        if self.started and self._params is None:
+            # what the program starts with: parameters, and the start point
+            # (the same for the flat program, run with the same options)
+            self._parameter_changes()
+            self._pos = [float(v) for v in self.machine.current[:6]]
+        if not self.started or self.ended:
+            return
+        machine = self.machine
+        self._group = _Group(n, self._where(), list(machine.current[:6]))
+
+    def _where(self) -> str:
+        frames = g_code_frames_of_stack()
+        line = self.machine.line
+        if frames and frames[-1].line == line:
+            here = frames[-1]
+            text = "%s:%d" % (here.file, here.line)
+        elif frames:  # data rows: the frame knows the file, the machine the line
+            text = "%s:%d" % (frames[-1].file, line)
+        else:
+            text = "%s:%d" % (self.main_file, line)
+        callers = " <- ".join("%s:%d" % (f.file, f.line) for f in reversed(frames[:-1]))
+        return text + (" <- " + callers if callers else "")
+
+    def _record(self, name: str, args: tuple) -> None:
+        if name == "on_reset":
+            # the first one ends rs274's start-up; the last ones its closing
+            self.started = True
+            return
+        if not self.started:
+            # rs274's start-up: what the flat program starts with as well
+            if name == "set_g5x_offset":
+                self._system, self._startup = args[0], tuple(args[1:7])
+            elif name == "set_xy_rotation":
+                self._stored[self._system] = (self._startup, args[0], False)
+            return
+        if self.ended:
+            return
+        if self._group is None:
+            self._group = _Group(None, "", list(self.machine.current[:6]))
+        self._group.calls.append((name, args))
+        if name == "program_end":
+            self._flush()
+            self.ended = True
+        elif name == "finish":
+            self._flush()
+            self.ended = self.finished = True
+
+    def close(self) -> None:
+        self._flush()
+
+    # --- writing -------------------------------------------------------
+    def _flush(self) -> None:
+        group, self._group = self._group, None
+        if group is None or not group.calls:
+            return
+        calls = group.calls
+        if calls[-1][0] == "program_end":
+            keep = len(calls) - 1
+            while keep > 0 and calls[keep - 1][0] in END_RESETS:
+                keep -= 1
+            shuttle = any(name == "pallet_shuttle" for name, _ in calls[keep:])
+            calls = calls[:keep] + [("program_end", (shuttle,))]
+        pos = self._pos
+        i = 0
+        pending_f: Optional[str] = None
+        out: List[str] = []
+        while i < len(calls):
+            name, args = calls[i]
+            following = [c[0] for c in calls[i + 1 :]]
+            nxt = following[0] if following else None
+            used = 1
+            text: Optional[str]
+            # G20/G21 that changes nothing leaves the current point alone
+            same_units = name == "use_length_units" and bool(args[0]) == self._inches
+            if name == "set_feed_rate" and nxt in ("straight_feed", "arc_feed"):
+                pending_f = "F" + number(args[0])
+                i += 1
+                continue
+            if name in ("straight_traverse", "straight_feed"):
+                text = self._move("G0" if name == "straight_traverse" else "G1", args, pos)
+            elif name == "arc_feed":
+                text = self._arc(args, pos)
+            elif name == "set_g5x_offset":
+                text, used = self._g5x(args, calls[i + 1 : i + 3])
+            elif name == "set_xy_rotation":
+                stored = self._stored.get(self._system)
+                offsets = stored[0] if stored else (0.0,) * 6
+                text = self._g10(self._system, offsets, args[0])
+            elif name == "comment" and args[0] in FEED_MODE_COMMENTS and nxt == "set_feed_mode":
+                text = FEED_MODE_COMMENTS[args[0]]
+                used = 3 if text == "G94" and following[1:2] == ["set_feed_rate"] else 2
+            elif name == "set_motion_control_mode":
+                mode, tolerance = args
+                if mode == "CONTINUOUS":
+                    text = "G64 P" + number(tolerance)
+                    if nxt == "set_naivecam_tolerance":
+                        text += " Q" + number(calls[i + 1][1][0])
+                        used = 2
+                else:
+                    text = "G61" if mode == "EXACT_PATH" else "G61.1"
+            elif name == "start_change" and "change_tool" in following:
+                # M6 makes everything up to CHANGE_TOOL (spindle stop, the
+                # ini's tool-change moves) itself
+                text, used = "M6", 2 + following.index("change_tool")
+            elif name in ("mist_off", "disable_feed_override", "enable_feed_override") and nxt:
+                pair = {
+                    ("mist_off", "flood_off"): "M9",
+                    ("enable_feed_override", "enable_speed_override"): "M48",
+                    ("disable_feed_override", "enable_speed_override"): None,
+                    ("disable_feed_override", "disable_speed_override"): "M49",
+                }.get((name, nxt))
+                if pair:
+                    text, used = pair, 2
+                else:
+                    text = self._single(name, args)
+            elif name == "orient_spindle" and nxt == "wait_spindle_orient_complete":
+                _spindle, orientation, direction = args
+                timeout = calls[i + 1][1][1]
+                text = "M19 R%s Q%s P%d" % (number(orientation), number(timeout), direction)
+                used = 2
+            elif name == "set_spindle_mode" and args[1] != 0:
+                # G96: the mode's value is D (1e30 when not given)
+                text = "G96" + (" D" + number(args[1]) if args[1] < 1e29 else "")
+                if nxt == "set_spindle_speed":
+                    text += " S" + number(calls[i + 1][1][1])
+                    used = 2
+            elif name == "pallet_shuttle" and nxt == "program_stop":
+                text, used = "M60", 2
+            else:
+                text = self._single(name, args)
+            if not same_units and any(c[0] in MOVES_ORIGIN for c in calls[i : i + used]):
+                pos[:] = [UNKNOWN] * 6
+            if text is not None:
+                if pending_f is not None:
+                    text = pending_f + " " + text
+                    pending_f = None
+                out.extend(text.split("\n"))
+            i += used
+        if pending_f is not None:
+            out.append(pending_f)
+        if calls[-1][0] != "program_end":
+            # changed by this block or by assignments after it (the flush
+            # runs as the next block starts)
+            out.extend(self._parameter_changes())
+        prefix = "N%s " % group.n if group.n is not None else ""
+        comment = "  ; " + group.where if group.where else ""
+        for text in out:
+            if len(prefix + text + comment) > MAX_LINE and comment:
+                self.lines.append(comment.strip())
+                self.lines.append(prefix + text)
+            else:
+                self.lines.append(prefix + text + comment)
+
+    def _parameter_changes(self) -> List[str]:
+        """Assignments for the parameters G-codes read (G28/G30 homes, G92
+        and coordinate-system offsets) that changed since the last look:
+        they have no canonical call, but later codes read them."""
+        params = self.machine.params
+        if self._params is None:
+            self._params = {n: params[n] for n in CODE_PARAMETERS}
+            return []
+        changes = []
+        for n in CODE_PARAMETERS:
+            value = params[n]
+            if not same(value, self._params[n]):
+                self._params[n] = value
+                changes.append("#%d = %s" % (n, number(value)))
+        return changes
+
+    def _move(self, code: str, args: Sequence[float], pos: List[float]) -> str:
+        words = []
+        for k, letter in enumerate(AXES6):
+            if not same(args[k], pos[k]):
+                words.append(letter + number(args[k]))
+            pos[k] = args[k]
+        if not words:  # a move to where it is: still one axis word
+            words.append("X" + number(args[0]))
+        return code + " " + " ".join(words)
+
+    def _arc(self, args: Sequence, pos: List[float]) -> str:
+        first_end, second_end, first_c, second_c, rotation, axis_end = args[:6]
+        plane = ARC_AXES.get(self._plane)
+        if plane is None:
+            raise FlattenError("flatten: arcs in the %s plane" % self._plane)
+        first, second, axis, first_letter, second_letter = plane
+        index = {letter: k for k, letter in enumerate(AXES6)}
+        start = pos[index[first]], pos[index[second]]
+        offsets = _offset(start[0], first_c), _offset(start[1], second_c)
+        # rs274 adds I/J/K to the start point: relative centres only when
+        # that gives back the very centre (known start, no rounding)
+        exact = None not in offsets
+        mode = ""
+        if exact and self._ijk_absolute:
+            mode, self._ijk_absolute = "G91.1 ", False
+        elif not exact and not self._ijk_absolute:
+            mode, self._ijk_absolute = "G90.1 ", True
+        centre = (first_c, second_c) if self._ijk_absolute else offsets
+        code = mode + ("G3" if rotation > 0 else "G2")
+        words = [
+            first + number(first_end),
+            second + number(second_end),
+            axis + number(axis_end),
+        ]
+        for k, (letter, value) in enumerate(zip("ABC", args[6:9])):
+            if not same(value, pos[3 + k]):
+                words.append(letter + number(value))
+        words.append(first_letter + number(centre[0]))
+        words.append(second_letter + number(centre[1]))
+        if abs(rotation) != 1:
+            words.append("P%d" % abs(rotation))
+        pos[index[first]], pos[index[second]], pos[index[axis]] = first_end, second_end, axis_end
+        pos[3:6] = list(args[6:9])
+        return code + " " + " ".join(words)
+
+    def _g10(self, index: int, offsets: Sequence[float], rotation: float) -> str:
+        words = " ".join(letter + number(v) for letter, v in zip(AXES6, offsets))
+        self._stored[index] = (tuple(offsets), rotation, self._inches)
+        return "G10 L2 P%d %s R%s" % (index, words, number(rotation))
+
+    def _g5x(self, args, after) -> Tuple[str, int]:
+        index, offsets = args[0], tuple(args[1:7])
+        names = [c[0] for c in after]
+        if names == ["set_g92_offset", "set_xy_rotation"]:
+            # a G5x selection: offsets, G92 offsets and rotation
+            # it loads the system from its parameters, which the flat
+            # program has set (see _parameter_changes)
+            self._system = index
+            return SYSTEM_CODES[index - 1], 3
+        rotation = after[0][1][0] if names[:1] == ["set_xy_rotation"] else 0.0
+        self._system = index
+        return self._g10(index, offsets, rotation), 2 if names[:1] == ["set_xy_rotation"] else 1
+
+    def _single(self, name: str, args: tuple) -> Optional[str]:
+        """The G-code for one call on its own."""
+        if name == "use_length_units":
+            self._inches = bool(args[0])
+            return "G20" if args[0] else "G21"
+        if name == "select_plane":
+            self._plane = args[0]
+            return PLANE_CODES[args[0]]
+        if name == "set_g92_offset":
+            return "G52 " + " ".join(l + number(v) for l, v in zip(AXES6, args[:6]))
+        if name == "use_tool_length_offset":
+            return "G43.1 " + " ".join(l + number(v) for l, v in zip(AXES6, args[:6]))
+        if name == "set_feed_rate":
+            return "F" + number(args[0])
+        if name == "set_feed_mode":
+            return "G95" if args[1] == 1 else "G94"
+        if name == "print":
+            return "(PRINT,%s)" % args[0]
+        if name == "dwell":
+            return "G4 P" + number(args[0])
+        if name == "set_spindle_speed":
+            return "S" + number(args[1])
+        if name == "set_spindle_mode":
+            return "G97" if args[1] == 0 else None
+        simple = {
+            "start_spindle_clockwise": "M3",
+            "start_spindle_counterclockwise": "M4",
+            "stop_spindle_turning": "M5",
+            "mist_on": "M7",
+            "flood_on": "M8",
+            "program_stop": "M0",
+            "optional_program_stop": "M1",
+            "enable_feed_override": "M50 P1",
+            "disable_feed_override": "M50 P0",
+            "enable_adaptive_feed": "M52 P1",
+            "disable_adaptive_feed": "M52 P0",
+            "enable_feed_hold": "M53 P1",
+            "disable_feed_hold": "M53 P0",
+            "logclose": "(LOGCLOSE)",
+            "finish": None,
+        }
+        if name in simple:
+            return simple[name]
+        if name == "program_end":
+            return "M30" if args and args[0] else "M2"
+        if name == "enable_speed_override":
+            return "M51 P1"
+        if name == "disable_speed_override":
+            return "M51 P0"
+        if name == "select_tool":
+            return "T%d" % args[0]
+        if name == "change_tool_number":
+            return "M61 Q%d" % args[0]
+        texts = {
+            "comment": "(%s)",
+            "message": "(MSG,%s)",
+            "log": "(LOG,%s)",
+            "logopen": "(LOGOPEN,%s)",
+            "logappend": "(LOGAPPEND,%s)",
+        }
+        if name in texts:
+            return texts[name] % args[0]
+        if name in ("set_motion_output_bit", "clear_motion_output_bit"):
+            return ("M62 P%d" if name.startswith("set") else "M63 P%d") % args[0]
+        if name in ("set_aux_output_bit", "clear_aux_output_bit"):
+            return ("M64 P%d" if name.startswith("set") else "M65 P%d") % args[0]
+        if name == "set_motion_output_value":
+            return "M67 E%d Q%s" % (args[0], number(args[1]))
+        if name == "set_aux_output_value":
+            return "M68 E%d Q%s" % (args[0], number(args[1]))
+        if name in ("set_feed_reference", "set_traverse_rate", "set_naivecam_tolerance"):
+            return None
+        raise FlattenError(
+            "flatten: the program makes a %s call, which flatten cannot write as G-code yet"
+            % name.upper()
+        )
+
+    def text(self, header: Sequence[str] = ()) -> str:
+        """The flat program."""
+        self._flush()
+        lines = ["; " + h for h in header]
+        lines.append("G90  ; absolute positions (no canonical call)")
+        lines += self.lines
+        if self.finished:
+            lines = ["%"] + lines + ["%"]
+        return "\n".join(lines) + "\n"
+
+
+def _recorder(name: str):
+    def record(self, *args):
+        self._record(name, args)
+
+    record.__name__ = name
+    return record
+
+
+for _name in CALLS:
+    setattr(FlattenCanon, _name, _recorder(_name))
+del _name
+
+
+class _PrintCatcher:
+    """Stands in for stdout while the program runs: (PRINT,...) writes its
+    text there (as rs274 does), and the flat program must say it again."""
+
+    def __init__(self, canon: FlattenCanon) -> None:
+        self.canon = canon
+        self.pending = ""
+
+    def write(self, text: str) -> int:
+        self.pending += text
+        while "\n" in self.pending:
+            line, self.pending = self.pending.split("\n", 1)
+            self.canon._record("print", (line,))
+        return len(text)
+
+    def flush(self) -> None:
+        pass
+
+    def __enter__(self) -> "_PrintCatcher":
+        self.saved = sys.stdout
+        sys.stdout = self
+        return self
+
+    def __exit__(self, *exc) -> None:
+        sys.stdout = self.saved
+
+
+def _flatten_machine():
+    """A Machine whose every block takes the general path: the fast path
+    (runtime/fastpath.py) announces only changes of N, and flatten needs
+    each block's start to group its calls."""
+    from runtime.machine import Machine
+
+    class FlattenMachine(Machine):
+        def refresh_plain(self) -> None:
+            self._plain = False
+
+    return FlattenMachine
+
+
+def flatten(
+    program: str,
+    tool_table: Optional[str] = None,
+    var_file: Optional[str] = None,
+    ini: Optional[str] = None,
+    block_delete: bool = False,
+) -> str:
+    """The flat G-code of ``program`` run with rs274's options. Raises
+    GCodeError where the program fails, FlattenError for what flatten
+    cannot write."""
+    from ngc2py.cli import load_program, unopened
+    from ngc2py.compiler import OpenError
+    from runtime.main import start
+
+    Machine = _flatten_machine()
+
+    try:
+        module = load_program(program, ini)
+        main, source_map = module.main, module.__ngc__
+    except OpenError as error:
+        main, source_map = None, unopened(program, error)
+    canon = FlattenCanon(program)
+    catcher = _PrintCatcher(canon)
+    options = dict(tool_table=tool_table, var_file=None, ini=ini, block_delete=block_delete)
+    if var_file is not None and os.path.isfile(var_file):
+        # read it, but never rewrite the user's file: flatten runs nothing
+        import shutil
+        import tempfile
+
+        with tempfile.TemporaryDirectory() as folder:
+            copy = shutil.copy(var_file, folder)
+            machine = Machine(canon, source=source_map, **{**options, "var_file": copy})
+            canon.machine = machine
+            with catcher:
+                start(machine, main)
+    else:
+        machine = Machine(canon, source=source_map, **options)
+        canon.machine = machine
+        with catcher:
+            start(machine, main)
+    header = ["flattened by ngc2py from %s" % program]
+    given = " ".join(
+        flag + " " + value
+        for flag, value in (("-t", tool_table), ("-v", var_file), ("-i", ini))
+        if value
+    ) + (" -b" if block_delete else "")
+    if given.strip():
+        header.append("run it with the same options: %s" % given.strip())
+    return canon.text(header)
+
+
+HELP = """\
+Write PROG.ngc as plain G-code: subroutines, loops, conditionals,
+expressions and parameters resolved into the moves and settings they make,
+each line ending with a ';' comment naming its source line (and the O-calls
+that led there). rs274 runs the result to the same STRAIGHT_TRAVERSE,
+STRAIGHT_FEED and ARC_FEED calls as the original; run it with the same
+-t/-v/-i options. A program that fails is not flattened: the error is
+reported as `ngc2py run` reports it, exit status 1."""
+
+
+def register(commands) -> None:
+    parser = commands.add_parser(
+        "flatten",
+        help="write the program as plain G-code with everything resolved",
+        description=HELP,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument("program", metavar="PROG.ngc", help="the G-code file ('-': stdin)")
+    parser.add_argument(
+        "-o", "--output", metavar="FLAT.ngc", default="-",
+        help="where to write it (default and '-': standard output); written atomically",
+    )
+    parser.add_argument("-t", dest="tool_table", metavar="TBL", help="tool table file")
+    parser.add_argument("-v", dest="var_file", metavar="VAR", help="parameter (.var) file (read, not rewritten)")
+    parser.add_argument("-i", dest="ini", metavar="INI", help="ini file")
+    parser.add_argument("-b", dest="block_delete", action="store_true", help="block delete on")
+    parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    parser.set_defaults(handler=main)
+
+
+def main(args) -> int:
+    from pathlib import Path
+
+    from ngc2py.cache import write_atomic
+    from ngc2py.progress import spinner
+    from runtime.errors import GCodeError
+    from runtime.main import report
+
+    try:
+        with spinner("flattening " + args.program, args.quiet):
+            text = flatten(args.program, args.tool_table, args.var_file, args.ini, args.block_delete)
+    except GCodeError as error:
+        report(error, sys.stderr)
+        return 1
+    except FlattenError as error:
+        sys.stderr.write("%s\n" % error)
+        return 1
+    if args.output == "-":
+        sys.stdout.write(text)
+    else:
+        write_atomic(Path(args.output), text)
+    return 0

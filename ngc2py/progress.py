@@ -1,0 +1,185 @@
+"""Progress bars on stderr for long conversions, runs and batches (tqdm).
+
+Shown only when stderr is a terminal and the user did not ask for ``-q``:
+piped or captured output (scripts, CI, parity checks against rs274) never
+contains a bar. A bar that is shown is cleared when it closes, so what
+stays on the terminal is the same as without it. The runtime never imports
+this module: generated programs stay standard-library only; the CLI wraps
+the trace canon instead (:class:`ProgressCanon`).
+"""
+
+from __future__ import annotations
+
+import sys
+from typing import IO, Optional
+
+#: Moves between two updates of a run's bar: the bar must cost nothing
+#: measurable per move.
+MOVE_STRIDE = 4096
+
+
+def wanted(quiet: bool = False, stream: Optional[IO] = None) -> bool:
+    """Whether to draw a bar: stderr is a terminal and not ``-q``."""
+    if quiet:
+        return False
+    stream = sys.stderr if stream is None else stream
+    try:
+        return bool(stream.isatty())
+    except (AttributeError, ValueError):
+        return False
+
+
+class _Quiet:
+    """Stands in for a bar that is not shown."""
+
+    def update(self, n: int = 1) -> None:
+        pass
+
+    def set_description(self, text: str) -> None:
+        pass
+
+    def write(self, text: str, error: bool = False) -> None:
+        stream = sys.stderr if error else sys.stdout
+        stream.write(text + "\n")
+
+    def close(self) -> None:
+        pass
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+
+class _Bar(_Quiet):
+    def __init__(self, total: Optional[int], description: str, unit: str):
+        from tqdm import tqdm
+
+        self._tqdm = tqdm(
+            total=total,
+            desc=description,
+            unit=unit,
+            leave=False,
+            file=sys.stderr,
+            dynamic_ncols=True,
+            mininterval=0.2,
+        )
+
+    def update(self, n: int = 1) -> None:
+        self._tqdm.update(n)
+
+    def set_description(self, text: str) -> None:
+        self._tqdm.set_description(text, refresh=False)
+
+    def write(self, text: str, error: bool = False) -> None:
+        from tqdm import tqdm
+
+        # above the bar, which is redrawn below it
+        tqdm.write(text, file=sys.stderr if error else sys.stdout)
+
+    def close(self) -> None:
+        self._tqdm.close()
+
+
+def progress(total: Optional[int], description: str, unit: str, quiet: bool = False):
+    """A bar (context manager) counting ``unit``s up to ``total`` (None: no
+    known end), or a silent stand-in when no bar is wanted."""
+    if not wanted(quiet):
+        return _Quiet()
+    try:
+        return _Bar(total, description, unit)
+    except ImportError:  # tqdm missing: work without a bar
+        return _Quiet()
+
+
+def progress_canon(canon, quiet: bool = False):
+    """``canon`` wrapped so that a run shows how many moves it made, or
+    ``canon`` itself when no bar is wanted."""
+    if not wanted(quiet):
+        return canon
+    try:
+        bar = _Bar(None, "running", "move")
+    except ImportError:
+        return canon
+    return ProgressCanon(canon, bar)
+
+
+class ProgressCanon:
+    """Forwards every canonical call to ``inner`` (bound directly: no cost
+    per call), counting moves on the way: the machine's fast path announces
+    only changes of N, so moves are what can be counted."""
+
+    def __init__(self, inner, bar) -> None:
+        from runtime.canon import CALLS
+
+        self._inner = inner
+        self._bar = bar
+        self._moves = 0
+        self.set_block_number = inner.set_block_number
+        for name in CALLS:
+            setattr(self, name, getattr(inner, name))
+        for name in ("straight_feed", "straight_traverse", "arc_feed"):
+            setattr(self, name, self._counting(getattr(inner, name)))
+
+    def _counting(self, call):
+        def counted(*args):
+            self._moves += 1
+            if self._moves % MOVE_STRIDE == 0:
+                self._bar.update(MOVE_STRIDE)
+            return call(*args)
+
+        return counted
+
+    def close(self) -> None:
+        self._bar.close()
+
+    def __getattr__(self, name):
+        # anything else a machine may read from its canon
+        return getattr(self._inner, name)
+
+
+class spinner:
+    """A bar with no count for one long step (a conversion): it shows the
+    step and the time spent, redrawn from a background thread, and is
+    cleared when the step ends. Silent unless :func:`wanted`."""
+
+    def __init__(self, description: str, quiet: bool = False):
+        self._description = description
+        self._quiet = quiet
+        self._stop = None
+        self._thread = None
+
+    def __enter__(self) -> "spinner":
+        if not wanted(self._quiet):
+            return self
+        import threading
+
+        try:
+            from tqdm import tqdm
+        except ImportError:
+            return self
+        bar = tqdm(
+            total=None,
+            desc=self._description,
+            bar_format="{desc} {elapsed}",
+            leave=False,
+            file=sys.stderr,
+            delay=0.5,  # quick steps draw nothing at all
+        )
+        stop = threading.Event()
+
+        def refresh() -> None:
+            while not stop.wait(0.25):
+                bar.refresh()
+            bar.close()
+
+        self._stop = stop
+        self._thread = threading.Thread(target=refresh, daemon=True)
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self._stop is not None:
+            self._stop.set()
+            self._thread.join()

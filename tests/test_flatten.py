@@ -1,0 +1,191 @@
+"""``ngc2py flatten``: plain G-code that rs274 runs to the same moves.
+
+The claim checked against rs274 itself: the original program and its
+flattened form, both run by ``rs274 -g`` with the same options, make exactly
+the same STRAIGHT_TRAVERSE / STRAIGHT_FEED / ARC_FEED calls (text of the
+trace, N column included). On every golden program that runs to its end
+and on Hypothesis-written programs. The full traces are compared too, and
+the few bookkeeping calls allowed to differ are named (see ngc2py/flatten.py).
+"""
+
+from __future__ import annotations
+
+import io
+import re
+import subprocess
+import sys
+from contextlib import redirect_stderr, redirect_stdout
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, given, reject, settings
+
+import rs274 as harness
+import strategies
+from ngc2py import cli
+from ngc2py.flatten import number
+
+MOTION = re.compile(r"^(STRAIGHT_TRAVERSE|STRAIGHT_FEED|ARC_FEED)\(")
+#: calls a flat program may add or lose against the original (no motion):
+#: G94 written for G93, absolute/relative arc centre mode changes
+BOOKKEEPING = {
+    'COMMENT("interpreter: feed mode set to units per minute")',
+    'COMMENT("interpreter: feed mode set to inverse time")',
+    'COMMENT("interpreter: IJK distance mode changed to absolute")',
+    'COMMENT("interpreter: IJK distance mode changed to incremental")',
+    "SET_FEED_RATE(0.0000)",
+}
+
+
+def calls(stdout: bytes):
+    """The trace's calls with the N column, without the sequence numbers."""
+    return [line[6:] for line in stdout.decode("utf-8", "replace").splitlines()]
+
+
+def motion(trace):
+    return [c for c in trace if MOTION.match(c[7:])]
+
+
+def flatten_and_run(program: Path, args, text=None):
+    """(original's rs274 result, flat's rs274 result, flat text)."""
+    with harness.Scratch(program, text) as s:
+        env = s.env()
+        done = subprocess.run(
+            [sys.executable, "-m", "ngc2py", "flatten", "-q", s.program.name, *args, "-o", "flat.ngc"],
+            cwd=s.work,
+            env=env,
+            capture_output=True,
+            timeout=120,
+        )
+        assert done.returncode == 0, done.stderr.decode()
+        flat = (s.work / "flat.ngc").read_text()
+        exe = harness.rs274_path()
+        original = subprocess.run(
+            [exe, "-g", *args, s.program.name], cwd=s.work, env=env, capture_output=True, timeout=60
+        )
+        again = subprocess.run(
+            [exe, "-g", *args, "flat.ngc"], cwd=s.work, env=env, capture_output=True, timeout=60
+        )
+    return original, again, flat
+
+
+def _ends_well(program: Path) -> bool:
+    rc = program.with_suffix(".rc")
+    return rc.exists() and rc.read_text().strip() == "0"
+
+
+RUNNABLE = [p for p in harness.golden_programs() if _ends_well(p)]
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize("program", RUNNABLE, ids=lambda p: str(p.relative_to(harness.GOLDEN)))
+def test_flat_golden_program_makes_the_same_moves_in_rs274(program, rs274):
+    original, flat_run, flat = flatten_and_run(program, harness.read_args(program))
+    assert flat_run.returncode == 0, harness.first_error_line(flat_run.stderr) + "\n" + flat
+    a, b = calls(original.stdout), calls(flat_run.stdout)
+    assert motion(b) == motion(a), harness.stdout_diff(original.stdout, flat_run.stdout)
+    # everything else differs at most by the named bookkeeping calls
+    extra = [c[7:] for c in set(a) ^ set(b)]
+    assert set(extra) <= BOOKKEEPING | {c for c in extra if c.startswith("COMMENT(\"e")}, extra
+
+
+@pytest.mark.rs274
+@settings(
+    max_examples=25,
+    deadline=None,
+    derandomize=True,
+    database=None,
+    suppress_health_check=list(HealthCheck),
+)
+@given(strategies.valid_programs())
+def test_flat_generated_program_makes_the_same_moves(text):
+    program = harness.REPO / "tests" / "_generated" / "prog.ngc"
+    expected = harness.run_rs274(program, text=text, timeout=20)
+    if expected.rc != 0:
+        reject()  # flatten only writes programs that run to their end
+    original, flat_run, flat = flatten_and_run(program, [], text=text)
+    assert flat_run.returncode == 0, harness.first_error_line(flat_run.stderr) + "\n" + flat
+    assert motion(calls(flat_run.stdout)) == motion(calls(original.stdout)), (
+        text + "\n----\n" + flat + harness.stdout_diff(original.stdout, flat_run.stdout)
+    )
+
+
+# --- the text itself ---------------------------------------------------------
+
+
+def run_flatten(tmp_path, text, *args):
+    (tmp_path / "p.ngc").write_text(text)
+    out, err = io.StringIO(), io.StringIO()
+    import os
+
+    here = os.getcwd()
+    os.chdir(tmp_path)
+    try:
+        with redirect_stdout(out), redirect_stderr(err):
+            rc = cli.main(["flatten", "p.ngc", *args])
+    finally:
+        os.chdir(here)
+    return rc, out.getvalue(), err.getvalue()
+
+
+def test_loops_subroutines_and_expressions_are_resolved(tmp_path):
+    rc, out, err = run_flatten(
+        tmp_path,
+        "o<step> sub\n  G1 X[#1 * 2] F100\no<step> endsub\n"
+        "#1 = 0\no1 while [#1 LT 3]\n  o<step> call [#1]\n  #1 = [#1 + 1]\no1 endwhile\nM2\n",
+    )
+    assert rc == 0, err
+    body = [l for l in out.splitlines() if not l.startswith(";")]
+    assert [l.split(";")[0].strip() for l in body] == [
+        "G90",
+        "F100 G1 X0",
+        "F100 G1 X2",
+        "F100 G1 X4",
+        "M2",
+    ]
+    # each block names its source line and the call that led there
+    assert body[2].endswith("; p.ngc:2 <- p.ngc:6")
+    assert "o1" not in out and "#" not in out.replace("; ", "")
+
+
+def test_numbers_round_trip_in_plain_decimal():
+    assert number(1.0) == "1"
+    assert number(-0.0) == "-0"
+    assert number(0.1 + 0.2) == "0.30000000000000004"
+    assert number(1e-20) == "0.00000000000000000001"
+    assert float(number(123456.789e10)) == 123456.789e10
+    for value in (1 / 3, -2 / 7, 25.4 / 3, 1e-7):
+        assert float(number(value)) == value and "e" not in number(value)
+
+
+def test_a_failing_program_is_not_flattened(tmp_path):
+    rc, out, err = run_flatten(tmp_path, "G0 X1\nG1 X[1/0]\nM2\n")
+    assert rc == 1 and out == ""
+    assert err.splitlines()[0] == "Attempt to divide by zero"
+
+
+def test_output_file_and_stdin(tmp_path):
+    (tmp_path / "p.ngc").write_text("G0 X1 Y2\nM2\n")
+    to_file = subprocess.run(
+        [sys.executable, "-m", "ngc2py", "flatten", "p.ngc", "-o", "flat.ngc"],
+        cwd=tmp_path, capture_output=True, text=True,
+        env=dict(__import__("os").environ, PYTHONPATH=str(harness.REPO)),
+    )
+    assert to_file.returncode == 0 and to_file.stdout == ""
+    from_stdin = subprocess.run(
+        [sys.executable, "-m", "ngc2py", "flatten", "-"],
+        cwd=tmp_path, capture_output=True, text=True, input="G0 X1 Y2\nM2\n",
+        env=dict(__import__("os").environ, PYTHONPATH=str(harness.REPO)),
+    )
+    assert from_stdin.returncode == 0
+    strip = lambda text: [l.split(";")[0] for l in text.splitlines() if not l.startswith(";")]
+    assert strip(from_stdin.stdout) == strip((tmp_path / "flat.ngc").read_text())
+
+
+def test_var_file_is_read_but_never_rewritten(tmp_path):
+    (tmp_path / "p.var").write_text("5161\t7.000000\n")
+    before = (tmp_path / "p.var").read_bytes()
+    rc, out, err = run_flatten(tmp_path, "G0 X#5161\n#5161 = 3\nM2\n", "-v", "p.var")
+    assert rc == 0, err
+    assert "G0 X7" in out
+    assert (tmp_path / "p.var").read_bytes() == before
