@@ -213,14 +213,19 @@ def test_an_escaping_python_exception_names_the_g_code_line(monkeypatch):
     from runtime.machine import Machine
     from runtime.main import run_cli
 
-    def broken(self, line, *codes, **words):
+    def broken(self, line, *args, **words):
         raise ValueError("boom")
 
-    monkeypatch.setattr(Machine, "block", broken)
-    ns = generated_namespace("G0 X1\nM2\n")
-    out, err = io.StringIO(), io.StringIO()
-    assert run_cli(ns["main"], ns["__ngc__"], [], out, err) == 1
-    assert err.getvalue() == "executing\ninternal error at p.ngc:1: ValueError: boom\n"
+    # a general block, and a plain move (the fast path)
+    for method, program in (("block", "G17 G0 X1\nM2\n"), ("move", "G0 X1\nM2\n")):
+        with monkeypatch.context() as patch:
+            patch.setattr(Machine, method, broken)
+            ns = generated_namespace(program)
+            out, err = io.StringIO(), io.StringIO()
+            assert run_cli(ns["main"], ns["__ngc__"], [], out, err) == 1
+        assert err.getvalue() == (
+            "executing\ninternal error at p.ngc:1: ValueError: boom\n"
+        ), method
 
 
 def test_a_gcode_error_in_a_data_row_names_the_row(monkeypatch):
