@@ -133,6 +133,10 @@ class Canon:
     def clear_aux_output_bit(self, index): ...
     def set_aux_output_value(self, index, value): ...
     def canon_error(self, text): ...
+    def print_text(self, text):
+        """A ``(PRINT,...)`` comment's expanded text. Not a canon call in
+        LinuxCNC (rs274 writes it to stdout itself); it is one here so that
+        a library caller gets it and nothing is written behind its back."""
 
     # --- program flow --------------------------------------------------
     def program_stop(self): ...
@@ -469,6 +473,10 @@ class TraceCanon(Canon):
 
     def canon_error(self, text):
         self._emit(f"CANON_ERROR({text})")
+
+    def print_text(self, text):
+        # rs274 prints the line itself, between trace lines, unnumbered.
+        self._write(text + "\n")
 
     # --- program flow --------------------------------------------------
     program_stop = _no_arguments("PROGRAM_STOP")
