@@ -64,6 +64,12 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument(
         "-b", dest="block_delete", action="store_true", help="turn block delete on"
     )
+    # Workflows built on the canonical calls: each module adds its command,
+    # which names its own handler.
+    from ngc2py import plot, stats
+
+    stats.add_parser(commands)
+    plot.add_parser(commands)
     return parser
 
 
@@ -154,6 +160,9 @@ def main(argv: Optional[List[str]] = None) -> int:
         # A usage error exits 1, as rs274 does (argparse would say 2).
         return 0 if stop.code in (0, None) else 1
     try:
+        handler = getattr(args, "handler", None)
+        if handler is not None:
+            return handler(args)
         return convert(args) if args.command == "convert" else run(args)
     except CompileError as error:
         if args.command == "run":
