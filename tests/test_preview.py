@@ -308,7 +308,7 @@ def test_linecode_fields():
 
 @needs_gcode
 @settings(PROFILE)
-@given(strategies.valid_programs())
+@given(strategies.valid_programs(feed_modes=True))
 def test_generated_programs_match_gcode_parse(text):
     compare(
         harness.REPO / "tests" / "_generated" / "preview.ngc", text=text, crashed=reject

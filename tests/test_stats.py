@@ -123,7 +123,7 @@ def test_extents_equal_rs274_on_linuxcnc_samples(program):
 
 @pytest.mark.rs274
 @settings(PROFILE)
-@given(strategies.valid_programs())
+@given(strategies.valid_programs(feed_modes=True))
 def test_extents_equal_rs274_on_generated_programs(text):
     program = harness.REPO / "tests" / "_generated" / "stats.ngc"
     expected = harness.run_rs274(program, text=text, timeout=20)
