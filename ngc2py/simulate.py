@@ -77,6 +77,7 @@ def run_program(
                 block_delete=args.block_delete,
                 source=source_map,
             )
+            machine.messages = stderr
             stderr.write(machine.tool_table_report)
             stderr.write(machine.settings.stderr_report)
             start(machine, main)

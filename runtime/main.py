@@ -92,6 +92,7 @@ def run_cli(
     stderr.flush()
     try:
         machine = Machine(TraceCanon(stdout), source=source_map, **options)
+        machine.messages = stderr
         # What rs274 says while reading its files: the tool table's
         # complaints on stdout (before the trace), the ini file's on stderr.
         stdout.write(machine.tool_table_report)
