@@ -269,6 +269,7 @@ class PreviewMachine(Machine):
         super().__init__(canon, **options)
         self.inches = True
         self.current_pocket = 0  # the module's canon reports slot 0 loaded
+        self.feed_rate = 1.0  # and a feed rate of 1, always
         self.reading = True
         self.reached_end = False
         self.new_plane = "XY"

@@ -322,3 +322,21 @@ def test_generated_broken_programs_match_gcode_parse(text):
     compare(
         harness.REPO / "tests" / "_generated" / "preview.ngc", text=text, crashed=reject
     )
+
+
+def _ncfiles():
+    from test_ncfiles import NCFILES
+
+    return sorted(NCFILES.glob("*.ngc")) if NCFILES.is_dir() else []
+
+
+@needs_gcode
+@pytest.mark.parametrize("program", _ncfiles(), ids=lambda p: p.name)
+def test_linuxcnc_samples_match_gcode_parse(program):
+    """LinuxCNC's own samples, used in place (programs nobody here wrote)."""
+    from test_ncfiles import out_of_scope
+
+    codes = out_of_scope(program)
+    if codes:
+        pytest.skip("out of ngc2py's scope: %s" % ", ".join(codes))
+    compare(program)
