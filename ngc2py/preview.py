@@ -43,9 +43,12 @@ Differences, on purpose: ``(PRINT, ...)`` text goes to the canon's
 itself); ``get_tool``'s answers are not used (ngc2py's ``tool_table=`` file
 is, since the module itself crashes on T words outside a running LinuxCNC);
 ``get_axis_mask`` is asked but ngc2py reads the XYZABC words rs274 reads;
-``linecode.feed_rate`` is the feed in force (the module's can show 1.0
-after a units change); M100-M199 call ``user_defined_function`` without
-looking for a program file.
+the line code's entries that describe the last block rather than the modes
+(``gcodes[2]``, ``mcodes[0]``, ``mcodes[1]``, ``mcodes[3]``) are only kept
+for lines ngc2py runs as blocks (rs274 also rewrites them for lines that
+only set parameters). Kept on purpose, because preview code sees them: the
+module's canon answers a feed rate of 1 whenever the interpreter asks (at
+start and on every G20/G21 change), and slot 0 as the loaded tool.
 """
 
 from __future__ import annotations

@@ -144,11 +144,11 @@ class ToolpathCanon(Canon):
     """
 
     def __init__(self) -> None:
-        self.position: List[float] = [0.0] * 9
+        self.position: Point = (0.0,) * 9
         self.inches = False
         self.first_units: Optional[bool] = None
         self.plane = "XY"
-        self._offsets = {"g5x": [0.0] * 9, "g92": [0.0] * 9, "tool": [0.0] * 9}
+        self._offsets = {"g5x": (0.0,) * 9, "g92": (0.0,) * 9, "tool": (0.0,) * 9}
 
     # --- subclasses --------------------------------------------------------
     def line(self, kind: str, start: Point, end: Point) -> None:
@@ -161,12 +161,13 @@ class ToolpathCanon(Canon):
     def to_mm(self, value: float) -> float:
         return value * MM_PER_INCH if self.inches else value
 
-    def _point(self, values: Sequence[float]) -> List[float]:
-        scale = MM_PER_INCH if self.inches else 1.0
-        point = list(values)
-        for i in LINEAR:
-            point[i] *= scale
-        return point
+    def _point(self, values: Point) -> Point:
+        """``values`` (program units) in millimetres."""
+        if not self.inches:
+            return values
+        k = MM_PER_INCH
+        x, y, z, a, b, c, u, v, w = values
+        return (x * k, y * k, z * k, a, b, c, u * k, v * k, w * k)
 
     def use_length_units(self, inches: bool):
         self.inches = bool(inches)
@@ -175,10 +176,9 @@ class ToolpathCanon(Canon):
         self.plane = plane
 
     def _shift(self, kind: str, values: Sequence[float]) -> None:
-        new = self._point(values)
+        new = self._point(tuple(values))
         old = self._offsets[kind]
-        for i in range(9):
-            self.position[i] -= new[i] - old[i]
+        self.position = tuple(p - (n - o) for p, n, o in zip(self.position, new, old))
         self._offsets[kind] = new
 
     def set_g5x_offset(self, index, x, y, z, a, b, c, u, v, w):
@@ -194,9 +194,9 @@ class ToolpathCanon(Canon):
     def _move(self, kind: str, values: Sequence[float]) -> None:
         if self.first_units is None:
             self.first_units = self.inches
-        start = tuple(self.position)
-        self.position = self._point(values)
-        self.line(kind, start, tuple(self.position))
+        start = self.position
+        self.position = end = self._point(values)
+        self.line(kind, start, end)
 
     def straight_traverse(self, x, y, z, a, b, c, u, v, w):
         self._move("rapid", (x, y, z, a, b, c, u, v, w))
@@ -209,11 +209,11 @@ class ToolpathCanon(Canon):
 
     def rigid_tap(self, x, y, z, scale):
         # The spindle reverses at the bottom: in to the point and back out.
-        start = tuple(self.position)
-        target = self._point((x, y, z) + tuple(self.position[3:]))
-        target[3:] = start[3:]  # only X, Y and Z take part
-        self.line("feed", start, tuple(target))
-        self.line("feed", tuple(target), start)
+        start = self.position
+        k = MM_PER_INCH if self.inches else 1.0
+        target = (x * k, y * k, z * k) + start[3:]  # only X, Y and Z move
+        self.line("feed", start, target)
+        self.line("feed", target, start)
 
     def arc_feed(
         self,
@@ -232,12 +232,12 @@ class ToolpathCanon(Canon):
     ):
         if self.first_units is None:
             self.first_units = self.inches
-        start = tuple(self.position)
-        end = list(self.position[:3]) + self._point((0, 0, 0, a, b, c, u, v, w))[3:]
+        start = self.position
+        end = list(start[:3]) + list(self._point((0, 0, 0, a, b, c, u, v, w))[3:])
         axes = PLANE_AXES.get(self.plane)
         if axes is None:  # a UVW plane: X, Y and Z stay where they are
-            self.position = end
-            self.line("feed", start, tuple(end))
+            self.position = tuple(end)
+            self.line("feed", start, self.position)
             return
         f, s, n = axes
         end[f], end[s], end[n] = (
@@ -245,29 +245,56 @@ class ToolpathCanon(Canon):
             self.to_mm(second_end),
             self.to_mm(axis_end),
         )
-        self.position = end
+        self.position = end = tuple(end)
         centre = (self.to_mm(first_axis), self.to_mm(second_axis))
-        self.arc(make_arc(start, tuple(end), axes, centre, rotation))
+        self.arc(make_arc(start, end, axes, centre, rotation))
 
 
 class Extents:
-    """Running minimum and maximum of each of the nine axes."""
+    """Running minimum and maximum of each of the nine axes (``low`` and
+    ``high``, nine values each)."""
 
     def __init__(self) -> None:
-        self.low = [math.inf] * 9
-        self.high = [-math.inf] * 9
+        inf = math.inf
+        self._xyz = [inf, -inf, inf, -inf, inf, -inf]
+        self._rest_low = [inf] * 6
+        self._rest_high = [-inf] * 6
+        self._rest: Optional[Tuple[float, ...]] = None
 
     def add(self, point: Sequence[float]) -> None:
-        low, high = self.low, self.high
-        for i, value in enumerate(point):
-            if value < low[i]:
-                low[i] = value
-            if value > high[i]:
-                high[i] = value
+        # This runs for every move: X, Y and Z unrolled, and the other six
+        # axes only looked at when they changed (they seldom do).
+        box = self._xyz
+        x, y, z = point[0], point[1], point[2]
+        if x < box[0]:
+            box[0] = x
+        if x > box[1]:
+            box[1] = x
+        if y < box[2]:
+            box[2] = y
+        if y > box[3]:
+            box[3] = y
+        if z < box[4]:
+            box[4] = z
+        if z > box[5]:
+            box[5] = z
+        rest = tuple(point[3:])
+        if rest != self._rest:
+            self._rest = rest
+            self._rest_low = list(map(min, self._rest_low, rest))
+            self._rest_high = list(map(max, self._rest_high, rest))
+
+    @property
+    def low(self) -> List[float]:
+        return self._xyz[0::2] + self._rest_low
+
+    @property
+    def high(self) -> List[float]:
+        return self._xyz[1::2] + self._rest_high
 
     @property
     def empty(self) -> bool:
-        return self.low[0] == math.inf
+        return self._xyz[0] == math.inf
 
 
 __all__ = [
