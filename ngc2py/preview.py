@@ -497,11 +497,12 @@ def parse(
         adapter, tool_table=tool_table, var_file=var_file, ini=ini, source=source_map
     )
     adapter.machine = machine
-    machine.var_file = None  # read at start, never written back
     _last_error = ""
     result = INTERP_OK
     try:
         machine._initialise()
+        machine.var_file = None  # read (and normalised) at start, as the
+        # module's interpreter does, but never written back at the end
         machine.active = machine._active(None, 0)
         # The module announces the line reached by opening the file: the
         # first line when it is a % (opening reads it), else none.

@@ -340,3 +340,42 @@ def test_linuxcnc_samples_match_gcode_parse(program):
     if codes:
         pytest.skip("out of ngc2py's scope: %s" % ", ".join(codes))
     compare(program)
+
+
+@needs_gcode
+def test_parameter_file_attribute(tmp_path):
+    """``canon.parameter_file`` is the .var file both read at start."""
+    (tmp_path / "prog.var").write_text(
+        "5220\t1.000000\n5221\t2.000000\n5222\t3.000000\n"
+    )
+    path = tmp_path / "prog.ngc"
+    path.write_text("G21 G0 X1\n(DEBUG, #5221 #5222)\nM2\n")
+
+    class WithFile(Recorder):
+        parameter_file = "prog.var"
+
+    with scratch_run(path) as s:
+        expected_out = s.tmp / "with-file.json"
+        script = (
+            "import sys; sys.argv = sys.argv[:1] + %r;"
+            "import gcode_reference as g;"
+            "g.Recorder.parameter_file = 'prog.var';"
+            "g.main()"
+        ) % (
+            [s.program.name, '["G20", ""]', str(expected_out)],
+        )
+        subprocess.run(
+            [GCODE_PYTHON, "-c", script],
+            cwd=s.work,
+            env=s.env({"PYTHONPATH": str(REFERENCE.parent)}),
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+            timeout=60,
+        )
+        expected = json.loads(expected_out.read_text())
+        recorder = WithFile()
+        result = list(ngc2py.parse(s.program.name, recorder, "G20", ""))
+    messages = [c for c in recorder.calls if c[0] == "message"]
+    assert messages == [["message", [" 2.000000 3.000000"]]]
+    assert messages == [c for c in expected["calls"] if c[0] == "message"]
+    assert result == expected["result"]
