@@ -280,6 +280,11 @@ class PreviewMachine(Machine):
         # Nothing written yet: the first line code is all zeros.
         self.active = ((0,) * 17, (0,) * 10, (0.0,) * 5)
 
+    def refresh_plain(self) -> None:
+        # No fast path: it runs data rows without announcing each line and
+        # skips block(), where the line code's modal state is recorded.
+        self._plain = False
+
     @property
     def block_delete(self) -> bool:
         return bool(self.canon.target.get_block_delete())
