@@ -10,6 +10,7 @@ matplotlib is imported only when a picture is drawn.
 from __future__ import annotations
 
 import argparse
+import importlib
 import io
 import math
 import os
@@ -216,7 +217,7 @@ def picture_format(args: argparse.Namespace) -> str:
 def command(args: argparse.Namespace) -> int:
     try:
         fmt = picture_format(args)
-        import matplotlib  # noqa: F401 - fail before running the program
+        importlib.import_module("matplotlib")  # fail before running the program
     except (ValueError, ImportError) as error:
         sys.stderr.write("ngc2py plot: %s\n" % error)
         return EXIT_ERROR

@@ -20,7 +20,9 @@ from ngc2py.plot import STYLES, PlotCanon, project
 from runtime.machine import Machine
 from runtime.main import start
 
-matplotlib = pytest.importorskip("matplotlib", reason="matplotlib is a dependency of ngc2py plot")
+matplotlib = pytest.importorskip(
+    "matplotlib", reason="matplotlib is a dependency of ngc2py plot"
+)
 
 FLANGE = harness.REPO / "examples" / "flange.ngc"
 
@@ -52,7 +54,9 @@ def test_arcs_are_drawn_as_arcs_in_their_plane(tmp_path):
     for x, y, z in xz:
         assert y == pytest.approx(3.0)  # in the XZ plane
         assert math.hypot(x, z) == pytest.approx(10.0)
-    assert max(z for _, _, z in xz) == pytest.approx(10.0, abs=0.01)  # G2 in XZ bulges to +Z
+    assert max(z for _, _, z in xz) == pytest.approx(
+        10.0, abs=0.01
+    )  # G2 in XZ bulges to +Z
     for x, y, z in yz:
         assert x == pytest.approx(-10.0)
         assert math.hypot(y - 3.0, z - 2.0) == pytest.approx(2.0)
@@ -60,7 +64,10 @@ def test_arcs_are_drawn_as_arcs_in_their_plane(tmp_path):
 
 def test_rapids_and_feeds_are_kept_apart(tmp_path):
     canon = plot_canon(tmp_path, "G0 X1\nG0 Y1\nG1 X2 F10\nG0 Z1\nM2\n")
-    assert canon.paths["rapid"] == [[(0, 0, 0), (1, 0, 0), (1, 1, 0)], [(2, 1, 0), (2, 1, 1)]]
+    assert canon.paths["rapid"] == [
+        [(0, 0, 0), (1, 0, 0), (1, 1, 0)],
+        [(2, 1, 0), (2, 1, 1)],
+    ]
     assert canon.paths["feed"] == [[(1, 1, 0), (2, 1, 0)]]
     assert canon.moves == {"rapid": 3, "feed": 1, "arc": 0}
 
@@ -68,16 +75,18 @@ def test_rapids_and_feeds_are_kept_apart(tmp_path):
 def test_inch_program_is_drawn_in_inches(tmp_path):
     canon = plot_canon(tmp_path, "G20 G0 X1\nM2\n")
     assert canon.first_units is True
-    assert canon.paths["rapid"][0][-1][0] == pytest.approx(25.4)  # kept in mm, drawn /25.4
+    assert canon.paths["rapid"][0][-1][0] == pytest.approx(
+        25.4
+    )  # kept in mm, drawn /25.4
 
 
 def test_views():
     assert project([(1, 2, 3)], "xy") == [(1, 2)]
     assert project([(1, 2, 3)], "xz") == [(1, 3)]
     assert project([(1, 2, 3)], "yz") == [(2, 3)]
-    (u, v), = project([(1, 0, 0)], "iso")
+    ((u, v),) = project([(1, 0, 0)], "iso")
     assert u > 0 and v > 0  # X to the upper right, as --help says
-    (u, v), = project([(0, 1, 0)], "iso")
+    ((u, v),) = project([(0, 1, 0)], "iso")
     assert u < 0 and v > 0
 
 

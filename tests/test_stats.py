@@ -105,7 +105,9 @@ def _ncfiles():
 
 
 @pytest.mark.rs274
-@pytest.mark.skipif(not NCFILES.is_dir(), reason="LinuxCNC's sample programs are not installed")
+@pytest.mark.skipif(
+    not NCFILES.is_dir(), reason="LinuxCNC's sample programs are not installed"
+)
 @pytest.mark.parametrize("program", _ncfiles(), ids=lambda p: p.name)
 def test_extents_equal_rs274_on_linuxcnc_samples(program):
     expected = harness.run_rs274(program, timeout=60)
@@ -116,7 +118,10 @@ def test_extents_equal_rs274_on_linuxcnc_samples(program):
     # Samples ngc2py does not run yet (canned cycles, ...) stop early; the
     # comparison is then up to where both stopped, so only compare when the
     # runs agree on the number of moves.
-    if canon.report()["moves"]["total"] != TracePath(expected.stdout.decode("latin-1")).moves:
+    if (
+        canon.report()["moves"]["total"]
+        != TracePath(expected.stdout.decode("latin-1")).moves
+    ):
         pytest.skip("ngc2py stops earlier on this sample (out of scope codes)")
     assert_same_extents(canon, expected.stdout.decode("latin-1"))
 
@@ -252,7 +257,7 @@ def test_command_error_exit_status(tmp_path):
 
 def test_command_reads_standard_input(tmp_path, monkeypatch):
     monkeypatch.setattr("sys.stdin", io.TextIOWrapper(io.BytesIO(b"G0 X3\nM2\n")))
-    with scratch_run(tmp_path / "x.ngc", "") as s:
+    with scratch_run(tmp_path / "x.ngc", ""):
         rc, out, err = main(["stats", "-", "--json"])
     assert rc == 0, err
     assert json.loads(out)["extents"]["x"] == [3.0, 3.0]
