@@ -150,3 +150,14 @@ def test_errors_write_no_picture(tmp_path):
 def test_help():
     rc, out, _ = main(["plot", "--help"])
     assert rc == 0 and "--view" in out and "exit status" in out
+
+
+def test_program_from_standard_input(tmp_path, monkeypatch):
+    monkeypatch.setattr(
+        "sys.stdin", io.TextIOWrapper(io.BytesIO(b"G0 X3\nG1 Y2 F9\nM2\n"))
+    )
+    out = tmp_path / "stdin.svg"
+    with scratch_run(tmp_path / "x.ngc", ""):
+        rc, _, err = main(["plot", "-", "-o", str(out)])
+    assert rc == 0, err
+    assert "standard input" in out.read_text()
