@@ -27,7 +27,7 @@ QUIET_HELP = "no progress bar (one is drawn only when stderr is a terminal)"
 
 #: Modules that each add a sub-command: ``register(commands)`` adds the
 #: parser and ``set_defaults(handler=...)``, the handler returns the exit status.
-WORKFLOWS = ("ngc2py.golden", "ngc2py.flatten")
+WORKFLOWS = ("ngc2py.golden", "ngc2py.flatten", "ngc2py.stats", "ngc2py.plot")
 
 EPILOG = """\
 exit status: 0 success; 1 the G-code program failed (as rs274 fails:

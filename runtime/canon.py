@@ -133,8 +133,11 @@ class Canon:
     def clear_aux_output_bit(self, index): ...
     def set_aux_output_value(self, index, value): ...
     def canon_error(self, text): ...
-    def print_line(self, text):
-        """A line rs274 prints on stdout outside the trace (G7x's "Oops")."""
+    def print_text(self, text):
+        """Text rs274 writes to stdout itself, outside the canon: a
+        ``(PRINT,...)`` comment's expansion, G7x's "Oops" diagnostics. A
+        method here so that a library caller gets it and nothing is written
+        behind its back."""
 
     # --- program flow --------------------------------------------------
     def program_stop(self): ...
@@ -492,7 +495,8 @@ class TraceCanon(Canon):
     def canon_error(self, text):
         self._emit(f"CANON_ERROR({text})")
 
-    def print_line(self, text):
+    def print_text(self, text):
+        # rs274 prints the line itself, between trace lines, unnumbered.
         self._write(text + "\n")
 
     # --- program flow --------------------------------------------------

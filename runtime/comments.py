@@ -20,7 +20,8 @@ Facts measured against rs274 (LinuxCNC 2.9) that shape this module:
   number of decimals for the parameters after them (``%d`` means 0). Any
   other ``%.`` loses its ``%``; any other ``%`` is kept.
 * DEBUG prints only while ``#5599`` is positive. PRINT writes the line to
-  stdout (the same stream as the trace), not to stderr. LOG* are canon
+  stdout (the same stream as the trace), not to stderr; here it goes to the
+  canon's ``print_text``, which ``TraceCanon`` writes to the trace stream. LOG* are canon
   calls (the stand-alone rs274 prints them in the trace, opens no file).
   ABORT fails with the expanded text as the error message.
 * An unterminated ``#<name`` or a trailing ``#`` makes rs274 print whatever
@@ -30,7 +31,6 @@ Facts measured against rs274 (LinuxCNC 2.9) that shape this module:
 
 from __future__ import annotations
 
-import sys
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Optional, Tuple, Union
@@ -223,8 +223,7 @@ def execute_comment(machine, comment: Comment) -> None:
         if machine.params.get_internal(DEBUG_SWITCH) > 0.0:
             canon.message(expand(machine, comment.parts))
     elif kind == "print":
-        sys.stdout.write(expand(machine, comment.parts) + "\n")
-        sys.stdout.flush()
+        canon.print_text(expand(machine, comment.parts))
     elif kind == "log":
         canon.log(expand(machine, comment.parts))
     elif kind == "logopen":

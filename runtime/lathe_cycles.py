@@ -78,7 +78,7 @@ class LatheCyclesMixin:
         i = words.get("i", 1.0)
         if i <= 0:
             raise GCodeError("G7X error: I must be greater than zero.")
-        profile = Profile(segments, note=self.canon.print_line)
+        profile = Profile(segments, note=self.canon.print_text)
         out = Motion(self._g7x_straight, self._g7x_rapid, self._g7x_arc)
         d, e, p = words.get("d", 0.0), words.get("e", 0.0), words.get("p", 1.0)
         r, u, w = words.get("r", 0.5), words.get("u", 0.0), words.get("w", 0.0)

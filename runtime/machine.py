@@ -27,8 +27,9 @@ so, at the point rs274 would execute them.
 
 from __future__ import annotations
 
+import io
 import sys
-from typing import Callable, Dict, Iterator, NamedTuple, Optional
+from typing import Callable, Dict, Iterator, NamedTuple, Optional, TextIO
 
 from runtime import blockcheck, loopflags, olabels
 from runtime.canon import Canon, TraceCanon
@@ -233,6 +234,10 @@ class Machine(
         #: rs274's user (machine) units per mm: its canon reports inches.
         self.user_units_per_mm = USER_UNITS_PER_MM
         self.var_file = var_file
+        #: Where rs274's own complaints while running go (the parameter
+        #: file's perror lines): kept here for a library caller, whose
+        #: stderr stays untouched; the command line points it at stderr.
+        self.messages: TextIO = io.StringIO()
         self._params = Params(default_parameters())
         self._globals = Globals(self)
         self._locals = Locals()
@@ -346,10 +351,13 @@ class Machine(
         raise GCodeError(message, location)
 
     def _save_parameters(self) -> None:
-        """rs274 rewrites the -v file when it exits, even after an error."""
+        """rs274 rewrites the -v file when it exits, even after an error.
+        What it says about a failed link or rename goes to ``messages``."""
         values = self._params
         save_parameter_file(
-            self.var_file, {n: values.get_internal(n) for n in range(1, MAX_PARAMETER)}
+            self.var_file,
+            {n: values.get_internal(n) for n in range(1, MAX_PARAMETER)},
+            self.messages,
         )
 
     def _initialise(self) -> None:
@@ -357,7 +365,7 @@ class Machine(
         canon = self.canon
         canon.use_length_units(False)
         if self.var_file is not None:
-            self._params = Params(initial_parameters(self.var_file))
+            self._params = Params(initial_parameters(self.var_file, self.messages))
         p = self._params
         if self.settings.disable_g92_persistence:
             for number in range(G92_ENABLED, G92_ENABLED + 10):

@@ -114,6 +114,7 @@ def run_cli(
             source=source_map,
             **options,
         )
+        machine.messages = stderr
         # What rs274 says while reading its files: the tool table's
         # complaints on stdout (before the trace), the ini file's on stderr.
         stdout.write(machine.tool_table_report)

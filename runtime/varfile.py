@@ -87,13 +87,16 @@ def read_parameter_file(path: str) -> Dict[int, float]:
     return _parse(text)
 
 
-def initial_parameters(path: Optional[str]) -> Dict[int, float]:
+def initial_parameters(
+    path: Optional[str], stderr: Optional[TextIO] = None
+) -> Dict[int, float]:
     """The parameters a run starts with, doing what rs274's start-up does.
 
     ``path`` is the ``-v`` file (None: no -v, see `default_parameters`). The
     file is read, #5220 is repaired, #5599 set to 1, the file is saved (normalised, old copy
     to ``.bak``) and #5400-#5413, #5600-#5601 are cleared. Returns only the
-    non-zero parameters; every other parameter starts at 0.
+    non-zero parameters; every other parameter starts at 0. Complaints
+    about the save go to ``stderr`` (default sys.stderr).
     """
     if path is None:
         return default_parameters()
@@ -101,7 +104,7 @@ def initial_parameters(path: Optional[str]) -> Dict[int, float]:
     if not 1 <= int(values.get(5220, 0.0) + 0.0001) <= 9:
         values[5220] = 1.0
     values[DEBUG_SWITCH] = 1.0
-    save_parameter_file(path, values)
+    save_parameter_file(path, values, stderr)
     for number in CLEARED_AT_START:
         values.pop(number, None)
     return {n: v for n, v in values.items() if v != 0.0}

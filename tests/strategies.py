@@ -128,8 +128,10 @@ def expressions(draw, scope: Scope, depth: int = 2) -> str:
 class Writer:
     """Accumulates lines and the generator state needed to keep them valid."""
 
-    def __init__(self, draw):
+    def __init__(self, draw, feed_modes: bool = False):
         self.draw = draw
+        #: also write G93/G95 moves and UVW planes (see stmt_modal)
+        self.feed_modes = feed_modes
         self.lines: List[str] = []
         self.label = 100
         self.scope = Scope()
@@ -261,7 +263,9 @@ def stmt_comment(w: Writer) -> None:
 
 
 def stmt_modal(w: Writer) -> None:
-    kind = w.draw(st.integers(0, 11))
+    # Kinds 12-14 only when asked for: adding them to every program would
+    # change every derandomised example of the existing tests.
+    kind = w.draw(st.integers(0, 14 if w.feed_modes else 11))
     if kind == 0:
         w.emit(w.draw(st.sampled_from(["G20", "G21"])))
     elif kind == 1:
@@ -290,8 +294,22 @@ def stmt_modal(w: Writer) -> None:
         else:
             w.emit("G90 G53 G0 X0" if w.draw(st.booleans()) else "G28.1")
             _restore_dist(w)
-    else:
+    elif kind == 11:
         w.emit(w.draw(st.sampled_from(["G52 X1 Y2", "G52 X0 Y0", "G30.1", "M0", "M1", "M60"])))
+    elif kind == 12:
+        # inverse time: every feed move needs its own F (minutes^-1)
+        w.emit(f"G93 G1 {_axes(w, 'XYZ')} F{w.draw(numbers(1, 50, 1))}")
+        w.emit("G94 F200")
+    elif kind == 13:
+        # feed per revolution needs a turning spindle
+        w.emit(f"S{w.draw(numbers(100, 5000, 1))} M3")
+        w.emit(f"G95 G1 {_axes(w, 'XYZ')} F{w.draw(numbers(1, 20, 100))}")
+        w.emit("G94 F200")
+    else:
+        # the UVW planes (straight moves only: the arcs choose their plane)
+        w.emit(w.draw(st.sampled_from(["G17.1", "G18.1", "G19.1"])))
+        w.emit(f"G1 {_axes(w, 'XYZ')}")
+        w.emit("G17")
 
 
 #: Canned cycles: the plane's in-plane letters and its hole-axis letter.
@@ -581,9 +599,10 @@ def define_sub(w: Writer, index: int) -> None:
 
 
 @st.composite
-def valid_programs(draw, max_statements: int = 12) -> str:
-    """A whole program, as text, that rs274 accepts."""
-    w = Writer(draw)
+def valid_programs(draw, max_statements: int = 12, feed_modes: bool = False) -> str:
+    """A whole program, as text, that rs274 accepts (``feed_modes``: with
+    inverse time and feed per revolution moves and UVW planes too)."""
+    w = Writer(draw, feed_modes)
     w.subs = []
     ending = draw(st.sampled_from(["M2", "M30", "m2", "%"]))
     if ending == "%":

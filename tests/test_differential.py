@@ -75,6 +75,13 @@ def test_valid_programs_run(text):
 
 
 @PROFILE
+@given(strategies.valid_programs(feed_modes=True))
+def test_valid_programs_with_feed_modes_run(text):
+    """Inverse time, feed per revolution and the UVW planes as well."""
+    check_same(text, "inprocess")
+
+
+@PROFILE
 @given(strategies.valid_programs(max_statements=6))
 def test_valid_programs_converted(text):
     """The generated module on its own, not only `ngc2py run`."""

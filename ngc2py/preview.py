@@ -1,0 +1,580 @@
+"""A drop-in for LinuxCNC's ``gcode.parse``: the preview API of Axis and the
+other LinuxCNC GUIs, on top of ngc2py's canon protocol.
+
+``parse(filename, canon, unitcode, initcode)`` runs the program and calls
+``canon``'s methods the way LinuxCNC 2.9's ``gcode`` module does
+(src/emc/rs274ngc/gcodemodule.cc), so preview code written for it can
+switch to ngc2py:
+
+* lengths are always **inches** (the module divides by 25.4 while the
+  program is in G21): positions, arc centres, offsets, feed rates (even in
+  G93 inverse time, as LinuxCNC does); angles and dwell seconds are passed
+  as they are;
+* the interpreter starts in G20 (the module tells it the machine is in
+  inches); ``unitcode`` and ``initcode`` (e.g. ``"G21"``, ``"G17 G90"``) run
+  before the first line, and so does each string of the list in the
+  ``parse(filename, canon, [codes...])`` form;
+* ``next_line(linecode)`` comes before the first call made for a new line
+  number (per file: a subroutine's lines carry their own file's numbers);
+  ``linecode.sequence_number`` is that number, ``gcodes``/``mcodes`` the
+  modal state as of the previous block (``active_g_codes`` and
+  ``active_m_codes``), ``feed_rate`` and ``speed`` its settings;
+* the calls it makes: ``set_g5x_offset(index, x..w)``, ``set_g92_offset``,
+  ``set_xy_rotation``, ``set_plane(1..6)`` (XY, YZ, XZ, UV, VW, UW),
+  ``set_feed_rate``, ``straight_traverse``/``straight_feed``/
+  ``straight_probe`` (x..w), ``arc_feed(first_end, second_end, first_axis,
+  second_axis, rotation, axis_end, a, b, c, u, v, w)``, ``rigid_tap(x, y,
+  z)``, ``dwell``, ``change_tool(pocket)``, ``tool_offset(x..w)``,
+  ``comment``, ``message``, ``user_defined_function(num, p, q)``; it asks
+  ``get_external_length_units``, ``get_external_angular_units``,
+  ``get_axis_mask``, ``get_tool(pocket)`` (pockets 0-1000, at start),
+  ``get_block_delete`` (for each ``/`` line) and ``check_abort`` (about once
+  a second: a true answer stops the run with ``KeyboardInterrupt("Load
+  aborted")``); ``parameter_file``, if the canon has it, is the ``.var``
+  file read at start (never written);
+* it returns ``(result, last_sequence_number)``: ``result`` is
+  LinuxCNC's code (1 after M2/M30, 3 at a closing ``%``, 4 when the file
+  cannot be opened, 5 for an error: :func:`strerror` gives its message) and
+  the line number, one past the line when the error came while reading it;
+* an exception raised by a canon method stops the run and propagates.
+
+Differences, on purpose: ``(PRINT, ...)`` text goes to the canon's
+``print_text`` method if it has one, never to stdout (the module prints it
+itself); ``get_tool``'s answers are not used (ngc2py's ``tool_table=`` file
+is, since the module itself crashes on T words outside a running LinuxCNC);
+``get_axis_mask`` is asked but ngc2py reads the XYZABC words rs274 reads;
+the line code's entries that describe the last block rather than the modes
+(``gcodes[2]``, ``mcodes[0]``, ``mcodes[1]``, ``mcodes[3]``) are only kept
+for lines ngc2py runs as blocks (rs274 also rewrites them for lines that
+only set parameters). Kept on purpose, because preview code sees them: the
+module's canon answers a feed rate of 1 whenever the interpreter asks (at
+start and on every G20/G21 change), and slot 0 as the loaded tool.
+"""
+
+from __future__ import annotations
+
+import re
+import time
+from typing import Any, List, Optional, Sequence, Tuple
+
+from runtime.arcs import INVERSE_TIME, UNITS_PER_MINUTE, UNITS_PER_REVOLUTION
+from runtime.blockcheck import M_USER
+from runtime.canon import Canon
+from runtime.codes import M_OFFSET, g_code, m_code
+from runtime.errors import GCodeError, g_code_frames, locate
+from runtime.machine import Machine
+from runtime.mcodes import ProgramEnd
+
+INTERP_OK = 0
+INTERP_EXIT = 1
+INTERP_EXECUTE_FINISH = 2
+INTERP_ENDFILE = 3
+INTERP_FILE_NOT_OPEN = 4
+INTERP_ERROR = 5
+#: Results at or above this are errors (``gcode.MIN_ERROR``).
+MIN_ERROR = INTERP_ENDFILE
+
+MM_PER_INCH = 25.4
+#: LinuxCNC's CANON_PLANE numbers.
+PLANES = {"XY": 1, "YZ": 2, "XZ": 3, "UV": 4, "VW": 5, "UW": 6}
+#: active_g_codes' plane entry for each plane.
+_PLANE_CODES = {"XY": 170, "XZ": 180, "YZ": 190, "UV": 171, "UW": 181, "VW": 191}
+#: The pockets LinuxCNC asks the canon about at start (CANON_POCKETS_MAX).
+POCKETS = 1001
+#: Seconds between check_abort questions.
+ABORT_INTERVAL = 1.0
+
+_last_error = ""
+
+
+def strerror(code: int) -> str:
+    """The message of the last error :func:`parse` returned (as
+    ``gcode.strerror`` does, whatever ``code`` is)."""
+    return _last_error
+
+
+class LineCode:
+    """What ``next_line`` receives: ``gcode.linecode``'s fields."""
+
+    __slots__ = ("gcodes", "mcodes", "settings")
+
+    def __init__(self, gcodes: Tuple[int, ...], mcodes: Tuple[int, ...], settings):
+        self.gcodes = gcodes
+        self.mcodes = mcodes
+        self.settings = settings
+
+    sequence_number = property(lambda self: self.gcodes[0])
+    feed_rate = property(lambda self: self.settings[1])
+    speed = property(lambda self: self.settings[2])
+    motion_mode = property(lambda self: self.gcodes[1])
+    block = property(lambda self: self.gcodes[2])
+    plane = property(lambda self: self.gcodes[3])
+    cutter_side = property(lambda self: self.gcodes[4])
+    units = property(lambda self: self.gcodes[5])
+    distance_mode = property(lambda self: self.gcodes[6])
+    feed_mode = property(lambda self: self.gcodes[7])
+    origin = property(lambda self: self.gcodes[8])
+    tool_length_offset = property(lambda self: self.gcodes[9])
+    retract_mode = property(lambda self: self.gcodes[10])
+    path_mode = property(lambda self: self.gcodes[11])
+    stopping = property(lambda self: self.mcodes[1])
+    spindle = property(lambda self: self.mcodes[2])
+    toolchange = property(lambda self: self.mcodes[3])
+    mist = property(lambda self: self.mcodes[4])
+    flood = property(lambda self: self.mcodes[5])
+    overrides = property(lambda self: self.mcodes[6])
+
+    def __repr__(self) -> str:
+        return "<linecode %d %r %r>" % (self.sequence_number, self.gcodes, self.mcodes)
+
+
+class PreviewCanon(Canon):
+    """Translates ngc2py's canon calls into ``gcode.parse``'s calls on ``target``."""
+
+    def __init__(self, target: Any) -> None:
+        self.target = target
+        self.machine: Optional["PreviewMachine"] = None
+        self.last_sequence = -1
+        #: Blank lines before a leading %: rs274 does not number them.
+        self.skipped = 0
+        self._checked = time.monotonic()
+
+    # --- bookkeeping -------------------------------------------------------
+    def new_line(self, sequence: Optional[int] = None) -> None:
+        """``maybe_new_line``: announce a line number the first time a call
+        is made for it."""
+        machine = self.machine
+        if sequence is None:
+            sequence = machine.line
+        if sequence > self.skipped:
+            sequence -= self.skipped
+        if sequence == self.last_sequence:
+            return
+        now = time.monotonic()
+        if now - self._checked > ABORT_INTERVAL:
+            self._checked = now
+            if self.target.check_abort():
+                raise KeyboardInterrupt("Load aborted")
+        self.last_sequence = sequence
+        gcodes, mcodes, settings = machine.active
+        self.target.next_line(LineCode((sequence,) + gcodes[1:], mcodes, settings))
+
+    def _length(self, value: float) -> float:
+        return value if self.machine.inches else value / MM_PER_INCH
+
+    def _pose(self, x, y, z, a, b, c, u, v, w) -> Tuple[float, ...]:
+        if self.machine.inches:
+            return (x, y, z, a, b, c, u, v, w)
+        k = MM_PER_INCH
+        return (x / k, y / k, z / k, a, b, c, u / k, v / k, w / k)
+
+    def _call(self, name: str, *args) -> None:
+        self.new_line()
+        getattr(self.target, name)(*args)
+
+    # --- calls the gcode module passes on ---------------------------------
+    def set_g5x_offset(self, index, x, y, z, a, b, c, u, v, w):
+        self._call("set_g5x_offset", index, *self._pose(x, y, z, a, b, c, u, v, w))
+
+    def set_g92_offset(self, x, y, z, a, b, c, u, v, w):
+        self._call("set_g92_offset", *self._pose(x, y, z, a, b, c, u, v, w))
+
+    def set_xy_rotation(self, degrees):
+        self._call("set_xy_rotation", degrees)
+
+    def select_plane(self, plane):
+        # The trace names UV/UW/VW planes "UNKNOWN"; the machine said which.
+        self._call("set_plane", PLANES.get(plane) or PLANES[self.machine.new_plane])
+
+    def set_traverse_rate(self, rate):
+        self._call("set_traverse_rate", rate)
+
+    def set_feed_rate(self, rate):
+        self._call("set_feed_rate", self._length(rate))
+
+    def straight_traverse(self, x, y, z, a, b, c, u, v, w):
+        self._call("straight_traverse", *self._pose(x, y, z, a, b, c, u, v, w))
+
+    def straight_feed(self, x, y, z, a, b, c, u, v, w):
+        self._call("straight_feed", *self._pose(x, y, z, a, b, c, u, v, w))
+
+    def straight_probe(self, x, y, z, a, b, c, u, v, w, probe_type):
+        self._call("straight_probe", *self._pose(x, y, z, a, b, c, u, v, w))
+
+    def rigid_tap(self, x, y, z, scale):
+        self._call("rigid_tap", self._length(x), self._length(y), self._length(z))
+
+    def arc_feed(
+        self,
+        first_end,
+        second_end,
+        first_axis,
+        second_axis,
+        rotation,
+        axis_end,
+        a,
+        b,
+        c,
+        u,
+        v,
+        w,
+    ):
+        n = self._length
+        self._call(
+            "arc_feed",
+            n(first_end),
+            n(second_end),
+            n(first_axis),
+            n(second_axis),
+            rotation,
+            n(axis_end),
+            a,
+            b,
+            c,
+            n(u),
+            n(v),
+            n(w),
+        )
+
+    def dwell(self, seconds):
+        self._call("dwell", seconds)
+
+    def change_tool(self, slot):
+        self._call("change_tool", slot)
+
+    def change_tool_number(self, tool):
+        self.new_line()  # the module announces the line, then does nothing
+
+    def use_tool_length_offset(self, x, y, z, a, b, c, u, v, w):
+        self._call("tool_offset", *self._pose(x, y, z, a, b, c, u, v, w))
+
+    def comment(self, text):
+        self._call("comment", text)
+
+    def message(self, text):
+        self._call("message", text)
+
+    def print_text(self, text):
+        handler = getattr(self.target, "print_text", None)
+        if handler is not None:
+            handler(text)
+
+    def user_defined_function(self, number, p, q):
+        self._call("user_defined_function", number, p, q)
+
+
+class PreviewMachine(Machine):
+    """The machine as the gcode module's interpreter sees it: it starts in
+    inches, asks the canon about block delete line by line, and records
+    the modal state the way ``active_g_codes``/``active_m_codes`` do."""
+
+    def __init__(self, canon: PreviewCanon, **options) -> None:
+        super().__init__(canon, **options)
+        self.inches = True
+        self.current_pocket = 0  # the module's canon reports slot 0 loaded
+        self.feed_rate = 1.0  # and a feed rate of 1, always
+        self.reading = True
+        self.reached_end = False
+        self.new_plane = "XY"
+        self.path_mode_set = False
+        # Nothing written yet: the first line code is all zeros.
+        self.active = ((0,) * 17, (0,) * 10, (0.0,) * 5)
+
+    def refresh_plain(self) -> None:
+        # No fast path: it runs data rows without announcing each line and
+        # skips block(), where the line code's modal state is recorded.
+        self._plain = False
+
+    @property
+    def block_delete(self) -> bool:
+        return bool(self.canon.target.get_block_delete())
+
+    @block_delete.setter
+    def block_delete(self, value) -> None:
+        pass  # the canon answers instead
+
+    def block(self, line, *codes, n=None, comment=None, **words):
+        try:
+            super().block(line, *codes, n=n, comment=comment, **words)
+        except ProgramEnd:
+            self.active = self._active(codes, line)  # M2 writes its state too
+            raise
+        if not self.path_mode_set:
+            self.path_mode_set = not _PATH_MODES.isdisjoint(codes)
+        self.active = self._active(codes, line)
+
+    def _set_plane(self, plane: str) -> None:
+        self.new_plane = plane
+        super()._set_plane(plane)
+
+    def _execute(self, block, comment) -> None:
+        # An error while executing leaves reading False: the module's
+        # reported line then does not count the line as read past.
+        self.reading = False
+        super()._execute(block, comment)
+        self.reading = True
+
+    def _execute_m(self, block) -> None:
+        user = block.m.pop(M_USER, None)
+        super()._execute_m(block)
+        if user is not None:
+            words = block.words
+            self.canon.user_defined_function(
+                user - 100, words.get("p", 0.0), words.get("q", 0.0)
+            )
+
+    # The module's interpreter reads, then executes: an error while reading
+    # a line reports the line after it. O-word control (entering a call,
+    # a definition, labels) is executed, not read; seeking a subroutine
+    # not yet defined is reading.
+    def _unread(self, method, *args):
+        self.reading = False
+        result = method(*args)
+        self.reading = True
+        return result
+
+    def _enter_sub(self):
+        return self._unread(super()._enter_sub)
+
+    def define(self, name, fn):
+        return self._unread(super().define, name, fn)
+
+    def _set_units(self, inches: bool) -> None:
+        changed = inches != self.inches
+        super()._set_units(inches)
+        if changed:
+            # The interpreter rereads the feed from its canon, and the
+            # module's canon always answers 1.
+            self.feed_rate = 1.0
+
+    def end_of_file(self, demarcated: bool, closed: bool) -> None:
+        self.reached_end = closed
+        super().end_of_file(demarcated, closed)
+
+    def _active(self, codes: Optional[Sequence[int]], line: int):
+        """(gcodes, mcodes, settings) as rs274's write_g_codes,
+        write_m_codes and write_settings leave them after a block."""
+        group0 = -1
+        stopping = toolchange = -1
+        for code in codes or ():
+            if code >= M_OFFSET:
+                number = code - M_OFFSET
+                if number in (0, 1, 2, 30, 60):
+                    stopping = number
+                elif number in (6, 61):
+                    toolchange = number
+            elif code in _GROUP0:
+                group0 = code
+        motion = self.motion_mode if self.motion_mode is not None else -1
+        gcodes = (
+            line,
+            motion,
+            group0,
+            _PLANE_CODES[self.plane],
+            400,  # G40: ngc2py has no cutter compensation yet
+            200 if self.inches else 210,
+            910 if self.distance_incremental else 900,
+            _FEED_MODE_CODES[self.feed_mode],
+            (
+                530 + 10 * self.origin_index
+                if self.origin_index < 7
+                else 584 + self.origin_index
+            ),
+            430 if any(self.tool_offset) else 490,
+            990 if self.retract_r_plane else 980,
+            self.control_mode if self.path_mode_set else 611,  # starts in G61.1
+            -1,
+            960 if self.css_mode else 970,
+            901 if self.ijk_absolute else 911,
+            70 if self.lathe_diameter else 80,
+            923 if self.params.get_internal(5210) else 922,
+        )
+        spindle = {"stopped": 5, "cw": 3, "ccw": 4}.get(self.spindle, 5)
+        mist = 7 if self.mist else (-1 if self.flood else 9)
+        if self.feed_override:
+            overrides = 48 if self.speed_override else 50
+        else:
+            overrides = 51 if self.speed_override else 49
+        mcodes = (
+            line,
+            stopping,
+            spindle,
+            toolchange,
+            mist,
+            8 if self.flood else -1,
+            overrides,
+            52 if self.adaptive_feed else -1,
+            53 if self.feed_hold else -1,
+            0,
+        )
+        return gcodes, mcodes, (float(line), self.feed_rate, self.speed, 0.0, 0.0)
+
+
+#: O-word errors rs274 finds while executing control flow: "<line>: ..."
+_CONTROL_ERROR = re.compile(r"\d+: ")
+#: Errors rs274 finds while executing a line's parameter settings.
+_EXECUTE_PREFIXES = ("Cannot assign to read-only parameter",)
+#: G61, G61.1, G64.
+_PATH_MODES = frozenset((610, 611, 640))
+#: active_g_codes' feed mode entry: units per minute, inverse time, per rev.
+_FEED_MODE_CODES = {UNITS_PER_MINUTE: 940, INVERSE_TIME: 930, UNITS_PER_REVOLUTION: 950}
+
+
+#: G codes of modal group 0 (non-modal): G4, G10, G28, G30, G52, G53, G92...
+_GROUP0 = frozenset((40, 100, 280, 281, 300, 301, 520, 530, 920))
+
+_WORD = re.compile(r"\s*([A-Za-z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
+
+
+def _init_block(machine: PreviewMachine, text: str, line: int) -> None:
+    """Run one init code string (plain words: ``G21 G17 G90 F10``) before
+    the program, as the module's ``read(code)``/``execute()`` do: at the
+    line number opening the file left (``line``)."""
+    codes: List[int] = []
+    words = {}
+    position = 0
+    text = text.strip()
+    while position < len(text):
+        match = _WORD.match(text, position)
+        if match is None:
+            raise GCodeError("Bad init code: %s" % text)
+        letter, value = match.group(1).lower(), float(match.group(2))
+        if letter == "g":
+            codes.append(g_code(value))
+        elif letter == "m":
+            codes.append(m_code(value))
+        else:
+            words[letter] = value
+        position = match.end()
+    if codes or words:
+        machine.block(line, *codes, **words)
+
+
+def _init_codes(args: Sequence[Any]) -> List[str]:
+    """The init code strings of either form of the call (the interpreter
+    name of both forms is accepted and ignored: ngc2py is the interpreter)."""
+    if args and isinstance(args[0], list):
+        if len(args) > 2:
+            raise TypeError("parse(filename, canon, initcodes[, interpname])")
+        return [str(code) for code in args[0]]
+    if len(args) > 3:
+        raise TypeError("parse(filename, canon[, unitcode[, initcode[, interpname]]])")
+    return [code for code in args[:2] if code]
+
+
+def _ask_start_questions(target: Any) -> None:
+    """The questions the module's interpreter asks while it initialises."""
+    for name in ("get_external_length_units",) * 3 + (
+        "get_external_angular_units",
+    ) * 3:
+        answer = getattr(target, name)()
+        if not isinstance(answer, float):
+            raise TypeError(
+                "%s: Expected float, got %s"
+                % (name.replace("angular", "angle"), type(answer).__name__)
+            )
+
+
+def parse(
+    filename: str,
+    canon: Any,
+    *args: Any,
+    tool_table: Optional[str] = None,
+    ini: Optional[str] = None,
+):
+    """Run ``filename`` against ``canon`` as ``gcode.parse`` does; see the
+    module docstring. ``tool_table`` and ``ini`` are ngc2py's: rs274's
+    ``-t`` and ``-i`` files. Returns ``(result, last_sequence_number)``."""
+    global _last_error
+    from ngc2py.cli import load_program, unopened
+    from ngc2py.compiler import OpenError
+
+    init_codes = _init_codes(args)
+    try:
+        module = load_program(filename, ini)
+        main, source_map = module.main, module.__ngc__
+    except OpenError as error:
+        main, source_map = None, unopened(filename, error)
+    _ask_start_questions(canon)
+    adapter = PreviewCanon(canon)
+    var_file = getattr(canon, "parameter_file", None) or None
+    machine = PreviewMachine(
+        adapter, tool_table=tool_table, var_file=var_file, ini=ini, source=source_map
+    )
+    adapter.machine = machine
+    _last_error = ""
+    result = INTERP_OK
+    try:
+        machine._initialise()
+        machine.var_file = None  # read (and normalised) at start, as the
+        # module's interpreter does, but never written back at the end
+        machine.active = machine._active(None, 0)
+        # The module announces the line reached by opening the file: the
+        # first line when it is a % (opening reads it), else none.
+        opened_at = _opening_line(filename)
+        if opened_at:
+            adapter.skipped = opened_at - 1
+        adapter.new_line(opened_at)
+        canon.get_axis_mask()
+        for pocket in range(POCKETS):
+            canon.get_tool(pocket)
+        for code in init_codes:
+            _init_block(machine, code, opened_at)
+        opening = source_map.opening_error()
+        if opening is not None:
+            raise GCodeError(*opening)
+        machine._start()
+        main(machine)
+        result = INTERP_ENDFILE if machine.reached_end else INTERP_EXIT
+    except ProgramEnd as end:
+        result = INTERP_ENDFILE if machine.reached_end else INTERP_EXIT
+        # M2 in a subroutine: rs274 is back at the outermost call's line.
+        frames = locate(end)
+        if frames and not machine.reached_end:
+            machine.line = frames[0].line
+    except GCodeError as error:
+        _last_error = error.message
+        return _failed(machine, adapter, error)
+    line = machine.line
+    if result == INTERP_ENDFILE:
+        line = source_map.end[0]
+    adapter.new_line(line)
+    return result, adapter.last_sequence + (1 if result == INTERP_ENDFILE else 0)
+
+
+def _opening_line(filename: str) -> int:
+    """The line number rs274's open() leaves behind: that of a leading ``%``
+    (after blank lines), or 0 (it reads back to the start otherwise)."""
+    try:
+        with open(filename, "rb") as handle:
+            for number, raw in enumerate(handle, 1):
+                text = raw.strip()
+                if text:
+                    return number if text.startswith(b"%") else 0
+    except OSError:
+        pass
+    return 0
+
+
+def _failed(machine: PreviewMachine, adapter: PreviewCanon, error: GCodeError):
+    """The result of a run that stopped on ``error``: the module reports the
+    line of the outermost call in progress (rs274 unwinds its subroutine
+    calls first), one past it when the error came while reading."""
+    global _last_error
+    if error.message.startswith("Unable to open file"):
+        _last_error = "File not open"  # the module's words: it fails reading
+        return INTERP_FILE_NOT_OPEN, adapter.last_sequence + 1
+    # Where the program was, not the line an error message may name (a
+    # search for a subroutine names the last line it read).
+    frames = g_code_frames(error.__traceback__, getattr(error, "ngc_row_line", None))
+    line = frames[0].line if frames else machine.line
+    if error.message.startswith("File ended"):
+        line = machine.source.end[0] if machine.source else line
+    adapter.new_line(line)
+    message = error.message
+    executed = _CONTROL_ERROR.match(message) or message.startswith(_EXECUTE_PREFIXES)
+    reading = machine.reading and not executed
+    return INTERP_ERROR, adapter.last_sequence + (1 if reading else 0)
+
+
+__all__ = ["LineCode", "MIN_ERROR", "PreviewCanon", "parse", "strerror"]

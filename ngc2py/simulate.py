@@ -1,0 +1,101 @@
+"""Run a G-code program against any canon: what the workflows built on the
+canonical calls (``stats``, ``plot``) share with ``run``.
+
+The program is compiled (cached) as for ``ngc2py run``; it runs with rs274's
+options; on a G-code error rs274's report goes to stderr. What rs274 prints
+while reading its files (tool table and ini complaints) goes to stderr
+too, since stdout belongs to the workflow's own output.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import tempfile
+from contextlib import contextmanager
+from typing import Iterator, Optional, TextIO
+
+from runtime.canon import Canon
+from runtime.errors import GCodeError, describe
+
+#: Exit statuses every workflow command documents.
+EXIT_OK = 0
+EXIT_ERROR = 1
+
+
+def add_rs274_options(parser: argparse.ArgumentParser) -> None:
+    """The options a program runs with, as ``ngc2py run`` takes them."""
+    parser.add_argument("-t", dest="tool_table", metavar="TBL", help="tool table file")
+    parser.add_argument(
+        "-v", dest="var_file", metavar="VAR", help="parameter (.var) file"
+    )
+    parser.add_argument("-i", dest="ini", metavar="INI", help="ini file")
+    parser.add_argument(
+        "-b", dest="block_delete", action="store_true", help="turn block delete on"
+    )
+
+
+@contextmanager
+def program_path(program: str) -> Iterator[str]:
+    """The program's file name; ``-`` is standard input, kept in a
+    temporary file for the compiler (which reads files)."""
+    if program != "-":
+        yield program
+        return
+    data = sys.stdin.buffer.read()
+    with tempfile.TemporaryDirectory() as folder:
+        path = os.path.join(folder, "stdin.ngc")
+        with open(path, "wb") as handle:
+            handle.write(data)
+        yield path
+
+
+def run_program(
+    args: argparse.Namespace, canon: Canon, stderr: Optional[TextIO] = None
+) -> int:
+    """Run ``args.program`` against ``canon``; the exit status (0, or 1 after
+    an error was reported on ``stderr``)."""
+    from ngc2py.cli import load_program, unopened
+    from ngc2py.compiler import CompileError, OpenError
+    from runtime.machine import Machine
+    from runtime.main import report, start
+
+    stderr = stderr or sys.stderr
+    with program_path(args.program) as path:
+        try:
+            try:
+                module = load_program(path, args.ini)
+                main, source_map = module.main, module.__ngc__
+            except OpenError as error:
+                main, source_map = None, unopened(path, error)
+            machine = Machine(
+                canon,
+                tool_table=args.tool_table,
+                var_file=args.var_file,
+                ini=args.ini,
+                block_delete=args.block_delete,
+                source=source_map,
+            )
+            machine.messages = stderr
+            stderr.write(machine.tool_table_report)
+            stderr.write(machine.settings.stderr_report)
+            start(machine, main)
+        except GCodeError as error:
+            report(error, stderr)
+            return EXIT_ERROR
+        except CompileError as error:
+            stderr.write("%s\n" % error)
+            return EXIT_ERROR
+        except OSError as error:
+            stderr.write(
+                "ngc2py: %s: %s\n" % (error.filename or path, error.strerror or error)
+            )
+            return EXIT_ERROR
+        except Exception as error:  # noqa: BLE001 - never a bare traceback
+            stderr.write(describe(error) + "\n")
+            return EXIT_ERROR
+    return EXIT_OK
+
+
+__all__ = ["EXIT_ERROR", "EXIT_OK", "add_rs274_options", "program_path", "run_program"]

@@ -1,0 +1,189 @@
+"""Statistics of a program's toolpath and an estimate of its cycle time.
+
+:class:`StatsCanon` is a canon back end: run a program against it (no trace
+is formatted) and ask :meth:`StatsCanon.report` for the numbers.
+
+The cycle time model (also in ``ngc2py stats --help`` and the README):
+
+* every move starts and ends at rest (exact stop): a trapezoidal velocity
+  profile, accelerating at ``acceleration`` up to the move's speed and
+  braking to a stop, or a triangle when the move is too short to reach it.
+  Real machines blending moves (G64) are faster on short segments, so this
+  errs on the long side;
+* rapids (G0) run at ``rapid_rate``; feed moves and arcs at the programmed
+  feed rate. Inverse time moves (G93) need nothing special: LinuxCNC
+  turns each ``F`` into a units-per-minute rate before the move, and that is
+  what the canon sees. Feed per revolution (G95) is the rate times the
+  spindle speed in force (``S``, taken as rpm, also under G96); moves with
+  no usable rate are counted in ``untimed_moves`` and add no time;
+* a move of the rotary axes alone runs at the feed rate in degrees per
+  minute, as LinuxCNC does; rotary axes add no length otherwise;
+* dwells (G4) add their time; each tool change (M6) adds ``tool_change_time``.
+
+Lengths and extents are in the program's units: those in force at its first
+move (a program that switches units has the rest converted). Extents are the
+bounding box of every point the tool is sent to, arcs included (their
+bulge, not just their end points), in program coordinates as the trace
+prints them; the start position counts only if the program returns to it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Dict, Optional
+
+from runtime.toolpath import (
+    AXIS_NAMES,
+    MM_PER_INCH,
+    Arc,
+    Extents,
+    Point,
+    ToolpathCanon,
+    distance,
+)
+
+#: Default rapid rate, mm/min.
+DEFAULT_RAPID_RATE = 3000.0
+#: Default acceleration, mm/s^2.
+DEFAULT_ACCELERATION = 500.0
+
+
+@dataclass(frozen=True)
+class Model:
+    """Machine limits for the cycle time estimate, in millimetres."""
+
+    rapid_rate: float = DEFAULT_RAPID_RATE  # mm/min
+    acceleration: float = DEFAULT_ACCELERATION  # mm/s^2 (0 or inf: instant)
+    tool_change_time: float = 0.0  # seconds
+
+
+def move_time(length: float, rate_per_minute: float, acceleration: float) -> float:
+    """Seconds to move ``length`` from rest to rest at up to ``rate_per_minute``."""
+    if length <= 0.0:
+        return 0.0
+    speed = rate_per_minute / 60.0
+    if not acceleration or math.isinf(acceleration):
+        return length / speed
+    ramp = speed * speed / acceleration  # distance to speed up and slow down
+    if length >= ramp:
+        return length / speed + speed / acceleration
+    return 2.0 * math.sqrt(length / acceleration)
+
+
+class StatsCanon(ToolpathCanon):
+    """Counts, lengths, extents and time of everything the program does."""
+
+    def __init__(self, model: Optional[Model] = None) -> None:
+        super().__init__()
+        self.model = model or Model()
+        self.extents = Extents()
+        self.lengths = {"rapid": 0.0, "feed": 0.0, "arc": 0.0}
+        self.counts = {"rapid": 0, "feed": 0, "arc": 0, "probe": 0}
+        self.tool_changes = 0
+        self.dwells = 0
+        self.dwell_time = 0.0
+        self.motion_time = 0.0
+        self.untimed_moves = 0
+        self.feed_rate = 0.0  # mm/min (or mm/rev)
+        self.per_rev = False
+        self.rpm = 0.0
+
+    # --- rates -------------------------------------------------------------
+    def set_feed_rate(self, rate):
+        self.feed_rate = self.to_mm(rate)
+
+    def set_feed_mode(self, spindle, mode):
+        self.per_rev = mode == 1
+
+    def set_spindle_speed(self, spindle, rpm):
+        self.rpm = abs(rpm)
+
+    def _feed_per_minute(self) -> float:
+        return self.feed_rate * self.rpm if self.per_rev else self.feed_rate
+
+    # --- events ----------------------------------------------------------
+    def change_tool(self, slot):
+        self.tool_changes += 1
+
+    def dwell(self, seconds):
+        self.dwells += 1
+        self.dwell_time += seconds
+
+    def line(self, kind: str, start: Point, end: Point) -> None:
+        self.extents.add(end)
+        length = distance(start, end)
+        self.counts[kind] += 1
+        self.lengths["rapid" if kind == "rapid" else "feed"] += length
+        if kind == "rapid":
+            rate = self.model.rapid_rate
+        else:
+            rate = self._feed_per_minute()
+        if length == 0.0:
+            # Rotary axes alone: degrees at the same numeric rate.
+            length = max(abs(end[i] - start[i]) for i in (3, 4, 5))
+        self._time(length, rate)
+
+    def arc(self, arc: Arc) -> None:
+        for point in arc.extreme_points():
+            self.extents.add(point)
+        length = arc.length
+        self.counts["arc"] += 1
+        self.lengths["arc"] += length
+        self._time(length, self._feed_per_minute())
+
+    def _time(self, length: float, rate: float) -> None:
+        if length == 0.0:
+            return
+        if rate <= 0.0:
+            self.untimed_moves += 1
+            return
+        self.motion_time += move_time(length, rate, self.model.acceleration)
+
+    # --- the report ------------------------------------------------------
+    @property
+    def cycle_time(self) -> float:
+        """Estimated seconds: motion, dwells and tool changes."""
+        changes = self.tool_changes * self.model.tool_change_time
+        return self.motion_time + self.dwell_time + changes
+
+    def report(self) -> Dict:
+        """Everything as plain data (what ``ngc2py stats --json`` prints)."""
+        inches = bool(self.first_units)
+        scale = 1.0 / MM_PER_INCH if inches else 1.0
+        extents = {}
+        if not self.extents.empty:
+            for i, name in enumerate(AXIS_NAMES):
+                low, high = self.extents.low[i], self.extents.high[i]
+                if name in "xyz" or low != 0.0 or high != 0.0:
+                    if i in (3, 4, 5):  # degrees
+                        extents[name] = [low, high]
+                    else:
+                        extents[name] = [low * scale, high * scale]
+        lengths = {kind: value * scale for kind, value in self.lengths.items()}
+        lengths["total"] = sum(lengths.values())
+        return {
+            "units": "inch" if inches else "mm",
+            "extents": extents,
+            "length": lengths,
+            "moves": dict(self.counts, total=sum(self.counts.values())),
+            "tool_changes": self.tool_changes,
+            "dwells": self.dwells,
+            "dwell_time": self.dwell_time,
+            "untimed_moves": self.untimed_moves,
+            "cycle_time": self.cycle_time,
+            "model": {
+                "rapid_rate": self.model.rapid_rate * scale,
+                "acceleration": self.model.acceleration * scale,
+                "tool_change_time": self.model.tool_change_time,
+            },
+        }
+
+
+__all__ = [
+    "DEFAULT_ACCELERATION",
+    "DEFAULT_RAPID_RATE",
+    "Model",
+    "StatsCanon",
+    "move_time",
+]

@@ -1,0 +1,309 @@
+"""The tool's path, as a canon sees it: straight moves and arcs in space.
+
+:class:`ToolpathCanon` turns the motion calls of the canon protocol into
+moves with a start and an end point, in millimetres, whatever units the
+program uses, so that statistics (``runtime.stats``) and plots
+(``ngc2py.plot``) measure one and the same path. Subclasses override
+:meth:`ToolpathCanon.line` and :meth:`ToolpathCanon.arc`.
+
+Conventions (those of LinuxCNC's canon layer, as ``rs274 -g`` shows them):
+
+* Positions are in program units (``USE_LENGTH_UNITS``) and in program
+  coordinates: the current work offset, G92/G52 offset and tool length
+  offset are already taken off. When an offset changes, the tool does not
+  move, so its position in program coordinates shifts by the change; the
+  next move starts from there. (A G10 L2 R rotation is not undone.)
+* ``ARC_FEED(first_end, second_end, first_axis, second_axis, rotation,
+  axis_end, ...)``: the arc's end and centre in the plane's two axes and the
+  end on the axis normal to it (a helix when that changes). The plane's axes
+  in that order: XY -> (X, Y, Z), XZ -> (Z, X, Y), YZ -> (Y, Z, X).
+  ``rotation`` > 0 turns counter-clockwise in that frame, < 0 clockwise, and
+  ``abs(rotation) - 1`` extra full turns are made. An arc that ends where it
+  starts is a full circle. The radius may change a little from start to end
+  (LinuxCNC accepts that within a tolerance): it is interpolated linearly.
+* Angles (A, B, C) are degrees and never converted.
+
+Standard library only, like the rest of the runtime.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import List, Optional, Sequence, Tuple
+
+from runtime.canon import Canon
+
+MM_PER_INCH = 25.4
+#: Linear axes (X Y Z U V W) among the nine; A B C are angles.
+LINEAR = (0, 1, 2, 6, 7, 8)
+AXIS_NAMES = "xyzabcuvw"
+#: (first, second, normal) axis indexes of ARC_FEED in each canon plane.
+PLANE_AXES = {"XY": (0, 1, 2), "XZ": (2, 0, 1), "YZ": (1, 2, 0)}
+TAU = 2.0 * math.pi
+#: An arc whose end is this close (mm) to its start is a full circle.
+FULL_CIRCLE_CHORD = 1e-9
+
+Point = Tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class Arc:
+    """An arc or helix, in millimetres: ``start`` and ``end`` are nine-axis
+    points; the arc turns about ``centre`` (in the plane) through ``sweep``
+    radians, counter-clockwise if positive, in the plane given by ``axes``
+    (first, second, normal axis indexes)."""
+
+    start: Point
+    end: Point
+    axes: Tuple[int, int, int]
+    centre: Tuple[float, float]
+    sweep: float
+    r0: float
+    r1: float
+    theta0: float
+
+    @property
+    def length(self) -> float:
+        """Path length of the helix (in the plane: mean radius times angle)."""
+        planar = abs(self.sweep) * (self.r0 + self.r1) / 2.0
+        normal = self.end[self.axes[2]] - self.start[self.axes[2]]
+        return math.hypot(planar, normal)
+
+    def point(self, t: float) -> Point:
+        """The point a fraction ``t`` (0..1) along the arc (every axis moves
+        in proportion: the plane's two by angle, the others linearly)."""
+        f, s, _ = self.axes
+        start, end = self.start, self.end
+        p = [a + (b - a) * t for a, b in zip(start, end)]
+        theta = self.theta0 + self.sweep * t
+        radius = self.r0 + (self.r1 - self.r0) * t
+        p[f] = self.centre[0] + radius * math.cos(theta)
+        p[s] = self.centre[1] + radius * math.sin(theta)
+        return tuple(p)
+
+    def sample(self, step: float = math.radians(5.0)) -> List[Point]:
+        """Points along the arc no more than ``step`` radians apart, start and end included."""
+        count = max(2, int(math.ceil(abs(self.sweep) / step)))
+        points = [self.point(i / count) for i in range(count)]
+        points.append(self.end)
+        return points
+
+    def extreme_points(self) -> List[Point]:
+        """The start, the end, and the points where the arc crosses a
+        quarter-turn angle (0, 90, 180, 270 degrees): together they bound it."""
+        points = [self.start, self.end]
+        if self.sweep == 0.0:
+            return points
+        quarter = math.pi / 2
+        low, high = sorted((self.theta0, self.theta0 + self.sweep))
+        k = math.ceil(low / quarter)
+        # Every crossing counts (the radius may change from turn to turn),
+        # but a runaway turn count must not make this unbounded.
+        while k * quarter < high and len(points) < 4096:
+            points.append(self.point((k * quarter - self.theta0) / self.sweep))
+            k += 1
+        return points
+
+
+def make_arc(
+    start: Point, end: Point, axes: Tuple[int, int, int], centre, rotation: int
+) -> Arc:
+    """The :class:`Arc` from ``start`` to ``end`` as ARC_FEED describes it."""
+    f, s, _ = axes
+    cf, cs = centre
+    theta0 = math.atan2(start[s] - cs, start[f] - cf)
+    theta1 = math.atan2(end[s] - cs, end[f] - cf)
+    closed = math.hypot(end[f] - start[f], end[s] - start[s]) < FULL_CIRCLE_CHORD
+    if rotation >= 0:
+        sweep = (theta1 - theta0) % TAU
+        if closed or sweep == 0.0:
+            sweep = TAU
+        sweep += TAU * max(rotation - 1, 0)
+    else:
+        sweep = -((theta0 - theta1) % TAU)
+        if closed or sweep == 0.0:
+            sweep = -TAU
+        sweep -= TAU * (-rotation - 1)
+    r0 = math.hypot(start[f] - cf, start[s] - cs)
+    r1 = math.hypot(end[f] - cf, end[s] - cs)
+    return Arc(tuple(start), tuple(end), axes, (cf, cs), sweep, r0, r1, theta0)
+
+
+def distance(a: Sequence[float], b: Sequence[float]) -> float:
+    """Straight-line distance between two points over X, Y and Z."""
+    return math.sqrt((b[0] - a[0]) ** 2 + (b[1] - a[1]) ** 2 + (b[2] - a[2]) ** 2)
+
+
+class ToolpathCanon(Canon):
+    """Follows the tool through the motion calls; see the module docstring.
+
+    :attr:`position` is the current nine-axis point in millimetres (and
+    degrees). :attr:`first_units` is True/False (inches/mm) for the units in
+    force at the first move, None until there is one: reports use them.
+    """
+
+    def __init__(self) -> None:
+        self.position: Point = (0.0,) * 9
+        self.inches = False
+        self.first_units: Optional[bool] = None
+        self.plane = "XY"
+        self._offsets = {"g5x": (0.0,) * 9, "g92": (0.0,) * 9, "tool": (0.0,) * 9}
+
+    # --- subclasses --------------------------------------------------------
+    def line(self, kind: str, start: Point, end: Point) -> None:
+        """A straight move: ``kind`` is "rapid", "feed" or "probe"."""
+
+    def arc(self, arc: Arc) -> None:
+        """An arc or helix (a feed move)."""
+
+    # --- units and coordinates -----------------------------------------
+    def to_mm(self, value: float) -> float:
+        return value * MM_PER_INCH if self.inches else value
+
+    def _point(self, values: Point) -> Point:
+        """``values`` (program units) in millimetres."""
+        if not self.inches:
+            return values
+        k = MM_PER_INCH
+        x, y, z, a, b, c, u, v, w = values
+        return (x * k, y * k, z * k, a, b, c, u * k, v * k, w * k)
+
+    def use_length_units(self, inches: bool):
+        self.inches = bool(inches)
+
+    def select_plane(self, plane: str):
+        self.plane = plane
+
+    def _shift(self, kind: str, values: Sequence[float]) -> None:
+        new = self._point(tuple(values))
+        old = self._offsets[kind]
+        self.position = tuple(p - (n - o) for p, n, o in zip(self.position, new, old))
+        self._offsets[kind] = new
+
+    def set_g5x_offset(self, index, x, y, z, a, b, c, u, v, w):
+        self._shift("g5x", (x, y, z, a, b, c, u, v, w))
+
+    def set_g92_offset(self, x, y, z, a, b, c, u, v, w):
+        self._shift("g92", (x, y, z, a, b, c, u, v, w))
+
+    def use_tool_length_offset(self, x, y, z, a, b, c, u, v, w):
+        self._shift("tool", (x, y, z, a, b, c, u, v, w))
+
+    # --- motion ----------------------------------------------------------
+    def _move(self, kind: str, values: Sequence[float]) -> None:
+        if self.first_units is None:
+            self.first_units = self.inches
+        start = self.position
+        self.position = end = self._point(values)
+        self.line(kind, start, end)
+
+    def straight_traverse(self, x, y, z, a, b, c, u, v, w):
+        self._move("rapid", (x, y, z, a, b, c, u, v, w))
+
+    def straight_feed(self, x, y, z, a, b, c, u, v, w):
+        self._move("feed", (x, y, z, a, b, c, u, v, w))
+
+    def straight_probe(self, x, y, z, a, b, c, u, v, w, probe_type):
+        self._move("probe", (x, y, z, a, b, c, u, v, w))
+
+    def rigid_tap(self, x, y, z, scale):
+        # The spindle reverses at the bottom: in to the point and back out.
+        start = self.position
+        k = MM_PER_INCH if self.inches else 1.0
+        target = (x * k, y * k, z * k) + start[3:]  # only X, Y and Z move
+        self.line("feed", start, target)
+        self.line("feed", target, start)
+
+    def arc_feed(
+        self,
+        first_end,
+        second_end,
+        first_axis,
+        second_axis,
+        rotation,
+        axis_end,
+        a,
+        b,
+        c,
+        u,
+        v,
+        w,
+    ):
+        if self.first_units is None:
+            self.first_units = self.inches
+        start = self.position
+        end = list(start[:3]) + list(self._point((0, 0, 0, a, b, c, u, v, w))[3:])
+        axes = PLANE_AXES.get(self.plane)
+        if axes is None:  # a UVW plane: X, Y and Z stay where they are
+            self.position = tuple(end)
+            self.line("feed", start, self.position)
+            return
+        f, s, n = axes
+        end[f], end[s], end[n] = (
+            self.to_mm(first_end),
+            self.to_mm(second_end),
+            self.to_mm(axis_end),
+        )
+        self.position = end = tuple(end)
+        centre = (self.to_mm(first_axis), self.to_mm(second_axis))
+        self.arc(make_arc(start, end, axes, centre, rotation))
+
+
+class Extents:
+    """Running minimum and maximum of each of the nine axes (``low`` and
+    ``high``, nine values each)."""
+
+    def __init__(self) -> None:
+        inf = math.inf
+        self._xyz = [inf, -inf, inf, -inf, inf, -inf]
+        self._rest_low = [inf] * 6
+        self._rest_high = [-inf] * 6
+        self._rest: Optional[Tuple[float, ...]] = None
+
+    def add(self, point: Sequence[float]) -> None:
+        # This runs for every move: X, Y and Z unrolled, and the other six
+        # axes only looked at when they changed (they seldom do).
+        box = self._xyz
+        x, y, z = point[0], point[1], point[2]
+        if x < box[0]:
+            box[0] = x
+        if x > box[1]:
+            box[1] = x
+        if y < box[2]:
+            box[2] = y
+        if y > box[3]:
+            box[3] = y
+        if z < box[4]:
+            box[4] = z
+        if z > box[5]:
+            box[5] = z
+        rest = tuple(point[3:])
+        if rest != self._rest:
+            self._rest = rest
+            self._rest_low = list(map(min, self._rest_low, rest))
+            self._rest_high = list(map(max, self._rest_high, rest))
+
+    @property
+    def low(self) -> List[float]:
+        return self._xyz[0::2] + self._rest_low
+
+    @property
+    def high(self) -> List[float]:
+        return self._xyz[1::2] + self._rest_high
+
+    @property
+    def empty(self) -> bool:
+        return self._xyz[0] == math.inf
+
+
+__all__ = [
+    "Arc",
+    "AXIS_NAMES",
+    "Extents",
+    "MM_PER_INCH",
+    "PLANE_AXES",
+    "ToolpathCanon",
+    "distance",
+    "make_arc",
+]

@@ -1,0 +1,163 @@
+"""``ngc2py plot``: the path it draws, and the pictures it writes.
+
+(The README's picture was checked by eye; these tests check what can be
+checked mechanically: geometry, formats, colours present, exit statuses.)
+"""
+
+from __future__ import annotations
+
+import io
+import math
+from contextlib import redirect_stderr, redirect_stdout
+
+import pytest
+
+import rs274 as harness
+from test_stats import scratch_run
+
+from ngc2py import cli
+from ngc2py.plot import STYLES, PlotCanon, project
+from runtime.machine import Machine
+from runtime.main import start
+
+matplotlib = pytest.importorskip(
+    "matplotlib", reason="matplotlib is a dependency of ngc2py plot"
+)
+
+FLANGE = harness.REPO / "examples" / "flange.ngc"
+
+
+def plot_canon(tmp_path, text: str) -> PlotCanon:
+    path = tmp_path / "prog.ngc"
+    path.write_text(text)
+    with scratch_run(path) as s:
+        module = cli.load_program(s.program.name, None)
+        canon = PlotCanon()
+        start(Machine(canon, source=module.__ngc__), module.main)
+    return canon
+
+
+def main(argv):
+    out, err = io.StringIO(), io.StringIO()
+    with redirect_stdout(out), redirect_stderr(err):
+        rc = cli.main(argv)
+    return rc, out.getvalue(), err.getvalue()
+
+
+def test_arcs_are_drawn_as_arcs_in_their_plane(tmp_path):
+    canon = plot_canon(
+        tmp_path,
+        "G21 F100\nG0 X10 Y3\nG18 G2 X-10 Z0 I-10 K0\nG19 G3 Y3 Z0 J0 K2 P2\nM2\n",
+    )
+    xz, yz = canon.paths["arc"]
+    assert len(xz) > 20 and len(yz) > 100  # sampled, not a chord
+    for x, y, z in xz:
+        assert y == pytest.approx(3.0)  # in the XZ plane
+        assert math.hypot(x, z) == pytest.approx(10.0)
+    assert max(z for _, _, z in xz) == pytest.approx(
+        10.0, abs=0.01
+    )  # G2 in XZ bulges to +Z
+    for x, y, z in yz:
+        assert x == pytest.approx(-10.0)
+        assert math.hypot(y - 3.0, z - 2.0) == pytest.approx(2.0)
+
+
+def test_rapids_and_feeds_are_kept_apart(tmp_path):
+    canon = plot_canon(tmp_path, "G0 X1\nG0 Y1\nG1 X2 F10\nG0 Z1\nM2\n")
+    assert canon.paths["rapid"] == [
+        [(0, 0, 0), (1, 0, 0), (1, 1, 0)],
+        [(2, 1, 0), (2, 1, 1)],
+    ]
+    assert canon.paths["feed"] == [[(1, 1, 0), (2, 1, 0)]]
+    assert canon.moves == {"rapid": 3, "feed": 1, "arc": 0}
+
+
+def test_inch_program_is_drawn_in_inches(tmp_path):
+    canon = plot_canon(tmp_path, "G20 G0 X1\nM2\n")
+    assert canon.first_units is True
+    assert canon.paths["rapid"][0][-1][0] == pytest.approx(
+        25.4
+    )  # kept in mm, drawn /25.4
+
+
+def test_views():
+    assert project([(1, 2, 3)], "xy") == [(1, 2)]
+    assert project([(1, 2, 3)], "xz") == [(1, 3)]
+    assert project([(1, 2, 3)], "yz") == [(2, 3)]
+    ((u, v),) = project([(1, 0, 0)], "iso")
+    assert u > 0 and v > 0  # X to the upper right, as --help says
+    ((u, v),) = project([(0, 1, 0)], "iso")
+    assert u < 0 and v > 0
+
+
+def _colour(hex_colour):
+    return tuple(int(hex_colour[i : i + 2], 16) / 255 for i in (1, 3, 5))
+
+
+@pytest.mark.parametrize("view", ["xy", "xz", "yz", "iso"])
+def test_png_shows_rapids_feeds_and_arcs(tmp_path, view):
+    import matplotlib.image
+
+    out = tmp_path / ("flange-%s.png" % view)
+    with scratch_run(FLANGE) as s:
+        rc, _, err = main(["plot", s.program.name, "-o", str(out), "--view", view])
+    assert rc == 0, err
+    pixels = matplotlib.image.imread(str(out))[:, :, :3]
+    for kind, (_, colour, _, _) in STYLES.items():
+        target = _colour(colour)
+        close = (abs(pixels - target) < 0.03).all(axis=2).sum()
+        assert close > 50, "no %s pixels in the %s view" % (kind, view)
+
+
+def test_svg_pdf_and_standard_output(tmp_path, capfdbinary):
+    with scratch_run(FLANGE) as s:
+        assert main(["plot", s.program.name, "-o", str(tmp_path / "a.svg")])[0] == 0
+        assert main(["plot", s.program.name, "-o", str(tmp_path / "a.pdf")])[0] == 0
+    assert (tmp_path / "a.svg").read_text().lstrip().startswith("<?xml")
+    assert (tmp_path / "a.pdf").read_bytes().startswith(b"%PDF")
+
+
+def test_png_to_standard_output(tmp_path):
+    import subprocess
+    import sys
+
+    with scratch_run(FLANGE) as s:
+        proc = subprocess.run(
+            [sys.executable, "-m", "ngc2py", "plot", s.program.name, "-o", "-"],
+            cwd=s.work,
+            env=s.env({"NGC2PY_CACHE": str(s.tmp / "cache")}),
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+        )
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.startswith(b"\x89PNG\r\n")
+
+
+def test_errors_write_no_picture(tmp_path):
+    bad = tmp_path / "bad.ngc"
+    bad.write_text("G1 X1 F10\nG1 X[1/0]\nM2\n")
+    out = tmp_path / "bad.png"
+    with scratch_run(bad) as s:
+        rc, _, err = main(["plot", s.program.name, "-o", str(out)])
+    assert rc == 1 and err.startswith("Attempt to divide by zero")
+    assert not out.exists()
+    rc, _, err = main(["plot", str(FLANGE), "-o", str(tmp_path / "x.gif")])
+    assert rc == 1 and "extension" in err
+    rc, _, _ = main(["plot", str(FLANGE)])  # -o is required
+    assert rc == 1
+
+
+def test_help():
+    rc, out, _ = main(["plot", "--help"])
+    assert rc == 0 and "--view" in out and "exit status" in out
+
+
+def test_program_from_standard_input(tmp_path, monkeypatch):
+    monkeypatch.setattr(
+        "sys.stdin", io.TextIOWrapper(io.BytesIO(b"G0 X3\nG1 Y2 F9\nM2\n"))
+    )
+    out = tmp_path / "stdin.svg"
+    with scratch_run(tmp_path / "x.ngc", ""):
+        rc, _, err = main(["plot", "-", "-o", str(out)])
+    assert rc == 0, err
+    assert "standard input" in out.read_text()

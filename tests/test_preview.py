@@ -1,0 +1,380 @@
+"""``ngc2py.parse`` against LinuxCNC's own ``gcode.parse``.
+
+Where an interpreter with LinuxCNC's ``gcode`` module is installed (Debian's
+``/usr/bin/python3`` with linuxcnc-uspace; override with GCODE_PYTHON), every
+program runs through both, with the same recording canon, and the call
+sequences must be the same: every call, its arguments (floats to 1e-9
+relative), every ``next_line`` with its sequence number and its modal codes
+(all but ``mcodes[0]``, the number of the last block the interpreter wrote,
+which ngc2py does not track), the result and the error message.
+
+That module crashes (SIGSEGV) on T words and G43 outside a running LinuxCNC
+(its tool data lives in shared memory): such programs are skipped with that
+reason, as are golden programs that need rs274's -t/-v/-i/-b options.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import shutil
+import subprocess
+from pathlib import Path
+from typing import Optional
+
+import pytest
+from hypothesis import given, reject, settings
+
+import rs274 as harness
+import strategies
+from test_differential import PROFILE
+from test_stats import scratch_run
+
+import ngc2py
+from ngc2py.preview import LineCode, MIN_ERROR, strerror
+
+GCODE_PYTHON = os.environ.get("GCODE_PYTHON", "/usr/bin/python3")
+REFERENCE = Path(__file__).with_name("gcode_reference.py")
+CRASH_REASON = "LinuxCNC's gcode module crashes on this program (T words, G43)"
+
+
+def _has_gcode_module() -> bool:
+    if not shutil.which(GCODE_PYTHON):
+        return False
+    probe = subprocess.run(
+        [GCODE_PYTHON, "-c", "import gcode"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    return probe.returncode == 0
+
+
+HAS_GCODE = _has_gcode_module()
+needs_gcode = pytest.mark.skipif(
+    not HAS_GCODE,
+    reason="no Python with LinuxCNC's gcode module (%s; set GCODE_PYTHON)"
+    % GCODE_PYTHON,
+)
+
+ANSWERS = {
+    "get_external_angular_units": 1.0,
+    "get_external_length_units": 0.03937007874016,
+    "get_axis_mask": 0x3F,
+    "get_block_delete": False,
+    "check_abort": False,
+}
+QUESTIONS = set(ANSWERS) | {"get_tool"}
+
+
+class Recorder:
+    """The canon of tests/gcode_reference.py, on this side."""
+
+    def __init__(self):
+        self.calls = []
+        self.questions = []
+
+    def __getattr__(self, name):
+        if name.startswith("__") or name in ("parameter_file", "print_text"):
+            raise AttributeError(name)
+
+        def method(*args):
+            if name in QUESTIONS:
+                self.questions.append(name)
+                if name == "get_tool":
+                    return (args[0],) + (0.0,) * 12 + (0,)
+                return ANSWERS[name]
+            if name == "next_line":
+                line = args[0]
+                args = (line.sequence_number, list(line.gcodes), list(line.mcodes))
+            self.calls.append([name, list(args)])
+
+        return method
+
+
+def reference(scratch, name: str, extra) -> Optional[dict]:
+    """gcode.parse's calls, or None when the module crashed."""
+    out = scratch.tmp / "reference.json"
+    proc = subprocess.run(
+        [GCODE_PYTHON, str(REFERENCE), name, json.dumps(extra), str(out)],
+        cwd=scratch.work,
+        env=scratch.env({"PYTHONPATH": ""}),
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        timeout=60,
+    )
+    if proc.returncode < 0 or not out.exists():
+        return None
+    return json.loads(out.read_text())
+
+
+def ours(name: str, extra) -> dict:
+    recorder = Recorder()
+    result = list(ngc2py.parse(name, recorder, *extra))
+    return {
+        "calls": recorder.calls,
+        "result": result,
+        "message": strerror(result[0]) if result[0] >= MIN_ERROR else "",
+        "questions": sorted(set(recorder.questions)),
+    }
+
+
+def _same(a, b) -> bool:
+    if isinstance(a, float) or isinstance(b, float):
+        return math.isclose(a, b, rel_tol=1e-9, abs_tol=1e-12)
+    return a == b
+
+
+#: Line code entries ngc2py does not reproduce: the last block's group 0 G
+#: code, its stopping and tool change M codes and its number (rs274 writes
+#: them for parameter-only lines too, which ngc2py does not see as blocks).
+_BLOCK_FIELDS = ((1, 2), (2, 0), (2, 1), (2, 3))
+
+
+def _comparable(call):
+    name, args = call
+    if name != "next_line":
+        return call
+    sequence, gcodes, mcodes = args
+    codes = [list(gcodes), list(mcodes)]
+    for which, index in _BLOCK_FIELDS:
+        codes[which - 1][index] = None
+    return [name, [sequence] + codes]
+
+
+def _final_line_after_error(calls):
+    """After an error the module's last line code shows the failing block's
+    half-done state; only its sequence number is compared."""
+    if calls and calls[-1][0] == "next_line":
+        calls[-1] = ["next_line", [calls[-1][1][0]]]
+
+
+def assert_same_calls(expected: dict, actual: dict) -> None:
+    want = [_comparable(c) for c in expected["calls"]]
+    got = [_comparable(c) for c in actual["calls"]]
+    if expected["result"][0] >= MIN_ERROR:
+        _final_line_after_error(want)
+        _final_line_after_error(got)
+    for index, (w, g) in enumerate(zip(want, got)):
+        same = w[0] == g[0] and len(w[1]) == len(g[1])
+        same = same and all(
+            _same(x, y) if not isinstance(x, list) else x == y
+            for x, y in zip(w[1], g[1])
+        )
+        assert (
+            same
+        ), "call %d differs:\n  gcode.parse: %r\n  ngc2py:      %r\n  before: %r" % (
+            index,
+            w,
+            g,
+            want[max(0, index - 3) : index],
+        )
+    assert len(want) == len(got), (want[len(got) :], got[len(want) :])
+    assert actual["result"] == expected["result"]
+    assert actual["message"] == expected["message"]
+    assert actual["questions"] == expected["questions"]
+
+
+def compare(
+    program: Path, extra=("G20", ""), text: Optional[str] = None, crashed=None
+) -> None:
+    """Both runs of ``program`` must make the same calls; when the module
+    crashes, ``crashed()`` (default: skip the test, with the reason)."""
+    with scratch_run(program, text) as s:
+        expected = reference(s, s.program.name, list(extra))
+        if expected is None:
+            (crashed or (lambda: pytest.skip(CRASH_REASON)))()
+            return
+        actual = ours(s.program.name, list(extra))
+    assert_same_calls(expected, actual)
+
+
+def _golden():
+    return [
+        p
+        for p in harness.golden_programs()
+        if p.with_suffix(".rc").exists() and not harness.read_args(p)
+    ]
+
+
+@needs_gcode
+@pytest.mark.parametrize(
+    "program",
+    _golden(),
+    ids=lambda p: str(p.relative_to(harness.GOLDEN).with_suffix("")),
+)
+def test_golden_programs_match_gcode_parse(program):
+    compare(program)
+
+
+@needs_gcode
+@pytest.mark.parametrize(
+    "extra",
+    [(), ("G21",), ("G20", "G17"), ("G21", "G18 G91"), (["G21", "G19", "G90"],)],
+    ids=["none", "unitcode", "unit-and-init", "init-modes", "list-form"],
+)
+def test_init_codes_match_gcode_parse(extra):
+    compare(harness.REPO / "examples" / "flange.ngc", extra)
+
+
+@needs_gcode
+@pytest.mark.parametrize(
+    "text",
+    [
+        "G21\nG0 X1\n",  # no end: error at end of file
+        "%\nG0 X1\n%\n",  # closing %
+        "\n\n%\n\nG1 X1 F10\n%\n",  # % after blank lines
+        "G1 X1 Y$3\nM2\n",  # read error
+        "G21 F10\nG2 X1 Y1 I9 J9\nM2\n",  # execution error
+        "o<s> sub\nG0 X1\nG1 X[1/0]\no<s> endsub\nG21\no<s> call\nM2\n",  # error in a call
+        "G17.1\nG18.1\nG19.1\nG17\nM2\n",  # UVW planes
+        "M0\nM1\nM60\nM30\n",
+        "(PRINT, printed #5220)\n(DEBUG, shown)\n(MSG, hi)\nM2\n",
+        "G20 G0 X1\nG21 G1 X2 F3\nG93 G1 X3 F2\nM2\n",  # units and inverse time
+        "/G0 X5\nG0 Y1\nM2\n",  # block delete is asked for
+    ],
+)
+def test_edge_cases_match_gcode_parse(tmp_path, text):
+    compare(tmp_path / "prog.ngc", text=text)
+
+
+def test_missing_file(tmp_path):
+    recorder = Recorder()
+    result = ngc2py.parse(str(tmp_path / "missing.ngc"), recorder, "G20")
+    assert result == (4, 1)
+    assert strerror(result[0]) == "File not open"
+
+
+def test_user_m_codes_call_user_defined_function(tmp_path):
+    path = tmp_path / "prog.ngc"
+    path.write_text("M101 P2 Q3\nM2\n")
+    recorder = Recorder()
+    with scratch_run(path) as s:
+        assert ngc2py.parse(s.program.name, recorder, "G20")[0] == 1
+    # The module passes the number of the M code less 100.
+    assert ["user_defined_function", [1, 2.0, 3.0]] in recorder.calls
+
+
+def test_check_abort_stops_the_run(tmp_path, monkeypatch):
+    import ngc2py.preview as preview
+
+    monkeypatch.setattr(preview, "ABORT_INTERVAL", -1.0)  # ask at every line
+    path = tmp_path / "prog.ngc"
+    path.write_text("G0 X1\nG0 X2\nM2\n")
+
+    class Abort(Recorder):
+        def check_abort(self):
+            return True
+
+    with scratch_run(path) as s, pytest.raises(KeyboardInterrupt):
+        ngc2py.parse(s.program.name, Abort())
+
+
+def test_canon_exceptions_propagate(tmp_path):
+    path = tmp_path / "prog.ngc"
+    path.write_text("G0 X1\nM2\n")
+
+    class Broken(Recorder):
+        def straight_traverse(self, *args):
+            raise ValueError("preview broke")
+
+    with scratch_run(path) as s, pytest.raises(ValueError, match="preview broke"):
+        ngc2py.parse(s.program.name, Broken())
+
+
+def test_print_reaches_the_canon_not_stdout(tmp_path, capfd):
+    path = tmp_path / "prog.ngc"
+    path.write_text("(PRINT, hello)\nM2\n")
+    printed = []
+
+    class Printing(Recorder):
+        def print_text(self, text):
+            printed.append(text)
+
+    with scratch_run(path) as s:
+        ngc2py.parse(s.program.name, Printing())
+    assert printed == [" hello"]
+    assert capfd.readouterr() == ("", "")
+
+
+def test_linecode_fields():
+    line = LineCode(
+        (7, 10) + (0,) * 15, (6, -1, 3) + (0,) * 7, (7.0, 100.0, 2000.0, 0.0, 0.0)
+    )
+    assert (line.sequence_number, line.motion_mode, line.spindle) == (7, 10, 3)
+    assert (line.feed_rate, line.speed) == (100.0, 2000.0)
+
+
+@needs_gcode
+@settings(PROFILE)
+@given(strategies.valid_programs(feed_modes=True))
+def test_generated_programs_match_gcode_parse(text):
+    compare(
+        harness.REPO / "tests" / "_generated" / "preview.ngc", text=text, crashed=reject
+    )
+
+
+@needs_gcode
+@settings(PROFILE, max_examples=max(10, PROFILE.max_examples // 2))
+@given(strategies.invalid_programs())
+def test_generated_broken_programs_match_gcode_parse(text):
+    compare(
+        harness.REPO / "tests" / "_generated" / "preview.ngc", text=text, crashed=reject
+    )
+
+
+def _ncfiles():
+    from test_ncfiles import NCFILES
+
+    return sorted(NCFILES.glob("*.ngc")) if NCFILES.is_dir() else []
+
+
+@needs_gcode
+@pytest.mark.parametrize("program", _ncfiles(), ids=lambda p: p.name)
+def test_linuxcnc_samples_match_gcode_parse(program):
+    """LinuxCNC's own samples, used in place (programs nobody here wrote)."""
+    from test_ncfiles import out_of_scope
+
+    codes = out_of_scope(program)
+    if codes:
+        pytest.skip("out of ngc2py's scope: %s" % ", ".join(codes))
+    compare(program)
+
+
+@needs_gcode
+def test_parameter_file_attribute(tmp_path):
+    """``canon.parameter_file`` is the .var file both read at start."""
+    (tmp_path / "prog.var").write_text(
+        "5220\t1.000000\n5221\t2.000000\n5222\t3.000000\n"
+    )
+    path = tmp_path / "prog.ngc"
+    path.write_text("G21 G0 X1\n(DEBUG, #5221 #5222)\nM2\n")
+
+    class WithFile(Recorder):
+        parameter_file = "prog.var"
+
+    with scratch_run(path) as s:
+        expected_out = s.tmp / "with-file.json"
+        script = (
+            "import sys; sys.argv = sys.argv[:1] + %r;"
+            "import gcode_reference as g;"
+            "g.Recorder.parameter_file = 'prog.var';"
+            "g.main()"
+        ) % (
+            [s.program.name, '["G20", ""]', str(expected_out)],
+        )
+        subprocess.run(
+            [GCODE_PYTHON, "-c", script],
+            cwd=s.work,
+            env=s.env({"PYTHONPATH": str(REFERENCE.parent)}),
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+            timeout=60,
+        )
+        expected = json.loads(expected_out.read_text())
+        recorder = WithFile()
+        result = list(ngc2py.parse(s.program.name, recorder, "G20", ""))
+    messages = [c for c in recorder.calls if c[0] == "message"]
+    assert messages == [["message", [" 2.000000 3.000000"]]]
+    assert messages == [c for c in expected["calls"] if c[0] == "message"]
+    assert result == expected["result"]

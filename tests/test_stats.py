@@ -1,0 +1,270 @@
+"""``ngc2py stats`` and runtime.stats: extents equal the trace's, the cycle
+time model does what the README says, the command behaves.
+
+The extents are checked against rs274's own traces: the golden recordings
+(no rs274 needed), LinuxCNC's sample programs and generated programs (live
+rs274). The trace is read back by tests/trace_path.py, which samples arcs
+instead of computing their extremes; the two agree within the trace's four
+printed decimals.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import math
+import os
+from contextlib import contextmanager, redirect_stderr, redirect_stdout
+from pathlib import Path
+
+import pytest
+from hypothesis import given, settings
+
+import rs274 as harness
+import strategies
+from test_differential import PROFILE
+from trace_path import TracePath
+
+from ngc2py import cli
+from runtime.errors import GCodeError
+from runtime.machine import Machine
+from runtime.main import parse_options, start
+from runtime.stats import Model, StatsCanon, move_time
+
+NCFILES = Path("/usr/share/linuxcnc/ncfiles")
+
+
+@contextmanager
+def scratch_run(program: Path, text=None):
+    """cwd in a scratch copy of the program's folder, with a private cache."""
+    with harness.Scratch(program, text) as s:
+        saved_cwd, saved_env = os.getcwd(), dict(os.environ)
+        os.environ["NGC2PY_CACHE"] = str(s.tmp / "cache")
+        os.environ["HOME"] = str(s.home)
+        os.chdir(s.work)
+        try:
+            yield s
+        finally:
+            os.chdir(saved_cwd)
+            os.environ.clear()
+            os.environ.update(saved_env)
+
+
+def stats_of(name: str, args=()) -> StatsCanon:
+    """Run ``name`` (in the cwd) against a StatsCanon, up to its end or its error."""
+    options = parse_options(list(args))
+    canon = StatsCanon()
+    try:
+        module = cli.load_program(name, options.get("ini"))
+    except Exception:  # unopenable programs make no moves
+        return canon
+    machine = Machine(canon, source=module.__ngc__, **options)
+    try:
+        start(machine, module.main)
+    except GCodeError:
+        pass
+    return canon
+
+
+def assert_same_extents(canon: StatsCanon, trace: str) -> None:
+    expected = TracePath(trace)
+    report = canon.report()
+    got = {k: v for k, v in report["extents"].items() if k in "xyzabc"}
+    want = expected.extents()
+    assert sorted(got) == sorted(want), (got, want)
+    for axis, (low, high) in want.items():
+        # Half of the fourth printed decimal, in inches if the trace was
+        # (0.00127 mm), plus the sampling's error on large arcs.
+        tolerance = 0.0026 + 1e-5 * max(abs(low), abs(high))
+        assert got[axis][0] == pytest.approx(low, abs=tolerance), (axis, got, want)
+        assert got[axis][1] == pytest.approx(high, abs=tolerance), (axis, got, want)
+    assert report["moves"]["total"] == expected.moves
+    assert report["moves"]["arc"] == expected.arcs
+
+
+def recorded(program: Path) -> bool:
+    return program.with_suffix(".out").exists()
+
+
+@pytest.mark.parametrize(
+    "program",
+    [p for p in harness.golden_programs() if recorded(p)],
+    ids=lambda p: str(p.relative_to(harness.GOLDEN).with_suffix("")),
+)
+def test_extents_equal_the_golden_trace(program):
+    trace = program.with_suffix(".out").read_text("utf-8", "replace")
+    with scratch_run(program) as s:
+        canon = stats_of(s.program.name, harness.read_args(program))
+    assert_same_extents(canon, trace)
+
+
+def _ncfiles():
+    if not NCFILES.is_dir():
+        return []
+    return sorted(NCFILES.glob("*.ngc"))
+
+
+@pytest.mark.rs274
+@pytest.mark.skipif(
+    not NCFILES.is_dir(), reason="LinuxCNC's sample programs are not installed"
+)
+@pytest.mark.parametrize("program", _ncfiles(), ids=lambda p: p.name)
+def test_extents_equal_rs274_on_linuxcnc_samples(program):
+    expected = harness.run_rs274(program, timeout=60)
+    if expected.timed_out or expected.rc not in (0, 1):
+        pytest.skip("rs274 hangs or crashes on this sample")
+    with scratch_run(program) as s:
+        canon = stats_of(s.program.name)
+    # Samples ngc2py does not run yet (canned cycles, ...) stop early; the
+    # comparison is then up to where both stopped, so only compare when the
+    # runs agree on the number of moves.
+    if (
+        canon.report()["moves"]["total"]
+        != TracePath(expected.stdout.decode("latin-1")).moves
+    ):
+        pytest.skip("ngc2py stops earlier on this sample (out of scope codes)")
+    assert_same_extents(canon, expected.stdout.decode("latin-1"))
+
+
+@pytest.mark.rs274
+@settings(PROFILE)
+@given(strategies.valid_programs(feed_modes=True))
+def test_extents_equal_rs274_on_generated_programs(text):
+    program = harness.REPO / "tests" / "_generated" / "stats.ngc"
+    expected = harness.run_rs274(program, text=text, timeout=20)
+    if expected.timed_out or expected.rc not in (0, 1):
+        return  # no reference behaviour
+    with scratch_run(program, text) as s:
+        canon = stats_of(s.program.name)
+    assert_same_extents(canon, expected.stdout.decode("latin-1"))
+
+
+# --------------------------------------------------------------------------
+# The model, on programs whose answer is known by hand
+# --------------------------------------------------------------------------
+
+
+def run_text(tmp_path, text: str, model=None) -> dict:
+    path = tmp_path / "prog.ngc"
+    path.write_text(text)
+    with scratch_run(path) as s:
+        options = parse_options([])
+        module = cli.load_program(s.program.name, None)
+        canon = StatsCanon(model)
+        start(Machine(canon, source=module.__ngc__, **options), module.main)
+    return canon.report()
+
+
+def test_move_time_trapezoid_and_triangle():
+    # 600 mm/min = 10 mm/s, 100 mm/s^2: ramps take 0.1 s and 1 mm in all.
+    assert move_time(100.0, 600.0, 100.0) == pytest.approx(10.0 + 0.1)
+    # Too short to reach speed: a triangle, 2*sqrt(L/a).
+    assert move_time(0.25, 600.0, 100.0) == pytest.approx(2 * math.sqrt(0.0025))
+    assert move_time(100.0, 600.0, 0.0) == pytest.approx(10.0)
+    assert move_time(0.0, 600.0, 100.0) == 0.0
+
+
+def test_lengths_counts_and_time_by_hand(tmp_path):
+    report = run_text(
+        tmp_path,
+        "G21 G17 F600\nG0 X10\nG1 Y10\nG3 X0 Y10 I-5 J0\nG4 P2.5\nT1 M6\nM2\n",
+        Model(rapid_rate=1200.0, acceleration=0.0, tool_change_time=3.0),
+    )
+    assert report["units"] == "mm"
+    assert report["length"]["rapid"] == pytest.approx(10.0)
+    assert report["length"]["feed"] == pytest.approx(10.0)
+    assert report["length"]["arc"] == pytest.approx(5 * math.pi)
+    assert report["moves"] == {"rapid": 1, "feed": 1, "arc": 1, "probe": 0, "total": 3}
+    assert report["tool_changes"] == 1
+    assert report["dwells"] == 1 and report["dwell_time"] == pytest.approx(2.5)
+    # rapid 10 mm at 20 mm/s, feed 10 mm and the half circle at 10 mm/s
+    expected = 0.5 + 1.0 + 5 * math.pi / 10 + 2.5 + 3.0
+    assert report["cycle_time"] == pytest.approx(expected)
+    assert report["extents"]["x"] == pytest.approx([0.0, 10.0])
+    assert report["extents"]["y"] == pytest.approx([0.0, 15.0])  # the arc's bulge
+
+
+def test_inch_program_reports_inches_and_converts_rates(tmp_path):
+    report = run_text(tmp_path, "G20\nF10\nG1 X2\nM2\n", Model(acceleration=0.0))
+    assert report["units"] == "inch"
+    assert report["extents"]["x"] == pytest.approx([2.0, 2.0])
+    assert report["length"]["feed"] == pytest.approx(2.0)
+    assert report["cycle_time"] == pytest.approx(12.0)  # 2 in at 10 in/min
+    assert report["model"]["rapid_rate"] == pytest.approx(3000 / 25.4)
+    # On one line F is set before G20 takes effect (rs274's order): the
+    # feed is 10 mm/min, which the machine keeps when the units change.
+    report = run_text(tmp_path, "G20 F10\nG1 X2\nM2\n", Model(acceleration=0.0))
+    assert report["cycle_time"] == pytest.approx(12.0 * 25.4)
+
+
+def test_helix_length_and_full_turns(tmp_path):
+    report = run_text(tmp_path, "G21 F100\nG0 X5\nG2 X5 Y0 Z-4 I-5 J0 P2\nM2\n")
+    planar = 2 * 2 * math.pi * 5
+    assert report["length"]["arc"] == pytest.approx(math.hypot(planar, 4.0))
+    assert report["extents"]["x"] == pytest.approx([-5.0, 5.0])
+    assert report["extents"]["y"] == pytest.approx([-5.0, 5.0])
+    assert report["extents"]["z"] == pytest.approx([-4.0, 0.0])
+
+
+def test_inverse_time_and_feed_per_rev(tmp_path):
+    # G93 F2: the 10 mm move takes half a minute; G95 at 0.1 mm/rev, 600 rpm
+    # is 60 mm/min, so 10 mm takes 10 s.
+    report = run_text(
+        tmp_path,
+        "G21\nG93 G1 X10 F2\nG94 S600 M3\nG95 G1 X20 F0.1\nM2\n",
+        Model(acceleration=0.0),
+    )
+    assert report["cycle_time"] == pytest.approx(30.0 + 10.0)
+    assert report["untimed_moves"] == 0
+
+
+# --------------------------------------------------------------------------
+# The command
+# --------------------------------------------------------------------------
+
+
+def main(argv):
+    out, err = io.StringIO(), io.StringIO()
+    with redirect_stdout(out), redirect_stderr(err):
+        rc = cli.main(argv)
+    return rc, out.getvalue(), err.getvalue()
+
+
+def test_command_json_and_text(tmp_path):
+    example = harness.REPO / "examples" / "flange.ngc"
+    with scratch_run(example) as s:
+        rc, out, err = main(["stats", s.program.name, "--json"])
+        assert rc == 0, err
+        report = json.loads(out)
+        assert report["units"] == "mm"
+        assert report["tool_changes"] == 1
+        assert report["moves"]["arc"] == 5
+        rc, text, _ = main(["stats", s.program.name, "--rapid-rate", "10in"])
+        assert rc == 0
+    assert "cycle time:" in text and "X " in text
+    assert "rapid 254 mm/min" in text
+
+
+def test_command_error_exit_status(tmp_path):
+    path = tmp_path / "bad.ngc"
+    path.write_text("G1 X1 F100\nG1 X[1/0]\nM2\n")
+    with scratch_run(path) as s:
+        rc, out, err = main(["stats", s.program.name])
+    assert rc == 1
+    assert out == ""
+    assert err.startswith("Attempt to divide by zero")
+
+
+def test_command_reads_standard_input(tmp_path, monkeypatch):
+    monkeypatch.setattr("sys.stdin", io.TextIOWrapper(io.BytesIO(b"G0 X3\nM2\n")))
+    with scratch_run(tmp_path / "x.ngc", ""):
+        rc, out, err = main(["stats", "-", "--json"])
+    assert rc == 0, err
+    assert json.loads(out)["extents"]["x"] == [3.0, 3.0]
+
+
+def test_command_help_and_bad_option():
+    rc, out, _ = main(["stats", "--help"])
+    assert rc == 0 and "cycle time model" in out and "exit status" in out
+    rc, _, err = main(["stats", "x.ngc", "--accel", "fast"])
+    assert rc == 1 and "fast" in err
