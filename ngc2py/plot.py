@@ -263,4 +263,4 @@ def write_atomic_bytes(target: str, data: bytes) -> None:
         raise
 
 
-__all__ = ["PlotCanon", "add_parser", "command", "draw", "project"]
+__all__ = ["PlotCanon", "register", "command", "draw", "project"]

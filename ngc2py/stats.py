@@ -156,4 +156,4 @@ def format_report(report: Dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-__all__ = ["add_parser", "command", "format_report"]
+__all__ = ["register", "command", "format_report"]
