@@ -84,6 +84,7 @@ from runtime.codes import (
     G59_3,
     G61,
     G61_1,
+    G64,
     G80,
     G90_1,
     G91,
@@ -103,6 +104,7 @@ from runtime.comments import execute_comment
 from runtime.errors import GCodeError, Location, g_code_frames_of_stack
 from runtime.inifile import IniSettings, load_ini
 from runtime.mcodes import MCodesMixin, ProgramEnd, not_supported
+from runtime.modal_save import ModalSaveMixin
 from runtime.motion import (
     AXES,
     INVERSE_TIME,
@@ -180,7 +182,12 @@ class _Subroutine(NamedTuple):
 
 
 class Machine(
-    MCodesMixin, MotionMixin, OutOfScopeChecksMixin, OffsetsMixin, ToolsMixin
+    MCodesMixin,
+    MotionMixin,
+    OutOfScopeChecksMixin,
+    OffsetsMixin,
+    ToolsMixin,
+    ModalSaveMixin,
 ):
     """rs274's interpreter state and block execution, printing through ``canon``."""
 
@@ -255,7 +262,10 @@ class Machine(
         self.speed_override = True
         self.adaptive_feed = False
         self.feed_hold = True
-        self.control_mode = G61
+        # The stand-alone canon starts in G64 without tolerances.
+        self.control_mode = G64
+        self.path_tolerance = 0.0
+        self.naivecam_tolerance = 0.0
         self.retract_r_plane = True
         self.lathe_diameter = False
         self.cutter_comp = False
@@ -477,10 +487,12 @@ class Machine(
         """Run subroutine ``fn`` one call level down, with fresh named locals."""
         caller_locals = self._enter_sub()
         try:
-            return fn(self)
+            result = fn(self)
         finally:
             self.call_level -= 1
             self._locals = caller_locals
+        self._left_frame(self.call_level + 1)  # M73's restore
+        return result
 
     def _enter_sub(self) -> Locals:
         """Go one call level down, with fresh named locals; returns the caller's."""
@@ -489,6 +501,7 @@ class Machine(
         caller_locals = self._locals
         self._locals = Locals()
         self.call_level += 1
+        self._new_frame(self.call_level)
         self.value_returned = 0.0
         return caller_locals
 
@@ -549,8 +562,8 @@ class Machine(
             self.canon.set_spindle_speed(0, self.speed)
         if "t" in words:
             self._select_tool(int(words["t"]))
-        if block.m:
-            self._execute_m(block)
+        if block.m and self._execute_m(block):
+            return  # M72 replaced the rest of the line (runtime.modal_save)
         self._execute_g(block)
         if M_STOP in block.m:
             self._stop(block.m[M_STOP])
@@ -634,8 +647,10 @@ class Machine(
             naive = words.get("q", -1.0)
             # A negative (or absent) P or Q means "none": 0, and Q defaults to P.
             tolerance = max(tolerance, 0.0)
+            naive = naive if naive >= 0 else tolerance
             canon.set_motion_control_mode("CONTINUOUS", tolerance)
-            canon.set_naivecam_tolerance(naive if naive >= 0 else tolerance)
+            canon.set_naivecam_tolerance(naive)
+            self.path_tolerance, self.naivecam_tolerance = tolerance, naive
         self.control_mode = code
 
     def _distance_mode(self, incremental: bool) -> None:
