@@ -202,7 +202,7 @@ class Machine(
         _rpm _x _y _z _a _b _c _u _v _w _current_tool _current_pocket
         _selected_tool _selected_pocket _value _value_returned _task
         _call_level _remap_level _abs_x _abs_y _abs_z _abs_a _abs_b
-        _abs_c""".split()
+        _abs_c _metric_machine""".split()
     )
 
     def __init__(
@@ -225,6 +225,8 @@ class Machine(
         # rs274 closes with one ON_RESET when it could read an INI file, two otherwise.
         ini_read = ini is not None and self.settings.opened
         self._closing_resets = 1 if ini_read else 2
+        #: #<_ini[...]> names read from the INI file (read-only globals).
+        self.ini_globals = set()
         self.line = 0
         #: rs274's user (machine) units per mm: its canon reports inches.
         self.user_units_per_mm = USER_UNITS_PER_MM
@@ -753,6 +755,10 @@ class Machine(
         frames = g_code_frames_of_stack()
         return frames[-1].line if frames else self.line
 
+    def ini_parameter(self, name: str) -> Optional[float]:
+        """``#<_ini[SECTION]KEY>`` from the -i file, or None."""
+        return self.settings.ini_parameter(name)
+
     def pocket_number(self, index: int) -> int:
         """The pocket (P word) of the tool at table ``index``, as
         ``#<_current_pocket>`` and ``#<_selected_pocket>`` report it."""
@@ -816,4 +822,6 @@ _PREDEFINED_VALUES: Dict[str, Callable[[Machine], float]] = {
     "_task": lambda m: 0,
     "_call_level": lambda m: m.call_level,
     "_remap_level": lambda m: 0,
+    # rs274 asks the INI file before it knows the file's name: always -1.
+    "_metric_machine": lambda m: -1,
 }

@@ -227,13 +227,17 @@ class Globals(NamedStore):
             machine = self._machine_
             if name in machine.PREDEFINED:
                 return machine.predefined(name)
+            if name.startswith("_ini[") and _from_ini(self, name):
+                return self.__dict__[name]
             raise GCodeError("Named parameter #<%s> not defined" % name) from None
 
     def __setattr__(self, name: str, value: float) -> None:
         self[name] = value
 
     def __setitem__(self, name: str, value: float) -> None:
-        if name in self._machine_.PREDEFINED:
+        if name in self._machine_.PREDEFINED or (
+            name.startswith("_ini[") and _from_ini(self, name)
+        ):
             raise GCodeError("Cannot assign to read-only parameter #<%s>" % name)
         self.__dict__[name] = value
 
@@ -241,14 +245,31 @@ class Globals(NamedStore):
     def exists(self, name: str) -> float:
         if name in self.__dict__ or name in self._machine_.PREDEFINED:
             return 1.0
-        return 0.0
+        return 1.0 if name.startswith("_ini[") and _from_ini(self, name) else 0.0
 
     @_Method
     def declare(self, name: str) -> None:
         # A predefined name is not created here: its assignment fails later,
         # when the line is executed, exactly as in rs274.
-        if name not in self._machine_.PREDEFINED:
+        if name not in self._machine_.PREDEFINED and not (
+            name.startswith("_ini[") and _from_ini(self, name)
+        ):
             self.__dict__.setdefault(name, 0.0)
+
+
+def _from_ini(store: "Globals", name: str) -> bool:
+    """``#<_ini[SECTION]KEY>``: rs274 looks a name it does not know up in the
+    INI file, and keeps a number it finds there as a read-only global.
+    (A function, not a method: a G-code name could shadow a method.)"""
+    machine = store._machine_
+    if name in machine.ini_globals:
+        return True
+    value = machine.ini_parameter(name)
+    if value is None:
+        return False
+    machine.ini_globals.add(name)
+    store.__dict__[name] = value
+    return True
 
 
 #: Names ``store.name`` must not be used for: every attribute the classes have.
