@@ -770,12 +770,16 @@ class CodeGen:
         subroutine (``fn``, or the one named by P when None) L times."""
         line = stmt.line
         self.w.comment(line)
-        words = [
-            "%s=%s" % (WORD_KEYWORDS.get(w.letter, w.letter), self.x.expr(w.value))
-            for w in line.words
-        ]
+        codes, words = [], []
+        for w in line.words:
+            value = self.x.expr(w.value)
+            if w.letter in "gm":  # a line may have several
+                codes.append(self.code_arg(w, value))
+            else:
+                words.append("%s=%s" % (WORD_KEYWORDS.get(w.letter, w.letter), value))
         fn = stmt.sub.fn if stmt.sub is not None else "None"
-        self.w.stmt("m.m98(%s)" % ", ".join(["%d" % line.number, fn] + words), line)
+        args = ["%d" % line.number, fn] + codes + words
+        self.w.stmt("m.m98(%s)" % ", ".join(args), line)
 
     def s_return(self, stmt: st.Return) -> None:
         self.w.comment(stmt.line)

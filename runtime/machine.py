@@ -458,18 +458,18 @@ class Machine(
         self.value = 0.0 if result is None else float(result)
         self.value_returned = 0.0 if result is None else 1.0
 
-    def m98(self, line: int, fn: Optional[Callable], **words: float) -> None:
+    def m98(
+        self, line: int, fn: Optional[Callable], *codes: int, **words: float
+    ) -> None:
         """``M98 P.. [L..]``: a Fanuc-style call of subroutine P, L times.
 
         rs274 reads and checks the line's words as a block (M98 uses P and
         L), then runs nothing of it but the calls. ``fn`` is the subroutine,
-        or None to find it by P's value. Unlike ``o.. call`` the calls leave
+        or None to find it by P's value; ``codes`` are the line's G and M
+        codes (checked, never executed). Unlike ``o.. call`` the calls leave
         #1-#30 alone and ``#<_value>`` 0, but do get fresh named locals.
         """
         self.line = line
-        codes = [self.gcode(words.pop("g"))] if "g" in words else []
-        if "m" in words:
-            codes.append(self.mcode(words.pop("m")))
         block = blockcheck.read_block(codes, words)
         block.m98 = True
         blockcheck.enhance(block, self.plane, self.motion_mode)
@@ -479,8 +479,12 @@ class Machine(
         times = words.get("l", 1)
         if times == 0:
             # rs274 enters the call but never runs or leaves it: the rest of
-            # the program runs one call level down.
-            self._enter_sub()
+            # the program runs one call level down, in the new frame. The
+            # caller's code keeps its locals store bound, so that very store
+            # becomes the new frame's (emptied: the old locals are gone).
+            caller_locals = self._enter_sub()
+            caller_locals.__dict__.clear()
+            self._locals = caller_locals
         for _ in range(times):
             self._run_sub(fn)
         self.value = self.value_returned = 0.0
