@@ -931,6 +931,8 @@ class CodeGen:
         else:
             self.w.stmt("while True:", stmt.line)
         self.w.depth += 1
+        if stmt.kind != "repeat":  # m.repeat counts its own steps
+            self.w.stmt("m.step()", stmt.line)  # runtime.budget
         self.loops.append(stmt)
         self.block(stmt.body)
         if stmt.end is None:

@@ -25,7 +25,7 @@ that says so, at the point rs274 would execute them.
 from __future__ import annotations
 
 import sys
-from typing import Callable, Dict, Iterator, NamedTuple, Optional
+from typing import Callable, Dict, NamedTuple, Optional
 
 from runtime import blockcheck
 from runtime.canon import Canon, TraceCanon
@@ -49,7 +49,6 @@ from runtime.blockcheck import (
     TOOL_OFFSET,
     UNITS,
     Block,
-    round_to_int,
 )
 from runtime.codes import (
     G0,
@@ -105,6 +104,7 @@ from runtime.errors import GCodeError, Location, g_code_frames_of_stack
 from runtime.inifile import IniSettings, load_ini
 from runtime.mcodes import MCodesMixin, ProgramEnd, not_supported
 from runtime.modal_save import ModalSaveMixin
+from runtime.budget import DEFAULT_MAX_STEPS, StepBudgetMixin
 from runtime.motion import (
     AXES,
     INVERSE_TIME,
@@ -188,6 +188,7 @@ class Machine(
     OffsetsMixin,
     ToolsMixin,
     ModalSaveMixin,
+    StepBudgetMixin,
 ):
     """rs274's interpreter state and block execution, printing through ``canon``."""
 
@@ -213,6 +214,7 @@ class Machine(
         ini=None,
         block_delete=False,
         source=None,
+        max_steps=DEFAULT_MAX_STEPS,
     ):
         """``canon`` defaults to the rs274 trace on stdout; the file options are
         paths, as rs274's ``-t``, ``-v`` and ``-i`` take them."""
@@ -221,6 +223,7 @@ class Machine(
         #: rs274's -b switch: generated code skips "/" lines while it is set.
         self.block_delete = block_delete
         self.source = source
+        self._set_budget(max_steps)
         self.settings = IniSettings() if ini is None else load_ini(ini)
         # rs274 closes with one ON_RESET when it could read an INI file, two otherwise.
         ini_read = ini is not None and self.settings.opened
@@ -491,6 +494,7 @@ class Machine(
 
     def _run_sub(self, fn: Callable) -> Optional[float]:
         """Run subroutine ``fn`` one call level down, with fresh named locals."""
+        self.step()
         caller_locals = self._enter_sub()
         try:
             result = fn(self)
@@ -510,11 +514,6 @@ class Machine(
         self._new_frame(self.call_level)
         self.value_returned = 0.0
         return caller_locals
-
-    @staticmethod
-    def repeat(n: float) -> Iterator[int]:
-        """``o.. repeat [n]``: n rounded to the nearest integer times (none if negative)."""
-        return iter(range(round_to_int(n)))
 
     # ------------------------------------------------------------------
     # Blocks
