@@ -134,6 +134,8 @@ class IniSettings:
     locking_indexer: Tuple[bool, bool, bool] = (False, False, False)
     #: [RS274NGC]INI_VARS (on unless "0"): #<_ini[SECTION]KEY> parameters.
     ini_vars: bool = True
+    #: [RS274NGC]RETAIN_G43 ("1"): G43 follows every tool change.
+    retain_g43: bool = False
     #: The file itself, for #<_ini[SECTION]KEY>.
     ini: IniFile = field(default_factory=IniFile)
     #: What rs274 prints on stderr while reading the file (after "executing").
@@ -214,6 +216,7 @@ def settings_from(ini: IniFile) -> IniSettings:
         random_toolchanger=bool(integer("RANDOM_TOOLCHANGER", "EMCIO")),
         features=integer("FEATURES", "RS274NGC"),
         ini_vars=flag("INI_VARS", "RS274NGC", True),
+        retain_g43=flag("RETAIN_G43", "RS274NGC", False),
         locking_indexer=axes("LOCKING_INDEXER"),
         orient_offset=number("ORIENT_OFFSET", "RS274NGC", 0.0),
         program_prefix=_existing_dir(ini.find("PROGRAM_PREFIX", "DISPLAY")),

@@ -247,6 +247,8 @@ class Machine(
         #: What rs274 prints while loading the table (the CLI prints it).
         self.tool_table_report = table.load_report
         self.tools = ToolTable(dict(table.slots))
+        if self.settings.retain_g43:
+            self._execute = self._execute_retaining_g43
         self._reset_modes()
 
     def _reset_modes(self) -> None:
@@ -762,11 +764,6 @@ class Machine(
         """``#<_ini[SECTION]KEY>`` from the -i file, or None."""
         return self.settings.ini_parameter(name)
 
-    def pocket_number(self, index: int) -> int:
-        """The pocket (P word) of the tool at table ``index``, as
-        ``#<_current_pocket>`` and ``#<_selected_pocket>`` report it."""
-        return self._entry(index).pocket
-
     def predefined(self, name: str) -> Optional[float]:
         """The value of predefined parameter ``name`` (None if it is not one)."""
         if name not in self.PREDEFINED:
@@ -815,11 +812,9 @@ _PREDEFINED_VALUES: Dict[str, Callable[[Machine], float]] = {
     "_feed": lambda m: m.feed_rate,
     "_rpm": lambda m: m.speed,
     "_current_tool": lambda m: m.params[5400],
-    "_current_pocket": lambda m: m.pocket_number(m.current_pocket),
+    "_current_pocket": lambda m: m.current_pocket_number(),
     "_selected_tool": lambda m: m.selected_tool,
-    "_selected_pocket": lambda m: (
-        m.pocket_number(m.selected_pocket) if m.tool_selected else -1
-    ),
+    "_selected_pocket": lambda m: m.selected_pocket_number(),
     "_value": lambda m: m.value,
     "_value_returned": lambda m: m.value_returned,
     "_task": lambda m: 0,

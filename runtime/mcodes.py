@@ -51,6 +51,8 @@ class MCodesMixin:
             self._change_tool()
         elif m.get(M_TOOL) == 61:
             self._set_tool_number(words.get("q"))
+        if self.settings.retain_g43:
+            self._retain_g43(block)
         if M_SPINDLE in m and self._spindle(m[M_SPINDLE], words):
             return True
         if M_COOLANT in m:
