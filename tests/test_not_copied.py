@@ -19,6 +19,10 @@ crashes on over-long comment expansions are golden programs with an
    rs274 does (golden/continue).
 4. ``-n 1``: rs274 starts an interactive MDI prompt; ngc2py has no MDI, it
    refuses each line given, then asks whether to continue as rs274 does.
+5. ``(py,CODE)`` comments: rs274 runs CODE in its embedded Python. ngc2py
+   never runs code from a G-code file: it evaluates simple assignments and
+   arithmetic itself (golden/comments/py_*) and stops with an error that
+   says so on anything else, e.g. an import. ``(pyrun,...)`` does nothing.
 
 Each case shows rs274's behaviour where it can be shown cheaply (a hang is
 checked with a short timeout), then ngc2py's.
@@ -217,3 +221,21 @@ def test_run_cli_without_stdin_does_not_crash():
     err = io.StringIO()
     assert continue_mode._mdi(sys.stdin, err) is False
     assert err.getvalue() == "starting MDI\ncontinue program? y/n =>"
+
+
+# -- 5. embedded Python ---------------------------------------------------------
+
+IMPORT = "(py,import os)\nG0 X1\nM2\n"
+
+
+@pytest.mark.rs274
+def test_rs274_runs_embedded_python(tmp_path):
+    result = harness.run_rs274(tmp_path / "p.ngc", text=IMPORT)
+    assert result.rc == 0 and b"STRAIGHT_TRAVERSE(1.0000" in result.stdout
+
+
+def test_ngc2py_refuses_python_it_does_not_evaluate(tmp_path):
+    proc = ngc2py_run(tmp_path, IMPORT)
+    assert proc.returncode == 1
+    assert "ngc2py does not run embedded Python" in proc.stderr
+    assert "(py,import os)" in proc.stderr
