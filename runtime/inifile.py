@@ -136,6 +136,10 @@ class IniSettings:
     ini_vars: bool = True
     #: [RS274NGC]RETAIN_G43 ("1"): G43 follows every tool change.
     retain_g43: bool = False
+    #: [RS274NGC]OWORD_NARGS ("1"): a called sub gets #<n_args>.
+    oword_nargs: bool = False
+    #: [RS274NGC]DISABLE_FANUC_STYLE_SUB (an integer, non-zero): M98 fails.
+    disable_fanuc_style_sub: bool = False
     #: The file itself, for #<_ini[SECTION]KEY>.
     ini: IniFile = field(default_factory=IniFile)
     #: What rs274 prints on stderr while reading the file (after "executing").
@@ -217,6 +221,7 @@ def settings_from(ini: IniFile) -> IniSettings:
         features=integer("FEATURES", "RS274NGC"),
         ini_vars=flag("INI_VARS", "RS274NGC", True),
         retain_g43=flag("RETAIN_G43", "RS274NGC", False),
+        oword_nargs=flag("OWORD_NARGS", "RS274NGC", False),
         locking_indexer=axes("LOCKING_INDEXER"),
         orient_offset=number("ORIENT_OFFSET", "RS274NGC", 0.0),
         program_prefix=_existing_dir(ini.find("PROGRAM_PREFIX", "DISPLAY")),
@@ -232,6 +237,7 @@ def settings_from(ini: IniFile) -> IniSettings:
             CENTER_ARC_RADIUS_TOLERANCE_MM,
         ),
         disable_g92_persistence=bool(integer("DISABLE_G92_PERSISTENCE", "RS274NGC")),
+        disable_fanuc_style_sub=bool(integer("DISABLE_FANUC_STYLE_SUB", "RS274NGC")),
         ini=ini,
     )
     return replace(settings, stderr_report="".join(report))

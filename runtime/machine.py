@@ -114,7 +114,7 @@ from runtime.motion import (
     OutOfScopeChecksMixin,
 )
 from runtime.offsets import COORD_SYSTEM, G92_ENABLED, OffsetsMixin
-from runtime.params import Globals, Locals, Params
+from runtime.params import ArgCountLocals, Globals, Locals, Params
 from runtime.tooltable import ToolTable, default_tool_table, load_tool_table
 from runtime.tools import ToolsMixin
 from runtime.varfile import default_parameters, initial_parameters, save_parameter_file
@@ -239,6 +239,7 @@ class Machine(
         self._locals = Locals()
         self._subroutines: Dict[str, _Subroutine] = {}
         self.call_level = 0
+        self._arg_count = 0  # of the call being made (OWORD_NARGS)
         self.value = 0.0
         self.value_returned = 0.0
         table = (
@@ -455,6 +456,7 @@ class Machine(
         """An O-word call: fresh #1-#30 and locals, restored afterwards."""
         saved = self._params.save_locals()
         self._params.set_call_args(args)
+        self._arg_count = len(args)
         try:
             result = self._run_sub(fn)
         finally:
@@ -475,6 +477,8 @@ class Machine(
         #1-#30 alone and ``#<_value>`` 0, but do get fresh named locals.
         """
         self.line = line
+        if self.settings.disable_fanuc_style_sub:
+            raise GCodeError("DISABLE_FANUC_STYLE_SUB set in INI file, but found m98")
         block = blockcheck.read_block(codes, words)
         block.m98 = True
         blockcheck.enhance(block, self.plane, self.motion_mode)
@@ -511,7 +515,11 @@ class Machine(
         if self.call_level >= MAX_CALL_LEVEL:
             raise GCodeError("Too many subroutine levels")
         caller_locals = self._locals
-        self._locals = Locals()
+        if self.settings.oword_nargs:  # M98 calls count no arguments
+            self._locals = ArgCountLocals(self._arg_count)
+            self._arg_count = 0
+        else:
+            self._locals = Locals()
         self.call_level += 1
         self._new_frame(self.call_level)
         self.value_returned = 0.0

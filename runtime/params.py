@@ -208,6 +208,31 @@ class Locals(NamedStore):
     __slots__ = ()
 
 
+class ArgCountLocals(Locals):
+    """The locals of a call when ``[RS274NGC]OWORD_NARGS`` is on: they start
+    with ``#<n_args>``, the number of arguments, which cannot be assigned.
+    (A property on the class beats the instance dict, so ``v.n_args = x``
+    reaches the setter.)"""
+
+    __slots__ = ()
+
+    def __init__(self, count: int) -> None:
+        self.__dict__["n_args"] = float(count)
+
+    @property
+    def n_args(self) -> float:
+        return self.__dict__["n_args"]
+
+    @n_args.setter
+    def n_args(self, value: float) -> None:
+        self["n_args"] = value
+
+    def __setitem__(self, name: str, value: float) -> None:
+        if name == "n_args":
+            raise GCodeError("Cannot assign to read-only parameter #<n_args>")
+        self.__dict__[name] = value
+
+
 class Globals(NamedStore):
     """Named globals (``#<_name>``), with the machine's predefined ones.
 
