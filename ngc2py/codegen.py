@@ -527,11 +527,11 @@ class CodeGen:
         return "(%s, %d)" % (string(message), line.number)
 
     def sub_table(self) -> Coll:
-        """``{"name": fn}`` for the main file's subroutines (for seeking)."""
+        """``{"name": fn}`` for the main file's subroutines (for seeking);
+        Fanuc-style ones as ``"O<number>"`` (an o-call never finds them)."""
         pairs = [
-            "%s: %s" % (string(sub.name), sub.fn)
+            "%s: %s" % (string("O" + sub.name if sub.fanuc else sub.name), sub.fn)
             for sub in self.program.subs
-            if not sub.fanuc
         ]
         return Coll("{", pairs, "}")
 
@@ -732,7 +732,23 @@ class CodeGen:
         return self.loop_numbers.setdefault(id(loop), len(self.loop_numbers) + 1)
 
     def s_block(self, stmt: st.Block) -> None:
-        self.line_block(stmt.line)
+        line = stmt.line
+        if line.fanuc_alt is None:
+            self.line_block(line)
+            return
+        # "M#1 P100": an M98 call when the M value is 98 as the line is read.
+        value = self.x.expr(line.fanuc_value)
+        self.w.stmt("if m.is_m98(%s):" % value, line)
+        self.w.depth += 1
+        if line.fanuc_alt.error is None:
+            self.s_fanuccall(st.FanucCall(line.fanuc_alt))
+        else:  # what rs274 reads after "m#1" cannot be read
+            self.line_block(line.fanuc_alt)
+        self.w.depth -= 1
+        self.w.stmt("else:", line)
+        self.w.depth += 1
+        self.line_block(line)
+        self.w.depth -= 1
 
     def s_fail(self, stmt: st.Fail) -> None:
         self.w.comment(stmt.line)

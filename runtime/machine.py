@@ -400,6 +400,15 @@ class Machine(
         """A G code given by an expression, validated as rs274's reader does."""
         return g_code(value)
 
+    @staticmethod
+    def is_m98(value: float) -> bool:
+        """Does a computed M value at the start of a line make it an M98
+        call? rs274 reads the value as an integer, silently giving up."""
+        try:
+            return to_integer(value) == 98
+        except GCodeError:
+            return False
+
     def mcode(self, value: float) -> int:
         """An M code given by an expression, validated as rs274's reader does."""
         return m_code(value)
@@ -484,7 +493,9 @@ class Machine(
         blockcheck.enhance(block, self.plane, self.motion_mode)
         blockcheck.check(block, self.distance_incremental)
         if fn is None:
-            fn = self._read_ahead("%d" % to_integer(words["p"]))
+            name = "%d" % to_integer(words["p"])
+            fanuc = self.source.subs.get("O" + name) if self.source else None
+            fn = fanuc or self._read_ahead(name)
         times = words.get("l", 1)
         if times == 0:
             # rs274 enters the call but never runs or leaves it: the rest of
