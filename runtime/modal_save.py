@@ -101,11 +101,14 @@ class ModalState(NamedTuple):
 
 
 class SavedContext:
-    """The saved state of one call frame, and whether a return restores it."""
+    """One call frame's saved state (None once M71 forgot it) and whether a
+    return restores it. rs274 keeps the two as separate flags: M70 and M71
+    leave an M73's auto-restore mark alone, so after "M73 ... M70" the M70
+    state comes back at the return, and after "M73 M71 ... M70" too."""
 
     __slots__ = ("state", "auto_restore")
 
-    def __init__(self, state: ModalState, auto_restore: bool):
+    def __init__(self, state: Optional[ModalState], auto_restore: bool):
         self.state = state
         self.auto_restore = auto_restore
 
@@ -164,18 +167,24 @@ class ModalSaveMixin:
     # ------------------------------------------------------------------
     def _save_context(self, auto_restore: bool) -> None:
         """M70, or M73 (auto_restore): only a call frame can be returned from."""
-        self._contexts[self.call_level] = SavedContext(
-            self._modal_state(), auto_restore and self.call_level > 0
-        )
+        frame = self._contexts.get(self.call_level)
+        auto = auto_restore and self.call_level > 0
+        if frame is None:
+            self._contexts[self.call_level] = SavedContext(self._modal_state(), auto)
+        else:
+            frame.state = self._modal_state()
+            frame.auto_restore = frame.auto_restore or auto
 
     def _forget_context(self) -> None:
         """M71."""
-        self._contexts.pop(self.call_level, None)
+        frame = self._contexts.get(self.call_level)
+        if frame is not None:
+            frame.state = None
 
     def _restore_context(self) -> bool:
         """M72; True when restore lines ran (the rest of the line is lost)."""
         saved = self._contexts.get(self.call_level)
-        if saved is None:
+        if saved is None or saved.state is None:
             raise GCodeError(
                 "Cannot restore context from invalid stack frame - missing M70/M73?"
             )
@@ -194,7 +203,7 @@ class ModalSaveMixin:
         if not self._contexts:
             return
         saved = self._contexts.get(level)
-        if saved is not None and saved.auto_restore:
+        if saved is not None and saved.auto_restore and saved.state is not None:
             self._restore(saved.state)
 
     # ------------------------------------------------------------------
