@@ -74,7 +74,7 @@ BINARY_HELPERS = {
 }
 UNARY_HELPERS = {"abs": "abs_", "round": "round_"}  # others keep their name
 COMPARISONS = frozenset(("eq", "ne", "gt", "ge", "lt", "le", "and", "or", "xor"))
-WORD_KEYWORDS = {"@": "polar_dist", "^": "polar_angle"}
+WORD_KEYWORDS = {"@": "polar_dist", "^": "polar_angle", "$": "spindle"}
 GCODE_LETTERS = {"n": "N", "polar_dist": "@", "polar_angle": "^"}  # row shapes
 GCODE_LETTERS = {keyword: letter for letter, keyword in WORD_KEYWORDS.items()}
 RESERVED = frozenset(
@@ -763,7 +763,10 @@ class CodeGen:
         self.w.comment(sub.line)
         if sub.define_error is not None:
             err = sub.define_error
-            self.w.stmt(fail_call(err.line.number, err.message), err.line)
+            call = fail_call(err.line.number, err.message)
+            if err.finish:
+                call = call[:-1] + ", finish=True)"
+            self.w.stmt(call, err.line)
         else:
             self.w.stmt("m.define(%s, %s)" % (string(sub.name), sub.fn), sub.line)
 

@@ -265,6 +265,17 @@ def _check_other_words(block: Block) -> None:
         raise GCodeError(
             "D word with no G41, G41.1, G42, G42.1, G71, G71.1, G71.2 or G96 to use it"
         )
+    if "spindle" in words and not (
+        motion in (G76, G33, G33_1)
+        or m.get(M_SPINDLE) in (3, 4, 5, 19)
+        or m.get(M_OVERRIDE) == 51
+        or "s" in words
+    ):
+        # (rs274 also names G95-G97, but compares them with the motion code.)
+        raise GCodeError(
+            "$ (spindle selection) word with no M3, M4, M5, M19, M51, G33,"
+            " G33.1, G76, G95, G96 or G97 to use it"
+        )
     if "e" in words and motion not in _E_MOTIONS and m.get(M_IO) not in (66, 67, 68):
         raise GCodeError("E word with no G70, G76, M66, M67 or M68 to use it")
     if "h" in words and g.get(TOOL_OFFSET) not in (G43, G43_2) and motion != G76:

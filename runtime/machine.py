@@ -391,9 +391,13 @@ class Machine(
             raise GCodeError("File ended with no percent sign")
         raise GCodeError("File ended with no percent sign or program end")
 
-    def fail(self, line: int, message: str) -> None:
-        """An error rs274 reports when it reaches ``line``."""
+    def fail(self, line: int, message: str, finish: bool = False) -> None:
+        """An error rs274 reports when it reaches ``line`` (``finish``: after
+        the FINISH() of a closing ``%`` it met on the way)."""
         self.line = line
+        if finish:
+            self.canon.set_block_number(None)
+            self.canon.finish()
         raise GCodeError(message)
 
     def gcode(self, value: float) -> int:
