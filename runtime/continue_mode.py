@@ -28,8 +28,13 @@ from runtime.errors import GCodeError, g_code_frames_of_stack
 STOP, CONTINUE, MDI = 2, 0, 1
 
 
-def enable(machine, mode: int, report: Callable[[GCodeError], None],
-           stdin: TextIO, stderr: TextIO) -> None:
+def enable(
+    machine,
+    mode: int,
+    report: Callable[[GCodeError], None],
+    stdin: TextIO,
+    stderr: TextIO,
+) -> None:
     """Make ``machine`` go on after line errors as rs274's ``-n mode`` does."""
     if mode not in (CONTINUE, MDI):
         return

@@ -272,9 +272,7 @@ _CONTROL = 7
 def _m_lines(saved: Tuple[int, ...], current: Tuple[int, ...]) -> List[int]:
     """rs274's gen_m_codes: each differing M code it can write, in order."""
     return [
-        M_OFFSET + was
-        for was, now in zip(saved, current)
-        if was != now and was != NONE
+        M_OFFSET + was for was, now in zip(saved, current) if was != now and was != NONE
     ]
 
 

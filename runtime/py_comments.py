@@ -149,7 +149,11 @@ def _checked(value: Any) -> Any:
     """Refuse values that would grow without bound (huge integers, texts)."""
     if isinstance(value, str) and len(value) > _MAX_TEXT:
         raise _Unsupported()
-    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 4096:
+    if (
+        isinstance(value, int)
+        and not isinstance(value, bool)
+        and value.bit_length() > 4096
+    ):
         raise _Unsupported()
     return value
 

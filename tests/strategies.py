@@ -342,7 +342,8 @@ def stmt_codes(w: Writer) -> None:
                 "G55", "G43.1 Z1", "G49", "G91.1", "G98", "G8", "G7", "G96 S100", "G97",
             ])))
         w.emit(w.draw(st.sampled_from(["M72", "M72", "M72 G0 X1", "M71"])))
-        w.emit("G17 G90 G94 G21 G54 G91.1 G97 G8")
+        # back to the modes the other statements assume (G94 zeroes F)
+        w.emit(f"G17 G90 G94 G21 G54 G91.1 G97 G8 F{w.draw(numbers(50, 1000, 1))}")
         w.dist = 90
     elif kind == 7:
         w.emit(w.draw(st.sampled_from([
