@@ -1,21 +1,26 @@
 #!/usr/bin/env python3
-"""Time LinuxCNC's ``rs274 -g`` against ngc2py's generated modules.
+"""ngc2py against LinuxCNC's rs274, side by side.
 
-    python bench/run.py [--repeat N] [--moves N]
+    python bench/run.py [--quick] [--repeat N] [--only NAME,...] [--keep DIR]
 
-For each program: rs274 runs it N times; ngc2py compiles it once
-(``ngc2py convert``, timed separately) and the generated module runs N times.
-Both write to a file (not a terminal) so printing is not what is measured.
-The table shows median wall-clock seconds and the ratio ngc2py / rs274, and
-whether the two outputs were identical.
+Generates the workloads (bench/workloads.py: CAM files of 10k, 100k and 1M
+moves, 100k centre-format arcs, a 200k-iteration trigonometry loop, 100k
+subroutine calls, canned drilling, a pocketing job) into a temporary folder
+and, for each one:
 
-Programs (written to a temporary folder at run time):
+* converts it once (``ngc2py convert``: time and peak memory);
+* runs ``rs274 -g PROG OUT`` and ``python PROG.py > OUT`` (cold: Python
+  compiles a script on every run) and ``ngc2py run PROG`` (warm compile
+  cache), alternating, ``--repeat`` times each; prints median wall-clock
+  seconds, the ratio rs274 / ngc2py (higher is better: 2.0 means ngc2py takes
+  half the time) and whether the traces are identical;
+* trace-free: LinuxCNC's preview API ``gcode.parse`` with a do-nothing canon
+  (in the system Python, when it has LinuxCNC's ``gcode`` module) against
+  the converted module imported and run against ``runtime.canon.NullCanon``.
 
-* ``flange``        -- examples/flange.ngc
-* ``loops_subs``    -- nested while/repeat loops calling subroutines with
-                       arguments and return values (tens of thousands of calls)
-* ``cam_100k``      -- a synthetic CAM file: 100 000 plain G1 moves
-* ``arcs_20k``      -- 20 000 centre-format arcs
+Then how time per line grows from 10k to 1M lines, and the 1M-line file's
+convert-then-run total against rs274's run. ``--quick`` leaves out the
+1M-line file. Timings belong here, never in the test suite.
 """
 
 from __future__ import annotations
@@ -29,114 +34,202 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+from typing import Dict, List, Optional, Tuple
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import workloads  # noqa: E402  (bench/ is not a package)
 
 REPO = Path(__file__).resolve().parent.parent
+SYSTEM_PYTHON = "/usr/bin/python3"  # where LinuxCNC's gcode module lives
 
+#: name -> (generator, size, trace-free comparison too?)
+WORKLOADS = {
+    "cam_10k": (workloads.cam, 10_000, False),
+    "cam_100k": (workloads.cam, 100_000, True),
+    "cam_1m": (workloads.cam, 1_000_000, False),
+    "arcs_100k": (workloads.arcs, 100_000, False),
+    "loop_200k": (workloads.loop, 200_000, True),
+    "calls_100k": (workloads.calls, 100_000, False),
+    "drill_5k": (workloads.drilling, 5_000, False),
+    "pocket_40": (workloads.pocket, 40, False),
+}
 
-def loops_subs() -> str:
-    return """\
-(loop and subroutine heavy)
-G21 G90 F500
-o<cell> sub
-  #<acc> = [#1 * 0.5 + #2]
-  o<cell> return [#<acc> MOD 97]
-o<cell> endsub
-o<move> sub
-  G1 X[#1 MOD 50] Y[#2 MOD 50]
-o<move> endsub
-#<_total> = 0
-#<i> = 0
-o1 while [#<i> LT 120]
-  #<j> = 0
-  o2 while [#<j> LT 100]
-    o<cell> call [#<i>] [#<j>]
-    #<_total> = [#<_total> + #<_value>]
-    o3 if [[#<j> MOD 10] EQ 0]
-      o<move> call [#<i>] [#<j>]
-    o3 endif
-    #<j> = [#<j> + 1]
-  o2 endwhile
-  #<i> = [#<i> + 1]
-o1 endwhile
-(print, total #<_total>)
-M2
+GCODE_PARSE = """\
+import sys, time, gcode
+class Canon:
+    def __getattr__(self, name):
+        return lambda *args: None
+    def get_external_length_units(self): return 0.03937007874015748
+    def get_external_angular_units(self): return 1.0
+    def get_axis_mask(self): return 7
+    def get_block_delete(self): return False
+    def check_abort(self): return False
+    def get_tool(self, pocket): return pocket, 0., 0., 0., 0., 0., 0., 0., 0., 0., 0., 0., 0., 0., 0
+start = time.perf_counter()
+gcode.parse(sys.argv[1], Canon(), "G21", "")
+print(time.perf_counter() - start)
+"""
+
+NULL_RUN = """\
+import sys, time, importlib
+start = time.perf_counter()
+sys.path.insert(0, sys.argv[1])
+module = importlib.import_module(sys.argv[2])
+from runtime.canon import NullCanon
+module.run(NullCanon())
+print(time.perf_counter() - start)
 """
 
 
-def cam(moves: int) -> str:
-    lines = ["(synthetic CAM output)", "G21 G90 G17 G94", "G0 X0 Y0 Z5", "G1 Z-1 F800"]
-    for k in range(moves):
-        x = (k * 7919 % 100000) / 1000.0
-        y = (k * 104729 % 80000) / 1000.0
-        lines.append(f"X{x:.3f} Y{y:.3f}")
-    lines += ["G0 Z5", "M2"]
-    return "\n".join(lines) + "\n"
+class Run:
+    """One child process: wall seconds, peak memory (MB), exit status, output."""
+
+    def __init__(self, cmd: List[str], cwd: Path, env: dict, stdout_to: Optional[Path]):
+        start = time.perf_counter()
+        with open(stdout_to or os.devnull, "wb") as out:
+            proc = subprocess.Popen(cmd, cwd=cwd, env=env, stdout=out, stderr=subprocess.DEVNULL)
+            _, status, usage = os.wait4(proc.pid, 0)
+        self.seconds = time.perf_counter() - start
+        self.peak_mb = usage.ru_maxrss / 1024
+        self.status = os.waitstatus_to_exitcode(status)
+        proc.returncode = self.status
 
 
-def arcs(count: int) -> str:
-    lines = ["(many arcs)", "G21 G90 G17 F600", "G0 X10 Y0"]
-    for k in range(count):
-        code = "G3" if k % 2 == 0 else "G2"
-        lines.append(f"{code} X10 Y0 I-10 J0 Z{-(k % 10) / 10:.1f}")
-    lines.append("M2")
-    return "\n".join(lines) + "\n"
-
-
-def timed(cmd, cwd, env, repeat):
-    times = []
-    out = None
+def median_runs(makers, repeat: int) -> List[List[Run]]:
+    """Run each command maker ``repeat`` times, alternating between them."""
+    results: List[List[Run]] = [[] for _ in makers]
     for _ in range(repeat):
-        with tempfile.TemporaryFile() as sink:
-            start = time.perf_counter()
-            proc = subprocess.run(cmd, cwd=cwd, env=env, stdout=sink, stderr=subprocess.PIPE)
-            times.append(time.perf_counter() - start)
-            sink.seek(0)
-            out = (sink.read(), proc.returncode)
-    return statistics.median(times), out
+        for i, make in enumerate(makers):
+            results[i].append(make())
+    return results
+
+
+def med(runs: List[Run]) -> float:
+    return statistics.median(r.seconds for r in runs)
+
+
+def peak(runs: List[Run]) -> float:
+    return max(r.peak_mb for r in runs)
+
+
+def fmt_ratio(reference: float, ours: float) -> str:
+    return "%.2fx" % (reference / ours) if ours > 0 else "-"
+
+
+def same_file(a: Path, b: Path) -> str:
+    try:
+        with open(a, "rb") as fa, open(b, "rb") as fb:
+            while True:
+                ca, cb = fa.read(1 << 20), fb.read(1 << 20)
+                if ca != cb:
+                    return "DIFFERS"
+                if not ca:
+                    return "identical"
+    except OSError:
+        return "missing"
 
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--moves", type=int, default=100_000)
+    ap.add_argument("--quick", action="store_true", help="leave out the 1M-line CAM file")
+    ap.add_argument("--repeat", type=int, default=3, help="runs of each command (default 3)")
+    ap.add_argument("--only", help="comma-separated workload names: " + ", ".join(WORKLOADS))
+    ap.add_argument("--keep", help="write the programs and outputs here and keep them")
     args = ap.parse_args(argv)
 
+    names = list(WORKLOADS)
+    if args.only:
+        names = [n for n in args.only.split(",") if n in WORKLOADS]
+    elif args.quick:
+        names.remove("cam_1m")
     rs274 = shutil.which("rs274")
-    work = Path(tempfile.mkdtemp(prefix="ngc2py-bench-"))
+    has_gcode = os.path.exists(SYSTEM_PYTHON) and subprocess.run(
+        [SYSTEM_PYTHON, "-c", "import gcode"], capture_output=True
+    ).returncode == 0
+    work = Path(args.keep or tempfile.mkdtemp(prefix="ngc2py-bench-"))
+    work.mkdir(parents=True, exist_ok=True)
     home = work / "home"
-    home.mkdir()
-    env = dict(os.environ, HOME=str(home), PYTHONPATH=str(REPO))
-    programs = {
-        "flange": (REPO / "examples" / "flange.ngc").read_text(),
-        "loops_subs": loops_subs(),
-        f"cam_{args.moves // 1000}k": cam(args.moves),
-        "arcs_20k": arcs(20_000),
-    }
-    print(f"{'program':<12} {'rs274 s':>9} {'compile s':>10} {'module s':>9} {'ratio':>7}  same output")
+    home.mkdir(exist_ok=True)
+    cache = work / "cache"
+    env = dict(os.environ, HOME=str(home), PYTHONPATH=str(REPO), NGC2PY_CACHE=str(cache))
+    py = sys.executable
+    print("rs274: %s   python: %s   gcode.parse: %s" % (
+        rs274 or "not installed", py, "yes" if has_gcode else "no (system Python lacks LinuxCNC's gcode)"))
+    print("ratio = rs274's time / ngc2py's time (higher is better); medians of %d alternating runs\n" % args.repeat)
+    head = "%-11s %8s %9s %8s %9s %8s %9s %8s %7s  %s" % (
+        "workload", "lines", "convert", "rs274", "prog.py", "ratio", "run", "ratio", "peakMB", "trace")
+    print(head)
+    print("-" * len(head))
+    per_line: Dict[str, float] = {}
+    convert_times: Dict[str, float] = {}
+    rs274_times: Dict[str, float] = {}
+    preview: List[Tuple[str, float, float]] = []
     try:
-        for name, text in programs.items():
+        for name in names:
+            make, size, trace_free = WORKLOADS[name]
             src = work / f"{name}.ngc"
-            src.write_text(text)
+            src.write_text(make(size))
+            lines = sum(1 for _ in open(src))
             module = work / f"{name}.py"
-            start = time.perf_counter()
-            conv = subprocess.run(
-                [sys.executable, "-m", "ngc2py", "convert", src.name, "-o", str(module)],
-                cwd=work, env=env, capture_output=True,
-            )
-            compile_s = time.perf_counter() - start
-            if conv.returncode != 0:
-                err = conv.stderr.decode(errors="replace").strip().splitlines()
-                print(f"{name:<12} ngc2py convert failed: {err[-1] if err else conv.returncode}")
+            conv = Run([py, "-m", "ngc2py", "convert", src.name, "-o", module.name], work, env, None)
+            if conv.status != 0:
+                print("%-11s %8d  convert failed (exit %d): not supported yet?" % (name, lines, conv.status))
                 continue
-            mod_s, mod_out = timed([sys.executable, str(module)], work, env, args.repeat)
+            convert_times[name] = conv.seconds
+            # fill the compile cache once: 'ngc2py run' below is the warm case
+            Run([py, "-m", "ngc2py", "run", src.name], work, env, None)
+            ref_out, cold_out, warm_out = work / f"{name}.rs274", work / f"{name}.cold", work / f"{name}.warm"
+            makers = [
+                lambda: Run([py, module.name], work, env, cold_out),
+                lambda: Run([py, "-m", "ngc2py", "run", src.name], work, env, warm_out),
+            ]
             if rs274:
-                ref_s, ref_out = timed([rs274, "-g", src.name], work, env, args.repeat)
-                same = "yes" if ref_out == mod_out else "NO"
-                print(f"{name:<12} {ref_s:9.3f} {compile_s:10.3f} {mod_s:9.3f} {mod_s / ref_s:7.2f}  {same}")
+                makers.insert(0, lambda: Run([rs274, "-g", src.name, ref_out.name], work, env, None))
+            results = median_runs(makers, args.repeat)
+            if rs274:
+                ref, cold, warm = results
+                ref_s = med(ref)
+                rs274_times[name] = ref_s
+                trace = "identical" if same_file(ref_out, cold_out) == "identical" == same_file(ref_out, warm_out) else "DIFFERS"
+                if ref[0].status != cold[0].status:
+                    trace += " (exit %d vs %d)" % (ref[0].status, cold[0].status)
+                print("%-11s %8d %8.2fs %7.2fs %8.2fs %8s %8.2fs %8s %7.0f  %s" % (
+                    name, lines, conv.seconds, ref_s, med(cold), fmt_ratio(ref_s, med(cold)),
+                    med(warm), fmt_ratio(ref_s, med(warm)), max(peak(cold), peak(warm), conv.peak_mb), trace))
             else:
-                print(f"{name:<12} {'(none)':>9} {compile_s:10.3f} {mod_s:9.3f} {'-':>7}  (rs274 not installed)")
+                cold, warm = results
+                print("%-11s %8d %8.2fs %8s %8.2fs %8s %8.2fs %8s %7.0f  (no rs274)" % (
+                    name, lines, conv.seconds, "-", med(cold), "-", med(warm), "-",
+                    max(peak(cold), peak(warm), conv.peak_mb)))
+            if name.startswith("cam_"):
+                per_line[name] = med(cold) / lines
+            if trace_free and has_gcode:
+                ours, theirs = [], []
+                for _ in range(args.repeat):
+                    for cmd, into in (
+                        ([SYSTEM_PYTHON, "-c", GCODE_PARSE, src.name], theirs),
+                        ([py, "-c", NULL_RUN, str(work), name], ours),
+                    ):
+                        proc = subprocess.run(cmd, cwd=work, env=env, capture_output=True, text=True)
+                        if proc.returncode == 0 and proc.stdout.strip():
+                            into.append(float(proc.stdout.split()[-1]))
+                if ours and theirs:
+                    preview.append((name, statistics.median(theirs), statistics.median(ours)))
+        if preview:
+            print("\ntrace-free: gcode.parse (do-nothing canon) against module.run(NullCanon())")
+            for name, theirs, ours in preview:
+                print("  %-11s gcode.parse %7.2fs   NullCanon %7.2fs   ratio %s" % (
+                    name, theirs, ours, fmt_ratio(theirs, ours)))
+        if len(per_line) > 1:
+            print("\ngrowth (python PROG.py, microseconds per line):",
+                  "  ".join("%s %.2f" % (n, t * 1e6) for n, t in per_line.items()))
+        if "cam_1m" in convert_times and "cam_1m" in rs274_times:
+            total = convert_times["cam_1m"] + per_line["cam_1m"] * sum(1 for _ in open(work / "cam_1m.ngc"))
+            print("\n1M-line CAM file: convert + first run %.2fs against rs274 %.2fs (ratio %s)" % (
+                total, rs274_times["cam_1m"], fmt_ratio(rs274_times["cam_1m"], total)))
     finally:
-        shutil.rmtree(work, ignore_errors=True)
+        if not args.keep:
+            shutil.rmtree(work, ignore_errors=True)
     return 0
 
 

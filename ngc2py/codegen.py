@@ -45,6 +45,7 @@ from typing import Dict, Iterable, List, Optional, Sequence, Tuple
 
 from ngc2py import __version__, nodes
 from ngc2py import structure as st
+from ngc2py.parser import RowLine
 from runtime import codes
 from runtime.errors import GCodeError
 from runtime.params import Params
@@ -57,6 +58,7 @@ CHUNK_STATEMENTS = 500  # statements per main chunk function
 # helper function of its own (see CodeGen.nest).
 NEST_LIMIT = 8
 MIN_ROWS = 8  # shortest run of constant blocks kept as data
+ROWS_PER_TABLE = 20000  # rows of one table: bounds the memory of running one
 
 BINARY_HELPERS = {
     "/": "div",
@@ -74,8 +76,9 @@ BINARY_HELPERS = {
 }
 UNARY_HELPERS = {"abs": "abs_", "round": "round_"}  # others keep their name
 COMPARISONS = frozenset(("eq", "ne", "gt", "ge", "lt", "le", "and", "or", "xor"))
+PYTHON_COMPARISONS = {"gt": ">", "ge": ">=", "lt": "<", "le": "<="}
 WORD_KEYWORDS = {"@": "polar_dist", "^": "polar_angle", "$": "spindle"}
-GCODE_LETTERS = {"n": "N", "polar_dist": "@", "polar_angle": "^"}  # row shapes
+AXIS_LETTERS = frozenset("xyzabcuvw")
 GCODE_LETTERS = {keyword: letter for letter, keyword in WORD_KEYWORDS.items()}
 RESERVED = frozenset(
     keyword.kwlist + dir(builtins) + ["m", "p", "g", "v", "main", "run", "rows"]
@@ -165,6 +168,10 @@ class ExprWriter:
         """An if/while test: comparison helpers already return 1.0/0.0."""
         if isinstance(e, nodes.Bracket) and not may_overflow(e.inner):
             e = e.inner
+        if isinstance(e, nodes.Binary) and e.op in PYTHON_COMPARISONS:
+            # GT GE LT LE have no tolerance: Python's operators are exact.
+            op = PYTHON_COMPARISONS[e.op]
+            return "%s %s %s" % (self.expr(e.left), op, self.expr(e.right))
         if isinstance(e, nodes.Binary) and e.op in COMPARISONS:
             return self.expr(e)
         return "%s(%s)" % (self.helper("truth"), self.expr(e))
@@ -608,12 +615,23 @@ class CodeGen:
 
     @staticmethod
     def chunked(body: List[st.Stmt]) -> List[List[st.Stmt]]:
-        if len(body) <= CHUNK_STATEMENTS:
-            return [body]
-        return [
-            body[i : i + CHUNK_STATEMENTS]
-            for i in range(0, len(body), CHUNK_STATEMENTS)
-        ]
+        """Split the main program into functions of bounded size; a run of
+        data rows weighs one statement per table it fills."""
+        chunks: List[List[st.Stmt]] = [[]]
+        weight = rows = 0
+        for stmt in body:
+            if constant_row(stmt) is None:
+                weight += 1
+                rows = 0
+            else:
+                weight += rows % ROWS_PER_TABLE == 0
+                rows += 1
+            if weight > CHUNK_STATEMENTS:
+                chunks.append([])
+                weight = 1
+                rows = rows and 1
+            chunks[-1].append(stmt)
+        return chunks
 
     # -- statement lists --------------------------------------------------
 
@@ -638,16 +656,19 @@ class CodeGen:
         a data table executed by ``runtime.rows.run_rows``."""
         if len(run) < MIN_ROWS:
             for line, _ in run:
-                self.line_block(line)
+                self.line_block(line.full() if isinstance(line, RowLine) else line)
             return
-        name = "ROWS_%d" % (len(self.row_tables) + 1)
-        cells = []
-        for line, (shape, values) in run:
-            head = ["%d" % line.number, "%d" % self.shape(shape)]
-            cells.append(", ".join(head + values))
-            self.w.texts[self.w.file_index][line.number] = line.text
-        self.row_tables.append(row_table(name, cells))
-        self.w.row_loop("run_rows(m, SHAPES, %s)" % name)
+        for first in range(0, len(run), ROWS_PER_TABLE):
+            part = run[first : first + ROWS_PER_TABLE]
+            name = "ROWS_%d" % (len(self.row_tables) + 1)
+            cells = []
+            texts = self.w.texts[self.w.file_index]
+            for line, (shape, values) in part:
+                head = "%d %d" % (line.number, self.shape(shape))
+                cells.append(head + " " + values if values else head)
+                texts[line.number] = line.text
+            self.row_tables.append(row_table(name, cells))
+            self.w.row_loop("run_rows(m, SHAPES, %s)" % name)
 
     def shape(self, shape: Shape) -> int:
         """The index of ``shape`` in the module's SHAPES table."""
@@ -1064,6 +1085,9 @@ class CodeGen:
         return "p[%s]" % temp
 
     def block_call(self, line: nodes.Line, words, values: List[str]) -> str:
+        move = self.move_call(line, words, values)
+        if move is not None:
+            return move
         args = ["%d" % line.number]
         kwargs = []
         for word, value in zip(words, values):
@@ -1078,6 +1102,34 @@ class CodeGen:
         if line.comment is not None:
             kwargs.append("comment=%s" % self.comment_arg(line.comment))
         return "m.block(%s)" % ", ".join(args + kwargs)
+
+    def move_call(self, line: nodes.Line, words, values: List[str]) -> Optional[str]:
+        """``m.move(line, G1, x=..)`` for a plain straight move: G0, G1 or no
+        motion code, axis words, F and N only (runtime.fastpath); else None."""
+        if line.comment is not None:
+            return None
+        motion = None
+        kwargs = []
+        for word, value in zip(words, values):
+            letter = word.letter
+            if letter in AXIS_LETTERS or letter == "f":
+                kwargs.append("%s=%s" % (letter, value))
+            elif letter == "g" and motion is None and is_constant(word.value):
+                motion = convert_code(letter, word.value.value)
+                if motion not in (codes.G0, codes.G1):
+                    return None
+            else:
+                return None
+        if not any(word.letter in AXIS_LETTERS for word in words):
+            return None
+        args = ["%d" % line.number]
+        if motion is not None:
+            name = code_name(motion)
+            self.codes.add(name)
+            args.append(name)
+        if line.n_text is not None:
+            kwargs.append("n=%s" % string(line.n_text))
+        return "m.move(%s)" % ", ".join(args + kwargs)
 
     def code_arg(self, word: nodes.Word, value: str) -> str:
         """A G/M code: its constant's name, or a run-time conversion."""
@@ -1114,7 +1166,7 @@ def convert_code(letter: str, value: float) -> Optional[int]:
 # literals, which compiles in one constant (nested row tuples take twice as
 # long; see the module docstring).
 Shape = Tuple[Tuple[int, ...], Tuple[str, ...]]
-Row = Tuple[Shape, List[str]]
+Row = Tuple[Shape, str]  # the shape and the row's value cells
 
 
 def constant_row(stmt: st.Stmt) -> Optional[Row]:
@@ -1123,6 +1175,8 @@ def constant_row(stmt: st.Stmt) -> Optional[Row]:
     if not isinstance(stmt, st.Block):
         return None
     line = stmt.line
+    if isinstance(line, RowLine):
+        return line.shape, line.cells
     if line.error or line.comments or line.block_delete or line.oword:
         return None
     codes_: List[int] = []
@@ -1138,11 +1192,13 @@ def constant_row(stmt: st.Stmt) -> Optional[Row]:
             codes_.append(code)
         else:
             letters.append(WORD_KEYWORDS.get(word.letter, word.letter))
-            values.append(number(word.value.value))
+            values.append(repr(float(word.value.value)))
     if line.n_text is not None:
+        if not line.n_text or line.n_text.split() != [line.n_text]:
+            return None  # not one cell of a text table
         letters.insert(0, "n")  # first, as it is written
-        values.insert(0, string(line.n_text))
-    return (tuple(codes_), tuple(letters)), values
+        values.insert(0, line.n_text)
+    return (tuple(codes_), tuple(letters)), " ".join(values)
 
 
 def shape_text(shape: Shape) -> str:
@@ -1170,17 +1226,16 @@ def shapes_table(shapes: Dict[Shape, int]) -> List[str]:
 
 
 def row_table(name: str, cells: List[str]) -> List[str]:
-    """``ROWS_n = (...)``: one G-code line per text line (black would put
-    each number on a line of its own, hence fmt: off)."""
+    """``ROWS_n`` as a triple-quoted string: one G-code line per text line
+    (see runtime.rows for why a table is text)."""
     lines = [
         "",
         "",
         "# G-code line, shape (see SHAPES), word values",
-        "# fmt: off",
-        "%s = (" % name,
+        '%s = """' % name,
     ]
-    lines.extend("%s%s," % (INDENT, cell) for cell in cells)
-    lines += [")", "# fmt: on"]
+    lines.extend(cells)
+    lines.append('"""')
     return lines
 
 

@@ -805,24 +805,25 @@ def _simple_letters(axes: str) -> Dict[str, str]:
     return {c: c.lower() for c in letters | frozenset(c.upper() for c in letters)}
 
 
-def read_simple_line(text: str, number: int, file: str, axes: str) -> Optional[Line]:
-    """The Line for a line of the simple shape that reads without error,
-    exactly as :func:`read_any_line` makes it; None for any other line."""
+def _scan_simple(text: str, axes: str):
+    """The words of a simple-shaped line that reads without error:
+    ``(n_digits, [(letter, digits, value, checked, column)], comment)``, or
+    None for any other line (the general readers then read it)."""
     shape = _SIMPLE_LINE.fullmatch(text)
     if shape is None:
         return None
     n_digits, words, comment = shape.groups()
     letters = _simple_letters(axes)
-    items: List[Word] = []
+    found = []
     once: set = set()  # letters seen that may not repeat (G and M may)
     groups: Dict[str, Dict[int, int]] = {"g": {}, "m": {}}
     column = shape.start(2)
     for blanks, written, digits in _SIMPLE_WORD.findall(words):
         column += len(blanks)
         letter = letters.get(written)
-        if letter is None or letter in once or letter == "m" and not items:
+        if letter is None or letter in once or letter == "m" and not found:
             return None  # N/O or not a word, a repeat, or maybe M98/M99
-        value = float(digits)
+        value = checked = float(digits)
         if letter in _CHECKED_LETTERS:
             try:
                 checked = codes.check_word(letter, value)
@@ -832,8 +833,19 @@ def read_simple_line(text: str, number: int, file: str, axes: str) -> Optional[L
                 return None
         if letter not in groups:
             once.add(letter)
-        items.append(Word(letter, Num(value), column))
+        found.append((letter, digits, value, checked, column))
         column += 1 + len(digits)
+    return n_digits, found, comment
+
+
+def read_simple_line(text: str, number: int, file: str, axes: str) -> Optional[Line]:
+    """The Line for a line of the simple shape that reads without error,
+    exactly as :func:`read_any_line` makes it; None for any other line."""
+    scanned = _scan_simple(text, axes)
+    if scanned is None:
+        return None
+    n_digits, found, comment = scanned
+    items = tuple(Word(letter, Num(value), column) for letter, _, value, _, column in found)
     if n_digits is None:
         n = n_text = None
     else:
@@ -844,9 +856,72 @@ def read_simple_line(text: str, number: int, file: str, axes: str) -> Optional[L
         file,
         n=n,
         n_text=n_text,
-        items=tuple(items),
+        items=items,
         comments=() if comment is None else (_comment(comment[1:-1]),),
     )
+
+
+def read_row_line(
+    text: str, number: int, file: str, axes: str, shapes: Dict
+) -> Optional["RowLine"]:
+    """A :class:`RowLine` for a simple line of literal words only (no
+    comment), with valid G and M codes; None otherwise. ``shapes`` interns
+    the shapes of one file (a million rows share a handful)."""
+    scanned = _scan_simple(text, axes)
+    if scanned is None:
+        return None
+    n_digits, found, comment = scanned
+    if comment is not None or not found:
+        return None
+    codes_: List[int] = []
+    letters: List[str] = []
+    cells: List[str] = []
+    if n_digits is not None:
+        n_text = trace_number(text)
+        if not n_text:
+            return None
+        letters.append("n")
+        cells.append(n_text)
+    for letter, digits, _, checked, _ in found:
+        if letter in "gm":
+            codes_.append(checked)  # runtime.codes numbering
+        else:
+            letters.append(letter)
+            cells.append(digits)  # float(digits) is the value read
+    key = (tuple(codes_), tuple(letters))
+    shape = shapes.setdefault(key, key)
+    return RowLine(number, text, file, axes, shape, " ".join(cells))
+
+
+class RowLine:
+    """A line that is only literal words: kept as its data row (see
+    ngc2py.codegen's row tables) instead of a :class:`Line` of nodes, so a
+    million-line CAM file stays small. It reads like a Line that has no
+    O-word, error or comment; anything else is read again on demand."""
+
+    __slots__ = ("number", "text", "file", "axes", "shape", "cells")
+    oword = error = None
+    percent = block_delete = is_blank = False
+    comments = ()
+
+    def __init__(self, number, text, file, axes, shape, cells):
+        self.number = number
+        self.text = text
+        self.file = file
+        self.axes = axes
+        self.shape = shape
+        self.cells = cells
+
+    def full(self) -> Line:
+        """The same line as :func:`read_simple_line` reads it."""
+        line = read_simple_line(self.text, self.number, self.file, self.axes)
+        assert line is not None
+        return line
+
+    def __getattr__(self, name: str):
+        if name.startswith("__"):
+            raise AttributeError(name)
+        return getattr(self.full(), name)
 
 
 #: What rs274's trace skips before looking for ``N`` in the raw line.
@@ -908,12 +983,18 @@ def _parse_lines(data: bytes, file: str, axes: str) -> ParsedFile:
     lines: List[Line] = []
     demarcated = closed = False
     seen_content = False
+    shapes: Dict = {}
     for raw in source.split_lines(data):
         if raw.too_long:
             lines.append(
                 Line(raw.number, raw.text, file, error=source.COMMAND_TOO_LONG)
             )
             seen_content = True
+            continue
+        row = read_row_line(raw.text, raw.number, file, axes, shapes)
+        if row is not None:
+            seen_content = True
+            lines.append(row)
             continue
         simple = read_simple_line(raw.text, raw.number, file, axes)
         if simple is not None:  # never a % line

@@ -617,7 +617,8 @@ def walk(stmts: List[Stmt], into_subs: bool = True) -> Iterator[Stmt]:
             pending.pop()
             continue
         yield stmt
-        pending.extend(iter(body) for body in reversed(children(stmt, into_subs)))
+        if type(stmt) is not Block:  # most statements: nothing inside
+            pending.extend(iter(body) for body in reversed(children(stmt, into_subs)))
 
 
 def first_text_error(bodies: List[List[Stmt]]) -> Optional[nodes.Line]:

@@ -44,7 +44,7 @@ def enable(
         if mode == MDI and not _mdi(stdin, stderr):
             raise _Stop(error)
 
-    for name in ("block", "fail", "m98", "call", "call_named"):
+    for name in ("block", "move", "fail", "m98", "call", "call_named"):
         wrapped = _continuing(machine, getattr(machine, name), after_error)
         setattr(machine, name, wrapped)
 

@@ -101,6 +101,7 @@ from runtime.codes import (
 )
 from runtime.comments import execute_comment
 from runtime.errors import GCodeError, Location, g_code_frames_of_stack
+from runtime.fastpath import FastPathMixin
 from runtime.inifile import IniSettings, load_ini
 from runtime.mcodes import MCodesMixin, ProgramEnd, not_supported
 from runtime.modal_save import ModalSaveMixin
@@ -153,9 +154,6 @@ MAX_PARAMETER = 5602
 #: rs274 refuses a call made from this call level (nine nested calls at most).
 MAX_CALL_LEVEL = 9
 
-#: First parameter of the current position (#5420-#5428).
-POSITION_PARAMS = 5420
-
 #: Motion codes outside this version's scope, by what they are.
 _UNSUPPORTED_MOTION = {
     330: "spindle-synchronized motion",
@@ -182,6 +180,7 @@ class _Subroutine(NamedTuple):
 
 
 class Machine(
+    FastPathMixin,
     MCodesMixin,
     MotionMixin,
     OutOfScopeChecksMixin,
@@ -249,7 +248,9 @@ class Machine(
         self.tool_table_report = table.load_report
         self.tools = ToolTable(dict(table.slots))
         if self.settings.retain_g43:
+            # Every block takes the general path (runtime.tools).
             self._execute = self._execute_retaining_g43
+            self.refresh_plain = self._never_plain
         self._reset_modes()
 
     def _reset_modes(self) -> None:
@@ -329,11 +330,12 @@ class Machine(
         self._initialise()
         try:
             self._start()
+            self.refresh_plain()
             main(self)
         except ProgramEnd:
             pass
         finally:
-            self.canon.set_block_number(None)
+            self.announce_block(None)
             for _ in range(self._closing_resets):
                 self.canon.on_reset()
             if self.var_file is not None:
@@ -352,7 +354,7 @@ class Machine(
         """rs274 rewrites the -v file when it exits, even after an error."""
         values = self._params
         save_parameter_file(
-            self.var_file, {n: values[n] for n in range(1, MAX_PARAMETER)}
+            self.var_file, {n: values.get_internal(n) for n in range(1, MAX_PARAMETER)}
         )
 
     def _initialise(self) -> None:
@@ -384,7 +386,7 @@ class Machine(
     def end_of_file(self, demarcated: bool, closed: bool) -> None:
         """The program ran off the end of the file without M2/M30."""
         if closed:
-            self.canon.set_block_number(None)
+            self.announce_block(None)
             self.canon.finish()
             raise ProgramEnd()
         if demarcated:
@@ -396,7 +398,7 @@ class Machine(
         the FINISH() of a closing ``%`` it met on the way)."""
         self.line = line
         if finish:
-            self.canon.set_block_number(None)
+            self.announce_block(None)
             self.canon.finish()
         raise GCodeError(message)
 
@@ -460,7 +462,7 @@ class Machine(
         fn = self.source.subs.get(name)
         if fn is None:
             if self.source.end[1]:
-                self.canon.set_block_number(None)
+                self.announce_block(None)
                 self.canon.finish()
             raise self.source.missing_sub(name)
         return fn
@@ -556,7 +558,10 @@ class Machine(
         ``n`` is what rs274's trace shows after ``N``: the N word's digits as
         written, or None for ``N.....``."""
         self.line = line
-        self.canon.set_block_number(n)
+        self.announce_block(n)
+        # The fast path shares its end point with the canon model and the
+        # position parameters (runtime.fastpath): change a copy from here.
+        self.current = list(self.current)
         if self.lathe_diameter and "x" in words:
             words["x"] /= 2  # rs274 halves X as it reads it in G7
         block = blockcheck.read_block(codes, words)
@@ -568,13 +573,11 @@ class Machine(
             # rs274 does this as it reads the next line, before evaluating any
             # of its expressions; nothing can happen in between, so do it now.
             self._after_tool_change()
+        self.refresh_plain()
 
     def _publish_position(self) -> None:
         """#5420-#5428: the current point, as rs274 keeps them after each block."""
-        cur = self.current
-        set_param = self._params.set_internal
-        for i in range(9):
-            set_param(POSITION_PARAMS + i, cur[i])
+        self._params.position = tuple(self.current)
 
     def _execute(self, block: Block, comment) -> None:
         """rs274's execute_block order."""

@@ -205,6 +205,9 @@ class ModalSaveMixin:
         saved = self._contexts.get(level)
         if saved is not None and saved.auto_restore and saved.state is not None:
             self._restore(saved.state)
+            # Outside any block: do what the end of a block does.
+            self._publish_position()
+            self.refresh_plain()
 
     # ------------------------------------------------------------------
     # Restoring
@@ -230,7 +233,9 @@ class ModalSaveMixin:
 
     def _run_restore_line(self, codes: List[int], words: Dict[str, float]) -> None:
         """Execute one line of restore text, as rs274's execute(text) does."""
-        self.canon.set_block_number(None)
+        self.announce_block(None)
+        # The fast path shares the current point: work on a copy.
+        self.current = list(self.current)
         block = blockcheck.read_block(codes, words)
         blockcheck.enhance(block, self.plane, self.motion_mode)
         blockcheck.check(block, self.distance_incremental)

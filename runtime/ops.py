@@ -30,6 +30,7 @@ import math
 from fractions import Fraction
 from typing import Tuple
 
+from runtime import x87
 from runtime.errors import GCodeError
 
 #: rs274's TOLERANCE_EQUAL, used by EQ and NE.
@@ -49,7 +50,7 @@ def finite(x: float) -> float:
     Generated code applies this to every bracketed expression whose value is
     not already checked (function arguments are checked by the functions).
     """
-    if math.isfinite(x):
+    if x - x == 0.0:  # false for inf and nan; cheaper than math.isfinite
         return x
     if x != x:
         raise GCodeError("Calculation resulted in 'not a number'")
@@ -79,7 +80,10 @@ def div(a: float, b: float) -> float:
 
 def mod(a: float, b: float) -> float:
     """rs274's MOD: ``fmod`` shifted to be non-negative (``-7 MOD 3 == 2``)."""
-    result = _c_fmod(a, b)
+    try:
+        result = math.fmod(a, b)
+    except ValueError:  # an infinite a or a zero b: C's fmod gives NaN
+        return math.nan
     if result < 0.0:
         result += abs(b)
     return result
@@ -158,15 +162,15 @@ def atan2(y: float, x: float) -> float:
 
 
 def cos(x: float) -> float:
-    return _trig(finite(x), "cos")
+    return _cos(finite(x))
 
 
 def sin(x: float) -> float:
-    return _trig(finite(x), "sin")
+    return _sin(finite(x))
 
 
 def tan(x: float) -> float:
-    return _trig(finite(x), "tan")
+    return _tan(finite(x))
 
 
 def exp(x: float) -> float:
@@ -253,12 +257,6 @@ _HALF_EPSILON = 2.0**-54
 def _is_integral(x: float) -> bool:
     """C's ``floor(x) == x`` (true for infinities, false for NaN)."""
     return math.isinf(x) or float(x).is_integer()
-
-
-def _c_fmod(a: float, b: float) -> float:
-    if b == 0.0 or math.isinf(a) or a != a or b != b:
-        return math.nan
-    return math.fmod(a, b)
 
 
 def _c_pow(a: float, b: float) -> float:
@@ -430,3 +428,18 @@ def _sin_cos_series(r: int) -> Tuple[int, int]:
         cos_sum += term
         n += 2
     return sin_sum, cos_sum
+
+
+def _emulated(name: str):
+    def compute(degrees: float) -> float:
+        return _trig(degrees, name)
+
+    return compute
+
+
+# The C library's own sinl/cosl/tanl where this platform has the x87 long
+# double (exact, and ten times faster); the integer emulation elsewhere.
+_FAST = x87.trig_functions(_PI_L[0], _PI_L[1], _trig)
+_sin, _cos, _tan = (
+    (_FAST or {}).get(name) or _emulated(name) for name in ("sin", "cos", "tan")
+)

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import keyword
 import math
-from typing import Dict, Iterable, List, Optional
+from typing import Dict, Iterable, List, Optional, Sequence
 
 from runtime.errors import GCodeError
 from runtime.ops import c_int
@@ -37,6 +37,7 @@ MAX_PARAMETERS = 5602
 CALL_ARGS = 30
 #: The current-position parameters (read-only, unreadable under cutter comp).
 POSITION_PARAMS = range(5420, 5429)
+_FIRST_POSITION, _LAST_POSITION = POSITION_PARAMS[0], POSITION_PARAMS[-1]
 #: Parameters a program may read but not set.
 READ_ONLY_PARAMS = frozenset(range(5400, 5414)) | frozenset(POSITION_PARAMS)
 
@@ -74,20 +75,28 @@ class Params:
 
     ``cutter_comp`` must be kept true by the machine while cutter radius
     compensation is on: reading the position parameters is then an error.
+
+    ``position`` holds #5420-#5428. The machine publishes its current point
+    there after every block by handing over the sequence itself (no copy:
+    nine stores per move would cost more than the move), so it must never
+    change that sequence in place afterwards.
     """
 
-    __slots__ = ("_values", "cutter_comp")
+    __slots__ = ("_values", "cutter_comp", "position")
 
     def __init__(self, initial: Optional[Dict[int, float]] = None):
         self._values: List[float] = [0.0] * MAX_PARAMETERS
         for number, value in (initial or {}).items():
             self._values[number] = float(value)
         self.cutter_comp = False
+        self.position: Sequence[float] = self._values[_FIRST_POSITION : _LAST_POSITION + 1]
 
     def __getitem__(self, n: float) -> float:
         index = _PLAIN_READ.get(n)
         if index is None:
             index = self.reference_index(n)
+            if _FIRST_POSITION <= index <= _LAST_POSITION:
+                return self.position[index - _FIRST_POSITION]
         return self._values[index]
 
     def __setitem__(self, n: float, value: float) -> None:
@@ -115,10 +124,13 @@ class Params:
 
     def get_internal(self, n: int) -> float:
         """The interpreter's own read (``#0`` included, as DEBUG shows it): no checks."""
+        if _FIRST_POSITION <= n <= _LAST_POSITION:
+            return self.position[n - _FIRST_POSITION]
         return self._values[n]
 
     def set_internal(self, n: int, value: float) -> None:
-        """The interpreter's own write (offsets, tool data, position): no checks."""
+        """The interpreter's own write (offsets, tool data): no checks.
+        (The position parameters are published through :attr:`position`.)"""
         self._values[n] = value
 
     def save_locals(self) -> List[float]:

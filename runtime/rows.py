@@ -2,42 +2,90 @@
 
 A run of at least ``codegen.MIN_ROWS`` G-code lines that hold only literal
 words (a CAM file's moves: no expressions, settings, comments, block delete,
-O-words or read errors) is compiled into one flat tuple of literals instead
-of one statement per line. Each row is, in order:
+O-words or read errors) is compiled into a text table instead of one
+statement per line, one row per text line::
 
-* the G-code line number;
-* the index of its *shape* in the module's ``SHAPES`` table: the row's G/M
-  codes (``runtime.codes`` numbers) and the keyword letters of its words;
-* one value per letter: floats, except ``"n"`` (first when present), whose
-  value is the N number as written, a string (rs274 prints it that way).
+    ROWS_1 = (triple quote)
+    24 0 1.0 2.0
+    25 0 3.5 2.0
+    (triple quote)
 
-``ROWS_1 = (24, 0, 1.0, 2.0, ...)`` with ``SHAPES = (((G1,), ("x", "y")),)``
-means line 24 is ``G1 X1 Y2``; the generated module writes one row per text
-line. Rows have different lengths, so they are walked by their shapes.
+Each row is the G-code line number, the index of its *shape* in the
+module's ``SHAPES`` table (the row's G/M codes, as ``runtime.codes``
+numbers, and the letters of its words), then one value per letter: a
+float's shortest repr, except ``n`` (first when present), the N number's
+digits as written (rs274's trace prints them that way).
+
+Why text: a tuple of a million float literals takes Python seconds and
+gigabytes to compile every time ``python prog.py`` runs (a script is never
+cached as bytecode); one string constant per table compiles in
+milliseconds, and ``float()`` of each value is exact (repr round-trips).
+
+Rows whose shape is a plain straight move run through the machine's fast
+path (:mod:`runtime.fastpath`); the others through ``Machine.block``.
 """
 
 from __future__ import annotations
 
-from typing import Sequence, Tuple
+from typing import List, Optional, Sequence, Tuple
+
+from runtime.codes import G0, G1
 
 Shape = Tuple[Tuple[int, ...], Tuple[str, ...]]
 
+_AXES = "xyzabcuvw"
 
-def run_rows(machine, shapes: Sequence[Shape], rows: Sequence) -> None:
-    """Execute ``rows`` as ``machine.block(line, *codes, **words)`` calls.
+
+class _Plan:
+    """How to run the rows of one shape."""
+
+    __slots__ = ("codes", "letters", "width", "has_n", "motion", "slots", "f_at")
+
+    def __init__(self, shape: Shape):
+        codes, letters = shape
+        self.codes = codes
+        self.width = len(letters)
+        self.has_n = bool(letters) and letters[0] == "n"
+        #: The letters of the float values (the N text is apart).
+        self.letters = letters[1:] if self.has_n else letters
+        #: For a plain straight move: the motion code (None: the modal one),
+        #: (value index, axis index) pairs and where F is; else slots is None.
+        self.motion: Optional[int] = codes[0] if codes else None
+        self.slots: Optional[List[Tuple[int, int]]] = None
+        self.f_at = -1
+        plain = len(codes) <= 1 and (not codes or codes[0] in (G0, G1))
+        axes = [(i, _AXES.index(x)) for i, x in enumerate(self.letters) if x in _AXES]
+        others = [x for x in self.letters if x not in _AXES and x != "f"]
+        if plain and axes and not others:
+            self.slots = axes
+            if "f" in self.letters:
+                self.f_at = self.letters.index("f")
+
+
+def run_rows(machine, shapes: Sequence[Shape], table: str) -> None:
+    """Execute the rows of ``table`` (see the module docstring).
 
     An error is tagged with the row's G-code line (``ngc_row_line``) so the
     source map can name it: the generated frame only knows which table ran.
     """
-    line = 0
-    at, end = 0, len(rows)
+    plans = [_Plan(shape) for shape in shapes]
+    cells = table.split()
+    at, end = 0, len(cells)
     try:
         while at < end:
-            line = rows[at]
-            codes, letters = shapes[rows[at + 1]]
+            at = machine.plain_rows(cells, at, end, plans)
+            if at == end:
+                break
+            machine.line = line = int(cells[at])
+            plan = plans[int(cells[at + 1])]
             start = at + 2
-            at = start + len(letters)
-            machine.block(line, *codes, **dict(zip(letters, rows[start:at])))
+            at = start + plan.width
+            n = None
+            if plan.has_n:
+                n = cells[start]
+                start += 1
+            values = map(float, cells[start:at])
+            machine.block(line, *plan.codes, n=n, **dict(zip(plan.letters, values)))
     except Exception as error:
-        error.ngc_row_line = line
+        error.ngc_row_line = machine.line
         raise

@@ -29,7 +29,9 @@ class World:
     __slots__ = ("position", "g5x", "g92", "inches", "tool_offset", "feed_rate")
 
     def __init__(self) -> None:
-        self.position: List[float] = [0.0] * 6  # X Y Z A B C; U V W read as 0
+        # X Y Z A B C (U V W read as 0). The machine's fast path shares its
+        # own end-point list here, so this list is replaced, never changed.
+        self.position: Sequence[float] = [0.0] * 6
         self.g5x: List[float] = [0.0] * 6
         self.g92: List[float] = [0.0] * 6
         self.inches = False
@@ -44,15 +46,15 @@ class World:
 
     def _shift(self, old: List[float], new: Sequence[float]) -> None:
         pos = self.position
-        for i in range(6):
-            pos[i] += old[i] - new[i]
-            old[i] = new[i]
+        self.position = [pos[i] + old[i] - new[i] for i in range(6)]
+        old[:] = new[:6]
 
     def use_units(self, inches: bool) -> None:
         """Scale the linear values when the units really change."""
         if inches == self.inches:
             return
         self.inches = inches
+        self.position = list(self.position[:6])
         for values in (self.position, self.g5x, self.g92):
             for i in range(3):
                 # The canon divides (rounding differs from * (1 / 25.4)).
@@ -61,8 +63,8 @@ class World:
                 )
 
     def move_to(self, x, y, z, a, b, c) -> None:
-        self.position[:] = (x, y, z, a, b, c)
+        self.position = [x, y, z, a, b, c]
 
     def reported_position(self) -> List[float]:
         """GET_EXTERNAL_POSITION_X..W: the model never tracks U, V, W."""
-        return self.position + [0.0, 0.0, 0.0]
+        return list(self.position[:6]) + [0.0, 0.0, 0.0]

@@ -111,7 +111,7 @@ def test_module_shape_follows_the_contract():
     assert code.startswith('"""pocket.ngc, compiled by ngc2py')
     assert "def o_drill(m: Machine) -> None:" in code
     assert "    # 7: G1 X[#<i>*10] Y0 F100\n" in code
-    assert "while lt(" in code
+    assert "while v.i < 3.0:" in code
     assert "m.call(o_drill, 5.0)" in code
     assert code.rstrip().endswith("raise SystemExit(run_cli(main, __ngc__))")
     assert "def run(canon=None, **options):" in code
@@ -193,18 +193,34 @@ def test_line_map_round_trips():
     assert source.lookup(5) is None
 
 
-def test_big_cam_files_become_chunks_and_data_rows():
+def test_big_cam_files_become_data_rows():
     lines = ["G21 G90"] + ["G1 X%d.5 Y%d F1200" % (i, i % 7) for i in range(3000)]
     lines[1500] = "(halfway)"
     code = compile_text("\n".join(lines + ["M2"]) + "\n", "cam.ngc")
-    assert code.count("def main_") >= 2
     assert "run_rows(m, SHAPES, ROWS_1)" in code
-    # line 3 is "G1 X1.5 Y1 F1200": shape 1 (G1 X Y F) and its three values
+    assert "run_rows(m, SHAPES, ROWS_2)" in code  # after the comment
+    # line 3 is "G1 X1.5 Y1 F1200": shape 1 (G1 X Y F) and its values as written
     assert '    # 1: G1 X Y F\n    ((G1,), ("x", "y", "f")),' in code
-    assert "\n    3, 1, 1.5, 1.0, 1200.0,\n" in code
-    assert '"3 G1' not in code  # no G-code text is left to parse at run time
+    assert '\nROWS_1 = """\n1 0\n2 1 0.5 0 1200\n3 1 1.5 1 1200\n' in code
+    table = code.split('ROWS_1 = """')[1].split('"""')[0]
+    assert "G1" not in table and "X" not in table  # no G-code text to parse
     assert_black_stable(code)
     compile(code, "cam.py", "exec")
+
+
+def test_long_programs_become_chunks_of_bounded_size():
+    lines = ["G21 G90 F100"] + ["G1 X[#1 + %d] Y1" % i for i in range(1200)]
+    code = compile_text("\n".join(lines + ["M2"]) + "\n", "long.ngc")
+    assert code.count("\ndef main_") == 3  # 1201 statements, 500 a function
+    assert "\n    main_3(m)\n" in code
+    assert_black_stable(code)
+
+
+def test_row_tables_are_bounded():
+    lines = ["G1 X%d Y1 F100" % i for i in range(codegen.ROWS_PER_TABLE + 10)]
+    code = compile_text("\n".join(lines + ["M2"]) + "\n", "big.ngc")
+    assert "run_rows(m, SHAPES, ROWS_2)" in code
+    assert "ROWS_3" not in code
 
 
 def test_line_reads_declare_names_and_check_indices_in_order():
@@ -215,7 +231,7 @@ def test_line_reads_declare_names_and_check_indices_in_order():
         "    t2 = finite(p[2] * 3.0)\n"
         "    t3 = p[1]\n"
         "    p[i1] = t2\n"
-        "    m.block(2, G0, x=t3)\n"
+        "    m.move(2, G0, x=t3)\n"
     ) in code
     assert_black_stable(code)
 

@@ -92,8 +92,11 @@ def test_readonly_ranges():
     p = Params()
     assert error_of(lambda: p.__setitem__(5400, 1.0)) == "Parameter is readonly"
     assert error_of(lambda: p.__setitem__(5428, 1.0)) == "Parameter is readonly"
-    p.set_internal(5420, 4.0)  # the interpreter itself may
-    assert p[5420] == 4.0
+    p.set_internal(5400, 4.0)  # the interpreter itself may
+    assert p[5400] == 4.0
+    p.position = (1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0)  # and publishes these
+    assert [p[n] for n in range(5420, 5429)] == list(p.position)
+    assert p.get_internal(5428) == 9.0
 
 
 def test_position_unreadable_under_cutter_comp():

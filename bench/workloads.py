@@ -1,0 +1,132 @@
+"""The benchmark programs, generated (never stored): each a function of size.
+
+Deterministic: the same size gives the same program, so runs compare.
+"""
+
+from __future__ import annotations
+
+import random
+
+
+def cam(moves: int) -> str:
+    """CAM output: straight moves in passes, rapids between them, F changes."""
+    rng = random.Random(moves)
+    lines = ["(synthetic CAM output)", "G21 G90 G17 G94", "G0 X0 Y0 Z5", "G1 Z-1 F800"]
+    for k in range(moves):
+        if k % 500 == 499:
+            lines += ["G0 Z5", "X%.3f Y%.3f" % (rng.uniform(0, 100), rng.uniform(0, 80))]
+            lines.append("G1 Z%.3f F%d" % (-rng.uniform(0.5, 3), rng.choice((600, 800, 1200))))
+            continue
+        x = (k * 7919 % 100000) / 1000.0
+        y = (k * 104729 % 80000) / 1000.0
+        lines.append("X%.3f Y%.3f" % (x, y))
+    lines += ["G0 Z5", "M2"]
+    return "\n".join(lines) + "\n"
+
+
+def arcs(count: int) -> str:
+    """Centre-format arcs (IJ), alternating direction, with a helical Z."""
+    lines = ["(many arcs)", "G21 G90 G17 F600", "G0 X10 Y0"]
+    for k in range(count):
+        code = "G3" if k % 2 == 0 else "G2"
+        lines.append(f"{code} X10 Y0 I-10 J0 Z{-(k % 10) / 10:.1f}")
+    lines.append("M2")
+    return "\n".join(lines) + "\n"
+
+
+def loop(iterations: int) -> str:
+    """An O-word while loop with COS/SIN/MOD expressions and a move each time."""
+    return f"""\
+(while loop with trigonometry)
+G21 G90 G17 F900
+#<i> = 0
+o1 while [#<i> LT {iterations}]
+  #<a> = [#<i> * 0.3]
+  G1 X[30 * COS[#<a>] + [#<i> MOD 3]] Y[30 * SIN[#<a>]] Z[-[#<i> MOD 4] * 0.5]
+  #<i> = [#<i> + 1]
+o1 endwhile
+M2
+"""
+
+
+def calls(count: int) -> str:
+    """Subroutine calls with arguments and return values."""
+    return f"""\
+(subroutine calls with arguments)
+G21 G90 F500
+o<cell> sub
+  #<acc> = [#1 * 0.5 + #2]
+  o<cell> return [#<acc> MOD 97]
+o<cell> endsub
+#<_total> = 0
+#<i> = 0
+o1 while [#<i> LT {count}]
+  o<cell> call [#<i>] [#<i> MOD 13]
+  #<_total> = [#<_total> + #<_value>]
+  #<i> = [#<i> + 1]
+o1 endwhile
+G1 X[#<_total> MOD 100]
+M2
+"""
+
+
+def drilling(holes: int) -> str:
+    """A grid of holes drilled with G81/G83 canned cycles."""
+    lines = ["(canned drilling)", "G21 G90 G17 G98 F300", "G0 Z10", "M3 S1000"]
+    side = max(1, int(holes**0.5))
+    for k in range(holes):
+        x, y = (k % side) * 5.0, (k // side) * 5.0
+        if k == 0:
+            lines.append(f"G81 X{x:.1f} Y{y:.1f} Z-3 R2")
+        elif k % 50 == 0:
+            lines.append(f"G83 X{x:.1f} Y{y:.1f} Z-6 R2 Q1.5")
+        else:
+            lines.append(f"X{x:.1f} Y{y:.1f}")
+    lines += ["G80", "M5", "M2"]
+    return "\n".join(lines) + "\n"
+
+
+def pocket(pockets: int) -> str:
+    """A realistic pocketing job: a subroutine clears a rectangular pocket by
+    step-downs and zig-zag step-overs with arc-blended corners, called for a
+    grid of pockets."""
+    return f"""\
+(rectangular pockets)
+G21 G90 G17 G94
+#<_safe> = 5
+o<pocket> sub
+  (#1 x0, #2 y0, #3 width, #4 height, #5 depth, #6 step down, #7 step over)
+  G0 Z#<_safe>
+  G0 X#1 Y#2
+  #<z> = 0
+  o10 while [#<z> GT -#5]
+    #<z> = [#<z> - #6]
+    o11 if [#<z> LT -#5]
+      #<z> = -#5
+    o11 endif
+    G1 Z#<z> F200
+    #<y> = #2
+    #<row> = 0
+    o12 while [#<y> LE [#2 + #4]]
+      o13 if [[#<row> MOD 2] EQ 0]
+        G1 X[#1 + #3] Y#<y> F900
+      o13 else
+        G1 X#1 Y#<y> F900
+      o13 endif
+      #<y> = [#<y> + #7]
+      #<row> = [#<row> + 1]
+    o12 endwhile
+    G1 X#1 Y#2
+    G3 X[#1 + 1] Y[#2 - 1] I1 J0
+    G2 X#1 Y#2 I0 J1
+  o10 endwhile
+  G0 Z#<_safe>
+o<pocket> endsub
+#<n> = 0
+o1 while [#<n> LT {pockets}]
+  o<pocket> call [[#<n> MOD 10] * 40] [FIX[#<n> / 10] * 30] [30] [20] [6] [1.5] [0.8]
+  #<n> = [#<n> + 1]
+o1 endwhile
+G0 Z#<_safe>
+M2
+"""

@@ -1,0 +1,200 @@
+"""The hot path: straight moves in the machine's common state.
+
+Most blocks of real programs are plain moves: ``G1 X.. Y.. F..``, ``G0 Z..``
+or axis words alone in G0/G1 mode. What such a block needs from rs274's
+whole pipeline (read, enhance, check, execute in order, publish #5420-#5428)
+depends on a handful of modes, so the machine keeps one flag, ``_plain``,
+that is true when none of the cases that make a straight move more than
+"set F, replace the named axes, emit" holds:
+
+* distance mode absolute (G90) -- no increments, no polar geometry;
+* lathe radius mode (G8) -- X is not halved;
+* cutter radius compensation off -- no look-ahead;
+* feed mode units per minute (G94) -- no inverse-time or per-rev checks;
+* no tool change waiting to be finished.
+
+The flag is recomputed by :meth:`refresh_plain` after every general block
+(only a general block can change those modes). :meth:`move` checks it and
+the few value-dependent conditions (a negative F, a zero feed rate for G1,
+a modal motion other than G0/G1) and otherwise falls back to
+``Machine.block``, which makes rs274's checks and raises its errors; so the
+fast path never has to reproduce an error itself.
+
+The code generator calls :meth:`move` for every line that is only a G0/G1
+(or no motion code), axis words, F and N; :mod:`runtime.rows` uses it for
+data rows.
+"""
+
+from __future__ import annotations
+
+from typing import List, Optional
+
+from runtime.codes import G0, G1
+from runtime.motion import UNITS_PER_MINUTE
+
+_AXIS_LETTERS = "xyzabcuvw"
+
+
+class FastPathMixin:
+    """``Machine.move``: the straight-move fast path (part of Machine)."""
+
+    _plain = False
+    #: The N column last announced to the canon (avoids re-announcing it).
+    _block_n: Optional[str] = None
+
+    def refresh_plain(self) -> None:
+        """Recompute ``_plain`` from the modes (see the module docstring)."""
+        self._plain = (
+            not self.distance_incremental
+            and not self.lathe_diameter
+            and not self.cutter_comp
+            and self.feed_mode == UNITS_PER_MINUTE
+            and not self.toolchange_flag
+        )
+
+    def announce_block(self, n: Optional[str]) -> None:
+        """Tell the canon the N number of the line now executing."""
+        self.canon.set_block_number(n)
+        self._block_n = n
+
+    def move(
+        self,
+        line: int,
+        motion: Optional[int] = None,
+        x: Optional[float] = None,
+        y: Optional[float] = None,
+        z: Optional[float] = None,
+        a: Optional[float] = None,
+        b: Optional[float] = None,
+        c: Optional[float] = None,
+        u: Optional[float] = None,
+        v: Optional[float] = None,
+        w: Optional[float] = None,
+        f: Optional[float] = None,
+        n: Optional[str] = None,
+    ) -> None:
+        """A line of G0/G1 (``motion``; None: the modal one), axis words and
+        F: what ``block(line, motion, x=.., f=.., n=..)`` does, faster."""
+        given = motion
+        if motion is None:
+            motion = self.motion_mode
+        if not self._plain or not self._straight_ok(motion, f):
+            self._general_move(line, given, (x, y, z, a, b, c, u, v, w), f, n)
+            return
+        cur = self.current
+        self._plain_straight(
+            line,
+            motion,
+            [
+                cur[0] if x is None else x,
+                cur[1] if y is None else y,
+                cur[2] if z is None else z,
+                cur[3] if a is None else a,
+                cur[4] if b is None else b,
+                cur[5] if c is None else c,
+                cur[6] if u is None else u,
+                cur[7] if v is None else v,
+                cur[8] if w is None else w,
+            ],
+            f,
+            n,
+        )
+
+    def plain_rows(self, cells: List[str], at: int, end: int, plans) -> int:
+        """Run data rows (runtime.rows) from ``cells[at]`` while they are
+        plain straight moves; returns where it stopped (a row for the
+        general path, or ``end``).
+
+        The same steps as :meth:`_plain_straight`, with the machine's state
+        in local variables for the whole run: this loop is where a CAM
+        file's time goes.
+        """
+        if not self._plain:
+            return at
+        canon = self.canon
+        feed, traverse = canon.straight_feed, canon.straight_traverse
+        cur = self.current
+        motion_mode, feed_rate, block_n = self.motion_mode, self.feed_rate, self._block_n
+        row = at
+        try:
+            while at < end:
+                row = at
+                plan = plans[int(cells[at + 1])]
+                slots = plan.slots
+                if slots is None:
+                    break
+                motion = motion_mode if plan.motion is None else plan.motion
+                start = at + 2
+                if plan.has_n:
+                    n = cells[start]
+                    start += 1
+                else:
+                    n = None
+                f = None if plan.f_at < 0 else float(cells[start + plan.f_at])
+                if motion == G1:
+                    if (feed_rate if f is None else f) <= 0.0:
+                        break
+                elif motion != G0 or (f is not None and f < 0.0):
+                    break
+                if n != block_n:
+                    canon.set_block_number(n)
+                    block_n = n
+                if f is not None:
+                    feed_rate = f
+                    canon.set_feed_rate(f)
+                point = cur[:]
+                for i, axis in slots:
+                    point[axis] = float(cells[start + i])
+                if motion == G1:
+                    feed(*point)
+                else:
+                    traverse(*point)
+                cur = point
+                motion_mode = motion
+                at += 2 + plan.width
+        finally:
+            self.line = int(cells[row])
+            self.current = self.world.position = self._params.position = cur
+            self.motion_mode = motion_mode
+            self.feed_rate = self.world.feed_rate = feed_rate
+            self._block_n = block_n
+        return at
+
+    def _straight_ok(self, motion: Optional[int], f: Optional[float]) -> bool:
+        """The value-dependent part of "nothing but a move": G0/G1, a valid F,
+        and a feed rate for G1."""
+        if motion == G1:
+            return (self.feed_rate if f is None else f) > 0.0
+        return motion == G0 and (f is None or f >= 0.0)
+
+    def _plain_straight(self, line, motion, end, f, n) -> None:
+        """Set F, announce N, emit the move, publish the end point."""
+        self.line = line
+        canon = self.canon
+        if n != self._block_n:
+            canon.set_block_number(n)
+            self._block_n = n
+        if f is not None:
+            self.feed_rate = f
+            canon.set_feed_rate(f)
+            self.world.feed_rate = f
+        if motion == G1:
+            canon.straight_feed(*end)
+        else:
+            canon.straight_traverse(*end)
+        self.motion_mode = motion
+        # One list shared as the current point, the canon model's position
+        # and #5420-#5428: a general block copies it before changing it.
+        self.current = self.world.position = self._params.position = end
+
+    def _general_move(self, line, motion, axes, f, n) -> None:
+        """The same line through the general path (checks and errors)."""
+        words = {
+            letter: value
+            for letter, value in zip(_AXIS_LETTERS, axes)
+            if value is not None
+        }
+        if f is not None:
+            words["f"] = f
+        codes = () if motion is None else (motion,)
+        self.block(line, *codes, n=n, **words)
