@@ -15,6 +15,7 @@ from typing import List, Optional
 
 from ngc2py import __version__
 from ngc2py.compiler import CompileError, OpenError, compile_file
+from runtime.budget import DEFAULT_MAX_STEPS
 from runtime.errors import SourceMap
 
 DESCRIPTION = """\
@@ -51,7 +52,8 @@ def build_parser() -> argparse.ArgumentParser:
         "convert",
         help="write the Python module for a G-code file",
         description="Compile PROG.ngc into a Python module. Run the module "
-        "with `python OUT.py [-t TBL] [-v VAR] [-i INI] [-b]`.",
+        "with `python OUT.py [-t TBL] [-v VAR] [-i INI] [-b] [-n 0|1|2] "
+        "[--max-steps N]`.",
     )
     convert.add_argument("program", metavar="PROG.ngc", help="the G-code file ('-': stdin)")
     convert.add_argument(
@@ -86,6 +88,20 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("-q", "--quiet", action="store_true", help=QUIET_HELP)
     for workflow in WORKFLOWS:  # each adds its sub-command and handler
         importlib.import_module(workflow).register(commands)
+    run.add_argument(
+        "-n",
+        dest="continue_mode",
+        metavar="0|1|2",
+        help="after an error: 0 continue, 1 MDI (not supported: asks to go "
+        "on), 2 stop (default), as rs274's -n",
+    )
+    run.add_argument(
+        "--max-steps",
+        dest="max_steps",
+        metavar="N",
+        help="stop with an error after N loop iterations and calls "
+        "(default %d; 0: no limit)" % DEFAULT_MAX_STEPS,
+    )
     return parser
 
 
@@ -181,6 +197,10 @@ def run(args: argparse.Namespace) -> int:
             argv += [flag, value]
     if args.block_delete:
         argv.append("-b")
+    if args.continue_mode is not None:
+        argv += ["-n", args.continue_mode]
+    if args.max_steps is not None:
+        argv.append("--max-steps=%s" % args.max_steps)
     wrapped = []
 
     def wrap(canon):

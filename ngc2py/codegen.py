@@ -565,11 +565,11 @@ class CodeGen:
         return "(%s, %d)" % (string(message), line.number)
 
     def sub_table(self) -> Coll:
-        """``{"name": fn}`` for the main file's subroutines (for seeking)."""
+        """``{"name": fn}`` for the main file's subroutines (for seeking);
+        Fanuc-style ones as ``"O<number>"`` (an o-call never finds them)."""
         pairs = [
-            "%s: %s" % (string(sub.name), sub.fn)
+            "%s: %s" % (string("O" + sub.name if sub.fanuc else sub.name), sub.fn)
             for sub in self.program.subs
-            if not sub.fanuc
         ]
         return Coll("{", pairs, "}")
 
@@ -788,7 +788,23 @@ class CodeGen:
         return self.loop_numbers.setdefault(id(loop), len(self.loop_numbers) + 1)
 
     def s_block(self, stmt: st.Block) -> None:
-        self.line_block(stmt.line)
+        line = stmt.line
+        if line.fanuc_alt is None:
+            self.line_block(line)
+            return
+        # "M#1 P100": an M98 call when the M value is 98 as the line is read.
+        value = self.x.expr(line.fanuc_value)
+        self.w.stmt("if m.is_m98(%s):" % value, line)
+        self.w.depth += 1
+        if line.fanuc_alt.error is None:
+            self.s_fanuccall(st.FanucCall(line.fanuc_alt))
+        else:  # what rs274 reads after "m#1" cannot be read
+            self.line_block(line.fanuc_alt)
+        self.w.depth -= 1
+        self.w.stmt("else:", line)
+        self.w.depth += 1
+        self.line_block(line)
+        self.w.depth -= 1
 
     def s_labelcheck(self, stmt: st.LabelCheck) -> None:
         expr = stmt.line.oword.expr if stmt.kind in ("if", "while", "repeat") else None
@@ -818,7 +834,10 @@ class CodeGen:
         self.w.comment(sub.line)
         if sub.define_error is not None:
             err = sub.define_error
-            self.w.stmt(fail_call(err.line.number, err.message), err.line)
+            call = fail_call(err.line.number, err.message)
+            if err.finish:
+                call = call[:-1] + ", finish=True)"
+            self.w.stmt(call, err.line)
         else:
             self.w.stmt("m.define(%s, %s)" % (string(sub.name), sub.fn), sub.line)
 
@@ -841,12 +860,16 @@ class CodeGen:
         subroutine (``fn``, or the one named by P when None) L times."""
         line = stmt.line
         self.w.comment(line)
-        words = [
-            "%s=%s" % (WORD_KEYWORDS.get(w.letter, w.letter), self.x.expr(w.value))
-            for w in line.words
-        ]
+        codes, words = [], []
+        for w in line.words:
+            value = self.x.expr(w.value)
+            if w.letter in "gm":  # a line may have several
+                codes.append(self.code_arg(w, value))
+            else:
+                words.append("%s=%s" % (WORD_KEYWORDS.get(w.letter, w.letter), value))
         fn = stmt.sub.fn if stmt.sub is not None else "None"
-        self.w.stmt("m.m98(%s)" % ", ".join(["%d" % line.number, fn] + words), line)
+        args = ["%d" % line.number, fn] + codes + words
+        self.w.stmt("m.m98(%s)" % ", ".join(args), line)
 
     def s_return(self, stmt: st.Return) -> None:
         self.w.comment(stmt.line)
@@ -1040,6 +1063,8 @@ class CodeGen:
         else:
             self.w.stmt("while True:", stmt.line)
         self.w.depth += 1
+        if stmt.kind != "repeat":  # m.repeat counts its own steps
+            self.w.stmt("m.step()", stmt.line)  # runtime.budget
         self.loops.append(stmt)
         self.block(stmt.body)
         if stmt.end is None:

@@ -348,6 +348,12 @@ class Line:
     #: right after them, with no separator for 6 digits or more
     #: (``N0012  STRAIGHT_...``, ``N123456STRAIGHT_...``).
     n_text: Optional[str] = None
+    #: A line starting with a computed M word (``M#1 P100``): rs274 decides
+    #: when it reads the line whether that M value is 98, and then reads the
+    #: line as an M98 call (skipping the first three characters). Then
+    #: ``fanuc_value`` is the M value and ``fanuc_alt`` that M98 reading.
+    fanuc_value: Optional[Expr] = None
+    fanuc_alt: Optional["Line"] = None
 
     @property
     def comment(self) -> Optional[Comment]:

@@ -30,7 +30,7 @@ import gc
 import math
 import re
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import lru_cache
 from typing import Dict, FrozenSet, Iterator, List, Optional, Tuple, Union
 
@@ -711,7 +711,44 @@ def read_any_line(
         reader.read_line()
     except _ReadError as failure:
         error = failure.message
-    return _line(reader.block, text, number, file, block_delete, error, reader)
+    line = _line(reader.block, text, number, file, block_delete, error, reader)
+    alternative = _computed_m98(normalised, text, number, file, axes)
+    if alternative is not None:
+        line = replace(line, fanuc_value=alternative[0], fanuc_alt=alternative[1])
+    return line
+
+
+def _computed_m98(
+    normalised: Normalised, text: str, number: int, file: str, axes: str
+) -> Optional[Tuple[Expr, Line]]:
+    """(M value, the line read as M98) for a line whose first item is an M
+    word with a computed value: whether it is an M98 call is decided at run
+    time (see Line.fanuc_alt). None for any other line."""
+    reader = _LineReader(normalised.text, normalised.columns, axes)
+    block_delete = reader.peek() == "/"
+    if block_delete:
+        reader.pos += 1
+    try:
+        if reader.peek() == "n":
+            reader.read_line_number()
+        if reader.peek() != "m":
+            return None
+        start = reader.pos
+        reader.pos += 1
+        value = reader.read_real_value()
+    except (_ReadError, GCodeError):
+        return None  # rs274's look-ahead fails: an ordinary line
+    if _literal(value) is not None:
+        return None  # a literal M98 is read as a call already
+    reader.pos = start
+    del reader.open_values[:]
+    error = None
+    try:
+        reader.read_m98()
+    except _ReadError as failure:
+        error = failure.message
+    alt = _line(reader.block, text, number, file, block_delete, error, reader)
+    return value, alt
 
 
 def _line(

@@ -46,6 +46,8 @@ class Fail:
 
     line: nodes.Line
     message: str
+    #: rs274 meets the closing ``%`` first: FINISH() comes before the error.
+    finish: bool = False
 
 
 @dataclass(eq=False)
@@ -713,7 +715,10 @@ class _Builder:
 
     # -- end of file ------------------------------------------------------
 
-    def finish(self, last: Optional[nodes.Line]) -> None:
+    def finish(
+        self, last: Optional[nodes.Line], closing: Optional[nodes.Line] = None
+    ) -> None:
+        """The end of the file (``closing``: the closing ``%`` line)."""
         for fail in self.eof_fails:
             fail.line = last
         if self.fanuc is not None and last is not None:
@@ -725,7 +730,14 @@ class _Builder:
             if isinstance(entry.node, Loop) and last is not None:
                 # its break and continue lines skip to the end of the file
                 entry.node.eof = Fail(last, eof_message(self.demarcated))
-            if isinstance(entry.node, Sub) and last is not None:
+            if isinstance(entry.node, Sub) and closing is not None:
+                # Skipping the definition reaches the closing %.
+                entry.node.define_error = entry.node.define_error or Fail(
+                    closing,
+                    "Failed to find sub 'O%s' before EOF" % entry.node.name,
+                    finish=True,
+                )
+            elif isinstance(entry.node, Sub) and last is not None:
                 # Reading the definition runs into the end of the file.
                 entry.node.define_error = entry.node.define_error or Fail(
                     last, eof_message(self.demarcated)
@@ -760,16 +772,18 @@ def build(file: str, lines: List[nodes.Line], demarcated: bool = False) -> Progr
     builder = _Builder(file, demarcated)
     seen_open = False
     last: Optional[nodes.Line] = None
+    closing: Optional[nodes.Line] = None
     for line in lines:
         if line.percent and line.error is None:
             if not seen_open and demarcated:
                 seen_open = True
                 continue
             builder.body.append(Finish(line))
+            closing = line
             break
         builder.add(line)
         last = line
-    builder.finish(last)
+    builder.finish(last, closing)
     if last is None and demarcated and lines:
         # Only the opening %: rs274 then reads nothing more, and echoes "".
         last = nodes.Line(lines[0].number + 1, "", file)

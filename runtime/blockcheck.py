@@ -182,10 +182,10 @@ def enhance(block: Block, plane: str, motion_mode: Optional[int]) -> None:
     elif covets:
         _check_g52_g92(block, mode0, polar, axes)
     elif axes or polar:
-        g43_1 = block.g.get(TOOL_OFFSET) == G43_1
-        if motion_mode in (None, NO_MOTION, G80) and not g43_1:
+        tool_offset = block.g.get(TOOL_OFFSET)
+        if motion_mode in (None, NO_MOTION, G80) and tool_offset not in (G43_1, G43_2):
             raise GCodeError("Cannot use axis values without a g code that uses them")
-        if not g43_1:
+        if tool_offset != G43_1:  # G43.2's axis words move as well
             block.motion = motion_mode
     elif motion_mode in (G2, G3) and any(letter in block.words for letter in "ijk"):
         # A line like "I1" continues the arc mode.

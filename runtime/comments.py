@@ -1,10 +1,11 @@
-"""Comments and active comments: MSG, DEBUG, PRINT, LOG*, ABORT.
+"""Comments and active comments: MSG, DEBUG, PRINT, LOG*, ABORT, PY*.
 
 Facts measured against rs274 (LinuxCNC 2.9) that shape this module:
 
 * Only the exact prefixes ``msg,`` ``debug,`` ``print,`` ``log,``
   ``logopen,`` ``logappend,`` ``abort,`` (any case, after leading white
-  space) and the whole comment ``logclose`` are active; ``(MSG , x)`` or
+  space), ``py,`` ``pyrun,`` ``pyreload`` (runtime.py_comments) and the
+  whole comment ``logclose`` are active; ``(MSG , x)`` or
   ``(PROBEOPEN f)`` are plain comments. A plain comment's text drops the
   leading white space only.
 * DEBUG, PRINT, LOG and ABORT expand parameters in their text: ``#123`` and
@@ -38,6 +39,7 @@ from typing import Optional, Tuple, Union
 from runtime.errors import GCodeError
 from runtime.ops import TOLERANCE_EQUAL
 from runtime.params import MAX_PARAMETERS
+from runtime.py_comments import run_py_comment
 from runtime.varfile import DEBUG_SWITCH
 
 #: The kind of ``()``: a comment rs274 does not act on.
@@ -54,6 +56,9 @@ _PREFIXES = (
     ("log,", "log"),
     ("logopen,", "logopen"),
     ("logappend,", "logappend"),
+    ("py,", "py"),
+    ("pyrun,", "pyrun"),
+    ("pyreload", "pyreload"),  # no comma: any comment starting so
     ("abort,", "abort"),
 )
 
@@ -234,6 +239,10 @@ def execute_comment(machine, comment: Comment) -> None:
         canon.logclose()
     elif kind == "abort":
         raise GCodeError(expand(machine, comment.parts))
+    elif kind == "py":
+        run_py_comment(machine, comment.text)
+    elif kind in ("pyrun", "pyreload"):
+        pass  # rs274 ignores their errors; ngc2py runs no Python (runtime.py_comments)
     else:  # plain, and file commands rs274 does not act on (PROBEOPEN...)
         canon.comment(comment.text)
 

@@ -180,6 +180,9 @@ def locate(error: BaseException) -> List[Location]:
     """The G-code call stack of ``error`` (see :func:`g_code_frames`); an
     explicit ``location`` replaces the innermost frame."""
     frames = g_code_frames(error.__traceback__, getattr(error, "ngc_row_line", None))
+    # An error caught on its way out (runtime.continue_mode) keeps the
+    # frames that were still running then.
+    frames = list(getattr(error, "ngc_outer_frames", ())) + frames
     explicit = getattr(error, "location", None)
     if explicit is not None:
         frames = frames[:-1] + [explicit] if frames else [explicit]

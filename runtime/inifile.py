@@ -132,7 +132,15 @@ class IniSettings:
     #: [AXIS_3], [AXIS_4], [AXIS_5] (A, B, C) WRAPPED_ROTARY / LOCKING_INDEXER.
     wrapped_rotary: Tuple[bool, bool, bool] = (False, False, False)
     locking_indexer: Tuple[bool, bool, bool] = (False, False, False)
-    #: The file itself, for #<_ini[SECTION]KEY> when FEATURES enables it.
+    #: [RS274NGC]INI_VARS (on unless "0"): #<_ini[SECTION]KEY> parameters.
+    ini_vars: bool = True
+    #: [RS274NGC]RETAIN_G43 ("1"): G43 follows every tool change.
+    retain_g43: bool = False
+    #: [RS274NGC]OWORD_NARGS ("1"): a called sub gets #<n_args>.
+    oword_nargs: bool = False
+    #: [RS274NGC]DISABLE_FANUC_STYLE_SUB (an integer, non-zero): M98 fails.
+    disable_fanuc_style_sub: bool = False
+    #: The file itself, for #<_ini[SECTION]KEY>.
     ini: IniFile = field(default_factory=IniFile)
     #: What rs274 prints on stderr while reading the file (after "executing").
     stderr_report: str = ""
@@ -140,8 +148,12 @@ class IniSettings:
     opened: bool = True
 
     def ini_value(self, section: str, key: str) -> Optional[str]:
-        """The raw text of an INI entry (for #<_ini[...]>), or None."""
+        """The raw text of an INI entry, or None."""
         return self.ini.find(key, section)
+
+    def ini_parameter(self, name: str) -> Optional[float]:
+        """The value of ``#<_ini[...]>`` parameter ``name``, or None."""
+        return ini_parameter(self.ini, name) if self.ini_vars else None
 
 
 def load_ini(path: str) -> IniSettings:
@@ -188,6 +200,11 @@ def settings_from(ini: IniFile) -> IniSettings:
         report.append(f"invalid [RS274NGC]{key} in INI file\n\n")
         return high
 
+    def flag(key: str, section: str, default: bool) -> bool:
+        # rs274 reads these with boost::lexical_cast<bool>: "0" or "1" only.
+        value = ini.find(key, section)
+        return value == "1" if value in ("0", "1") else default
+
     def axes(key: str) -> Tuple[bool, bool, bool]:
         a, b, c = (bool(integer(key, f"AXIS_{n}")) for n in (3, 4, 5))
         return a, b, c
@@ -202,6 +219,9 @@ def settings_from(ini: IniFile) -> IniSettings:
         wrapped_rotary=axes("WRAPPED_ROTARY"),
         random_toolchanger=bool(integer("RANDOM_TOOLCHANGER", "EMCIO")),
         features=integer("FEATURES", "RS274NGC"),
+        ini_vars=flag("INI_VARS", "RS274NGC", True),
+        retain_g43=flag("RETAIN_G43", "RS274NGC", False),
+        oword_nargs=flag("OWORD_NARGS", "RS274NGC", False),
         locking_indexer=axes("LOCKING_INDEXER"),
         orient_offset=number("ORIENT_OFFSET", "RS274NGC", 0.0),
         program_prefix=_existing_dir(ini.find("PROGRAM_PREFIX", "DISPLAY")),
@@ -217,6 +237,7 @@ def settings_from(ini: IniFile) -> IniSettings:
             CENTER_ARC_RADIUS_TOLERANCE_MM,
         ),
         disable_g92_persistence=bool(integer("DISABLE_G92_PERSISTENCE", "RS274NGC")),
+        disable_fanuc_style_sub=bool(integer("DISABLE_FANUC_STYLE_SUB", "RS274NGC")),
         ini=ini,
     )
     return replace(settings, stderr_report="".join(report))
@@ -237,3 +258,26 @@ def _subroutine_dirs(value: Optional[str]) -> Tuple[str, ...]:
         return ()
     dirs = [d for d in (_existing_dir(entry) for entry in value.split(":")) if d]
     return tuple(dirs[:MAX_SUBROUTINE_DIRS])
+
+
+#: What boost::lexical_cast<double> accepts (how rs274 reads an INI number).
+_LEXICAL_DOUBLE = re.compile(
+    r"[+-]?(?:(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?|inf(?:inity)?|nan)", re.IGNORECASE
+)
+
+
+def ini_parameter(ini: IniFile, name: str) -> Optional[float]:
+    """The value of ``#<_ini[SECTION]KEY>`` (``name`` as the program spells
+    it, lower case), or None when rs274 would find no number.
+
+    Section and key are looked up in upper case; the shortest form is
+    ``_ini[s]k``. A value that is not a number counts as not found.
+    """
+    close = name.find("]", 6)
+    if len(name) <= 7 or close < 0:
+        return None
+    upper = name.upper()
+    value = ini.find(upper[close + 1 :], upper[5:close])
+    if value is None or not _LEXICAL_DOUBLE.fullmatch(value):
+        return None
+    return float(value)

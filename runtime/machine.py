@@ -100,6 +100,7 @@ from runtime.codes import (
     G59_3,
     G61,
     G61_1,
+    G64,
     G80,
     G90_1,
     G91,
@@ -122,6 +123,8 @@ from runtime.errors import GCodeError, Location, g_code_frames_of_stack
 from runtime.fastpath import FastPathMixin
 from runtime.inifile import IniSettings, load_ini
 from runtime.mcodes import MCodesMixin, ProgramEnd, not_supported
+from runtime.modal_save import ModalSaveMixin
+from runtime.budget import DEFAULT_MAX_STEPS, StepBudgetMixin
 from runtime.motion import (
     AXES,
     INVERSE_TIME,
@@ -134,7 +137,7 @@ from runtime.lathe_cycles import LatheCyclesMixin
 from runtime.probing import ProbingMixin
 from runtime.splines import SplinesMixin
 from runtime.offsets import COORD_SYSTEM, G92_ENABLED, OffsetsMixin
-from runtime.params import Globals, Locals, Params
+from runtime.params import ArgCountLocals, Globals, Locals, Params
 from runtime.tooltable import ToolTable, default_tool_table, load_tool_table
 from runtime.tools import ToolsMixin
 from runtime.varfile import default_parameters, initial_parameters, save_parameter_file
@@ -193,6 +196,8 @@ class Machine(
     CutterCompMixin,
     OffsetsMixin,
     ToolsMixin,
+    ModalSaveMixin,
+    StepBudgetMixin,
 ):
     """rs274's interpreter state and block execution, printing through ``canon``."""
 
@@ -207,7 +212,7 @@ class Machine(
         _rpm _x _y _z _a _b _c _u _v _w _current_tool _current_pocket
         _selected_tool _selected_pocket _value _value_returned _task
         _call_level _remap_level _abs_x _abs_y _abs_z _abs_a _abs_b
-        _abs_c""".split()
+        _abs_c _metric_machine""".split()
     )
 
     def __init__(
@@ -218,6 +223,7 @@ class Machine(
         ini=None,
         block_delete=False,
         source=None,
+        max_steps=DEFAULT_MAX_STEPS,
     ):
         """``canon`` defaults to the rs274 trace on stdout; the file options are
         paths, as rs274's ``-t``, ``-v`` and ``-i`` take them."""
@@ -226,10 +232,13 @@ class Machine(
         #: rs274's -b switch: generated code skips "/" lines while it is set.
         self.block_delete = block_delete
         self.source = source
+        self._set_budget(max_steps)
         self.settings = IniSettings() if ini is None else load_ini(ini)
         # rs274 closes with one ON_RESET when it could read an INI file, two otherwise.
         ini_read = ini is not None and self.settings.opened
         self._closing_resets = 1 if ini_read else 2
+        #: #<_ini[...]> names read from the INI file (read-only globals).
+        self.ini_globals = set()
         self.line = 0
         #: rs274's user (machine) units per mm: its canon reports inches.
         self.user_units_per_mm = USER_UNITS_PER_MM
@@ -243,6 +252,7 @@ class Machine(
         self._locals = Locals()
         self._subroutines: Dict[str, _Subroutine] = {}
         self.call_level = 0
+        self._arg_count = 0  # of the call being made (OWORD_NARGS)
         self.value = 0.0
         self.value_returned = 0.0
         table = (
@@ -251,6 +261,10 @@ class Machine(
         #: What rs274 prints while loading the table (the CLI prints it).
         self.tool_table_report = table.load_report
         self.tools = ToolTable(dict(table.slots))
+        if self.settings.retain_g43:
+            # Every block takes the general path (runtime.tools).
+            self._execute = self._execute_retaining_g43
+            self.refresh_plain = self._never_plain
         self._reset_modes()
 
     def _reset_modes(self) -> None:
@@ -271,7 +285,10 @@ class Machine(
         self.speed_override = True
         self.adaptive_feed = False
         self.feed_hold = True
-        self.control_mode = G61
+        # The stand-alone canon starts in G64 without tolerances.
+        self.control_mode = G64
+        self.path_tolerance = 0.0
+        self.naivecam_tolerance = 0.0
         self.retract_r_plane = True
         self.lathe_diameter = False
         self.cutter_comp = False
@@ -396,14 +413,27 @@ class Machine(
             raise GCodeError("File ended with no percent sign")
         raise GCodeError("File ended with no percent sign or program end")
 
-    def fail(self, line: int, message: str) -> None:
-        """An error rs274 reports when it reaches ``line``."""
+    def fail(self, line: int, message: str, finish: bool = False) -> None:
+        """An error rs274 reports when it reaches ``line`` (``finish``: after
+        the FINISH() of a closing ``%`` it met on the way)."""
         self.line = line
+        if finish:
+            self.announce_block(None)
+            self.canon.finish()
         raise GCodeError(message)
 
     def gcode(self, value: float) -> int:
         """A G code given by an expression, validated as rs274's reader does."""
         return g_code(value)
+
+    @staticmethod
+    def is_m98(value: float) -> bool:
+        """Does a computed M value at the start of a line make it an M98
+        call? rs274 reads the value as an integer, silently giving up."""
+        try:
+            return to_integer(value) == 98
+        except GCodeError:
+            return False
 
     def mcode(self, value: float) -> int:
         """An M code given by an expression, validated as rs274's reader does."""
@@ -462,6 +492,7 @@ class Machine(
         """An O-word call: fresh #1-#30 and locals, restored afterwards."""
         saved = self._params.save_locals()
         self._params.set_call_args(args)
+        self._arg_count = len(args)
         try:
             result = self._run_sub(fn)
         finally:
@@ -470,58 +501,69 @@ class Machine(
         self.value = 0.0 if result is None else float(result)
         self.value_returned = 0.0 if result is None else 1.0
 
-    def m98(self, line: int, fn: Optional[Callable], **words: float) -> None:
+    def m98(
+        self, line: int, fn: Optional[Callable], *codes: int, **words: float
+    ) -> None:
         """``M98 P.. [L..]``: a Fanuc-style call of subroutine P, L times.
 
         rs274 reads and checks the line's words as a block (M98 uses P and
         L), then runs nothing of it but the calls. ``fn`` is the subroutine,
-        or None to find it by P's value. Unlike ``o.. call`` the calls leave
+        or None to find it by P's value; ``codes`` are the line's G and M
+        codes (checked, never executed). Unlike ``o.. call`` the calls leave
         #1-#30 alone and ``#<_value>`` 0, but do get fresh named locals.
         """
         self.line = line
-        codes = [self.gcode(words.pop("g"))] if "g" in words else []
-        if "m" in words:
-            codes.append(self.mcode(words.pop("m")))
+        if self.settings.disable_fanuc_style_sub:
+            raise GCodeError("DISABLE_FANUC_STYLE_SUB set in INI file, but found m98")
         block = blockcheck.read_block(codes, words)
         block.m98 = True
         blockcheck.enhance(block, self.plane, self.motion_mode)
         blockcheck.check(block, self.distance_incremental)
         if fn is None:
-            fn = self._read_ahead("%d" % to_integer(words["p"]))
+            name = "%d" % to_integer(words["p"])
+            fanuc = self.source.subs.get("O" + name) if self.source else None
+            fn = fanuc or self._read_ahead(name)
         times = words.get("l", 1)
         if times == 0:
             # rs274 enters the call but never runs or leaves it: the rest of
-            # the program runs one call level down.
-            self._enter_sub()
+            # the program runs one call level down, in the new frame. The
+            # caller's code keeps its locals store bound, so that very store
+            # becomes the new frame's (emptied: the old locals are gone).
+            caller_locals = self._enter_sub()
+            caller_locals.__dict__.clear()
+            self._locals = caller_locals
         for _ in range(times):
             self._run_sub(fn)
         self.value = self.value_returned = 0.0
 
     def _run_sub(self, fn: Callable) -> Optional[float]:
         """Run subroutine ``fn`` one call level down, with fresh named locals."""
+        self.step()
         caller_locals = self._enter_sub()
         try:
-            return fn(self)
+            result = fn(self)
         finally:
             self.call_level -= 1
             self._locals = caller_locals
             if not self.call_level:
                 self.returned_to_main = True  # see olabels.top_level_return
+        self._left_frame(self.call_level + 1)  # M73's restore
+        return result
 
     def _enter_sub(self) -> Locals:
         """Go one call level down, with fresh named locals; returns the caller's."""
         if self.call_level >= MAX_CALL_LEVEL:
             raise GCodeError("Too many subroutine levels")
         caller_locals = self._locals
-        self._locals = Locals()
+        if self.settings.oword_nargs:  # M98 calls count no arguments
+            self._locals = ArgCountLocals(self._arg_count)
+            self._arg_count = 0
+        else:
+            self._locals = Locals()
         self.call_level += 1
+        self._new_frame(self.call_level)
         self.value_returned = 0.0
         return caller_locals
-
-    @staticmethod
-    def repeat(n: float) -> Iterator[int]:
-        """``o.. repeat [n]``: n rounded to the nearest integer times (none if negative)."""
-        return iter(range(round_to_int(n)))
 
     def top_level_return(
         self, line: int, keyword: str, text: str, value: Optional[float] = None
@@ -597,8 +639,8 @@ class Machine(
             self.canon.set_spindle_speed(0, self.speed)
         if "t" in words:
             self._select_tool(int(words["t"]))
-        if block.m:
-            self._execute_m(block)
+        if block.m and self._execute_m(block):
+            return  # M72 replaced the rest of the line (runtime.modal_save)
         self._execute_g(block)
         if M_STOP in block.m:
             self._stop(block.m[M_STOP])
@@ -677,8 +719,10 @@ class Machine(
             naive = words.get("q", -1.0)
             # A negative (or absent) P or Q means "none": 0, and Q defaults to P.
             tolerance = max(tolerance, 0.0)
+            naive = naive if naive >= 0 else tolerance
             self._canon_control_mode("CONTINUOUS", tolerance)
-            self._canon_naivecam(naive if naive >= 0 else tolerance)
+            self._canon_naivecam(naive)
+            self.path_tolerance, self.naivecam_tolerance = tolerance, naive
         self.control_mode = code
 
     def _canon_control_mode(self, mode: str, tolerance: float) -> None:
@@ -802,10 +846,9 @@ class Machine(
         frames = g_code_frames_of_stack()
         return frames[-1].line if frames else self.line
 
-    def pocket_number(self, index: int) -> int:
-        """The pocket (P word) of the tool at table ``index``, as
-        ``#<_current_pocket>`` and ``#<_selected_pocket>`` report it."""
-        return self._entry(index).pocket
+    def ini_parameter(self, name: str) -> Optional[float]:
+        """``#<_ini[SECTION]KEY>`` from the -i file, or None."""
+        return self.settings.ini_parameter(name)
 
     def predefined(self, name: str) -> Optional[float]:
         """The value of predefined parameter ``name`` (None if it is not one)."""
@@ -855,14 +898,14 @@ _PREDEFINED_VALUES: Dict[str, Callable[[Machine], float]] = {
     "_feed": lambda m: m.feed_rate,
     "_rpm": lambda m: m.speed,
     "_current_tool": lambda m: m.params[5400],
-    "_current_pocket": lambda m: m.pocket_number(m.current_pocket),
+    "_current_pocket": lambda m: m.current_pocket_number(),
     "_selected_tool": lambda m: m.selected_tool,
-    "_selected_pocket": lambda m: (
-        m.pocket_number(m.selected_pocket) if m.tool_selected else -1
-    ),
+    "_selected_pocket": lambda m: m.selected_pocket_number(),
     "_value": lambda m: m.value,
     "_value_returned": lambda m: m.value_returned,
     "_task": lambda m: 0,
     "_call_level": lambda m: m.call_level,
     "_remap_level": lambda m: 0,
+    # rs274 asks the INI file before it knows the file's name: always -1.
+    "_metric_machine": lambda m: -1,
 }

@@ -11,17 +11,27 @@ from __future__ import annotations
 
 import getopt
 import os
+import re
 import sys
 from typing import Callable, List, Optional, Sequence, TextIO
 
+from runtime import continue_mode
 from runtime.errors import GCodeError, SourceMap, describe, format_traceback, locate
 
-USAGE = "usage: %s [-t tool.tbl] [-v file.var] [-i file.ini] [-b]"
+USAGE = (
+    "usage: %s [-t tool.tbl] [-v file.var] [-i file.ini] [-b] [-n 0|1|2]"
+    " [--max-steps N]"
+)
 
 
 def parse_options(argv: Sequence[str]) -> dict:
-    """rs274's options (getopt style, so ``-tfile.tbl`` works too)."""
-    opts, rest = getopt.getopt(list(argv), "t:v:i:b")
+    """rs274's options (getopt style, so ``-tfile.tbl`` works too), and
+    ngc2py's ``--max-steps N`` (see runtime.budget; 0: no limit).
+
+    ``-n`` is returned as ``continue_mode`` (see runtime.continue_mode); like
+    rs274's atoi, a value that is not a number counts as 0.
+    """
+    opts, rest = getopt.getopt(list(argv), "t:v:i:bn:", ["max-steps="])
     if rest:
         raise getopt.GetoptError("unexpected argument %r" % rest[0])
     options = {"block_delete": False}
@@ -29,9 +39,22 @@ def parse_options(argv: Sequence[str]) -> dict:
     for flag, value in opts:
         if flag == "-b":
             options["block_delete"] = not options["block_delete"]  # rs274 toggles
+        elif flag == "-n":
+            options["continue_mode"] = _atoi(value)
+        elif flag == "--max-steps":
+            try:
+                options["max_steps"] = int(value)
+            except ValueError:
+                raise getopt.GetoptError("--max-steps needs a whole number") from None
         else:
             options[names[flag]] = value
     return options
+
+
+def _atoi(text: str) -> int:
+    """C's atoi: leading blanks, a sign and digits; anything else is 0."""
+    match = re.match(r"\s*([+-]?\d+)", text)
+    return int(match.group(1)) if match else 0
 
 
 def write_raw(stream: TextIO, text: str) -> None:
@@ -107,6 +130,7 @@ def run_cli(
         return 1
     stderr.write("executing\n")
     stderr.flush()
+    mode = options.pop("continue_mode", continue_mode.STOP)
     try:
         canon = TraceCanon(stdout)
         machine = Machine(
@@ -119,10 +143,17 @@ def run_cli(
         # complaints on stdout (before the trace), the ini file's on stderr.
         stdout.write(machine.tool_table_report)
         stderr.write(machine.settings.stderr_report)
+
+        def report_and_go_on(error: GCodeError) -> None:
+            stdout.flush()
+            report(error, stderr)
+
+        continue_mode.enable(machine, mode, report_and_go_on, sys.stdin, stderr)
         start(machine, main)
     except GCodeError as error:
         stdout.flush()
-        report(error, stderr)
+        if not getattr(error, "reported", False):
+            report(error, stderr)
         return 1
     except (KeyboardInterrupt, BrokenPipeError):
         return 1

@@ -51,8 +51,10 @@ class MCodesMixin:
     # ------------------------------------------------------------------
     # M codes
     # ------------------------------------------------------------------
-    def _execute_m(self, block: Block) -> None:
-        """rs274's convert_m: I/O, tool change, spindle, coolant, overrides, user."""
+    def _execute_m(self, block: Block) -> bool:
+        """rs274's convert_m: I/O, tool change, spindle, coolant, overrides, user.
+
+        Returns True when an M72 restore replaced the rest of the line."""
         m, words = block.m, block.words
         if M_IO in m:
             self._io(m[M_IO], words)
@@ -60,14 +62,17 @@ class MCodesMixin:
             self._change_tool()
         elif m.get(M_TOOL) == 61:
             self._set_tool_number(words.get("q"))
-        if M_SPINDLE in m:
-            self._spindle(m[M_SPINDLE], words)
+        if self.settings.retain_g43:
+            self._retain_g43(block)
+        if M_SPINDLE in m and self._spindle(m[M_SPINDLE], words):
+            return True
         if M_COOLANT in m:
             self._coolant(m[M_COOLANT])
         if M_OVERRIDE in m:
             self._overrides(m[M_OVERRIDE], words)
         if M_USER in m:
             raise GCodeError(f"Unknown m code used: M{m[M_USER]}")
+        return False
 
     def _io(self, code: int, words) -> None:
         canon = self.canon
@@ -98,7 +103,8 @@ class MCodesMixin:
         else:
             self._wait_input(words)
 
-    def _spindle(self, code: int, words) -> None:
+    def _spindle(self, code: int, words) -> bool:
+        """Group 7: spindle and modal state; True when M72 replaced the line."""
         canon = self.canon
         if code == 3:
             canon.start_spindle_clockwise(0)
@@ -111,13 +117,13 @@ class MCodesMixin:
             self.spindle = "stopped"
         elif code == 19:
             self._orient_spindle(words)
+        elif code in (70, 73):
+            self._save_context(auto_restore=code == 73)
+        elif code == 71:
+            self._forget_context()
         elif code == 72:
-            # M70 and M73 are not supported, so no state was ever saved.
-            raise GCodeError(
-                "Cannot restore context from invalid stack frame - missing M70/M73?"
-            )
-        elif code != 71:  # M71 forgets a saved state: with none saved, no-op
-            raise not_supported(f"modal state save/restore (M{code})")
+            return self._restore_context()
+        return False
 
     def _orient_spindle(self, words) -> None:
         """M19 [R angle] [P direction] [Q timeout]; the INI may offset the angle."""

@@ -222,6 +222,31 @@ class Locals(NamedStore):
     __slots__ = ()
 
 
+class ArgCountLocals(Locals):
+    """The locals of a call when ``[RS274NGC]OWORD_NARGS`` is on: they start
+    with ``#<n_args>``, the number of arguments, which cannot be assigned.
+    (A property on the class beats the instance dict, so ``v.n_args = x``
+    reaches the setter.)"""
+
+    __slots__ = ()
+
+    def __init__(self, count: int) -> None:
+        self.__dict__["n_args"] = float(count)
+
+    @property
+    def n_args(self) -> float:
+        return self.__dict__["n_args"]
+
+    @n_args.setter
+    def n_args(self, value: float) -> None:
+        self["n_args"] = value
+
+    def __setitem__(self, name: str, value: float) -> None:
+        if name == "n_args":
+            raise GCodeError("Cannot assign to read-only parameter #<n_args>")
+        self.__dict__[name] = value
+
+
 class Globals(NamedStore):
     """Named globals (``#<_name>``), with the machine's predefined ones.
 
@@ -241,13 +266,17 @@ class Globals(NamedStore):
             machine = self._machine_
             if name in machine.PREDEFINED:
                 return machine.predefined(name)
+            if name.startswith("_ini[") and _from_ini(self, name):
+                return self.__dict__[name]
             raise GCodeError("Named parameter #<%s> not defined" % name) from None
 
     def __setattr__(self, name: str, value: float) -> None:
         self[name] = value
 
     def __setitem__(self, name: str, value: float) -> None:
-        if name in self._machine_.PREDEFINED:
+        if name in self._machine_.PREDEFINED or (
+            name.startswith("_ini[") and _from_ini(self, name)
+        ):
             raise GCodeError("Cannot assign to read-only parameter #<%s>" % name)
         self.__dict__[name] = value
 
@@ -255,14 +284,31 @@ class Globals(NamedStore):
     def exists(self, name: str) -> float:
         if name in self.__dict__ or name in self._machine_.PREDEFINED:
             return 1.0
-        return 0.0
+        return 1.0 if name.startswith("_ini[") and _from_ini(self, name) else 0.0
 
     @_Method
     def declare(self, name: str) -> None:
         # A predefined name is not created here: its assignment fails later,
         # when the line is executed, exactly as in rs274.
-        if name not in self._machine_.PREDEFINED:
+        if name not in self._machine_.PREDEFINED and not (
+            name.startswith("_ini[") and _from_ini(self, name)
+        ):
             self.__dict__.setdefault(name, 0.0)
+
+
+def _from_ini(store: "Globals", name: str) -> bool:
+    """``#<_ini[SECTION]KEY>``: rs274 looks a name it does not know up in the
+    INI file, and keeps a number it finds there as a read-only global.
+    (A function, not a method: a G-code name could shadow a method.)"""
+    machine = store._machine_
+    if name in machine.ini_globals:
+        return True
+    value = machine.ini_parameter(name)
+    if value is None:
+        return False
+    machine.ini_globals.add(name)
+    store.__dict__[name] = value
+    return True
 
 
 #: Names ``store.name`` must not be used for: every attribute the classes have.

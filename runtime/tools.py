@@ -1,6 +1,10 @@
 """Tools: T selection, M6 and M61 changes, G43/G43.1/G43.2/G49 length offsets.
 
-A mixin of :class:`runtime.machine.Machine`. The machine keeps its own
+A mixin of :class:`runtime.machine.Machine`. With ``[EMCIO]RANDOM_TOOLCHANGER``
+rs274 keeps the same table (its stand-alone tool table is always laid out
+for a non-random changer) but reports pockets as table indices, marks an
+empty spindle as tool -1, never copies a G10 L1 edit to the spindle entry,
+and reads ``G43 H<loaded tool>`` from the tool's pocket. The machine keeps its own
 copy of the tool table as ``self.tools`` (a ToolTable whose ``slots`` map
 table index -> ToolEntry and change as tools move), index 0 being the spindle (rs274 2.9's non-random tool changer; CHANGE_TOOL prints
 the index, not the P word). Table values are in user units (inches).
@@ -19,7 +23,7 @@ from __future__ import annotations
 from dataclasses import replace
 from typing import List
 
-from runtime.blockcheck import round_to_int
+from runtime.blockcheck import TOOL_OFFSET, Block, round_to_int
 from runtime.codes import G43, G43_1, G49
 from runtime.errors import GCodeError
 from runtime.motion import AXES, rotate
@@ -28,6 +32,10 @@ from runtime.tooltable import ToolEntry, ToolTable
 
 #: G10 L11 measures tool offsets against this coordinate system (G59.3).
 FIXTURE_SYSTEM = 9
+
+#: A placeholder M group that makes a block without M codes go through the
+#: M code step (RETAIN_G43); no M code has it.
+RETAIN_STEP = -1
 
 TOOL_PARAMS = 5400  # 5400 tool number, 5401-5409 offsets, 5410 diameter, ...
 
@@ -39,7 +47,8 @@ class ToolsMixin:
 
     def _pocket_of(self, tool: int) -> int:
         """rs274's find_tool_pocket: tool 0 is always the spindle."""
-        pocket = 0 if tool == 0 else self.tools.find(tool)
+        # -1 marks a table line without a T word: never a tool to find.
+        pocket = 0 if tool == 0 else self.tools.find(tool) if tool > 0 else None
         if pocket is None:
             raise GCodeError(f"Requested tool {tool} not found in the tool table")
         return pocket
@@ -77,6 +86,48 @@ class ToolsMixin:
         self.current_pocket = self.selected_pocket
         self.toolchange_flag = True
         self._store_tool_parameters()
+
+    def current_pocket_number(self) -> int:
+        """``#<_current_pocket>``: a random changer reports the table index,
+        the non-random one the P word of the tool there."""
+        if self.settings.random_toolchanger:
+            return self.current_pocket
+        return self._entry(self.current_pocket).pocket
+
+    def selected_pocket_number(self) -> int:
+        """``#<_selected_pocket>``: as :meth:`current_pocket_number`; -1 on a
+        non-random changer before any T word."""
+        if self.settings.random_toolchanger:
+            return self.selected_pocket
+        if not self.tool_selected:
+            return -1
+        return self._entry(self.selected_pocket).pocket
+
+    # ------------------------------------------------------------------
+    # [RS274NGC]RETAIN_G43
+    # ------------------------------------------------------------------
+    def _retain_g43(self, block: Block) -> None:
+        """rs274's RETAIN_G43 step, after the tool change codes of *every*
+        block: while any tool offset is in force it applies G43 (G49 when
+        the selected pocket is the spindle) and writes that code into the
+        block's tool offset group, so the block's G codes apply it again
+        (replacing a G43.x of the line's own)."""
+        if not any(self.tool_offset):
+            return
+        code = G43 if self.selected_pocket > 0 else G49
+        self._tool_length_offset(code, {})
+        block.g[TOOL_OFFSET] = code
+
+    def _execute_retaining_g43(self, block: Block, comment) -> None:
+        """Machine._execute for RETAIN_G43: the M code step runs for every
+        block (installed per machine, so other machines pay nothing)."""
+        if not block.m:
+            block.m[RETAIN_STEP] = 0
+        type(self)._execute(self, block, comment)
+
+    def _never_plain(self) -> None:
+        """refresh_plain under RETAIN_G43: no block may skip the M step."""
+        self._plain = False
 
     def _hidden_traverse(self, end: List[float]) -> None:
         """A move the INI asks for around a tool change, hidden from AXIS's preview."""
@@ -133,10 +184,12 @@ class ToolsMixin:
         entry = replace(entry, **changes)
         self.tools.slots[pocket] = entry
         self._announce_tool_entry(pocket, entry)
-        if pocket == self.current_pocket:
+        # A random changer's loaded tool has no home pocket to copy from.
+        loaded = pocket == self.current_pocket and not self.settings.random_toolchanger
+        if loaded:
             self.tools.slots[0] = entry
         self._store_tool_parameters()
-        if pocket == self.current_pocket:
+        if loaded:
             self._announce_tool_entry(0, entry)
 
     def _announce_tool_entry(self, pocket: int, entry: ToolEntry) -> None:
@@ -180,7 +233,11 @@ class ToolsMixin:
     def _store_tool_parameters(self) -> None:
         """#5400-#5413 describe the spindle entry."""
         spindle = self._entry(0)
-        values: List[float] = [float(max(spindle.tool, 0))]
+        if self.settings.random_toolchanger:
+            # An empty spindle is tool -1 there (rs274 2.9's convention).
+            values: List[float] = [float(max(spindle.tool, -1))]
+        else:
+            values = [float(max(spindle.tool, 0))]
         values += spindle.offsets
         values += [
             spindle.diameter,
@@ -210,18 +267,31 @@ class ToolsMixin:
             for i, letter in enumerate("xyzabcuvw"):
                 if letter in words:
                     offset[i] = words[letter]
-        else:  # G43.2 adds a tool's offsets to the ones in force
-            if "h" not in words:
-                raise GCodeError("G43.2: H-word missing")
-            extra = self._user_to_program(
-                self._entry(self._pocket_of(int(words["h"]))).offsets
-            )
-            offset = [a + b for a, b in zip(self.tool_offset, extra)]
+        else:
+            offset = self._added_tool_offset(words)
         self._apply_tool_offset(offset)
 
+    def _added_tool_offset(self, words) -> List[float]:
+        """G43.2: the offsets in force plus a tool's (H) or the axis words."""
+        axes = [letter in words for letter in "xyzabcuvw"]
+        if "h" in words and any(axes):
+            raise GCodeError("G43.2: Can not have both H and axis words")
+        if "h" not in words and not any(axes):
+            raise GCodeError("G43.2: No axes specified and H word missing")
+        # rs274 looks the H word up even when there is none, as tool -1,
+        # which is never found: axis words alone always fail.
+        pocket = self._pocket_of(int(words.get("h", -1)))
+        if "h" in words:
+            extra = self._user_to_program(self._entry(pocket).offsets)
+        else:
+            extra = [words[a] if given else 0.0 for a, given in zip("xyzabcuvw", axes)]
+        return [a + b for a, b in zip(self.tool_offset, extra)]
     def _offset_pocket(self, words) -> int:
         if "h" in words:
-            return self._pocket_of(int(words["h"]))
+            pocket = self._pocket_of(int(words["h"]))
+            if pocket == 0 and self.settings.random_toolchanger:
+                return self.current_pocket  # "T12 M6 G43 H12" is tool 12's offset
+            return pocket
         # During a change (same line as M6/M61) the tool is still in its pocket.
         return self.current_pocket if self.toolchange_flag else 0
 

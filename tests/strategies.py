@@ -6,8 +6,12 @@ named local, named global) and expressions that cannot fail (no division by
 a value that may be zero, no roots of negatives), subroutines with arguments
 and return values, loops with bounded iteration counts, comments of every
 active kind, modal changes (units, distance mode, planes, coordinate
-systems, offsets, spindle, coolant, path control), and drilling canned
-cycles in every plane with the lines that repeat them.
+systems, offsets, spindle, coolant, path control), drilling canned cycles in
+every plane with the lines that repeat them, threading, probing, splines,
+lathe cycles, cutter compensation, and the rest of the language: tool
+changes and length offsets, G10 L1/L10/L11, M19, override switches,
+digital/analog I/O and M66, M70-M73, (py,...) comments, Fanuc M98 calls
+(also as a computed M value).
 
 ``invalid_programs()`` takes such a program and breaks one line: junk
 characters, unbalanced brackets, unknown letters, repeated words, bad or
@@ -138,6 +142,7 @@ class Writer:
         self.dist = 90
         self.subs: List[tuple] = []  # (name, nargs, returns)
         self.depth = 0
+        self.fanuc = False  # a Fanuc subroutine O9001 follows the program end
 
     def emit(self, line: str) -> None:
         self.lines.append("  " * self.depth + line)
@@ -361,6 +366,75 @@ def stmt_cycle(w: Writer) -> None:
         w.emit("G17")
 
 
+def stmt_codes(w: Writer) -> None:
+    """Tool table, offsets, spindle orient, override switches, I/O, modal
+    state save/restore, Python comments (the default tool table holds tools
+    1, 2, 3 and 99999)."""
+    kind = w.draw(st.integers(0, 9))
+    tool = w.draw(st.integers(0, 3))
+    if kind == 0:
+        w.emit(w.draw(st.sampled_from([
+            f"T{tool} M6", f"T{tool} M6 G43", "G43", f"G43 H{tool}", f"G43.2 H{max(tool, 1)}",
+            "G49", f"M61 Q{tool}", f"T{tool}", f"G43.1 Z{w.draw(numbers())}",
+            f"G43.2 Z{w.draw(numbers())}",
+        ])))
+    elif kind == 1:
+        letter = w.draw(st.sampled_from(["Z", "X", "Z", "R", "I", "J"]))
+        level = w.draw(st.sampled_from(["1", "10", "11"]))
+        words = f"{letter}{w.draw(numbers(0, 100, 10))}"
+        if level == "1" and w.draw(st.booleans()):
+            words += f" Q{w.draw(st.integers(0, 9))}"
+        w.emit(f"G10 L{level} P{max(tool, 1)} {words}")
+    elif kind == 2:
+        w.emit(f"M19 R{w.draw(st.integers(0, 360))} P{w.draw(st.integers(0, 2))}"
+               f" Q{w.draw(st.integers(1, 9))}")
+    elif kind == 3:
+        code = w.draw(st.sampled_from(["M48", "M49", "M50", "M51", "M52", "M53"]))
+        if code not in ("M48", "M49") and w.draw(st.booleans()):
+            code += f" P{w.draw(st.integers(0, 1))}"
+        w.emit(code)
+    elif kind == 4:
+        index = w.draw(st.integers(0, 3))
+        w.emit(w.draw(st.sampled_from([
+            f"M62 P{index}", f"M63 P{index}", f"M64 P{index}", f"M65 P{index}",
+            f"M66 P{index} L0", f"M66 E{index} L0", f"M66 P{index} L{w.draw(st.integers(1, 4))} Q2",
+            f"M67 E{index} Q{w.draw(numbers())}", f"M68 E{index} Q{w.draw(numbers())}",
+        ])))
+        w.emit("(debug, input #5399)")
+    elif kind in (5, 6):
+        # save, change some modes, restore (M72 must find a saved state)
+        w.emit("M70")
+        for _ in range(w.draw(st.integers(1, 3))):
+            w.emit(w.draw(st.sampled_from([
+                "G20", "G21", "G18", "G19", "G91", "G93", f"F{w.draw(numbers(1, 900, 1))}",
+                f"S{w.draw(numbers(0, 5000, 1))} M4", "M3", "M5", "M7", "M8", "M9",
+                "G64 P0.05 Q0.02", "G61", "G61.1", "M50 P0", "M52 P1", "M53 P0",
+                "G55", "G43.1 Z1", "G49", "G91.1", "G98", "G8", "G7", "G96 S100", "G97",
+            ])))
+        w.emit(w.draw(st.sampled_from(["M72", "M72", "M72 G0 X1", "M71"])))
+        # back to the modes the other statements assume (G94 zeroes F)
+        w.emit(f"G17 G90 G94 G21 G54 G91.1 G97 G8 F{w.draw(numbers(50, 1000, 1))}")
+        w.dist = 90
+    elif kind == 7:
+        w.emit(w.draw(st.sampled_from([
+            "(py,pyvar = 1)", "(PY,other = 2 * 3 + 1)", "(pyrun,ignored)", "(pyreload)",
+            "(py,pyvar = 1)\n(py,total = pyvar + 1)",
+        ])))
+    elif kind == 8:
+        # a Fanuc call: M98 P9001 (the sub follows the program end), also
+        # as a computed M value
+        w.fanuc = True
+        if w.draw(st.booleans()):
+            w.emit(f"M98 P9001 L{w.draw(st.integers(0, 2))}" if w.draw(st.booleans())
+                   else "M98 P9001")
+        else:
+            w.emit("#9 = 98")
+            w.emit("M#9 P9001")
+    else:
+        w.emit(w.draw(st.sampled_from(["M71", "(debug, #<_current_tool> #<_current_pocket> "
+                                       "#<_selected_tool> #<_selected_pocket> #5400 #5403)"])))
+
+
 def _body(w: Writer, size: int) -> None:
     """Statements that may not run (untaken branch, zero-trip loop): what
     they assign is not counted as defined afterwards."""
@@ -569,6 +643,7 @@ def stmt(w: Writer, nested: bool = False) -> None:
         (stmt_probe, 1),
         (stmt_spline, 1),
         (stmt_lathe_cycle, 1),
+        (stmt_codes, 2),
     ]
     if w.depth < 2:
         weights += [(stmt_if, 1), (stmt_loop, 1)]
@@ -587,6 +662,8 @@ def define_sub(w: Writer, index: int) -> None:
                     args=nargs)
     w.emit(f"o{name} sub")
     w.depth += 1
+    if w.draw(st.integers(0, 3)) == 0:
+        w.emit("M73")  # the caller's modes come back at the return
     for _ in range(w.draw(st.integers(1, 4))):
         stmt(w, nested=True)
     w.depth -= 1
@@ -614,9 +691,16 @@ def valid_programs(draw, max_statements: int = 12, feed_modes: bool = False) -> 
     for _ in range(draw(st.integers(1, max_statements))):
         stmt(w)
     if ending == "%":
-        w.lines.append("%")
+        if w.fanuc:
+            w.emit("M2")  # the Fanuc subroutine must come before the closing %
+        else:
+            w.lines.append("%")
     else:
         w.emit(ending)
+    if w.fanuc:
+        w.lines += ["O9001", "G91 G0 X1", "G90", "M99"]
+        if ending == "%":
+            w.lines.append("%")
     if draw(st.integers(0, 5)) == 0:
         w.lines.append("G0 X[1/0] (after the end: never read)")
     return "\n".join(w.lines) + "\n"

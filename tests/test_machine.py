@@ -525,8 +525,9 @@ def test_unsupported_codes_say_so():
 
 def test_repeat_rounds_like_rs274():
     # rs274 runs "repeat [2.6]" three times and "repeat [-1]" not at all.
-    assert len(list(Machine.repeat(2.6))) == 3
-    assert list(Machine.repeat(-1.0)) == []
+    machine = Machine(RecordingCanon())
+    assert len(list(machine.repeat(2.6))) == 3
+    assert list(machine.repeat(-1.0)) == []
 
 
 def test_calls_nest_nine_deep_at_most():

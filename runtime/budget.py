@@ -1,0 +1,58 @@
+"""The step budget: a runaway program becomes an error, not a hang.
+
+rs274 runs ``o1 while [1]`` (or a lathe cycle it cannot finish) forever.
+ngc2py counts *steps* -- loop iterations and subroutine calls, the only
+ways a G-code program can run longer than its text -- and stops with a
+GCodeError when the budget is spent; the error names the loop or call
+line like any other. Nothing is counted per block, so straight-line code
+pays nothing; a loop pays one decrement per iteration.
+
+A mixin of :class:`runtime.machine.Machine`; ``max_steps`` comes from
+``Machine(max_steps=...)``, ``--max-steps N`` on the command lines; 0
+means no limit.
+"""
+
+from __future__ import annotations
+
+from typing import Iterator
+
+from runtime.errors import GCodeError
+
+#: Loop iterations plus calls allowed by default: far more than real
+#: programs use (a hand-written program loops thousands of times; CAM output
+#: has no loops), and reached in seconds by an empty endless loop.
+DEFAULT_MAX_STEPS = 10_000_000
+
+
+def runaway_message(max_steps: int) -> str:
+    return (
+        "Step limit reached: more than %d loop iterations and subroutine calls"
+        " (a program that never ends?); --max-steps raises the limit" % max_steps
+    )
+
+
+class StepBudgetMixin:
+    """Loop iterations and calls, counted down (part of Machine)."""
+
+    def _set_budget(self, max_steps: int) -> None:
+        self.max_steps = max_steps
+        # Counting down from -1 never reaches 0: no limit.
+        self.steps_left = max_steps if max_steps > 0 else -1
+
+    def step(self) -> None:
+        """One loop iteration or call; generated loops call this first."""
+        self.steps_left -= 1
+        if not self.steps_left:
+            raise GCodeError(runaway_message(self.max_steps))
+
+    def repeat(self, n: float) -> Iterator[int]:
+        """``o.. repeat [n]``: n rounded to the nearest integer times (none
+        if negative), each iteration one step."""
+        from runtime.blockcheck import round_to_int
+
+        for index in range(round_to_int(n)):
+            self.step()
+            yield index
+
+
+__all__ = ["DEFAULT_MAX_STEPS", "StepBudgetMixin", "runaway_message"]
