@@ -9,7 +9,8 @@ that is true when none of the cases that make a straight move more than
 
 * distance mode absolute (G90) -- no increments, no polar geometry;
 * lathe radius mode (G8) -- X is not halved;
-* cutter radius compensation off -- no look-ahead;
+* cutter radius compensation off -- no look-ahead -- and not just turned
+  off (the first move after G40 clears rs274's "no arc yet" flag);
 * feed mode units per minute (G94) -- no inverse-time or per-rev checks;
 * no tool change waiting to be finished;
 * no canned-cycle series open (the next motion that is not a cycle must
@@ -50,6 +51,8 @@ class FastPathMixin:
             not self.distance_incremental
             and not self.lathe_diameter
             and not self.cutter_comp
+            and not self._cc.side
+            and not self._cc.arc_not_allowed  # a straight move must clear it
             and self.feed_mode == UNITS_PER_MINUTE
             and not self.toolchange_flag
             and self.cycle_initial_level is None

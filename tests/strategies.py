@@ -592,8 +592,9 @@ def stmt_lathe_cycle(w: Writer) -> None:
         return
     label = 9000 + w.new_label()
     cycle = w.draw(st.sampled_from(["G70", "G71", "G71.1", "G71.2", "G72", "G72.1", "G72.2"]))
-    # rs274 finds a G70 profile with corners "not monotonic" more often than not.
-    corners = ["", "", " A0.2", " C0.2"] if cycle != "G70" else [""]
+    # rs274 finds a G70 or G72 (facing) profile with corners "not monotonic"
+    # more often than not.
+    corners = [""] if cycle == "G70" or cycle.startswith("G72") else ["", "", " A0.2", " C0.2"]
     x = w.draw(st.integers(0, 30)) / 10
     z = 0.0
     w.emit(f"o{label} sub")

@@ -107,6 +107,6 @@ def test_codes_used_reads_programs_like_rs274():
 
 def test_scope_follows_called_subroutine_files(tmp_path):
     """An out-of-scope code inside a called subroutine file puts the caller out of scope."""
-    (tmp_path / "main.ngc").write_text("o<save> call\nM2\n")
-    (tmp_path / "save.ngc").write_text("o<save> sub\nM70\no<save> endsub\n")
-    assert out_of_scope(tmp_path / "main.ngc") == ["M70"]
+    (tmp_path / "main.ngc").write_text("o<user> call\nM2\n")
+    (tmp_path / "user.ngc").write_text("o<user> sub\nM101\no<user> endsub\n")
+    assert out_of_scope(tmp_path / "main.ngc") == ["M101"]
