@@ -280,6 +280,13 @@ class PreviewMachine(Machine):
         # Nothing written yet: the first line code is all zeros.
         self.active = ((0,) * 17, (0,) * 10, (0.0,) * 5)
 
+    def _emit_probe(self, end, probe_type) -> None:
+        # The module's canon (gcodemodule.cc) ends a probe move at its
+        # target: no back-off as rs274's stand-alone canon does.
+        self.canon.straight_probe(*end, probe_type)
+        self._probe_point = list(end[:6]) + [0.0, 0.0, 0.0]
+        self.world.position = list(end[:6])
+
     def refresh_plain(self) -> None:
         # No fast path: it runs data rows without announcing each line and
         # skips block(), where the line code's modal state is recorded.

@@ -26,6 +26,7 @@ from test_differential import PROFILE
 from trace_path import TracePath
 
 from ngc2py import cli
+from runtime import continue_mode
 from runtime.errors import GCodeError
 from runtime.machine import Machine
 from runtime.main import parse_options, start
@@ -58,7 +59,10 @@ def stats_of(name: str, args=()) -> StatsCanon:
         module = cli.load_program(name, options.get("ini"))
     except Exception:  # unopenable programs make no moves
         return canon
+    mode = options.pop("continue_mode", continue_mode.STOP)
     machine = Machine(canon, source=module.__ngc__, **options)
+    # rs274's -n: report line errors and go on (MDI mode reads no input here).
+    continue_mode.enable(machine, mode, lambda error: None, io.StringIO(), io.StringIO())
     try:
         start(machine, module.main)
     except GCodeError:

@@ -66,6 +66,14 @@ class TracePath:
             self._first()
             self.position = self._mm(numbers[:6])
             self._add(self.position)
+        elif name == "RIGID_TAP":
+            # In to X Y Z and back out along the same line (the spindle
+            # reverses at the bottom): the tool ends where it started. Two
+            # moves, as runtime.toolpath draws and times it.
+            self._first()
+            self._first()
+            self._add(self.position)
+            self._add(self._mm(numbers[:3]) + self.position[3:])
         elif name == "ARC_FEED":
             self._first()
             self._arc(numbers)
