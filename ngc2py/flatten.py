@@ -425,7 +425,7 @@ class FlattenCanon(Canon):
             return "F" + number(args[0])
         if name == "set_feed_mode":
             return "G95" if args[1] == 1 else "G94"
-        if name == "print":
+        if name in ("print", "print_text"):
             return "(PRINT,%s)" % args[0]
         if name == "dwell":
             return "G4 P" + number(args[0])
@@ -469,6 +469,9 @@ class FlattenCanon(Canon):
             "logopen": "(LOGOPEN,%s)",
             "logappend": "(LOGAPPEND,%s)",
         }
+        if name == "comment" and not args[0]:
+            # rs274 makes no call for "()"; "( )" gives COMMENT("")
+            return "( )"
         if name in texts:
             return texts[name] % args[0]
         if name in ("set_motion_output_bit", "clear_motion_output_bit"):
