@@ -20,7 +20,7 @@ import json
 import os
 import tempfile
 from pathlib import Path
-from typing import List, Optional, Tuple
+from typing import List, Optional, Tuple, Union
 
 from ngc2py import __version__
 from ngc2py.compiler import compile_program
@@ -92,15 +92,17 @@ def _file_mode(target: Path) -> int:
         return 0o666 & ~umask
 
 
-def write_atomic(target: Path, text: str) -> None:
-    """Write ``text`` to ``target`` so readers see the old or new file only."""
+def write_atomic(target, data: Union[str, bytes]) -> None:
+    """Write ``data`` (text is UTF-8) to ``target`` so that readers see the
+    old file or the new one, never half of one; the file keeps its mode."""
+    target = Path(target)
     target.parent.mkdir(parents=True, exist_ok=True)
     fd, temp = tempfile.mkstemp(
         dir=str(target.parent), prefix=".tmp-", suffix=target.suffix
     )
     try:
-        with os.fdopen(fd, "w", encoding="utf-8") as handle:
-            handle.write(text)
+        with os.fdopen(fd, "wb") as handle:
+            handle.write(data.encode("utf-8") if isinstance(data, str) else data)
         os.chmod(temp, _file_mode(target))
         os.replace(temp, target)
     except BaseException:

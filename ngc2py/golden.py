@@ -145,15 +145,9 @@ def save(program: Path, result: Result, args: Optional[Sequence[str]] = None) ->
 
 def _write(path: Path, data: bytes) -> None:
     """Atomically: a check running in parallel never reads half a file."""
-    fd, tmp = tempfile.mkstemp(dir=str(path.parent), prefix=".tmp-" + path.name)
-    try:
-        with os.fdopen(fd, "wb") as handle:
-            handle.write(data)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    from ngc2py.cache import write_atomic  # the compiler, only when recording
+
+    write_atomic(path, data)
 
 
 # ---------------------------------------------------------------------------

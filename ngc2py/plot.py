@@ -15,9 +15,9 @@ import io
 import math
 import os
 import sys
-import tempfile
 from typing import Dict, List, Sequence, Tuple
 
+from ngc2py.cache import write_atomic
 from ngc2py.simulate import EXIT_ERROR, EXIT_OK, add_rs274_options, run_program
 from runtime.toolpath import MM_PER_INCH, Arc, Point, ToolpathCanon
 
@@ -235,32 +235,13 @@ def command(args: argparse.Namespace) -> int:
     buffer = io.BytesIO()
     draw(canon, args.view, title, buffer, fmt)
     try:
-        write_atomic_bytes(args.output, buffer.getvalue())
+        write_atomic(args.output, buffer.getvalue())
     except OSError as error:
         sys.stderr.write(
             "ngc2py plot: %s: %s\n" % (args.output, error.strerror or error)
         )
         return EXIT_ERROR
     return EXIT_OK
-
-
-def write_atomic_bytes(target: str, data: bytes) -> None:
-    """Write ``data`` so a reader sees the old picture or the new one, never half."""
-    folder = os.path.dirname(os.path.abspath(target))
-    fd, temp = tempfile.mkstemp(
-        dir=folder, prefix=".tmp-", suffix=os.path.splitext(target)[1]
-    )
-    try:
-        with os.fdopen(fd, "wb") as handle:
-            handle.write(data)
-        os.chmod(temp, 0o644)
-        os.replace(temp, target)
-    except BaseException:
-        try:
-            os.unlink(temp)
-        except OSError:
-            pass
-        raise
 
 
 __all__ = ["PlotCanon", "register", "command", "draw", "project"]
