@@ -31,9 +31,11 @@ How calls become G-code (decisions, see the README's "Flatten" section):
 
 Where the full trace cannot be the same (a G5x selection or G94 written out
 adds a COMMENT or offset call rs274 did not make in the original), only
-those bookkeeping calls differ; the motion calls never do. Calls with no
-G-code that makes them alone (probing, cutter compensation...) stop the
-flattening with an error that names them.
+those bookkeeping calls differ; the motion calls never do. Calls that one
+G-code makes are written as that G-code with literal values (G38.x probes,
+G33 for synchronized feeds, G33.1, G5.2/G5.3 for any spline, M19, G10 L1
+for tool table edits, G43 H / G43.2 H for U V W tool offsets). Calls with
+no G-code at all stop the flattening with an error that names them.
 """
 
 from __future__ import annotations
@@ -170,6 +172,10 @@ class FlattenCanon(Canon):
         self._plane = "XY"
         self._ijk_absolute = False
         self._params = None
+        #: the pitch while spindle and feed are synchronized (G33, G76)
+        self._pitch: Optional[float] = None
+        #: the last tool length offset written (program units)
+        self._tool_offset = [0.0] * 9
         #: the flat program's current point as far as moves tell it; UNKNOWN
         #: after an offset, unit or tool-offset change until the next move
         self._pos = [UNKNOWN] * 6
@@ -243,7 +249,11 @@ class FlattenCanon(Canon):
         i = 0
         pending_f: Optional[str] = None
         out: List[str] = []
+        taken = set()  # calls a line further up has already written
         while i < len(calls):
+            if i in taken:
+                i += 1
+                continue
             name, args = calls[i]
             following = [c[0] for c in calls[i + 1 :]]
             nxt = following[0] if following else None
@@ -255,8 +265,36 @@ class FlattenCanon(Canon):
                 pending_f = "F" + number(args[0])
                 i += 1
                 continue
-            if name in ("straight_traverse", "straight_feed"):
+            if name == "straight_feed" and self._pitch is not None:
+                # inside START/STOP_SPEED_FEED_SYNCH (G33, G76 passes)
+                text = self._move("G33", args, pos) + " K" + number(self._pitch)
+            elif name in ("straight_traverse", "straight_feed"):
                 text = self._move("G0" if name == "straight_traverse" else "G1", args, pos)
+            elif name == "start_speed_feed_synch":
+                # each G33/G33.1 line makes its own START/STOP pair
+                self._pitch, text = args[1], None
+            elif name == "stop_speed_feed_synch":
+                self._pitch, text = None, None
+            elif name == "rigid_tap":
+                x, y, z, scale = args
+                text = "G33.1 X%s Y%s Z%s K%s" % (
+                    number(x), number(y), number(z), number(self._pitch or 0.0)
+                )
+                if scale != 1:
+                    text += " I" + number(scale)
+                pos[:] = [UNKNOWN] * 6  # the tool comes back where it was
+            elif name == "turn_probe_on" and following[:2] == ["straight_probe", "turn_probe_off"]:
+                probe = calls[i + 1][1]
+                text = self._move("G38.%d" % (2 + probe[9]), probe[:6], pos)
+                pos[:] = [UNKNOWN] * 6  # it stops where the probe trips
+                used = 3
+            elif name == "nurbs_feed":
+                text = self._nurbs(*args)
+                pos[:] = [UNKNOWN] * 6  # see runtime/splines.py: rs274 reads past its list
+            elif name == "set_tool_table_entry":
+                text = self._tool_entry(args)
+                if following[:1] == ["set_tool_table_entry"] and calls[i + 1][1][0] == 0:
+                    used = 2  # the loaded tool's copy: the G10 L1 makes it too
             elif name == "arc_feed":
                 text = self._arc(args, pos)
             elif name == "set_g5x_offset":
@@ -267,7 +305,11 @@ class FlattenCanon(Canon):
                 text = self._g10(self._system, offsets, args[0])
             elif name == "comment" and args[0] in FEED_MODE_COMMENTS and nxt == "set_feed_mode":
                 text = FEED_MODE_COMMENTS[args[0]]
-                used = 3 if text == "G94" and following[1:2] == ["set_feed_rate"] else 2
+                # G94's own SET_FEED_RATE(0) is made again by the written G94;
+                # any other rate (a G93 move's, queued behind cutter
+                # compensation) is written as F
+                zero = following[1:2] == ["set_feed_rate"] and calls[i + 2][1][0] == 0
+                used = 3 if text == "G94" and zero else 2
             elif name == "set_motion_control_mode":
                 mode, tolerance = args
                 if mode == "CONTINUOUS":
@@ -292,17 +334,29 @@ class FlattenCanon(Canon):
                     text, used = pair, 2
                 else:
                     text = self._single(name, args)
-            elif name == "orient_spindle" and nxt == "wait_spindle_orient_complete":
+            elif name == "orient_spindle":
+                # M19 (or G87's orientation): R is the angle before the
+                # INI's ORIENT_OFFSET is added
                 _spindle, orientation, direction = args
-                timeout = calls[i + 1][1][1]
-                text = "M19 R%s Q%s P%d" % (number(orientation), number(timeout), direction)
-                used = 2
-            elif name == "set_spindle_mode" and args[1] != 0:
-                # G96: the mode's value is D (1e30 when not given)
-                text = "G96" + (" D" + number(args[1]) if args[1] < 1e29 else "")
-                if nxt == "set_spindle_speed":
-                    text += " S" + number(calls[i + 1][1][1])
+                angle = orientation - self.machine.settings.orient_offset
+                # G87 orients with rs274's spindle direction (2 clockwise,
+                # 3 counterclockwise); M19 takes P0-P2 only, so 3 is
+                # written as P2: the one call that differs, never a move
+                text = "M19 R%s P%d" % (number(angle), min(direction, 2))
+                if nxt == "wait_spindle_orient_complete":
+                    text += " Q" + number(calls[i + 1][1][1])
                     used = 2
+            elif name == "wait_spindle_orient_complete":
+                # M19 Q without R or P
+                text = "M19 Q" + number(args[1])
+            elif name == "set_spindle_mode" and args[1] != 0:
+                # G96: the mode's value is D (1e30 when not given); rs274
+                # wants its S on the same line, wherever the call came
+                text = "G96" + (" D" + number(args[1]) if args[1] < 1e29 else "")
+                speed = following.index("set_spindle_speed") if "set_spindle_speed" in following else None
+                if speed is not None and "set_spindle_mode" not in following[:speed]:
+                    text += " S" + number(calls[i + 1 + speed][1][1])
+                    taken.add(i + 1 + speed)
             elif name == "pallet_shuttle" and nxt == "program_stop":
                 text, used = "M60", 2
             else:
@@ -391,6 +445,70 @@ class FlattenCanon(Canon):
         pos[3:6] = list(args[6:9])
         return code + " " + " ".join(words)
 
+    def _nurbs(self, points, order) -> str:
+        """A NURBS_FEED (G5, G5.1, G5.2) as G5.2 control points and G5.3.
+        The first point is the current point: only its weight is written."""
+        first_weight = points[0][2]
+        lines = []
+        rest = points[1:]
+        if first_weight != 1.0 or not rest:
+            lines.append("G5.2 P%s L%d" % (number(first_weight), order))
+        else:
+            x, y, w = rest[0]
+            lines.append("G5.2 X%s Y%s P%s L%d" % (number(x), number(y), number(w), order))
+            rest = rest[1:]
+        lines += ["X%s Y%s P%s" % (number(x), number(y), number(w)) for x, y, w in rest]
+        lines.append("G5.3")
+        return "\n".join(lines)
+
+    def _tool_entry(self, args) -> str:
+        """SET_TOOL_TABLE_ENTRY as a G10 L1 with every value literal. The
+        entry holds user units; G10 L1 reads program units. rs274 -g knows
+        no U V W words: those columns can only come from the tool table."""
+        _index, tool, offsets, diameter, front, back, orientation = args
+        machine = self.machine
+        values = machine._user_to_program(list(offsets))
+        radius = machine._user_to_program([diameter / 2.0])[0]
+        words = " ".join(l + number(v) for l, v in zip(AXES6, values[:6]))
+        return "G10 L1 P%d %s R%s I%s J%s Q%d" % (
+            tool, words, number(radius), number(front), number(back), orientation
+        )
+
+    def _tool_length_offset(self, offset: List[float]) -> str:
+        """A tool length offset in G-code. rs274 -g has no U V W words, but
+        G43.1 keeps the axes it is not given: U V W come from what is in
+        force, from the tool table (G43 H, G43.2 H added to what is in
+        force), or are lost (the one call that then differs)."""
+        before = self._tool_offset
+        six = "G43.1 " + " ".join(l + number(v) for l, v in zip(AXES6, offset[:6]))
+        if not any(offset):
+            text = "G49"
+        elif offset[6:] == before[6:]:
+            text = six
+        else:
+            text = self._tool_length_from_table(before, offset)
+            if text is None:
+                text = ("G49\n" if not any(offset[6:]) else "") + six
+                if any(offset[6:]):
+                    offset = offset[:6] + before[6:]
+        self._tool_offset = offset
+        return text
+
+    def _tool_length_from_table(self, before, offset) -> Optional[str]:
+        machine = self.machine
+        tools = sorted({e.tool for e in machine.tools.slots.values() if e.tool >= 0})
+        for tool in tools:
+            try:
+                entry = machine._entry(machine._pocket_of(tool))
+            except Exception:  # noqa: BLE001 - a tool the table cannot give
+                continue
+            extra = machine._user_to_program(entry.offsets)
+            if extra == offset:
+                return "G43 H%d" % tool
+            if [a + b for a, b in zip(before, extra)] == offset:
+                return "G43.2 H%d" % tool
+        return None
+
     def _g10(self, index: int, offsets: Sequence[float], rotation: float) -> str:
         words = " ".join(letter + number(v) for letter, v in zip(AXES6, offsets))
         self._stored[index] = (tuple(offsets), rotation, self._inches)
@@ -420,7 +538,7 @@ class FlattenCanon(Canon):
         if name == "set_g92_offset":
             return "G52 " + " ".join(l + number(v) for l, v in zip(AXES6, args[:6]))
         if name == "use_tool_length_offset":
-            return "G43.1 " + " ".join(l + number(v) for l, v in zip(AXES6, args[:6]))
+            return self._tool_length_offset(list(args))
         if name == "set_feed_rate":
             return "F" + number(args[0])
         if name == "set_feed_mode":
@@ -461,7 +579,9 @@ class FlattenCanon(Canon):
         if name == "select_tool":
             return "T%d" % args[0]
         if name == "change_tool_number":
-            return "M61 Q%d" % args[0]
+            # the call names the pocket, M61 the tool in it
+            entry = self.machine.tools.slots.get(args[0]) if args[0] else None
+            return "M61 Q%d" % (entry.tool if entry is not None else args[0])
         texts = {
             "comment": "(%s)",
             "message": "(MSG,%s)",
@@ -559,13 +679,25 @@ def flatten(
     var_file: Optional[str] = None,
     ini: Optional[str] = None,
     block_delete: bool = False,
+    continue_mode: Optional[int] = None,
 ) -> str:
     """The flat G-code of ``program`` run with rs274's options. Raises
     GCodeError where the program fails, FlattenError for what flatten
-    cannot write."""
+    cannot write. With ``continue_mode`` 0 (rs274's ``-n 0``) errors are
+    reported on stderr and the flat program holds what the other lines made."""
     from ngc2py.cli import load_program, unopened
     from ngc2py.compiler import OpenError
-    from runtime.main import start
+    from runtime import continue_mode as continuing
+    from runtime.main import report, start
+
+    def run(machine) -> None:
+        canon.machine = machine
+        if continue_mode is not None:
+            continuing.enable(
+                machine, continue_mode, lambda e: report(e, sys.stderr), sys.stdin, sys.stderr
+            )
+        with catcher:
+            start(machine, main)
 
     Machine = _flatten_machine()
 
@@ -584,21 +716,15 @@ def flatten(
 
         with tempfile.TemporaryDirectory() as folder:
             copy = shutil.copy(var_file, folder)
-            machine = Machine(canon, source=source_map, **{**options, "var_file": copy})
-            canon.machine = machine
-            with catcher:
-                start(machine, main)
+            run(Machine(canon, source=source_map, **{**options, "var_file": copy}))
     else:
-        machine = Machine(canon, source=source_map, **options)
-        canon.machine = machine
-        with catcher:
-            start(machine, main)
+        run(Machine(canon, source=source_map, **options))
     header = ["flattened by ngc2py from %s" % program]
     given = " ".join(
         flag + " " + value
         for flag, value in (("-t", tool_table), ("-v", var_file), ("-i", ini))
         if value
-    ) + (" -b" if block_delete else "")
+    ) + (" -b" if block_delete else "") + (" -n %d" % continue_mode if continue_mode is not None else "")
     if given.strip():
         header.append("run it with the same options: %s" % given.strip())
     return canon.text(header)
@@ -630,6 +756,11 @@ def register(commands) -> None:
     parser.add_argument("-v", dest="var_file", metavar="VAR", help="parameter (.var) file (read, not rewritten)")
     parser.add_argument("-i", dest="ini", metavar="INI", help="ini file")
     parser.add_argument("-b", dest="block_delete", action="store_true", help="block delete on")
+    parser.add_argument(
+        "-n", dest="continue_mode", metavar="0|1|2",
+        help="after an error: 0 report it and go on (the flat program holds what "
+        "the other lines made), 1 rs274's MDI prompt, 2 stop (default), as rs274's -n",
+    )
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(handler=main)
 
@@ -640,11 +771,14 @@ def main(args) -> int:
     from ngc2py.cache import write_atomic
     from ngc2py.progress import spinner
     from runtime.errors import GCodeError
-    from runtime.main import report
+    from runtime.main import _atoi, report
 
     try:
         with spinner("flattening " + args.program, args.quiet):
-            text = flatten(args.program, args.tool_table, args.var_file, args.ini, args.block_delete)
+            text = flatten(
+                args.program, args.tool_table, args.var_file, args.ini, args.block_delete,
+                None if args.continue_mode is None else _atoi(args.continue_mode),
+            )
     except GCodeError as error:
         report(error, sys.stderr)
         return 1
