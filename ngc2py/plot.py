@@ -61,6 +61,10 @@ class PlotCanon(ToolpathCanon):
         else:
             paths.append([start[:3], end[:3]])
 
+    def spline(self, path) -> None:
+        self.moves["feed"] += 1  # one move, drawn as the curve's polyline
+        self.paths["feed"].append([p[:3] for p in path])
+
     def arc(self, arc: Arc) -> None:
         self.moves["arc"] += 1
         self.paths["arc"].append([p[:3] for p in arc.sample()])

@@ -64,6 +64,7 @@ from runtime.codes import M_OFFSET, g_code, m_code
 from runtime.errors import GCodeError, g_code_frames, locate
 from runtime.machine import Machine
 from runtime.mcodes import ProgramEnd
+from runtime.nurbs import preview_points
 
 INTERP_OK = 0
 INTERP_EXIT = 1
@@ -138,6 +139,9 @@ class PreviewCanon(Canon):
         #: Blank lines before a leading %: rs274 does not number them.
         self.skipped = 0
         self._checked = time.monotonic()
+        #: the module's own idea of the position (program units): set by
+        #: straight moves only, never by arcs; splines feed along from it
+        self._pos: Tuple[float, ...] = (0.0,) * 9
 
     # --- bookkeeping -------------------------------------------------------
     def new_line(self, sequence: Optional[int] = None) -> None:
@@ -193,13 +197,23 @@ class PreviewCanon(Canon):
         self._call("set_feed_rate", self._length(rate))
 
     def straight_traverse(self, x, y, z, a, b, c, u, v, w):
+        self._pos = (x, y, z, a, b, c, u, v, w)
         self._call("straight_traverse", *self._pose(x, y, z, a, b, c, u, v, w))
 
     def straight_feed(self, x, y, z, a, b, c, u, v, w):
+        self._pos = (x, y, z, a, b, c, u, v, w)
         self._call("straight_feed", *self._pose(x, y, z, a, b, c, u, v, w))
 
     def straight_probe(self, x, y, z, a, b, c, u, v, w, probe_type):
+        self._pos = (x, y, z, a, b, c, u, v, w)
         self._call("straight_probe", *self._pose(x, y, z, a, b, c, u, v, w))
+
+    def nurbs_feed(self, control_points, order):
+        # the module draws a spline as straight feeds through points of the
+        # curve (runtime/nurbs.py), the other axes where the last straight
+        # move left them
+        for x, y in preview_points(control_points, order):
+            self.straight_feed(x, y, *self._pos[2:])
 
     def rigid_tap(self, x, y, z, scale):
         self._call("rigid_tap", self._length(x), self._length(y), self._length(z))
@@ -286,6 +300,15 @@ class PreviewMachine(Machine):
         self.canon.straight_probe(*end, probe_type)
         self._probe_point = list(end[:6]) + [0.0, 0.0, 0.0]
         self.world.position = list(end[:6])
+
+    def _emit_nurbs(self, order: int) -> None:
+        # The module's canon knows where a spline ends (its last control
+        # point), where rs274's stand-alone canon reads past its list.
+        last = self._nurbs_points[-1]
+        super()._emit_nurbs(order)
+        self.world.position = [last[0], last[1]] + list(self.world.position[2:6])
+        self.current = self.world.reported_position()
+        self._publish_position()
 
     def refresh_plain(self) -> None:
         # No fast path: it runs data rows without announcing each line and

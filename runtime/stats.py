@@ -132,6 +132,15 @@ class StatsCanon(ToolpathCanon):
         self.lengths["arc"] += length
         self._time(length, self._feed_per_minute())
 
+    def spline(self, path) -> None:
+        # one feed move, along the polyline of the curve
+        for point in path[1:]:
+            self.extents.add(point)
+        length = sum(distance(a, b) for a, b in zip(path, path[1:]))
+        self.counts["feed"] += 1
+        self.lengths["feed"] += length
+        self._time(length, self._feed_per_minute())
+
     def _time(self, length: float, rate: float) -> None:
         if length == 0.0:
             return

@@ -22,6 +22,8 @@ Conventions (those of LinuxCNC's canon layer, as ``rs274 -g`` shows them):
   starts is a full circle. The radius may change a little from start to end
   (LinuxCNC accepts that within a tolerance): it is interpolated linearly.
 * Angles (A, B, C) are degrees and never converted.
+* ``NURBS_FEED`` (splines): the polyline through the points LinuxCNC's
+  preview draws (``runtime.nurbs``), ending on the last control point.
 
 Standard library only, like the rest of the runtime.
 """
@@ -33,6 +35,7 @@ from dataclasses import dataclass
 from typing import List, Optional, Sequence, Tuple
 
 from runtime.canon import Canon
+from runtime.nurbs import preview_points
 
 MM_PER_INCH = 25.4
 #: Linear axes (X Y Z U V W) among the nine; A B C are angles.
@@ -43,6 +46,11 @@ PLANE_AXES = {"XY": (0, 1, 2), "XZ": (2, 0, 1), "YZ": (1, 2, 0)}
 TAU = 2.0 * math.pi
 #: An arc whose end is this close (mm) to its start is a full circle.
 FULL_CIRCLE_CHORD = 1e-9
+#: An arc whose radius changes by more than this fraction is bounded by
+#: sampling (SPIRAL_SAMPLES_PER_TURN, at most MAX_SPIRAL_SAMPLES points).
+SPIRAL_TOLERANCE = 1e-6
+SPIRAL_SAMPLES_PER_TURN = 4096
+MAX_SPIRAL_SAMPLES = 100_000
 
 Point = Tuple[float, ...]
 
@@ -91,10 +99,18 @@ class Arc:
 
     def extreme_points(self) -> List[Point]:
         """The start, the end, and the points where the arc crosses a
-        quarter-turn angle (0, 90, 180, 270 degrees): together they bound it."""
+        quarter-turn angle (0, 90, 180, 270 degrees): together they bound it
+        (a spiral, whose radius changes, is sampled instead)."""
         points = [self.start, self.end]
         if self.sweep == 0.0:
             return points
+        if abs(self.r1 - self.r0) > SPIRAL_TOLERANCE * max(self.r0, self.r1, 1.0):
+            # A spiral (the canon's start is not on the circle, e.g. after a
+            # canned cycle in the XZ or YZ plane): its extremes are not at
+            # the quarter turns, so sample it finely.
+            turns = abs(self.sweep) / TAU
+            count = min(MAX_SPIRAL_SAMPLES, max(8, int(turns * SPIRAL_SAMPLES_PER_TURN)))
+            return points + [self.point(i / count) for i in range(1, count)]
         quarter = math.pi / 2
         low, high = sorted((self.theta0, self.theta0 + self.sweep))
         k = math.ceil(low / quarter)
@@ -157,6 +173,12 @@ class ToolpathCanon(Canon):
     def arc(self, arc: Arc) -> None:
         """An arc or helix (a feed move)."""
 
+    def spline(self, path: List[Point]) -> None:
+        """A spline (G5, G5.1, G5.2) as the polyline ``path`` (its start
+        first): by default, one straight feed per segment."""
+        for start, end in zip(path, path[1:]):
+            self.line("feed", start, end)
+
     # --- units and coordinates -----------------------------------------
     def to_mm(self, value: float) -> float:
         return value * MM_PER_INCH if self.inches else value
@@ -214,6 +236,20 @@ class ToolpathCanon(Canon):
         target = (x * k, y * k, z * k) + start[3:]  # only X, Y and Z move
         self.line("feed", start, target)
         self.line("feed", target, start)
+
+    def nurbs_feed(self, control_points, order):
+        # The curve through the points LinuxCNC's preview draws
+        # (runtime/nurbs.py); it ends on the last control point, the other
+        # axes staying where they are.
+        if self.first_units is None:
+            self.first_units = self.inches
+        start = self.position
+        k = MM_PER_INCH if self.inches else 1.0
+        path = [start] + [
+            (x * k, y * k) + tuple(start[2:]) for x, y in preview_points(control_points, order)
+        ]
+        self.position = path[-1]
+        self.spline(path)
 
     def arc_feed(
         self,

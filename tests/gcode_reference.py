@@ -11,15 +11,17 @@ tests/test_preview.py's does, so the two call sequences can be compared.
 
 import json
 import sys
+from pathlib import Path
 
 import gcode
 
+#: the canon's answers, shared with tests/test_preview.py
 ANSWERS = {
-    "get_external_angular_units": 1.0,
-    "get_external_length_units": 0.03937007874016,
-    "get_axis_mask": 0x3F,
-    "get_block_delete": False,
-    "check_abort": False,
+    key: value
+    for key, value in json.loads(
+        Path(__file__).with_name("gcode_answers.json").read_text()
+    ).items()
+    if not key.startswith("_")
 }
 QUESTIONS = set(ANSWERS) | {"get_tool"}
 

@@ -58,12 +58,13 @@ needs_gcode = pytest.mark.skipif(
     % GCODE_PYTHON,
 )
 
+#: the canon's answers, shared with tests/gcode_reference.py
 ANSWERS = {
-    "get_external_angular_units": 1.0,
-    "get_external_length_units": 0.03937007874016,
-    "get_axis_mask": 0x3F,
-    "get_block_delete": False,
-    "check_abort": False,
+    key: value
+    for key, value in json.loads(
+        Path(__file__).with_name("gcode_answers.json").read_text()
+    ).items()
+    if not key.startswith("_")
 }
 QUESTIONS = set(ANSWERS) | {"get_tool"}
 
@@ -173,7 +174,10 @@ def assert_same_calls(expected: dict, actual: dict) -> None:
     assert len(want) == len(got), (want[len(got) :], got[len(want) :])
     assert actual["result"] == expected["result"]
     assert actual["message"] == expected["message"]
-    assert actual["questions"] == expected["questions"]
+    # check_abort is asked about once a second: whether a run asks it at
+    # all depends on how fast the machine is, so it is left out
+    timed = {"check_abort"}
+    assert set(actual["questions"]) - timed == set(expected["questions"]) - timed
 
 
 def compare(
@@ -197,11 +201,6 @@ _G7X = (
 _M7X = (
     "M70-M73 modal save/restore: the restored state (e.g. distance mode) or "
     "the calls around the restore differ from gcode.parse's"
-)
-_SPLINE = (
-    "G5/G5.1/G5.2 splines: ngc2py.parse does not split spline feeds into "
-    "straight_feed calls as gcodemodule does (next_line, and G5.2's motion "
-    "code -1 instead of 52, differ)"
 )
 _PY = (
     "Python comment errors: gcode.parse reports py_execute(...) with the "
@@ -244,13 +243,6 @@ KNOWN_GAPS = {
     },
     "m73-demo.ngc": _M7X,
     **{
-        "splines/" + name: _SPLINE
-        for name in (
-            "g5_1_quadratic g5_cubic g5_inverse_time nurbs_axes_after "
-            "nurbs_basic nurbs_incremental nurbs_with_g5"
-        ).split()
-    },
-    **{
         "comments/" + name: _PY
         for name in "py_indented py_name_error py_syntax_error py_zero_division".split()
     },
@@ -260,13 +252,12 @@ KNOWN_GAPS = {
     "fanuc_calls/m98_l0_locals": _LINE,
     "oword/endsub_at_top_after_call": _LINE,
     "oword/unclosed_while_in_sub": _LINE,
-    "probing/probe_rotation_tool_offset": _LINE,
     "systems.ngc": _LINE,
 }
 
 #: Generated programs using a feature with a known gap (see KNOWN_GAPS).
 _GAP_FEATURES = re.compile(
-    r"\b[Gg]0*(?:5(?![\d.])|5\.[123]|7[0-2](?:\.\d)?(?!\d)|84)"
+    r"\b[Gg]0*(?:7[0-2](?:\.\d)?(?!\d)|84)"
     r"|\b[Mm]0*(?:7[0-3]|4[89]|5[0-3])(?!\d)"
 )
 

@@ -37,6 +37,9 @@ class TracePath:
         self.high = [-math.inf] * 6
         self.moves = 0
         self.arcs = 0
+        #: NURBS_FEED calls: the trace prints only their number of control
+        #: points, so their curve (and where they end) is not in it
+        self.splines = 0
         for line in trace.splitlines():
             match = _CALL.match(line)
             if match:
@@ -77,6 +80,9 @@ class TracePath:
         elif name == "ARC_FEED":
             self._first()
             self._arc(numbers)
+        elif name == "NURBS_FEED":
+            self._first()
+            self.splines += 1
 
     def _first(self) -> None:
         self.moves += 1
@@ -136,3 +142,36 @@ class TracePath:
                 k = scale if i < 3 else 1.0
                 found[name] = (low * k, high * k)
         return found
+
+
+#: gcode.parse's calls as the trace calls they stand for (set_plane's number
+#: is LinuxCNC's CANON_PLANE)
+_GCODE_PLANES = {1: "XY", 2: "YZ", 3: "XZ"}
+
+
+def trace_of_gcode_calls(calls) -> str:
+    """LinuxCNC's ``gcode.parse`` calls (inches; as tests/gcode_reference.py
+    records them) written as the trace lines TracePath reads. The gcode
+    module draws a spline as straight feeds through points of its curve,
+    so this path has the splines the rs274 trace cannot show."""
+    lines = ["USE_LENGTH_UNITS(CANON_UNITS_INCHES)"]
+    names = {
+        "straight_traverse": "STRAIGHT_TRAVERSE",
+        "straight_feed": "STRAIGHT_FEED",
+        "straight_probe": "STRAIGHT_PROBE",
+        "set_g92_offset": "SET_G92_OFFSET",
+        "tool_offset": "USE_TOOL_LENGTH_OFFSET",
+        "rigid_tap": "RIGID_TAP",
+    }
+    for name, args in calls:
+        numbers = lambda values: ", ".join("%.12f" % v for v in values)
+        if name == "set_plane":
+            lines.append("SELECT_PLANE(CANON_PLANE_%s)" % _GCODE_PLANES.get(args[0], "UV"))
+        elif name == "set_g5x_offset":
+            lines.append("SET_G5X_OFFSET(%d, %s)" % (args[0], numbers(args[1:7])))
+        elif name == "arc_feed":
+            values = numbers(args[:4]) + ", %d, " % args[4] + numbers(args[5:9])
+            lines.append("ARC_FEED(%s)" % values)
+        elif name in names:
+            lines.append("%s(%s)" % (names[name], numbers(args[:6])))
+    return "\n".join("%5d N..... %s" % (i + 1, line) for i, line in enumerate(lines))
