@@ -780,7 +780,8 @@ def main(args) -> int:
                 None if args.continue_mode is None else _atoi(args.continue_mode),
             )
     except GCodeError as error:
-        report(error, sys.stderr)
+        if not getattr(error, "reported", False):  # -n 1 has reported it
+            report(error, sys.stderr)
         return 1
     except FlattenError as error:
         sys.stderr.write("%s\n" % error)

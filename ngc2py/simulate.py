@@ -34,6 +34,13 @@ def add_rs274_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "-b", dest="block_delete", action="store_true", help="turn block delete on"
     )
+    parser.add_argument(
+        "-n",
+        dest="continue_mode",
+        metavar="0|1|2",
+        help="after an error: 0 report it on stderr and go on with the next line, "
+        "1 rs274's MDI prompt, 2 stop (default), as rs274's -n",
+    )
 
 
 @contextmanager
@@ -59,7 +66,8 @@ def run_program(
     from ngc2py.cli import load_program, unopened
     from ngc2py.compiler import CompileError, OpenError
     from runtime.machine import Machine
-    from runtime.main import report, start
+    from runtime import continue_mode
+    from runtime.main import _atoi, report, start
 
     stderr = stderr or sys.stderr
     with program_path(args.program) as path:
@@ -80,9 +88,15 @@ def run_program(
             machine.messages = stderr
             stderr.write(machine.tool_table_report)
             stderr.write(machine.settings.stderr_report)
+            mode = getattr(args, "continue_mode", None)
+            if mode is not None:
+                continue_mode.enable(
+                    machine, _atoi(mode), lambda e: report(e, stderr), sys.stdin, stderr
+                )
             start(machine, main)
         except GCodeError as error:
-            report(error, stderr)
+            if not getattr(error, "reported", False):  # -n 1 has reported it
+                report(error, stderr)
             return EXIT_ERROR
         except CompileError as error:
             stderr.write("%s\n" % error)

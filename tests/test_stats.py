@@ -337,6 +337,27 @@ def test_command_error_exit_status(tmp_path):
     assert err.startswith("Attempt to divide by zero")
 
 
+def test_command_continue_mode_goes_on_after_errors():
+    # rs274 -n 0 reports each error and goes on: the recorded trace
+    # (golden/continue, recorded with -n 0) has the moves after them
+    program = harness.GOLDEN / "continue" / "n0_block_errors.ngc"
+    assert harness.read_args(program) == ["-n", "0"]
+    trace = program.with_suffix(".out").read_text("utf-8", "replace")
+    with scratch_run(program) as s:
+        rc, out, err = main(["stats", s.program.name, "-n", "0", "--json"])
+        stopped, _, first_error = main(["stats", s.program.name, "--json"])
+    assert rc == 0, err
+    assert err.startswith("Cannot do g1 with zero feed rate")
+    assert err.count("  at n0_block_errors.ngc:") > 1
+    want = TracePath(trace)
+    report = json.loads(out)
+    assert report["moves"]["total"] == want.moves
+    for axis, (low, high) in want.extents().items():
+        assert report["extents"][axis] == pytest.approx([low, high], abs=1e-4)
+    # without -n the first error stops it, as rs274's default -n 2 does
+    assert stopped == 1 and first_error.startswith("Cannot do g1 with zero feed rate")
+
+
 def test_command_reads_standard_input(tmp_path, monkeypatch):
     monkeypatch.setattr("sys.stdin", io.TextIOWrapper(io.BytesIO(b"G0 X3\nM2\n")))
     with scratch_run(tmp_path / "x.ngc", ""):
