@@ -24,7 +24,8 @@ switch to ngc2py:
   ``set_feed_rate``, ``straight_traverse``/``straight_feed``/
   ``straight_probe`` (x..w), ``arc_feed(first_end, second_end, first_axis,
   second_axis, rotation, axis_end, a, b, c, u, v, w)``, ``rigid_tap(x, y,
-  z)``, ``dwell``, ``change_tool(pocket)``, ``tool_offset(x..w)``,
+  z)``, splines as ``straight_feed`` calls through points of their curve
+  (``runtime.nurbs``), ``dwell``, ``change_tool(pocket)``, ``tool_offset(x..w)``,
   ``comment``, ``message``, ``user_defined_function(num, p, q)``; it asks
   ``get_external_length_units``, ``get_external_angular_units``,
   ``get_axis_mask``, ``get_tool(pocket)`` (pockets 0-1000, at start),
@@ -61,7 +62,7 @@ from runtime.arcs import INVERSE_TIME, UNITS_PER_MINUTE, UNITS_PER_REVOLUTION
 from runtime.blockcheck import M_USER
 from runtime.canon import Canon
 from runtime.codes import M_OFFSET, g_code, m_code
-from runtime.errors import GCodeError, g_code_frames, locate
+from runtime.errors import GCodeError, g_code_frames, g_code_frames_of_stack, locate
 from runtime.machine import Machine
 from runtime.mcodes import ProgramEnd
 from runtime.nurbs import preview_points
@@ -142,6 +143,9 @@ class PreviewCanon(Canon):
         #: the module's own idea of the position (program units): set by
         #: straight moves only, never by arcs; splines feed along from it
         self._pos: Tuple[float, ...] = (0.0,) * 9
+        #: the line number motion calls carry when it is not the line's
+        #: (G70-G72's generated moves carry -1 in LinuxCNC)
+        self.motion_line: Optional[int] = None
 
     # --- bookkeeping -------------------------------------------------------
     def new_line(self, sequence: Optional[int] = None) -> None:
@@ -176,6 +180,11 @@ class PreviewCanon(Canon):
         self.new_line()
         getattr(self.target, name)(*args)
 
+    def _motion(self, name: str, *args) -> None:
+        # the module announces a motion call's own line number argument
+        self.new_line(self.motion_line)
+        getattr(self.target, name)(*args)
+
     # --- calls the gcode module passes on ---------------------------------
     def set_g5x_offset(self, index, x, y, z, a, b, c, u, v, w):
         self._call("set_g5x_offset", index, *self._pose(x, y, z, a, b, c, u, v, w))
@@ -198,15 +207,15 @@ class PreviewCanon(Canon):
 
     def straight_traverse(self, x, y, z, a, b, c, u, v, w):
         self._pos = (x, y, z, a, b, c, u, v, w)
-        self._call("straight_traverse", *self._pose(x, y, z, a, b, c, u, v, w))
+        self._motion("straight_traverse", *self._pose(x, y, z, a, b, c, u, v, w))
 
     def straight_feed(self, x, y, z, a, b, c, u, v, w):
         self._pos = (x, y, z, a, b, c, u, v, w)
-        self._call("straight_feed", *self._pose(x, y, z, a, b, c, u, v, w))
+        self._motion("straight_feed", *self._pose(x, y, z, a, b, c, u, v, w))
 
     def straight_probe(self, x, y, z, a, b, c, u, v, w, probe_type):
         self._pos = (x, y, z, a, b, c, u, v, w)
-        self._call("straight_probe", *self._pose(x, y, z, a, b, c, u, v, w))
+        self._motion("straight_probe", *self._pose(x, y, z, a, b, c, u, v, w))
 
     def nurbs_feed(self, control_points, order):
         # the module draws a spline as straight feeds through points of the
@@ -234,7 +243,7 @@ class PreviewCanon(Canon):
         w,
     ):
         n = self._length
-        self._call(
+        self._motion(
             "arc_feed",
             n(first_end),
             n(second_end),
@@ -291,6 +300,7 @@ class PreviewMachine(Machine):
         self.reached_end = False
         self.new_plane = "XY"
         self.path_mode_set = False
+        self._path_mode_set_in = {}
         # Nothing written yet: the first line code is all zeros.
         self.active = ((0,) * 17, (0,) * 10, (0.0,) * 5)
 
@@ -309,6 +319,63 @@ class PreviewMachine(Machine):
         self.world.position = [last[0], last[1]] + list(self.world.position[2:6])
         self.current = self.world.reported_position()
         self._publish_position()
+
+    def _left_frame(self, level: int) -> None:
+        # An M73 restore after a return runs as the caller's line (the
+        # module announces it at the restore's first call).
+        saved = self._contexts.get(level) if self._contexts else None
+        if saved is not None and saved.auto_restore and saved.state is not None:
+            frames = g_code_frames_of_stack()
+            if frames:
+                self.line = frames[-1].line
+        super()._left_frame(level)
+
+    # rs274's own control mode starts as G61.1 (the line code says so until
+    # a path mode is set; ngc2py keeps G64, what the trace shows): a state
+    # saved before any path mode brings that back when restored.
+    def _modal_state(self):
+        state = super()._modal_state()
+        self._path_mode_set_in[id(state)] = self.path_mode_set
+        return state
+
+    def _restore(self, saved) -> bool:
+        ran = super()._restore(saved)
+        if not self._path_mode_set_in.get(id(saved), True):
+            self.path_mode_set = False
+            self.active = self._active(None, self.line)
+        return ran
+
+    def _run_restore_line(self, codes, words) -> None:
+        # Each line of restore text is a block of its own to the module's
+        # interpreter: the modal state the next call's line code shows is
+        # written after each.
+        super()._run_restore_line(codes, words)
+        self.active = self._active(tuple(codes), self.line)
+
+    #: the line of an M98 .. L0 (see _failed)
+    l0_call_line: Optional[int] = None
+
+    def m98(self, line, fn, *codes, **words) -> None:
+        if words.get("l", 1) == 0 and self.l0_call_line is None:
+            self.l0_call_line = line
+        super().m98(line, fn, *codes, **words)
+
+    def _g7x_moves(self, move, *args) -> None:
+        # G70-G72's moves after the profile is read carry line number -1
+        self.canon.motion_line = -1
+        try:
+            move(*args)
+        finally:
+            self.canon.motion_line = None
+
+    def _g7x_rapid(self, end) -> None:
+        self._g7x_moves(super()._g7x_rapid, end)
+
+    def _g7x_straight(self, end) -> None:
+        self._g7x_moves(super()._g7x_straight, end)
+
+    def _g7x_arc(self, ccw, centre, end) -> None:
+        self._g7x_moves(super()._g7x_arc, ccw, centre, end)
 
     def refresh_plain(self) -> None:
         # No fast path: it runs data rows without announcing each line and
@@ -346,21 +413,25 @@ class PreviewMachine(Machine):
 
     def _execute_m(self, block) -> None:
         user = block.m.pop(M_USER, None)
-        super()._execute_m(block)
+        # True: an M72 ran restore lines and the rest of the line is lost
+        stop = super()._execute_m(block)
         if user is not None:
             words = block.words
             self.canon.user_defined_function(
                 user - 100, words.get("p", 0.0), words.get("q", 0.0)
             )
+        return stop
 
     # The module's interpreter reads, then executes: an error while reading
     # a line reports the line after it. O-word control (entering a call,
     # a definition, labels) is executed, not read; seeking a subroutine
     # not yet defined is reading.
     def _unread(self, method, *args):
-        self.reading = False
+        # (an error leaves it False; a G7x profile's call, inside the
+        # executing G7x line, leaves it as it was)
+        before, self.reading = self.reading, False
         result = method(*args)
-        self.reading = True
+        self.reading = before
         return result
 
     def _enter_sub(self):
@@ -421,10 +492,9 @@ class PreviewMachine(Machine):
         )
         spindle = {"stopped": 5, "cw": 3, "ccw": 4}.get(self.spindle, 5)
         mist = 7 if self.mist else (-1 if self.flood else 9)
-        if self.feed_override:
-            overrides = 48 if self.speed_override else 50
-        else:
-            overrides = 51 if self.speed_override else 49
+        # rs274's write_m_codes tests its per-spindle speed_override array
+        # itself, never empty: speed override always reads as on
+        overrides = 48 if self.feed_override else 51
         mcodes = (
             line,
             stopping,
@@ -442,8 +512,9 @@ class PreviewMachine(Machine):
 
 #: O-word errors rs274 finds while executing control flow: "<line>: ..."
 _CONTROL_ERROR = re.compile(r"\d+: ")
-#: Errors rs274 finds while executing a line's parameter settings.
-_EXECUTE_PREFIXES = ("Cannot assign to read-only parameter",)
+#: Errors rs274 finds while executing a line (its parameter settings, an
+#: endsub's control function), not while reading it.
+_EXECUTE_PREFIXES = ("Cannot assign to read-only parameter", "Not in subroutine definition")
 #: G61, G61.1, G64.
 _PATH_MODES = frozenset((610, 611, 640))
 #: active_g_codes' feed mode entry: units per minute, inverse time, per rev.
@@ -598,7 +669,12 @@ def _failed(machine: PreviewMachine, adapter: PreviewCanon, error: GCodeError):
     # search for a subroutine names the last line it read).
     frames = g_code_frames(error.__traceback__, getattr(error, "ngc_row_line", None))
     line = frames[0].line if frames else machine.line
-    if error.message.startswith("File ended"):
+    if machine.l0_call_line is not None and machine.call_level > 0 and len(frames) <= 1:
+        # after M98 L0 the main program runs one call level down, with no
+        # frame of its own: that call is the outermost one
+        line = machine.l0_call_line
+    if error.message.startswith("File ended") and len(frames) <= 1:
+        # (inside a call the outermost call's line is reported, as above)
         line = machine.source.end[0] if machine.source else line
     adapter.new_line(line)
     message = error.message

@@ -194,25 +194,16 @@ def compare(
     assert_same_calls(expected, actual)
 
 
-_G7X = (
-    "G70-G72: gcode.parse reports the moves the cycle generates under "
-    "next_line -1; ngc2py.parse reports the cycle's own line"
-)
-_M7X = (
-    "M70-M73 modal save/restore: the restored state (e.g. distance mode) or "
-    "the calls around the restore differ from gcode.parse's"
+_M98_L = (
+    "M73 in a subroutine called by M98 P.. L2: after the first pass's "
+    "restore gcode.parse announces the line before the M98 line (4, not 5); "
+    "cause not yet investigated"
 )
 _PY = (
-    "Python comment errors: gcode.parse reports py_execute(...) with the "
-    "Python traceback, ngc2py.parse run_string(...)"
-)
-_OVERRIDE = (
-    "M48-M53 override switches (active_m_codes[6]) after M49-M51/G84 "
-    "differ from gcode.parse"
-)
-_LINE = (
-    "next_line's line number differs (gcode.parse reports an earlier line); "
-    "cause not yet investigated"
+    "deliberate: a (py, ...) comment's error is reported by gcode.parse as "
+    "py_execute(...) with the traceback of running the code in LinuxCNC's "
+    "embedded Python; ngc2py never runs embedded Python and reports rs274 -g's "
+    "run_string(...) (see tests/test_not_copied.py)"
 )
 
 #: Known gaps between ngc2py.parse and gcode.parse, left by the merges of
@@ -220,46 +211,15 @@ _LINE = (
 #: (golden name, or LinuxCNC sample file name) -> reason. Marked as strict
 #: expected failures, so a fixed one shows up as XPASS(strict).
 KNOWN_GAPS = {
-    **{
-        "lathe/" + name: _G7X
-        for name in (
-            "g70_finishing g71_1_no_pockets g71_arcs g71_corners g71_defined_later "
-            "g71_diameter_mode g71_error_arc_no_centre g71_error_bad_profile_line "
-            "g71_error_fillet_and_chamfer g71_error_i_negative g71_error_i_zero "
-            "g71_error_inverse_time g71_error_not_monotonic g71_error_r_and_ik "
-            "g71_error_u_incremental g71_error_w_and_z g71_error_zero_feed "
-            "g71_incremental g71_motion_mode_after g71_pockets g71_profile_program "
-            "g71_q_rounding g71_uw_outside_profile g71_uw_words g72_facing"
-        ).split()
-    },
-    "lathe_g7x_face_boring.ngc": _G7X,
-    "lathe_g7x_quadrants.ngc": _G7X,
-    **{
-        "modal_state/" + name: _M7X
-        for name in (
-            "m70_m72_basic m73_auto_restore m72_drops_rest_of_line m73_fanuc "
-            "m72_many_modes m73_nested m73_then_m70"
-        ).split()
-    },
-    "m73-demo.ngc": _M7X,
+    "modal_state/m73_fanuc": _M98_L,
     **{
         "comments/" + name: _PY
         for name in "py_indented py_name_error py_syntax_error py_zero_division".split()
     },
-    "cycles/g84_xy": _OVERRIDE,
-    "cycles/spindle_states": _OVERRIDE,
-    "io/override_switches": _OVERRIDE,
-    "fanuc_calls/m98_l0_locals": _LINE,
-    "oword/endsub_at_top_after_call": _LINE,
-    "oword/unclosed_while_in_sub": _LINE,
-    "systems.ngc": _LINE,
 }
 
 #: Generated programs using a feature with a known gap (see KNOWN_GAPS).
-_GAP_FEATURES = re.compile(
-    r"\b[Gg]0*(?:7[0-2](?:\.\d)?(?!\d)|84)"
-    r"|\b[Mm]0*(?:7[0-3]|4[89]|5[0-3])(?!\d)"
-)
+_GAP_FEATURES = re.compile(r"\b[Mm]0*98(?!\d)")
 
 
 def _known_gap(name: str) -> list:
