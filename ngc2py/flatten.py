@@ -105,6 +105,13 @@ MAX_LINE = 240
 #: system and the coordinate systems' offsets and rotations.
 CODE_PARAMETERS = range(5161, 5391)
 UNKNOWN = float("nan")
+#: The calls that move the tool.
+MOTION_CALLS = {
+    "straight_traverse", "straight_feed", "straight_probe", "arc_feed", "rigid_tap", "nurbs_feed",
+}
+#: rs274's smallest arc radius (inch; times 25.4 in mm).
+RADIUS_TOLERANCE_INCH = 0.00005
+MM_PER_INCH = 25.4
 
 
 class FlattenError(Exception):
@@ -141,13 +148,15 @@ def _offset(start: float, centre: float) -> Optional[float]:
 class _Group:
     """The calls of one executed block, and where it came from."""
 
-    __slots__ = ("n", "where", "start", "calls")
+    __slots__ = ("n", "where", "start", "calls", "compensated")
 
-    def __init__(self, n, where, start):
+    def __init__(self, n, where, start, compensated=False):
         self.n = n
         self.where = where
         self.start = start
         self.calls: List[Tuple[str, tuple]] = []
+        #: cutter compensation was on: moves do not start at the start
+        self.compensated = compensated
 
 
 class FlattenCanon(Canon):
@@ -191,7 +200,9 @@ class FlattenCanon(Canon):
         if not self.started or self.ended:
             return
         machine = self.machine
-        self._group = _Group(n, self._where(), list(machine.current[:6]))
+        self._group = _Group(
+            n, self._where(), list(machine.current[:6]), bool(machine.cutter_comp)
+        )
 
     def _where(self) -> str:
         frames = g_code_frames_of_stack()
@@ -296,6 +307,9 @@ class FlattenCanon(Canon):
                 if following[:1] == ["set_tool_table_entry"] and calls[i + 1][1][0] == 0:
                     used = 2  # the loaded tool's copy: the G10 L1 makes it too
             elif name == "arc_feed":
+                first = not any(c[0] in MOTION_CALLS for c in calls[:i])
+                if first and not (group.compensated or self.machine.cutter_comp):
+                    self._check_arc_start(group.start, pos)
                 text = self._arc(args, pos)
             elif name == "set_g5x_offset":
                 text, used = self._g5x(args, calls[i + 1 : i + 3])
@@ -410,6 +424,18 @@ class FlattenCanon(Canon):
             words.append("X" + number(args[0]))
         return code + " " + " ".join(words)
 
+    def _check_arc_start(self, start: Sequence[float], pos: Sequence[float]) -> None:
+        """rs274 starts an arc at its interpreter's current point. After a
+        canned cycle in the XZ or YZ plane that is not where the cycle's
+        last move ended, and no plain G-code puts it there."""
+        for interp, flat in zip(start[:3], pos[:3]):
+            if not math.isnan(flat) and abs(interp - flat) > 1e-6 * max(1.0, abs(flat)):
+                raise FlattenError(
+                    "flatten: an arc starts where rs274's interpreter left the tool, "
+                    "not where the last move ended (as after a canned cycle in the XZ "
+                    "or YZ plane): plain G-code cannot start it there"
+                )
+
     def _arc(self, args: Sequence, pos: List[float]) -> str:
         first_end, second_end, first_c, second_c, rotation, axis_end = args[:6]
         plane = ARC_AXES.get(self._plane)
@@ -418,6 +444,18 @@ class FlattenCanon(Canon):
         first, second, axis, first_letter, second_letter = plane
         index = {letter: k for k, letter in enumerate(AXES6)}
         start = pos[index[first]], pos[index[second]]
+        # rs274 refuses arcs of (almost) no radius in G-code, but cutter
+        # compensation can make one (tool radius equal to the arc's)
+        tolerance = RADIUS_TOLERANCE_INCH * (1.0 if self._inches else MM_PER_INCH)
+        radii = (
+            math.hypot(start[0] - first_c, start[1] - second_c),
+            math.hypot(first_end - first_c, second_end - second_c),
+        )
+        if min(radii) < tolerance:
+            raise FlattenError(
+                "flatten: an arc of zero radius (cutter compensation makes one where "
+                "the tool radius equals the arc's): rs274 refuses it written as G-code"
+            )
         offsets = _offset(start[0], first_c), _offset(start[1], second_c)
         # rs274 adds I/J/K to the start point: relative centres only when
         # that gives back the very centre (known start, no rounding)
