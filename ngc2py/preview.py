@@ -317,8 +317,6 @@ class PreviewMachine(Machine):
         last = self._nurbs_points[-1]
         super()._emit_nurbs(order)
         self.world.position = [last[0], last[1]] + list(self.world.position[2:6])
-        self.current = self.world.reported_position()
-        self._publish_position()
 
     def _left_frame(self, level: int) -> None:
         # An M73 restore after a return runs as the caller's line (the

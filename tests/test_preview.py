@@ -290,6 +290,10 @@ def test_init_codes_match_gcode_parse(extra):
         "(PRINT, printed #5220)\n(DEBUG, shown)\n(MSG, hi)\nM2\n",
         "G20 G0 X1\nG21 G1 X2 F3\nG93 G1 X3 F2\nM2\n",  # units and inverse time
         "/G0 X5\nG0 Y1\nM2\n",  # block delete is asked for
+        # a spline's feeds keep the last straight move's Z; the interpreter
+        # keeps its own (G88 left it at R): the next move shows it
+        "G21 F100\nS222 M4 G91 G88 X5.1 Z-0.8 R1.4 P1\nG90 G80\n"
+        "G5.1 I-1.5 J1 X0 Y5.7\nG1 Y-14.2\nM2\n",
     ],
 )
 def test_edge_cases_match_gcode_parse(tmp_path, text):
