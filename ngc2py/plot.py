@@ -29,6 +29,8 @@ STYLES = {
     "feed": ("feed (G1)", "#1f77b4", "solid", 1.3),
     "arc": ("arc (G2/G3)", "#2ca02c", "solid", 1.3),
 }
+#: Angle between the points an arc is drawn through.
+ARC_STEP = math.radians(2.0)
 _COS30 = math.cos(math.radians(30.0))
 _SIN30 = 0.5
 
@@ -67,7 +69,8 @@ class PlotCanon(ToolpathCanon):
 
     def arc(self, arc: Arc) -> None:
         self.moves["arc"] += 1
-        self.paths["arc"].append([p[:3] for p in arc.sample()])
+        # 2 degrees: 5 showed corners on large arcs and on spirals
+        self.paths["arc"].append([p[:3] for p in arc.sample(ARC_STEP)])
 
 
 def project(points: Sequence[Tuple[float, float, float]], view: str):
