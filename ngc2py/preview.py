@@ -301,6 +301,7 @@ class PreviewMachine(Machine):
         self.new_plane = "XY"
         self.path_mode_set = False
         self._path_mode_set_in = {}
+        self._m98_passes = {}
         # Nothing written yet: the first line code is all zeros.
         self.active = ((0,) * 17, (0,) * 10, (0.0,) * 5)
 
@@ -326,6 +327,12 @@ class PreviewMachine(Machine):
             frames = g_code_frames_of_stack()
             if frames:
                 self.line = frames[-1].line
+                # rs274 repeats an M98 by reading its line again: between
+                # passes it stands on the line before
+                if self._m98_passes.get(level, 0) > 1:
+                    self.line -= 1
+        if level in self._m98_passes:
+            self._m98_passes[level] -= 1
         super()._left_frame(level)
 
     # rs274's own control mode starts as G61.1 (the line code says so until
@@ -356,7 +363,13 @@ class PreviewMachine(Machine):
     def m98(self, line, fn, *codes, **words) -> None:
         if words.get("l", 1) == 0 and self.l0_call_line is None:
             self.l0_call_line = line
-        super().m98(line, fn, *codes, **words)
+        # passes of M98 P.. L.. still to run, by the call level they run at
+        level = self.call_level + 1
+        self._m98_passes[level] = int(words.get("l", 1))
+        try:
+            super().m98(line, fn, *codes, **words)
+        finally:
+            self._m98_passes.pop(level, None)
 
     def _g7x_moves(self, move, *args) -> None:
         # G70-G72's moves after the profile is read carry line number -1

@@ -194,11 +194,6 @@ def compare(
     assert_same_calls(expected, actual)
 
 
-_M98_L = (
-    "M73 in a subroutine called by M98 P.. L2: after the first pass's "
-    "restore gcode.parse announces the line before the M98 line (4, not 5); "
-    "cause not yet investigated"
-)
 _PY = (
     "deliberate: a (py, ...) comment's error is reported by gcode.parse as "
     "py_execute(...) with the traceback of running the code in LinuxCNC's "
@@ -206,20 +201,19 @@ _PY = (
     "run_string(...) (see tests/test_not_copied.py)"
 )
 
-#: Known gaps between ngc2py.parse and gcode.parse, left by the merges of
-#: the canned cycle, lathe, spline, probing and M70-M73 branches: program
-#: (golden name, or LinuxCNC sample file name) -> reason. Marked as strict
-#: expected failures, so a fixed one shows up as XPASS(strict).
+#: Known differences between ngc2py.parse and gcode.parse: program (golden
+#: name, or LinuxCNC sample file name) -> reason. Marked as strict expected
+#: failures, so a fixed one shows up as XPASS(strict).
 KNOWN_GAPS = {
-    "modal_state/m73_fanuc": _M98_L,
     **{
         "comments/" + name: _PY
         for name in "py_indented py_name_error py_syntax_error py_zero_division".split()
     },
 }
 
-#: Generated programs using a feature with a known gap (see KNOWN_GAPS).
-_GAP_FEATURES = re.compile(r"\b[Mm]0*98(?!\d)")
+#: Generated programs using a feature with a known gap (see KNOWN_GAPS):
+#: (py, ...) comments, whose errors are reported differently on purpose.
+_GAP_FEATURES = re.compile(r"\(\s*py\s*,", re.I)
 
 
 def _known_gap(name: str) -> list:
