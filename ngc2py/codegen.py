@@ -1,7 +1,7 @@
 """Statement tree -> Python module text, black-stable, with a line map.
 
-Text is emitted directly (libcst and black are far too slow per statement,
-see /work/shared/DESIGN.md); black is the oracle in the tests. Statements
+Text is emitted directly (libcst and black are far too slow per statement);
+black is the oracle in the tests. Statements
 that fit in 88 columns are written on one line, which is what black does;
 the rare longer one is laid out by black itself.
 
@@ -11,11 +11,11 @@ in comments is reduced to printable characters, so no input can inject code.
 
 Big CAM files: the main program is split into chunk functions of bounded
 size, and runs of constant blocks become data (see ``runtime/rows.py``): a
-module-level ``SHAPES`` table of (codes, word letters) and, per run, one flat
-tuple of literals with one G-code line per text line (``24, 0, 1.0, 2.0,``:
-line, shape, values). A flat tuple of literals compiles into one constant,
-about twice as fast as a tuple of row tuples (measured for 200k rows: 4 s
-against 8 s), and nothing is parsed at run time.
+module-level ``SHAPES`` table of (codes, word letters) and, per run, one
+text table with one G-code line per text line (``24 0 1.0 2.0``: line,
+shape, values), which compiles as one string constant; see runtime/rows.py
+for why, and runtime/printed_rows.py for tables written as the trace prints
+their numbers.
 
 Deep nesting: Python allows 20 statically nested blocks per function and
 about 100 indentation levels; G-code has no limit. An if or loop that starts
@@ -696,14 +696,21 @@ class CodeGen:
         for first in range(0, len(run), ROWS_PER_TABLE):
             part = run[first : first + ROWS_PER_TABLE]
             name = "ROWS_%d" % (len(self.row_tables) + 1)
+            printed = as_printed(part)
             cells = []
             texts = self.w.texts[self.w.file_index]
-            for line, (shape, values) in part:
+            for (line, (shape, values)), cells_printed in zip(
+                part, printed or [None] * len(part)
+            ):
+                values = cells_printed if printed else values
                 head = "%d %d" % (line.number, self.shape(shape))
                 cells.append(head + " " + values if values else head)
                 texts[line.number] = line.text
-            self.row_tables.append(row_table(name, cells))
-            self.w.row_loop("run_rows(m, SHAPES, %s)" % name)
+            self.row_tables.append(row_table(name, cells, bool(printed)))
+            if printed:
+                self.w.row_loop("run_rows(m, SHAPES, %s, as_printed=True)" % name)
+            else:
+                self.w.row_loop("run_rows(m, SHAPES, %s)" % name)
 
     def shape(self, shape: Shape) -> int:
         """The index of ``shape`` in the module's SHAPES table."""
@@ -1354,13 +1361,36 @@ def shapes_table(shapes: Dict[Shape, int]) -> List[str]:
     return lines
 
 
-def row_table(name: str, cells: List[str]) -> List[str]:
+def as_printed(rows: List[Tuple[nodes.Line, Row]]) -> Optional[List[str]]:
+    """The rows' value cells written as rs274's trace prints numbers (four
+    decimals), if that is exact for every value; else None.
+
+    ``12.345`` becomes ``12.3450``: the same float, and the very text of the
+    trace line, so runtime.printed_rows writes a CAM file's trace without
+    reading or formatting a float per value."""
+    printed = []
+    for _, (shape, values) in rows:
+        cells = values.split()
+        first = 1 if shape[1][:1] == ("n",) else 0
+        for i in range(first, len(cells)):
+            value = float(cells[i])
+            text = "%.4f" % value
+            if float(text) != value:
+                return None
+            cells[i] = text
+        printed.append(" ".join(cells))
+    return printed
+
+
+
+def row_table(name: str, cells: List[str], printed: bool = False) -> List[str]:
     """``ROWS_n`` as a triple-quoted string: one G-code line per text line
     (see runtime.rows for why a table is text)."""
     lines = [
         "",
         "",
-        "# G-code line, shape (see SHAPES), word values",
+        "# G-code line, shape (see SHAPES), word values%s"
+        % (" as the trace prints them" if printed else ""),
         '%s = """' % name,
     ]
     lines.extend(cells)
