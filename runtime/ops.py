@@ -30,7 +30,6 @@ import math
 from fractions import Fraction
 from typing import Tuple
 
-from runtime import x87
 from runtime.errors import GCodeError
 
 #: rs274's TOLERANCE_EQUAL, used by EQ and NE.
@@ -459,12 +458,38 @@ def _emulated(name: str):
     return compute
 
 
-# The C library's own sinl/cosl/tanl where this platform has the x87 long
-# double (exact, and ten times faster); the integer emulation elsewhere.
-_FAST = x87.trig_functions(_PI_L[0], _PI_L[1], _trig)
-_sin, _cos, _tan = (
-    (_FAST or {}).get(name) or _emulated(name) for name in ("sin", "cos", "tan")
-)
+def _choose_trig() -> None:
+    """Bind ``_sin``, ``_cos``, ``_tan``: the C library's own sinl/cosl/tanl
+    where this platform has the x87 long double (exact, and ten times
+    faster), the integer emulation elsewhere. Done at the first SIN, COS or
+    TAN a program evaluates, not at import: loading ctypes and checking the
+    library costs every run a few milliseconds, and most programs (CAM
+    output) never take a sine."""
+    global _sin, _cos, _tan, _BACKEND
+    from runtime import x87
+
+    fast = x87.trig_functions(_PI_L[0], _PI_L[1], _trig) or {}
+    _BACKEND = "library" if fast else "emulation"
+    _sin, _cos, _tan = (
+        fast.get(name) or _emulated(name) for name in ("sin", "cos", "tan")
+    )
+
+
+def _first_call(name: str):
+    def compute(degrees: float) -> float:
+        _choose_trig()
+        return globals()["_" + name](degrees)
+
+    return compute
+
+
+_sin, _cos, _tan = (_first_call(name) for name in ("sin", "cos", "tan"))
+
+
+def trig_backend() -> str:
+    """``"library"`` (sinl/cosl/tanl through ctypes) or ``"emulation"``."""
+    _choose_trig()
+    return _BACKEND
 
 
 #: M_PIl / 180.0 as a compiler folds it: a long double ``(m, e)``.

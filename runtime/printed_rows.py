@@ -35,11 +35,11 @@ _PRINTED_AXES = 6  # the trace shows X Y Z A B C
 _STRAIGHT = (G0, G1)
 
 
-def printed_rows(machine, cells: List[str], at: int, end: int, plans) -> int:
+def printed_rows(machine, by_index, cells: List[str], at: int, end: int, plans) -> int:
     """Write the trace of the rows from ``cells[at]`` while they are plain
     moves; returns where it stopped (a row for the general path, or
-    ``end``)."""
-    if not machine._plain:
+    ``end``). ``by_index``: each shape's ``_Plan.printed``."""
+    if not machine._plain or by_index[int(cells[at + 1])] is None:
         return at
     canon = machine.canon
     count, column, block_n = canon._count, canon._column, machine._block_n
@@ -47,7 +47,6 @@ def printed_rows(machine, cells: List[str], at: int, end: int, plans) -> int:
     entry = ["%.4f" % value for value in cur[:_PRINTED_AXES]]
     texts = entry[:]
     motion_mode, feed_rate = machine.motion_mode, machine.feed_rate
-    by_index = [plan.printed for plan in plans]
     out: List[str] = []
     write = out.append
     row = at

@@ -116,7 +116,7 @@ def run_rows(
     at, end = 0, len(cells)
     fast = machine.plain_rows
     if as_printed and type(machine.canon) is TraceCanon:
-        fast = partial(printed_rows, machine)
+        fast = partial(printed_rows, machine, [plan.printed for plan in plans])
     try:
         while at < end:
             at = fast(cells, at, end, plans)
