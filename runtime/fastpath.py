@@ -32,10 +32,13 @@ from __future__ import annotations
 
 from typing import List, Optional
 
-from runtime.codes import G0, G1
+from runtime import arcs
+from runtime.codes import G0, G1, G2, G3
+from runtime.errors import GCodeError
 from runtime.motion import UNITS_PER_MINUTE
 
 _AXIS_LETTERS = "xyzabcuvw"
+_AXIS_INDEX = {letter: i for i, letter in enumerate(_AXIS_LETTERS)}
 
 
 class FastPathMixin:
@@ -169,6 +172,73 @@ class FastPathMixin:
             self.feed_rate = self.world.feed_rate = feed_rate
             self._block_n = block_n
         return at
+
+    def plain_arc(self, line: int, motion: Optional[int], words, n) -> bool:
+        """A line of G2/G3 (``motion``; None: the modal motion), axis words,
+        I J K or R, and F, in the plain state: what ``block`` does, without
+        reading, enhancing and checking the line again (runtime.rows knows
+        its shape). Returns False, having done nothing, where the general
+        path must decide: not plain, a modal motion that is not an arc, or
+        any error, which ``block`` then raises in rs274's order."""
+        if not self._plain:
+            return False
+        if motion is None:
+            motion = self.motion_mode
+            if motion not in (G2, G3):
+                return False
+        f = words.get("f")
+        if f is not None and f < 0.0:
+            return False
+        plane = self.plane
+        cur = self.current
+        end = cur[:]
+        for letter, value in words.items():
+            axis = _AXIS_INDEX.get(letter)
+            if axis is not None:
+                end[axis] = value
+        s1, s2, _ = arcs.to_plane(plane, cur[0], cur[1], cur[2])
+        e1, e2, e3 = arcs.to_plane(plane, end[0], end[1], end[2])
+        try:
+            arcs.check_arc_format(plane, words)
+            arcs.check_arc_feed(
+                self.feed_mode,
+                self.feed_rate if f is None else f,
+                self.speed,
+                f is not None,
+            )
+            centre = arcs.arc_center_words(plane, words, self.ijk_absolute)
+            turns = arcs.check_arc_turns(None)
+            if centre is None:
+                arc = arcs.arc_from_radius(
+                    motion == G2, (s1, s2), (e1, e2), words["r"], turns, self.inches
+                )
+            else:
+                arc = arcs.arc_from_center(
+                    motion == G2,
+                    plane,
+                    (s1, s2),
+                    (e1, e2),
+                    centre,
+                    self.ijk_absolute,
+                    turns,
+                    self.inches,
+                    self.spiral_tolerance(),
+                )
+        except GCodeError:
+            return False
+        self.line = line
+        canon = self.canon
+        if n != self._block_n:
+            canon.set_block_number(n)
+            self._block_n = n
+        if f is not None:
+            self.feed_rate = f
+            canon.set_feed_rate(f)
+            self.world.feed_rate = f
+        self.motion_mode = motion
+        self._emit_arc(arc, e3, end)
+        self._params.position = end  # shared, as for a straight move
+        return True
 
     def _straight_ok(self, motion: Optional[int], f: Optional[float]) -> bool:
         """The value-dependent part of "nothing but a move": G0/G1, a valid F,

@@ -31,12 +31,13 @@ from functools import partial
 from typing import List, Optional, Sequence, Tuple
 
 from runtime.canon import TraceCanon
-from runtime.codes import G0, G1
+from runtime.codes import G0, G1, G2, G3
 from runtime.printed_rows import printed_rows
 
 Shape = Tuple[Tuple[int, ...], Tuple[str, ...]]
 
 _AXES = "xyzabcuvw"
+_ARC_LETTERS = "xyzabcijkrf"
 
 
 class _Plan:
@@ -52,6 +53,7 @@ class _Plan:
         "f_at",
         "beyond_printed",
         "printed",
+        "arc",
     )
 
     def __init__(self, shape: Shape):
@@ -76,6 +78,14 @@ class _Plan:
             self.beyond_printed = any(axis >= 6 for _, axis in axes)
             if "f" in self.letters:
                 self.f_at = self.letters.index("f")
+        #: An arc (G2/G3 or the modal motion) for Machine.plain_arc: axis
+        #: words, I J K or R, F; no P (turns) and no U V W.
+        self.arc = (
+            len(codes) <= 1
+            and (not codes or codes[0] in (G2, G3))
+            and any(x in "xyzabc" for x in self.letters)
+            and all(x in _ARC_LETTERS for x in self.letters)
+        )
         #: What runtime.printed_rows needs, in one tuple (None: not for it).
         self.printed = None
         if self.slots is not None and not self.beyond_printed:
@@ -130,8 +140,10 @@ def run_rows(
             if plan.has_n:
                 n = cells[start]
                 start += 1
-            values = map(float, cells[start:at])
-            machine.block(line, *plan.codes, n=n, **dict(zip(plan.letters, values)))
+            words = dict(zip(plan.letters, map(float, cells[start:at])))
+            if plan.arc and machine.plain_arc(line, plan.motion, words, n):
+                continue
+            machine.block(line, *plan.codes, n=n, **words)
     except Exception as error:
         error.ngc_row_line = machine.line
         raise

@@ -9,13 +9,17 @@ tables (runtime/rows.py), and as the trace's own text when every value has
 at most four decimals (runtime/printed_rows.py); these programs exercise
 both, the modes that turn the fast paths off (incremental distance, offsets,
 inverse time, units), the blocks that interrupt a run (dwell, spindle,
-coolant, plane) and the value errors a run can hit (no feed rate, a negative
-F, a zero F under G1).
+coolant, plane), arcs in each plane (Machine.plain_arc) and the value
+errors a run can hit (no feed rate, a negative F, a zero F under G1).
 """
 
 from __future__ import annotations
 
+import re
+
 from hypothesis import strategies as st
+
+ARC = re.compile(r"\bG0?[23]\b")
 
 AXES = "XYZABC"
 
@@ -52,12 +56,46 @@ def feed(draw) -> str:
     return "F" + draw(st.sampled_from(["800", "1200.5", "60.25", "0.1234", "99.87654"]))
 
 
+#: plane code -> (its two axes, the centre letters, the third axis)
+PLANES = {"G17": ("XY", "IJ", "Z"), "G18": ("ZX", "KI", "Y"), "G19": ("YZ", "JK", "X")}
+
+
 @st.composite
-def move_row(draw, numbered: bool, line: int) -> str:
+def arc_row(draw, plane: str) -> str:
+    """An arc that is valid wherever the tool is: a full circle given by its
+    centre (no end point in the plane, so it ends where it starts, rising
+    along the third axis), or an end point with a radius too big to miss."""
+    axes, centre, third = PLANES[plane]
+    words = [draw(st.sampled_from(["G2", "G3", "G02", "G03"]))]
+    if draw(st.booleans()):
+        words.append(third + draw(numbers()))
+        radius = draw(st.sampled_from(["5", "12.5", "0.75", "-3.25"]))
+        words.append(centre[0] + radius)
+        words.append(centre[1] + draw(st.sampled_from(["0", "1.5", "-2"])))
+    else:
+        for letter in axes:
+            words.append(letter + draw(numbers()))
+        words.append("R" + draw(st.sampled_from(["1000", "-1000", "999.5"])))
+    if draw(st.integers(0, 5)) == 0:
+        words.append(draw(feed()))
+    return " ".join(words)
+
+
+@st.composite
+def move_row(
+    draw, numbered: bool, line: int, plane: str = "G17", after_arc: bool = False
+) -> str:
+    """A move; after an arc, mostly one that names its motion (an axis word
+    alone would continue the arc and, without I J K or R, fail)."""
     words = []
     if numbered:
         words.append("N%d" % (line * 10))
+    if draw(st.integers(0, 7)) == 0:
+        words.append(draw(arc_row(plane)))
+        return " ".join(words)
     motion = draw(st.sampled_from(["", "", "G1", "G0", "G01", "G00"]))
+    if after_arc and not motion and draw(st.integers(0, 3)):
+        motion = draw(st.sampled_from(["G1", "G0"]))
     if motion:
         words.append(motion)
     axes = draw(st.lists(st.sampled_from(AXES[:3] * 4 + AXES[3:]), min_size=1, max_size=4, unique=True))
@@ -75,6 +113,7 @@ INTERRUPTIONS = [
     "M9",
     "G17",
     "G18",
+    "G19",
     "G91 X1.5",
     "G90",
     "G20",
@@ -109,13 +148,18 @@ def cam_programs(draw) -> str:
     to become a data table), with the odd interruption between rows."""
     lines = draw(st.lists(st.sampled_from(SETUPS), min_size=0, max_size=3))
     numbered = draw(st.booleans())
+    plane = "G17"
     for _ in range(draw(st.integers(1, 3))):
         for _ in range(draw(st.integers(8, 40))):
             if draw(st.integers(0, 25)) == 0:
                 lines.append(draw(st.sampled_from(INTERRUPTIONS)))
+                plane = lines[-1] if lines[-1] in PLANES else plane
             else:
-                lines.append(draw(move_row(numbered, len(lines) + 1)))
+                after_arc = bool(lines) and ARC.search(lines[-1]) is not None
+                row = move_row(numbered, len(lines) + 1, plane, after_arc)
+                lines.append(draw(row))
         if draw(st.booleans()):
             lines.append(draw(st.sampled_from(INTERRUPTIONS)))
+            plane = lines[-1] if lines[-1] in PLANES else plane
     lines.append("M2")
     return "\n".join(lines) + "\n"
