@@ -43,7 +43,7 @@ import re
 from dataclasses import dataclass, field
 from typing import Dict, Iterable, List, Optional, Sequence, Tuple
 
-from ngc2py import __version__, nodes, parser
+from ngc2py import __version__, assigned, nodes, parser
 from ngc2py.parser import DEFAULT_AXES
 from ngc2py import structure as st
 from ngc2py.parser import RowLine
@@ -277,9 +277,54 @@ def may_fail(e: nodes.Expr) -> bool:
 
 def may_overflow(e: nodes.Expr) -> bool:
     """Can ``e`` make an inf/nan that nothing has checked yet?"""
-    if isinstance(e, nodes.Unary) and e.op in ("neg", "pos"):
-        return may_overflow(e.arg)
-    return isinstance(e, nodes.Binary) and e.op in ARITHMETIC
+    return value_bound(e) is None
+
+
+#: Past this, a bound proves nothing: a sum or product may overflow.
+_LARGEST_BOUND = 1e300
+#: Results of the checked functions: at most this in magnitude.
+_FUNCTION_BOUNDS = {"sin": 1.0, "cos": 1.0, "acos": 180.0, "asin": 180.0, "atan": 180.0}
+
+
+def value_bound(e: nodes.Expr) -> Optional[float]:
+    """A bound on ``|e|`` when ``e`` is certainly finite; ``math.inf`` when
+    it is finite but unbounded (a parameter, a checked function); None when
+    arithmetic may make an inf or nan that only a ``finite`` check catches.
+
+    ``[30 * COS[#<a>] + [#<i> MOD 3]]`` is below 33 whatever the
+    parameters hold, so it needs no check; ``[#<i> * 0.3]`` does.
+    """
+    if isinstance(e, nodes.Num):
+        return abs(e.value) if abs(e.value) <= _LARGEST_BOUND else None
+    if isinstance(e, nodes.Bracket):
+        return value_bound(e.inner)
+    if isinstance(e, nodes.Unary):
+        if e.op in ("neg", "pos"):
+            return value_bound(e.arg)
+        if e.op in _FUNCTION_BOUNDS:
+            return _FUNCTION_BOUNDS[e.op]
+        if e.op in ("abs", "fix", "fup", "round"):
+            inner = value_bound(e.arg)
+            return math.inf if inner is None else inner + 1.0
+        return math.inf  # the helper checks its result
+    if isinstance(e, nodes.Atan2):
+        return 180.0
+    if isinstance(e, nodes.Binary):
+        if e.op not in ARITHMETIC:
+            return 1.0  # comparisons and logic give 0.0 or 1.0
+        left, right = value_bound(e.left), value_bound(e.right)
+        if e.op == "mod":
+            if left is None or not isinstance(e.right, nodes.Num) or not e.right.value:
+                return None
+            return abs(e.right.value)
+        if e.op in ("+", "-") and left is not None and right is not None:
+            total = left + right
+            return total if total <= _LARGEST_BOUND else None
+        if e.op == "*" and left is not None and right is not None:
+            product = left * right
+            return product if product <= _LARGEST_BOUND else None
+        return None
+    return math.inf  # parameter reads, EXISTS: checked where they are read
 
 
 # --------------------------------------------------------------------------
@@ -457,6 +502,8 @@ class CodeGen:
         opening: Optional[nodes.Line] = None,
     ):
         self.program = program
+        #: names certainly set before each line (ngc2py.assigned)
+        self.settled = assigned.settled_names(program)
         self.source_name = source_name
         self.opening = opening
         self.demarcated = opening is not None
@@ -1186,7 +1233,8 @@ class CodeGen:
     def item_reads(self, line: nodes.Line) -> List[ItemRead]:
         """The code for reading each item of ``line``, in order."""
         reads = []
-        declared: set = set()
+        # names set before this line need no declare (ngc2py.assigned)
+        declared = set(self.settled.get(id(line), ()))
         for i, item in enumerate(line.items):
             read = ItemRead(self.x.expr(item.value), is_constant(item.value))
             if isinstance(item, nodes.Assign):
@@ -1380,7 +1428,6 @@ def as_printed(rows: List[Tuple[nodes.Line, Row]]) -> Optional[List[str]]:
             cells[i] = text
         printed.append(" ".join(cells))
     return printed
-
 
 
 def row_table(name: str, cells: List[str], printed: bool = False) -> List[str]:

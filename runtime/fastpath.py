@@ -87,14 +87,14 @@ class FastPathMixin:
         given = motion
         if motion is None:
             motion = self.motion_mode
-        if not self._plain or not self._straight_ok(motion, f):
-            self._general_move(line, given, (x, y, z, a, b, c, u, v, w), f, n)
-            return
-        cur = self.current
-        self._plain_straight(
-            line,
-            motion,
-            [
+        # One method, no helpers: a loop's moves come through here.
+        if self._plain and (
+            (self.feed_rate if f is None else f) > 0.0
+            if motion == G1
+            else motion == G0 and (f is None or f >= 0.0)
+        ):
+            cur = self.current
+            end = [
                 cur[0] if x is None else x,
                 cur[1] if y is None else y,
                 cur[2] if z is None else z,
@@ -104,17 +104,33 @@ class FastPathMixin:
                 cur[6] if u is None else u,
                 cur[7] if v is None else v,
                 cur[8] if w is None else w,
-            ],
-            f,
-            n,
-        )
+            ]
+            self.line = line
+            canon = self.canon
+            if n != self._block_n:
+                canon.set_block_number(n)
+                self._block_n = n
+            if f is not None:
+                self.feed_rate = f
+                canon.set_feed_rate(f)
+                self.world.feed_rate = f
+            if motion == G1:
+                canon.straight_feed(*end)
+            else:
+                canon.straight_traverse(*end)
+            self.motion_mode = motion
+            # One list shared as the current point, the canon model's
+            # position and #5420-#5428: a general block copies it first.
+            self.current = self.world.position = self._params.position = end
+            return
+        self._general_move(line, given, (x, y, z, a, b, c, u, v, w), f, n)
 
     def plain_rows(self, cells: List[str], at: int, end: int, plans) -> int:
         """Run data rows (runtime.rows) from ``cells[at]`` while they are
         plain straight moves; returns where it stopped (a row for the
         general path, or ``end``).
 
-        The same steps as :meth:`_plain_straight`, with the machine's state
+        The same steps as :meth:`move`, with the machine's state
         in local variables for the whole run: this loop is where a CAM
         file's time goes.
         """
@@ -239,33 +255,6 @@ class FastPathMixin:
         self._emit_arc(arc, e3, end)
         self._params.position = end  # shared, as for a straight move
         return True
-
-    def _straight_ok(self, motion: Optional[int], f: Optional[float]) -> bool:
-        """The value-dependent part of "nothing but a move": G0/G1, a valid F,
-        and a feed rate for G1."""
-        if motion == G1:
-            return (self.feed_rate if f is None else f) > 0.0
-        return motion == G0 and (f is None or f >= 0.0)
-
-    def _plain_straight(self, line, motion, end, f, n) -> None:
-        """Set F, announce N, emit the move, publish the end point."""
-        self.line = line
-        canon = self.canon
-        if n != self._block_n:
-            canon.set_block_number(n)
-            self._block_n = n
-        if f is not None:
-            self.feed_rate = f
-            canon.set_feed_rate(f)
-            self.world.feed_rate = f
-        if motion == G1:
-            canon.straight_feed(*end)
-        else:
-            canon.straight_traverse(*end)
-        self.motion_mode = motion
-        # One list shared as the current point, the canon model's position
-        # and #5420-#5428: a general block copies it before changing it.
-        self.current = self.world.position = self._params.position = end
 
     def _general_move(self, line, motion, axes, f, n) -> None:
         """The same line through the general path (checks and errors)."""
