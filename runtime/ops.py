@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
-from typing import Tuple
+from typing import List, Tuple
 
 from runtime.errors import GCodeError
 
@@ -339,10 +339,21 @@ def _pi_fixed(bits: int) -> int:
     return (16 * arctan_inv(5) - 4 * arctan_inv(239)) >> 32
 
 
-_PI_FIXED = _pi_fixed(_PI_BITS)
-_HALF_PI_FIXED = _PI_FIXED >> 1  # pi/2 * 2**_PI_BITS (pi's low bit is lost: 2**-1400)
-#: M_PIl: pi rounded to a 64-bit significand.
-_PI_L = _rounded_ratio(_PI_FIXED, 1, -_PI_BITS, _LD_BITS)
+_HALF_PI: List[int] = []
+
+
+def _half_pi_fixed() -> int:
+    """pi/2 * 2**_PI_BITS (pi's low bit is lost: 2**-1400), computed the
+    first time the emulation needs it (milliseconds a run would pay at
+    import for nothing where the C library does the trigonometry)."""
+    if not _HALF_PI:
+        _HALF_PI.append(_pi_fixed(_PI_BITS) >> 1)
+    return _HALF_PI[0]
+
+
+#: M_PIl: pi rounded to a 64-bit significand, ``(m, e)``; test_ops checks
+#: it against pi from Machin's formula above.
+_PI_L = (0xC90FDAA22168C235, -62)
 
 
 def plus_half_pi(x: float, sign: int = 1) -> float:
@@ -426,9 +437,10 @@ def _trig(degrees: float, name: str) -> float:
 
 def _sin_cos(m: int, e: int) -> Tuple[int, int]:
     """sin and cos of ``m * 2**e`` radians, as fixed-point ints (_FIXED_BITS)."""
+    half_pi = _half_pi_fixed()
     scaled = m << (e + _PI_BITS) if e + _PI_BITS >= 0 else m >> -(e + _PI_BITS)
-    quadrant = (2 * scaled + _HALF_PI_FIXED) // (2 * _HALF_PI_FIXED)
-    rest = (scaled - quadrant * _HALF_PI_FIXED) >> (_PI_BITS - _FIXED_BITS)
+    quadrant = (2 * scaled + half_pi) // (2 * half_pi)
+    rest = (scaled - quadrant * half_pi) >> (_PI_BITS - _FIXED_BITS)
     s, c = _sin_cos_series(rest)
     return ((s, c), (c, -s), (-s, -c), (-c, s))[quadrant % 4]
 

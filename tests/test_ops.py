@@ -370,3 +370,8 @@ def test_the_c_extension_computes_what_the_ctypes_path_computes():
             got, want = extension[name](x), through_ctypes[name](x)
             assert got == want or (got != got and want != want), (name, x)
             assert math.copysign(1, got) == math.copysign(1, want), (name, x)
+
+
+def test_m_pil_is_pi_rounded_to_a_long_double():
+    pi = ops._pi_fixed(ops._PI_BITS)
+    assert ops._PI_L == ops._rounded_ratio(pi, 1, -ops._PI_BITS, ops._LD_BITS)
