@@ -26,6 +26,7 @@ from typing import Dict, FrozenSet, Iterable, List
 
 from ngc2py import nodes
 from ngc2py import structure as st
+from ngc2py.parser import RowLine
 
 Known = FrozenSet[str]
 
@@ -47,6 +48,8 @@ def settled_names(program: st.Program) -> Dict[int, Known]:
 def _flow(stmts: Iterable[st.Stmt], known: Known, before: Dict[int, Known]) -> Known:
     for stmt in stmts:
         if isinstance(stmt, st.Block):
+            if isinstance(stmt.line, RowLine):
+                continue  # literal words only: no settings (and kept compact)
             before[id(stmt.line)] = known
             known = known | _settings(stmt.line)
         elif isinstance(stmt, st.If):
