@@ -63,3 +63,17 @@ def test_printed_tables_give_a_canon_the_same_calls(monkeypatch):
     assert "as_printed" not in as_written
     assert _calls(as_written) == printed
     assert ("straight_feed", (11.125, -0.5, 3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)) in printed
+
+
+def test_converting_rows_never_reads_a_row_line_again(monkeypatch):
+    """A CAM line is kept as its compact data row; any pass that asks it for
+    more (its words, its error) makes the parser read the line again, which
+    for a million-line file costs as much as the whole conversion."""
+    from ngc2py import parser
+
+    reads = []
+    full = parser.RowLine.full
+    monkeypatch.setattr(parser.RowLine, "full", lambda self: reads.append(self) or full(self))
+    lines = ["G21 G90 F300"] + ["G1 X%d.25 Y%d Z-1" % (i, i % 9) for i in range(500)]
+    compile_text("\n".join(lines + ["M2"]) + "\n", "cam.ngc")
+    assert reads == []
