@@ -197,11 +197,12 @@ def test_big_cam_files_become_data_rows():
     lines = ["G21 G90"] + ["G1 X%d.5 Y%d F1200" % (i, i % 7) for i in range(3000)]
     lines[1500] = "(halfway)"
     code = compile_text("\n".join(lines + ["M2"]) + "\n", "cam.ngc")
-    assert "run_rows(m, SHAPES, ROWS_1)" in code
-    assert "run_rows(m, SHAPES, ROWS_2)" in code  # after the comment
+    assert "run_rows(m, SHAPES, ROWS_1, as_printed=True)" in code
+    assert "run_rows(m, SHAPES, ROWS_2, as_printed=True)" in code  # after the comment
     # line 3 is "G1 X1.5 Y1 F1200": shape 1 (G1 X Y F) and its values as written
     assert '    # 1: G1 X Y F\n    ((G1,), ("x", "y", "f")),' in code
-    assert '\nROWS_1 = """\n1 0\n2 1 0.5 0 1200\n3 1 1.5 1 1200\n' in code
+    # four decimals at most: written as the trace prints them (test_rows.py)
+    assert '\nROWS_1 = """\n1 0\n2 1 0.5000 0.0000 1200.0000\n3 1 1.5000 1.0000' in code
     table = code.split('ROWS_1 = """')[1].split('"""')[0]
     assert "G1" not in table and "X" not in table  # no G-code text to parse
     assert_black_stable(code)
@@ -219,7 +220,7 @@ def test_long_programs_become_chunks_of_bounded_size():
 def test_row_tables_are_bounded():
     lines = ["G1 X%d Y1 F100" % i for i in range(codegen.ROWS_PER_TABLE + 10)]
     code = compile_text("\n".join(lines + ["M2"]) + "\n", "big.ngc")
-    assert "run_rows(m, SHAPES, ROWS_2)" in code
+    assert "run_rows(m, SHAPES, ROWS_2, as_printed=True)" in code
     assert "ROWS_3" not in code
 
 
