@@ -1270,6 +1270,8 @@ class CodeGen:
 
     def block_call(self, line: nodes.Line, words, values: List[str]) -> str:
         move = self.move_call(line, words, values)
+        if move is None:
+            move = self.arc_call(line, words, values)
         if move is not None:
             return move
         args = ["%d" % line.number]
@@ -1314,6 +1316,33 @@ class CodeGen:
         if line.n_text is not None:
             kwargs.append("n=%s" % string(line.n_text))
         return "m.move(%s)" % ", ".join(args + kwargs)
+
+    def arc_call(self, line: nodes.Line, words, values: List[str]) -> Optional[str]:
+        """``m.arc(line, G2, x=.., i=..)`` for an arc: G2 or G3 written as
+        a literal, axis words (X Y Z A B C), I J K or R, F and N only
+        (``Machine.arc``); else None."""
+        if line.comment is not None:
+            return None
+        motion = None
+        kwargs = []
+        for word, value in zip(words, values):
+            letter = word.letter
+            if letter in "xyzabcijkrf":
+                kwargs.append("%s=%s" % (letter, value))
+            elif letter == "g" and motion is None and is_constant(word.value):
+                motion = convert_code(letter, word.value.value)
+                if motion not in (codes.G2, codes.G3):
+                    return None
+            else:
+                return None
+        if motion is None or not any(word.letter in "xyzabc" for word in words):
+            return None
+        name = code_name(motion)
+        self.codes.add(name)
+        args = ["%d" % line.number, name]
+        if line.n_text is not None:
+            kwargs.append("n=%s" % string(line.n_text))
+        return "m.arc(%s)" % ", ".join(args + kwargs)
 
     def code_arg(self, word: nodes.Word, value: str) -> str:
         """A G/M code: its constant's name, or a run-time conversion."""

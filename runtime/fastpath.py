@@ -189,6 +189,12 @@ class FastPathMixin:
             self._block_n = block_n
         return at
 
+    def arc(self, line: int, motion: int, n: Optional[str] = None, **words) -> None:
+        """A line of G2/G3, axis words, I J K or R and F (the code generator
+        knows its shape): :meth:`plain_arc` where it can, else ``block``."""
+        if not self.plain_arc(line, motion, words, n):
+            self.block(line, motion, n=n, **words)
+
     def plain_arc(self, line: int, motion: Optional[int], words, n) -> bool:
         """A line of G2/G3 (``motion``; None: the modal motion), axis words,
         I J K or R, and F, in the plain state: what ``block`` does, without
