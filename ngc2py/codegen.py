@@ -297,7 +297,8 @@ def value_bound(e: nodes.Expr) -> Optional[float]:
     if isinstance(e, nodes.Num):
         return abs(e.value) if abs(e.value) <= _LARGEST_BOUND else None
     if isinstance(e, nodes.Bracket):
-        return value_bound(e.inner)
+        inner = value_bound(e.inner)
+        return math.inf if inner is None else inner  # else checked at its ]
     if isinstance(e, nodes.Unary):
         if e.op in ("neg", "pos"):
             return value_bound(e.arg)
