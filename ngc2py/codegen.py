@@ -1293,21 +1293,43 @@ class CodeGen:
     def move_call(self, line: nodes.Line, words, values: List[str]) -> Optional[str]:
         """``m.move(line, G1, x=..)`` for a plain straight move: G0, G1 or no
         motion code, axis words, F and N only (runtime.fastpath); else None."""
+        return self.motion_call(
+            "m.move", line, words, values, (codes.G0, codes.G1), "xyzabcuvwf", False
+        )
+
+    def arc_call(self, line: nodes.Line, words, values: List[str]) -> Optional[str]:
+        """``m.arc(line, G2, x=.., i=..)`` for an arc: G2 or G3 written as
+        a literal, axis words (X Y Z A B C), I J K or R, F and N only
+        (``Machine.arc``); else None."""
+        return self.motion_call(
+            "m.arc", line, words, values, (codes.G2, codes.G3), "xyzabcijkrf", True
+        )
+
+    def motion_call(
+        self, call, line, words, values, motions, letters, motion_needed
+    ) -> Optional[str]:
+        """``call(line[, motion], word=..)`` when the line has one literal
+        code of ``motions`` (or none, unless ``motion_needed``), words of
+        ``letters`` including an axis, an N number and nothing else."""
         if line.comment is not None:
             return None
         motion = None
         kwargs = []
         for word, value in zip(words, values):
             letter = word.letter
-            if letter in AXIS_LETTERS or letter == "f":
+            if letter in letters:
                 kwargs.append("%s=%s" % (letter, value))
             elif letter == "g" and motion is None and is_constant(word.value):
                 motion = convert_code(letter, word.value.value)
-                if motion not in (codes.G0, codes.G1):
+                if motion not in motions:
                     return None
             else:
                 return None
-        if not any(word.letter in AXIS_LETTERS for word in words):
+        if motion is None and motion_needed:
+            return None
+        if not any(
+            word.letter in AXIS_LETTERS and word.letter in letters for word in words
+        ):
             return None
         args = ["%d" % line.number]
         if motion is not None:
@@ -1316,34 +1338,7 @@ class CodeGen:
             args.append(name)
         if line.n_text is not None:
             kwargs.append("n=%s" % string(line.n_text))
-        return "m.move(%s)" % ", ".join(args + kwargs)
-
-    def arc_call(self, line: nodes.Line, words, values: List[str]) -> Optional[str]:
-        """``m.arc(line, G2, x=.., i=..)`` for an arc: G2 or G3 written as
-        a literal, axis words (X Y Z A B C), I J K or R, F and N only
-        (``Machine.arc``); else None."""
-        if line.comment is not None:
-            return None
-        motion = None
-        kwargs = []
-        for word, value in zip(words, values):
-            letter = word.letter
-            if letter in "xyzabcijkrf":
-                kwargs.append("%s=%s" % (letter, value))
-            elif letter == "g" and motion is None and is_constant(word.value):
-                motion = convert_code(letter, word.value.value)
-                if motion not in (codes.G2, codes.G3):
-                    return None
-            else:
-                return None
-        if motion is None or not any(word.letter in "xyzabc" for word in words):
-            return None
-        name = code_name(motion)
-        self.codes.add(name)
-        args = ["%d" % line.number, name]
-        if line.n_text is not None:
-            kwargs.append("n=%s" % string(line.n_text))
-        return "m.arc(%s)" % ", ".join(args + kwargs)
+        return "%s(%s)" % (call, ", ".join(args + kwargs))
 
     def code_arg(self, word: nodes.Word, value: str) -> str:
         """A G/M code: its constant's name, or a run-time conversion."""
