@@ -297,7 +297,8 @@ def value_bound(e: nodes.Expr) -> Optional[float]:
     if isinstance(e, nodes.Num):
         return abs(e.value) if abs(e.value) <= _LARGEST_BOUND else None
     if isinstance(e, nodes.Bracket):
-        return value_bound(e.inner)
+        inner = value_bound(e.inner)
+        return math.inf if inner is None else inner  # else checked at its ]
     if isinstance(e, nodes.Unary):
         if e.op in ("neg", "pos"):
             return value_bound(e.arg)
@@ -1270,6 +1271,8 @@ class CodeGen:
 
     def block_call(self, line: nodes.Line, words, values: List[str]) -> str:
         move = self.move_call(line, words, values)
+        if move is None:
+            move = self.arc_call(line, words, values)
         if move is not None:
             return move
         args = ["%d" % line.number]
@@ -1290,21 +1293,43 @@ class CodeGen:
     def move_call(self, line: nodes.Line, words, values: List[str]) -> Optional[str]:
         """``m.move(line, G1, x=..)`` for a plain straight move: G0, G1 or no
         motion code, axis words, F and N only (runtime.fastpath); else None."""
+        return self.motion_call(
+            "m.move", line, words, values, (codes.G0, codes.G1), "xyzabcuvwf", False
+        )
+
+    def arc_call(self, line: nodes.Line, words, values: List[str]) -> Optional[str]:
+        """``m.arc(line, G2, x=.., i=..)`` for an arc: G2 or G3 written as
+        a literal, axis words (X Y Z A B C), I J K or R, F and N only
+        (``Machine.arc``); else None."""
+        return self.motion_call(
+            "m.arc", line, words, values, (codes.G2, codes.G3), "xyzabcijkrf", True
+        )
+
+    def motion_call(
+        self, call, line, words, values, motions, letters, motion_needed
+    ) -> Optional[str]:
+        """``call(line[, motion], word=..)`` when the line has one literal
+        code of ``motions`` (or none, unless ``motion_needed``), words of
+        ``letters`` including an axis, an N number and nothing else."""
         if line.comment is not None:
             return None
         motion = None
         kwargs = []
         for word, value in zip(words, values):
             letter = word.letter
-            if letter in AXIS_LETTERS or letter == "f":
+            if letter in letters:
                 kwargs.append("%s=%s" % (letter, value))
             elif letter == "g" and motion is None and is_constant(word.value):
                 motion = convert_code(letter, word.value.value)
-                if motion not in (codes.G0, codes.G1):
+                if motion not in motions:
                     return None
             else:
                 return None
-        if not any(word.letter in AXIS_LETTERS for word in words):
+        if motion is None and motion_needed:
+            return None
+        if not any(
+            word.letter in AXIS_LETTERS and word.letter in letters for word in words
+        ):
             return None
         args = ["%d" % line.number]
         if motion is not None:
@@ -1313,7 +1338,7 @@ class CodeGen:
             args.append(name)
         if line.n_text is not None:
             kwargs.append("n=%s" % string(line.n_text))
-        return "m.move(%s)" % ", ".join(args + kwargs)
+        return "%s(%s)" % (call, ", ".join(args + kwargs))
 
     def code_arg(self, word: nodes.Word, value: str) -> str:
         """A G/M code: its constant's name, or a run-time conversion."""

@@ -105,19 +105,11 @@ class FastPathMixin:
                 cur[7] if v is None else v,
                 cur[8] if w is None else w,
             ]
-            self.line = line
-            canon = self.canon
-            if n != self._block_n:
-                canon.set_block_number(n)
-                self._block_n = n
-            if f is not None:
-                self.feed_rate = f
-                canon.set_feed_rate(f)
-                self.world.feed_rate = f
+            self._open_plain_block(line, n, f)
             if motion == G1:
-                canon.straight_feed(*end)
+                self.canon.straight_feed(*end)
             else:
-                canon.straight_traverse(*end)
+                self.canon.straight_traverse(*end)
             self.motion_mode = motion
             # One list shared as the current point, the canon model's
             # position and #5420-#5428: a general block copies it first.
@@ -189,6 +181,12 @@ class FastPathMixin:
             self._block_n = block_n
         return at
 
+    def arc(self, line: int, motion: int, n: Optional[str] = None, **words) -> None:
+        """A line of G2/G3, axis words, I J K or R and F (the code generator
+        knows its shape): :meth:`plain_arc` where it can, else ``block``."""
+        if not self.plain_arc(line, motion, words, n):
+            self.block(line, motion, n=n, **words)
+
     def plain_arc(self, line: int, motion: Optional[int], words, n) -> bool:
         """A line of G2/G3 (``motion``; None: the modal motion), axis words,
         I J K or R, and F, in the plain state: what ``block`` does, without
@@ -242,19 +240,25 @@ class FastPathMixin:
                 )
         except GCodeError:
             return False
-        self.line = line
-        canon = self.canon
-        if n != self._block_n:
-            canon.set_block_number(n)
-            self._block_n = n
-        if f is not None:
-            self.feed_rate = f
-            canon.set_feed_rate(f)
-            self.world.feed_rate = f
+        self._open_plain_block(line, n, f)
         self.motion_mode = motion
         self._emit_arc(arc, e3, end)
         self._params.position = end  # shared, as for a straight move
         return True
+
+    def _open_plain_block(
+        self, line: int, n: Optional[str], f: Optional[float]
+    ) -> None:
+        """What a plain block does before its motion: its line, its N number
+        (announced when it changes) and its F word."""
+        self.line = line
+        if n != self._block_n:
+            self.canon.set_block_number(n)
+            self._block_n = n
+        if f is not None:
+            self.feed_rate = f
+            self.canon.set_feed_rate(f)
+            self.world.feed_rate = f
 
     def _general_move(self, line, motion, axes, f, n) -> None:
         """The same line through the general path (checks and errors)."""

@@ -24,6 +24,7 @@ whole run is written at the end, in one piece, before anything else can be.
 
 from __future__ import annotations
 
+from itertools import takewhile
 from typing import List
 
 from runtime.codes import G0, G1
@@ -59,6 +60,26 @@ def printed_rows(machine, by_index, cells: List[str], at: int, end: int, plans) 
             motion, has_n, f_at, width, run, slots = printed
             if motion is None:
                 motion = motion_mode
+            stride = width + 2
+            if end - at >= stride * _BATCH and motion in _STRAIGHT:
+                batch = _batch(cells, at, end, printed, motion, feed_rate, texts, count)
+                if batch is not None:
+                    text, rows, count, last_f = batch
+                    write(text)
+                    at += rows * stride
+                    row = at - stride  # the batch's last row
+                    start = row + 2 + has_n
+                    for i, axis in slots:
+                        texts[axis] = cells[start + i]
+                    if has_n:
+                        block_n = cells[row + 2]
+                        column = "N%-6s" % block_n
+                    elif block_n is not None:
+                        column, block_n = "N..... ", None
+                    if last_f is not None:
+                        feed_rate = last_f
+                    motion_mode = motion
+                    continue
             start = at + 2
             at = start + width
             if has_n:
@@ -109,3 +130,68 @@ def printed_rows(machine, by_index, cells: List[str], at: int, end: int, plans) 
             machine._block_n = block_n
             machine.line = int(cells[row])
     return at
+
+
+#: Rows of one shape in a row, at least, for the batch form below.
+_BATCH = 8
+#: At most this many rows in one batch (bounds the slices it takes).
+_MOST = 4096
+
+
+def _batch(cells, at, end, printed, motion, feed_rate, texts, count):
+    """The trace of the consecutive rows of the shape of the row at ``at``,
+    made in one go: ``(text, rows, new line count, last F or None)``; None
+    for fewer than ``_BATCH`` such rows, or a feed rate that would be an
+    error (the row-by-row loop stops at it).
+
+    Rows of one shape sit ``width + 2`` cells apart, so each of their
+    columns is one slice of ``cells``, and one format with the axes the
+    shape does not name filled in makes each line: the per-row work is
+    C's. The scan stops at the first row of another shape, whose shape
+    cell is where a row of this shape would have had its own."""
+    _, has_n, f_at, width, _, slots = printed
+    stride = width + 2
+    key = cells[at + 1]
+    shapes = cells[at + 1 : at + 1 + stride * _BATCH : stride]
+    if shapes.count(key) != _BATCH:
+        return None
+    shapes = cells[at + 1 : min(end, at + 1 + stride * _MOST) : stride]
+    rows = len(list(takewhile(key.__eq__, shapes)))
+    stop = at + rows * stride
+    values = at + 2 + has_n  # the first value cell of the first row
+    column = "N%-6s" if has_n else "N....."
+    axes = list(texts)
+    for _, axis in slots:
+        axes[axis] = "%s"
+    move = "%%5d %s%s(%s)\n" % (
+        column if has_n else column + " ",
+        "STRAIGHT_FEED" if motion == G1 else "STRAIGHT_TRAVERSE",
+        ", ".join(axes),
+    )
+    columns = [cells[values + i : stop : stride] for i, _ in slots]
+    last_f = None
+    if f_at >= 0:
+        rates_text = cells[values + f_at : stop : stride]
+        rates = list(map(float, rates_text))
+        lowest = min(rates)
+        if lowest < 0.0 or (motion == G1 and lowest == 0.0):
+            return None
+        last_f = rates[-1]
+        fmt = (
+            "%%5d %sSET_FEED_RATE(%%s)\n" % (column if has_n else column + " ")
+        ) + move
+        numbers = cells[at + 2 : stop : stride] if has_n else None
+        parts = [range(count + 1, count + 2 * rows, 2)]
+        parts += [numbers, rates_text] if has_n else [rates_text]
+        parts.append(range(count + 2, count + 2 * rows + 1, 2))
+        parts += [numbers] if has_n else []
+        count += 2 * rows
+    else:
+        if motion == G1 and feed_rate <= 0.0:
+            return None
+        fmt = move
+        parts = [range(count + 1, count + rows + 1)]
+        parts += [cells[at + 2 : stop : stride]] if has_n else []
+        count += rows
+    text = "".join(map(fmt.__mod__, zip(*parts, *columns)))
+    return text, rows, count, last_f

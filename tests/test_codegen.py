@@ -293,3 +293,10 @@ def test_generated_code_runs_like_rs274(text, mode, tmp_path):
         expected = harness.run_rs274(program, args, text=text)
         actual = harness.run_ngc2py(program, args, text=text, mode=mode)
         assert harness.compare(expected, actual) == []
+
+
+def test_arcs_with_computed_words_call_machine_arc():
+    code = compile_text("G17 G1 X0 Y0 F100\nG2 X[1 + 1] Y0 I1 J0\nG3 X0 Y0 R5 F[50]\nG2 X1 P2 I1\nM2\n")
+    assert "m.arc(2, G2, x=2.0, y=0.0, i=1.0, j=0.0)" in code
+    assert "m.arc(3, G3, x=0.0, y=0.0, r=5.0, f=50.0)" in code
+    assert "m.block(4, G2, x=1.0, p=2.0, i=1.0)" in code  # P (turns): the general path

@@ -19,7 +19,12 @@ from ngc2py.compiler import compile_text
 from runtime.canon import RecordingCanon
 from test_differential import PROFILE, check_same
 
-FOUR_PLACES = "\n".join(["G21 G90 F500"] + ["G1 X%d.125 Y-0.5 Z3" % i for i in range(12)] + ["M2"]) + "\n"
+FOUR_PLACES = (
+    "\n".join(
+        ["G21 G90 F500"] + ["G1 X%d.125 Y-0.5 Z3" % i for i in range(12)] + ["M2"]
+    )
+    + "\n"
+)
 
 
 @pytest.mark.rs274
@@ -62,7 +67,10 @@ def test_printed_tables_give_a_canon_the_same_calls(monkeypatch):
     as_written = compile_text(FOUR_PLACES, "cam.ngc")
     assert "as_printed" not in as_written
     assert _calls(as_written) == printed
-    assert ("straight_feed", (11.125, -0.5, 3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)) in printed
+    assert (
+        "straight_feed",
+        (11.125, -0.5, 3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+    ) in printed
 
 
 def test_converting_rows_never_reads_a_row_line_again(monkeypatch):
@@ -73,7 +81,40 @@ def test_converting_rows_never_reads_a_row_line_again(monkeypatch):
 
     reads = []
     full = parser.RowLine.full
-    monkeypatch.setattr(parser.RowLine, "full", lambda self: reads.append(self) or full(self))
+    monkeypatch.setattr(
+        parser.RowLine, "full", lambda self: reads.append(self) or full(self)
+    )
     lines = ["G21 G90 F300"] + ["G1 X%d.25 Y%d Z-1" % (i, i % 9) for i in range(500)]
     compile_text("\n".join(lines + ["M2"]) + "\n", "cam.ngc")
     assert reads == []
+
+
+def _stretch(template: str, count: int) -> str:
+    return "\n".join(template.format(k=k, x=k * 1.25, y=-k * 0.5) for k in range(count))
+
+
+BATCHES = {
+    # long stretches of one shape: runtime.printed_rows writes each in one go
+    "xy": "G21 G90 G17 F500\nG1 Z-1\n" + _stretch("X{x:.3f} Y{y:.3f}", 60) + "\nM2\n",
+    "numbered_with_feed": "G90\n"
+    + _stretch("N{k} G1 X{x:.2f} Z{y:.4f} F{k}1.5", 40)
+    + "\nM2\n",
+    "rapids_then_other_shapes": "G90\n"
+    + _stretch("G0 Y{y:.1f}", 20)
+    + "\n"
+    + _stretch("X{x:.1f} Y{y:.1f} A{k}", 12)
+    + "\nG1 F0\n"
+    + _stretch("G1 X{x:.1f}", 10)
+    + "\nM2\n",
+    "zero_feed_inside": "G90 F100\n"
+    + "\n".join("G1 X%d F%d" % (k, abs(k - 15)) for k in range(30))
+    + "\nM2\n",
+}
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize("name", sorted(BATCHES))
+def test_stretches_of_one_shape_match_rs274(name):
+    text = BATCHES[name]
+    assert "as_printed=True" in compile_text(text, "cam.ngc")
+    check_same(text, "inprocess")
