@@ -485,7 +485,7 @@ class Machine(
             if self.source.end[1]:
                 self.announce_block(None)
                 self.canon.finish()
-            raise self.source.missing_sub(name)
+            raise self.source.missing_sub(name, self.line)
         return fn
 
     def call(self, fn: Callable, *args: float) -> None:
