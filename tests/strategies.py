@@ -1276,7 +1276,8 @@ class JobWriter:
 
     def clear(self) -> None:
         """Back to the common state: clear of the work, absolute, XY plane."""
-        self.emit(f"G17 G90 G94 G0 Z{fmt(self.scale)}")
+        # (a feed rate again: G94 and the tapping cycles leave none)
+        self.emit(f"G17 G90 G94 G0 Z{fmt(self.scale)} F{fmt(10 * self.scale)}")
 
 
 @st.composite
@@ -1422,8 +1423,17 @@ _HOLE_AXES = {17: ("X", "Y", "Z"), 18: ("Z", "X", "Y"), 19: ("Y", "Z", "X")}
 
 def job_drill(w: JobWriter) -> None:
     """A drilling pattern: a row repeated with L in G91, a list of holes
-    each on its own line, or a grid from a loop, with every cycle's words."""
+    each on its own line, a grid from a loop, or holes drilled by a
+    subroutine called with their positions, with every cycle's words; or a
+    rigid tap (G33.1) into and out of a hole."""
     s = w.scale
+    if w.draw(st.integers(0, 5)) == 1:
+        w.spindle_on(3)
+        w.emit(f"G0 X{w.num(0, 1)} Y{w.num(0, 1)} Z{fmt(0.1 * s)}")
+        scale_i = w.pick(["", " I1.1", " I0.9"])
+        w.emit(f"G33.1 Z{w.num(-0.5, -0.1)} K{fmt(0.05 * s)}{scale_i}")
+        w.clear()
+        return
     plane = w.pick([17, 17, 18, 19])
     a, b, hole = _HOLE_AXES[plane]
     cycle = w.pick(["G81", "G82", "G83", "G73", "G84", "G74", "G85", "G86", "G87", "G88", "G89"])
@@ -1448,7 +1458,7 @@ def job_drill(w: JobWriter) -> None:
     feed = f" F{fmt(w.draw(st.integers(2, 30)) * s)}"
     z = w.num(-0.5, -0.1)
     rr = w.num(0.05, 0.3, 0.05)
-    pattern = w.draw(st.integers(0, 2))
+    pattern = w.draw(st.integers(0, 3))
     if pattern == 0 and cycle != "G74":
         n = w.draw(st.integers(1, 4))
         step = w.num(0.2, 1)
@@ -1465,6 +1475,17 @@ def job_drill(w: JobWriter) -> None:
                 words.append(w.pick(["G98", "G99"]))
             w.emit(" ".join(w.draw(st.permutations(words))))
         w.emit(w.pick(["G80", "G0 " + hole + fmt(top)]))
+    elif pattern == 3:
+        name = f"<holes{w.new_label()}>"
+        w.subs += [
+            f"o{name} sub",
+            f"  {retract} {cycle} {a}#1 {b}#2 {hole}{z} R{rr}{extra}{feed}",
+            f"  {a}[#1 + {fmt(0.3 * s)}]",
+            "  G80",
+            f"o{name} endsub",
+        ]
+        for _ in range(w.draw(st.integers(1, 3))):
+            w.emit(f"o{name} call [{w.num(-1, 1)}] [{w.num(-1, 1)}]")
     else:
         label = w.new_label()
         w.emit(f"#<row> = 0")
@@ -1518,6 +1539,14 @@ def job_lathe(w: JobWriter) -> None:
     w.emit(f"{cycle} " + " ".join(w.draw(st.permutations(words))))
     if w.draw(st.booleans()):
         w.emit(f"G70 Q{label} P{w.draw(st.integers(1, 2))}")
+    if w.draw(st.integers(0, 2)) == 1:
+        # a finishing pass along the profile under nose-radius compensation
+        w.emit(f"G0 X{fmt((x + 0.3) * s)} Z{fmt(0.3 * s)}")
+        orient = w.draw(st.integers(0, 9))
+        w.emit(w.pick([f"G42 D{t}", f"G41 D{t}", f"G42.1 D{fmt(0.02 * s)} L{orient}", f"G41.1 D{fmt(0.02 * s)} L{orient}"]))
+        w.emit(f"G1 X{fmt(0.4 * s)} Z{fmt(0.1 * s)} F{fmt(4 * s)}")
+        w.lines += [ln.strip() for ln in profile[1:-1]]
+        w.emit(f"G40 G0 X{fmt((x + 0.3) * s)}")
     thread = w.draw(st.integers(0, 2))
     w.emit(f"G0 X{fmt((x + 0.2) * s)} Z{fmt(0.2 * s)}")
     if thread == 0:
@@ -1599,12 +1628,14 @@ def job_modal_sub(w: JobWriter) -> None:
     body.append("  M70" if how == 0 else "  M73" if how == 1 else "  M70")
     changes = w.draw(
         st.lists(
-            st.sampled_from(["G20", "G21", "G91", "G18", "G61", "G64 P0.01", "F77", "M8", "G95", "G93", "G91.1", "S900 M4", "G55"]),
+            st.sampled_from(["G20", "G21", "G91", "G18", "G61", "G64 P0.01", "F77", "M8", "G95", "G93", "G90.1", "S900 M4", "G55"]),
             min_size=1,
             max_size=4,
             unique=True,
         )
     )
+    if "G93" in changes and "G95" in changes:
+        changes.remove("G95")  # one feed mode per line
     body.append("  " + " ".join(changes) if w.draw(st.booleans()) else "\n".join("  " + c for c in changes))
     body.append("  (debug, inside #<_metric> #<_absolute> #<_plane> #<_feed> #<_coord_system>)")
     if how == 0:
@@ -1615,7 +1646,7 @@ def job_modal_sub(w: JobWriter) -> None:
     body.append(f"o{name} endsub")
     w.subs += "\n".join(body).split("\n")
     if how == 2 and not w.errors:
-        w.subs[-3:-1] = ["  G90 G17 G94 G54 G64 G90.1 M9"]
+        w.subs[-3:-1] = ["  G90 G17 G94 G54 G64 G91.1 M9"]
     w.emit(f"o{name} call")
     w.emit("(debug, after #<_metric> #<_absolute> #<_plane> #<_feed> #<_coord_system> #<_flood>)")
     w.emit(f"G{20 if w.inch else 21} F{fmt(10 * s)}")
@@ -1686,6 +1717,57 @@ def job_frames(w: JobWriter) -> None:
     w.clear()
 
 
+def job_comp_mix(w: JobWriter) -> None:
+    """Outside compensation around a convex outline whose edges mix every
+    kind of feed move: lines, arcs along the outline, inverse-time moves
+    (F on each), a NURBS block, moves along Z, and calls rs274 queues."""
+    s = w.scale
+    radius = w.draw(st.integers(15, 40)) / 10 * s
+    angles = sorted(w.draw(st.lists(st.integers(0, 35), min_size=3, max_size=7, unique=True)))
+    ccw = w.draw(st.booleans())
+    if not ccw:
+        angles.reverse()
+    points = [(radius * math.cos(math.radians(a * 10)), radius * math.sin(math.radians(a * 10))) for a in angles]
+    side = "G42" if ccw else "G41"  # the tool outside the outline
+    diameter = fmt(w.draw(st.integers(1, 10)) / 20 * s)
+    side += w.pick([f".1 D{diameter}", f" D{w.pick(w.mill_tools())}", ""])
+    out = (points[0][0] * 1.6, points[0][1] * 1.6)
+    w.emit(f"G0 X{out[0]:.4f} Y{out[1]:.4f}")
+    w.emit(f"G1 Z{fmt(-0.1 * s)} F{fmt(10 * s)}")
+    w.emit(f"{side} G1 X{points[0][0]:.4f} Y{points[0][1]:.4f}")
+    inverse = False
+    for k in range(1, len(points) + 1):
+        end = points[k % len(points)]
+        kind = w.draw(st.integers(0, 6))
+        target = f"X{end[0]:.4f} Y{end[1]:.4f}"
+        if inverse and kind != 1:
+            w.emit(f"G94 F{fmt(10 * s)}")
+            inverse = False
+        if kind == 0:
+            w.emit(f"{'G3' if ccw else 'G2'} {target} R{radius:.4f}")
+        elif kind == 1:
+            inverse = True
+            w.emit(f"G93 G1 {target} F{w.draw(st.integers(5, 60))}")
+        elif kind == 2:
+            start = points[k - 1]
+            mid = ((start[0] + end[0]) / 2 * 1.05, (start[1] + end[1]) / 2 * 1.05)
+            w.emit(f"G5.2 X{start[0]:.4f} Y{start[1]:.4f} P1")
+            w.emit(f"X{mid[0]:.4f} Y{mid[1]:.4f} P{w.pick(['1', '2', '0.5'])}")
+            w.emit(f"{target} P1")
+            w.emit("G5.3")
+            w.emit("G1")
+        elif kind == 3:
+            w.emit(f"G1 {target} Z{fmt(-w.draw(st.integers(1, 3)) / 10 * s)}")
+        else:
+            w.emit(f"G1 {target}")
+        if w.draw(st.integers(0, 4)) == 0:
+            w.emit(w.pick(["(edge)", "M8", "M9", "G4 P0.2", f"F{fmt(12 * s)}", "M3 S800"]))
+    if inverse:
+        w.emit(f"G94 F{fmt(10 * s)}")
+    w.emit(f"G40 G0 X{out[0]:.4f} Y{out[1]:.4f}")
+    w.clear()
+
+
 #: Deliberately wrong lines: each breaks a rule of the chapters above.
 def _wrong_lines(w: JobWriter) -> list:
     s = w.scale
@@ -1708,6 +1790,9 @@ def _wrong_lines(w: JobWriter) -> list:
         "G5.1 I1 X1 Y1",  # no J
         "G5.2 X1 Y1 P1\nX2 Y2\nG5.3",  # a NURBS point without weight
         "G18\nG71 Q999 D0.1",  # profile subroutine never defined
+        "G41.1 D0.1\nG1 X1 Y1\nG5 I1 J0 P1 Q0 X2 Y2",  # cubic spline under comp
+        "G18 G41.1 D0.1\nG1 X1 Z1\nG71 Q999 D0.1",  # lathe cycle under comp
+        "G41.1 D0.1\nG1 X1 Y1\nG38.2 X2",  # probing under comp
         "G96 D2000 M3",  # constant surface speed without S
         f"G43 H{missing}",
         f"T{missing} M6",
@@ -1736,15 +1821,16 @@ JOBS = [
     (job_modal_sub, 2),
     (job_io, 1),
     (job_frames, 2),
+    (job_comp_mix, 2),
 ]
 
 
 @st.composite
-def whole_language_programs(draw, errors: bool = True, max_jobs: int = 5) -> tuple:
+def whole_language_programs(draw, errors: bool = True, max_jobs: int = 7) -> tuple:
     """A job-shop program and its tool table: ``(program text, table text)``.
 
     The program runs with ``-t`` and the table in its folder. With
-    ``errors``, about one program in four has a wrong line somewhere
+    ``errors``, about one program in five has a wrong line somewhere
     between its jobs (and may end there)."""
     tools = draw(tool_tables())
     inch = draw(st.booleans())
@@ -1756,7 +1842,8 @@ def whole_language_programs(draw, errors: bool = True, max_jobs: int = 5) -> tup
     w.emit(f"G0 Z{fmt(s)}")
     fns = [f for f, k in JOBS for _ in range(k)]
     jobs = draw(st.lists(st.sampled_from(fns), min_size=1, max_size=max_jobs))
-    wrong_at = draw(st.integers(0, len(jobs))) if errors and draw(st.integers(0, 3)) == 0 else None
+    # (a middle value: Hypothesis draws the ends of a range more often)
+    wrong_at = draw(st.integers(0, len(jobs))) if errors and draw(st.integers(0, 4)) == 2 else None
     for k, job in enumerate(jobs):
         if k == wrong_at:
             w.lines += draw(st.sampled_from(_wrong_lines(w))).split("\n")
