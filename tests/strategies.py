@@ -1634,8 +1634,10 @@ def job_modal_sub(w: JobWriter) -> None:
             unique=True,
         )
     )
-    if "G93" in changes and "G95" in changes:
-        changes.remove("G95")  # one feed mode per line
+    # one code of a modal group per line
+    for first, second in (("G93", "G95"), ("G61", "G64 P0.01"), ("G20", "G21")):
+        if first in changes and second in changes:
+            changes.remove(second)
     body.append("  " + " ".join(changes) if w.draw(st.booleans()) else "\n".join("  " + c for c in changes))
     body.append("  (debug, inside #<_metric> #<_absolute> #<_plane> #<_feed> #<_coord_system>)")
     if how == 0:
