@@ -1857,3 +1857,25 @@ def whole_language_programs(draw, errors: bool = True, max_jobs: int = 7) -> tup
     if draw(st.integers(0, 3)) == 0:
         lines = [f"N{10 * (i + 1)} {ln}" if not ln.lstrip().lower().startswith("o") else ln for i, ln in enumerate(lines)]
     return "\n".join(lines) + "\n", tool_table_text(draw, tools)
+
+
+@st.composite
+def broken_whole_language_programs(draw) -> tuple:
+    """A whole-language program (with its tool table) with one line broken
+    as ``invalid_programs`` breaks them, or a line's words shuffled onto a
+    code family that does not take them: errors in the middle of a cycle,
+    a compensated outline, a lathe cycle's profile."""
+    text, table = draw(whole_language_programs(errors=False))
+    lines = text.splitlines()
+    k = draw(st.integers(0, len(lines) - 1))
+    if draw(st.integers(0, 3)) == 1:
+        # words of other families added to a line of this program
+        extra = draw(st.sampled_from([
+            "G41.1 D0.1", "G40", "G43 H1", "G80", "G96 S100", "G93", "G95", "M70", "M72",
+            "G38.2 Z-1", "G5.3", "G7", "G33 K1", "G76 P1", "M19 R10", "M66 P0 L0", "L2", "K0.1",
+            "G18", "G20", "G91", "G92 X0", "G10 L1 P1 Z0", "M6", "T1", "M61 Q1", "$0 M3", "D1",
+        ]))
+        lines[k] = f"{lines[k].rstrip()} {extra}"
+    else:
+        lines[k] = draw(mutated_line(lines[k]))
+    return "\n".join(lines) + "\n", table

@@ -72,3 +72,10 @@ def test_whole_language_generator_writes_valid_programs(program):
     if result.timed_out:
         reject()
     assert result.rc == 0, f"rs274 rejects a generated valid program:\n{text}\n{table}\n{result.describe()}"
+
+
+@settings(PROFILE, max_examples=max(10, PROFILE.max_examples // 2))
+@given(strategies.broken_whole_language_programs())
+def test_broken_whole_language_programs_run(program):
+    """One line broken: errors inside cycles, compensation, lathe profiles."""
+    check_same(program, "inprocess")
