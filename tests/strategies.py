@@ -13,6 +13,12 @@ changes and length offsets, G10 L1/L10/L11, M19, override switches,
 digital/analog I/O and M66, M70-M73, (py,...) comments, Fanuc M98 calls
 (also as a computed M value).
 
+``whole_language_programs()`` writes job-shop programs with their own tool
+table (pockets under compensation, drilling patterns, lathe profiles,
+probing, splines, modal subroutines, I/O), written from the language's
+chapters rather than from ngc2py; ``broken_whole_language_programs()``
+breaks one of their lines.
+
 ``invalid_programs()`` takes such a program and breaks one line: junk
 characters, unbalanced brackets, unknown letters, repeated words, bad or
 mismatched O-words, undefined parameters, arithmetic errors, broken canned
