@@ -13,7 +13,9 @@ parameter in generated code, nor in an O-word line: control has left the
 compiled line by then, so ngc2py stops there as with ``-n 2`` (rs274 would
 carry on with its next line). An error inside a subroutine drops every call
 level, as rs274 does, and the program goes on after the outermost call line
-(rs274 also forgets the subroutines it has read; ngc2py does not). Where rs274 repeats an error forever (a file
+(rs274 also forgets the subroutines it has read; ngc2py does not). The
+moves and calls held back by cutter compensation are dropped, as rs274
+clears its queue. Where rs274 repeats an error forever (a file
 that ends without ``%`` or M2, under ``-n 0``), ngc2py reports it once and
 stops. ngc2py has no MDI: lines given in MDI mode are refused, one message
 each, and ``quit`` or the end of stdin leaves MDI mode.
@@ -78,6 +80,7 @@ def _continuing(machine, method: Callable, after_error: Callable) -> Callable:
         except GCodeError as error:
             error.ngc_outer_frames = g_code_frames_of_stack()
             after_error(error)
+            machine._comp_forget_queue()
             if machine.call_level > 0:
                 raise _Unwound(error) from None
         return None

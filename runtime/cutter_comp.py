@@ -232,6 +232,13 @@ class CutterCompMixin:
             self._move_endpoint_and_flush(cx, cy)
         self._dequeue()
 
+    def _comp_forget_queue(self) -> None:
+        """After an error rs274 clears its queue (qc_reset in unwind_call):
+        the pending move and the calls behind it are never made, while
+        compensation itself stays on. Matters under ``-n 0``."""
+        self._cc.queue.clear()
+        self._cc.endpoint_valid = False
+
     def _comp_check_arc_allowed(self) -> None:
         if self._cc.arc_not_allowed:
             raise GCodeError(

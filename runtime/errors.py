@@ -124,16 +124,18 @@ class SourceMap:
         message, line = self.open_error
         return message, Location(self.files[0], line, self.text(0, line))
 
-    def missing_sub(self, name: str) -> GCodeError:
+    def missing_sub(self, name: str, row_line: Optional[int] = None) -> GCodeError:
         """rs274's error for calling ``name`` when neither a definition nor
         a file ``name.ngc`` exists: it reads to the end of the main file
-        looking for the ``sub`` line, and reports that last line."""
+        looking for the ``sub`` line, and reports that last line.
+        ``row_line``: the line being executed, for a call made from a data
+        row (a G71 Q word), whose frame has no line of its own."""
         last, closed = self.end
         location = Location(self.files[0], last, self.text(0, last))
         if closed:
             message = "Failed to find sub 'O%s' before EOF" % name
         else:
-            calls = g_code_frames_of_stack()
+            calls = g_code_frames_of_stack(row_line)
             line = calls[-1].line if calls else 0
             message = "EOF in file:%s seeking o-word: o<%s> from line: %d" % (
                 self.files[0],
@@ -143,14 +145,15 @@ class SourceMap:
         return GCodeError(message, location)
 
 
-def g_code_frames_of_stack() -> List[Location]:
-    """The G-code locations of the generated frames now on the stack."""
+def g_code_frames_of_stack(row_line: Optional[int] = None) -> List[Location]:
+    """The G-code locations of the generated frames now on the stack
+    (``row_line``: the line of a data-row frame, see SourceMap.lookup)."""
     found: List[Location] = []
     frame = sys._getframe(1)
     while frame is not None:
         source_map = frame.f_globals.get("__ngc__")
         if isinstance(source_map, SourceMap):
-            location = source_map.lookup(frame.f_lineno)
+            location = source_map.lookup(frame.f_lineno, row_line)
             if location is not None:
                 found.append(location)
         frame = frame.f_back

@@ -175,9 +175,15 @@ class FastPathMixin:
                 at += 2 + plan.width
         finally:
             self.line = int(cells[row])
-            self.current = self.world.position = self._params.position = cur
-            self.motion_mode = motion_mode
-            self.feed_rate = self.world.feed_rate = feed_rate
+            # Publish only what the rows changed: the canon model's position
+            # and feed rate may rightly differ from the interpreter's (tool
+            # length offsets, unit changes: runtime/world.py), and this loop
+            # is entered before every general row too.
+            if cur is not self.current:
+                self.current = self.world.position = self._params.position = cur
+                self.motion_mode = motion_mode
+            if feed_rate != self.feed_rate:
+                self.feed_rate = self.world.feed_rate = feed_rate
             self._block_n = block_n
         return at
 

@@ -135,6 +135,7 @@ from runtime.motion import (
 from runtime.lathe import ThreadingMixin
 from runtime.lathe_cycles import LatheCyclesMixin
 from runtime.probing import ProbingMixin
+from runtime.spindle_select import check_dollar
 from runtime.splines import SplinesMixin
 from runtime.offsets import COORD_SYSTEM, G92_ENABLED, OffsetsMixin
 from runtime.params import ArgCountLocals, Globals, Locals, Params
@@ -485,7 +486,7 @@ class Machine(
             if self.source.end[1]:
                 self.announce_block(None)
                 self.canon.finish()
-            raise self.source.missing_sub(name)
+            raise self.source.missing_sub(name, self.line)
         return fn
 
     def call(self, fn: Callable, *args: float) -> None:
@@ -631,10 +632,12 @@ class Machine(
         if SPINDLE_MODE in g:
             self._spindle_mode(g[SPINDLE_MODE], words)
         if FEED_MODE in g:
+            check_dollar(words, "feed")
             self._feed_mode(g[FEED_MODE])
         if "f" in words and self.feed_mode != INVERSE_TIME:
             self._set_feed_rate(words["f"])
         if "s" in words:
+            check_dollar(words, "speed")
             self.speed = words["s"]
             self.canon.set_spindle_speed(0, self.speed)
         if "t" in words:
@@ -758,6 +761,7 @@ class Machine(
         self.retract_r_plane = not old_z
 
     def _spindle_mode(self, code: int, words) -> None:
+        check_dollar(words, "mode")
         if code == G97:
             self.css_mode = False
             self.canon.set_spindle_mode(0, 0.0)

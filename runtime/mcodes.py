@@ -20,6 +20,7 @@ from runtime.codes import G1
 from runtime.errors import GCodeError
 from runtime.motion import UNITS_PER_MINUTE, rotate
 from runtime.offsets import COORD_SYSTEM
+from runtime.spindle_select import check_dollar
 
 #: Where M66 leaves the value of the input it read.
 INPUT_PARAM = 5399
@@ -106,6 +107,8 @@ class MCodesMixin:
     def _spindle(self, code: int, words) -> bool:
         """Group 7: spindle and modal state; True when M72 replaced the line."""
         canon = self.canon
+        if code in (3, 4, 5, 19):
+            check_dollar(words, "m%d" % code)
         if code == 3:
             canon.start_spindle_clockwise(0)
             self.spindle = "cw"
@@ -185,6 +188,8 @@ class MCodesMixin:
 
     def _overrides(self, code: int, words) -> None:
         on = code == 48 or (code != 49 and words.get("p", -1.0) != 0)
+        if code == 51:
+            check_dollar(words, "m51")
         if self.cutter_comp:
             raise GCodeError(
                 f"Cannot {'enable' if on else 'disable'} overrides"

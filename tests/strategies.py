@@ -13,6 +13,12 @@ changes and length offsets, G10 L1/L10/L11, M19, override switches,
 digital/analog I/O and M66, M70-M73, (py,...) comments, Fanuc M98 calls
 (also as a computed M value).
 
+``whole_language_programs()`` writes job-shop programs with their own tool
+table (pockets under compensation, drilling patterns, lathe profiles,
+probing, splines, modal subroutines, I/O), written from the language's
+chapters rather than from ngc2py; ``broken_whole_language_programs()``
+breaks one of their lines.
+
 ``invalid_programs()`` takes such a program and breaks one line: junk
 characters, unbalanced brackets, unknown letters, repeated words, bad or
 mismatched O-words, undefined parameters, arithmetic errors, broken canned
@@ -1214,3 +1220,668 @@ def compensated_programs(draw, tool_table: bool = False) -> str:
     lines.append(draw(st.sampled_from(["M2", "M30"])))
     text = "\n".join(lines).split("\n")
     return "\n".join(f"N{10 * (i + 1)} {line}" for i, line in enumerate(text)) + "\n"
+
+
+# --------------------------------------------------------------------------
+# whole-language programs: realistic jobs mixing every code family
+# --------------------------------------------------------------------------
+
+# Written from the G Codes, M Codes, Canned Cycles, Cutter Compensation and
+# Tool Table chapters of the LinuxCNC 2.9 documentation, not from ngc2py's
+# runtime: each "job" below is what a part program does with a family of
+# codes (a pocket cut under G41/G42 with a lead-in and arc corners, a
+# drilling pattern in a plane, a lathe profile roughed with G71 and finished
+# with G70, tool changes measured from a tool table drawn with the program,
+# a probe whose results are used through #5061-#5070, splines, modal state
+# saved and restored in a subroutine, the I/O M codes). Every job leaves the
+# machine in G17 G90 G94 G40 G80 with the tool clear above the work, so jobs
+# combine in any order. With ``errors``, a program may also carry one
+# deliberately wrong use (a code the documentation rejects in that context);
+# the differential test only asks that ngc2py fail as rs274 does.
+
+
+class JobWriter:
+    """Lines of a whole-language program and what the jobs need to know."""
+
+    def __init__(self, draw, tools: dict, inch: bool):
+        self.draw = draw
+        self.tools = tools  # tool number -> (pocket, diameter, lathe?)
+        self.inch = inch
+        self.scale = 1.0 if inch else 25.0
+        self.lines: List[str] = []
+        self.subs: List[str] = []  # subroutine definitions, written first
+        self.label = 200
+        self.spindle = 0  # 0 stopped, 3 clockwise, 4 counter-clockwise
+        self.numbered = False
+
+    def emit(self, line: str) -> None:
+        self.lines.append(line)
+
+    def num(self, lo: float, hi: float, step: float = 0.1) -> str:
+        """A value between lo and hi (times the unit scale), on a grid."""
+        steps = int(round((hi - lo) / step))
+        return fmt((lo + self.draw(st.integers(0, steps)) * step) * self.scale)
+
+    def new_label(self) -> int:
+        self.label += 1
+        return self.label
+
+    def pick(self, options):
+        return self.draw(st.sampled_from(list(options)))
+
+    def mill_tools(self) -> list:
+        return [t for t, (_, _, lathe) in self.tools.items() if not lathe]
+
+    def lathe_tools(self) -> list:
+        return [t for t, (_, _, lathe) in self.tools.items() if lathe]
+
+    def spindle_on(self, direction: int = 3) -> None:
+        if self.spindle != direction:
+            self.emit(f"S{self.pick([500, 1200, 3000])} M{direction}")
+            self.spindle = direction
+
+    def clear(self) -> None:
+        """Back to the common state: clear of the work, absolute, XY plane."""
+        # (a feed rate again: G94 and the tapping cycles leave none)
+        self.emit(f"G17 G90 G94 G0 Z{fmt(self.scale)} F{fmt(10 * self.scale)}")
+
+
+@st.composite
+def tool_tables(draw) -> dict:
+    """Mill tools (diameters, lengths) and lathe tools (orientation Q,
+    X and Z offsets) for a program to change between; pockets are
+    distinct from the tool numbers sometimes."""
+    tools = {}
+    numbers_ = draw(st.lists(st.integers(1, 30), min_size=2, max_size=5, unique=True))
+    for i, t in enumerate(numbers_):
+        lathe = i > 0 and draw(st.integers(0, 3)) == 0
+        diameter = draw(st.integers(1, 10)) / 20  # 0.05 .. 0.5 (table units: inch)
+        pocket = t if draw(st.booleans()) else t + 40
+        tools[t] = (pocket, diameter, lathe)
+    return tools
+
+
+def tool_table_text(draw, tools: dict) -> str:
+    lines = ["; drawn by tests/strategies.py whole_language_programs"]
+    for t, (pocket, diameter, lathe) in tools.items():
+        z = draw(st.integers(-20, 40)) / 10
+        words = [f"T{t}", f"P{pocket}", f"Z{fmt(z)}", f"D{fmt(diameter)}"]
+        if lathe:
+            words += [f"X{fmt(draw(st.integers(-10, 10)) / 10)}", f"Q{draw(st.integers(1, 9))}"]
+        lines.append(" ".join(words) + draw(st.sampled_from(["", " ;tool", " ; a comment"])))
+    return "\n".join(lines) + "\n"
+
+
+def job_tool_change(w: JobWriter) -> None:
+    """Tool changes and length offsets, and the G10 table writes."""
+    t = w.pick(w.mill_tools())
+    how = w.draw(st.integers(0, 2))
+    if how == 0:
+        w.emit(f"T{t} M6")
+    elif how == 1:
+        w.emit(f"M6 T{t} G43")  # the change happens before G43 on a line
+    else:
+        w.emit(f"M61 Q{t}")
+    other = w.pick(w.tools)
+    w.emit(w.pick(["G43", f"G43 H{other}", f"G43.1 Z{w.num(-1, 1)}", "G49", f"G43 H0"]))
+    if w.draw(st.booleans()):
+        w.emit(f"G43.2 H{w.pick(w.tools)}")
+    if w.draw(st.booleans()):
+        kind = w.pick(["L1", "L10", "L11"])
+        extra = f" R{w.num(0, 0.2, 0.05)}" if kind == "L1" and w.draw(st.booleans()) else ""
+        w.emit(f"G10 {kind} P{other} Z{w.num(-1, 2)}{extra}")
+        if w.draw(st.booleans()):
+            w.emit(f"T{other} M6 G43")
+    w.emit("(debug, tool #<_current_tool> pocket #<_current_pocket> offset #5403 #5410)")
+    w.emit(f"G0 X{w.num(0, 2)} Y{w.num(0, 2)}")
+
+
+def job_pocket(w: JobWriter) -> None:
+    """A rounded-rectangle pocket or boss cut under compensation: a lead-in
+    line or arc onto the first side, lines and corner arcs, a lead-out with
+    G40. Inside a pocket the corner radius exceeds every tool radius."""
+    s = w.scale
+    t = w.pick(w.mill_tools())
+    w.emit(f"T{t} M6 G43")
+    w.spindle_on(3)
+    width = w.draw(st.integers(20, 60)) / 10 * s
+    height = w.draw(st.integers(20, 60)) / 10 * s
+    r = w.draw(st.integers(3, 9)) / 10 * s  # corner radius > 0.25 inch
+    x0, y0 = w.draw(st.integers(-20, 20)) / 10 * s, w.draw(st.integers(-20, 20)) / 10 * s
+    inside = w.draw(st.booleans())
+    ccw = w.draw(st.booleans())
+    side = ("G41" if ccw else "G42") if inside else ("G42" if ccw else "G41")
+    dword = w.pick([f" D{t}", "", f" D{w.pick(w.mill_tools())}"])
+    if w.draw(st.integers(0, 3)) == 0:
+        side += ".1"
+        dword = f" D{fmt(w.draw(st.integers(0, 10)) / 20 * s)}"
+    depth = w.num(0.1, 0.5)
+    x1, y1, x2, y2 = x0, y0, x0 + width, y0 + height
+    # corners, going counter-clockwise from the middle of the bottom side
+    mid = ((x1 + x2) / 2, y1)
+    path = [
+        ("G1", (x2 - r, y1), None),
+        ("G3", (x2, y1 + r), (0, r)),
+        ("G1", (x2, y2 - r), None),
+        ("G3", (x2 - r, y2), (-r, 0)),
+        ("G1", (x1 + r, y2), None),
+        ("G3", (x1, y2 - r), (0, -r)),
+        ("G1", (x1, y1 + r), None),
+        ("G3", (x1 + r, y1), (r, 0)),
+        ("G1", mid, None),
+    ]
+    if not ccw:  # the same sides backwards: clockwise
+        points = [mid] + [p for _, p, _ in path]
+        rev = []
+        for k in range(len(path) - 1, -1, -1):
+            code, end, ij = path[k]
+            start = points[k]
+            if code == "G3":
+                cx, cy = start[0] + ij[0], start[1] + ij[1]
+                rev.append(("G2", start, (cx - end[0], cy - end[1])))
+            else:
+                rev.append(("G1", start, None))
+        path = rev
+    start = (mid[0], mid[1] + r) if inside else (mid[0], mid[1] - 2 * r)
+    w.emit(f"G0 X{start[0]:.4f} Y{start[1]:.4f}")
+    w.emit(f"G0 Z{fmt(0.1 * s)}")
+    w.emit(f"G1 Z-{depth} F{fmt(5 * s)}")
+    feed = f" F{fmt(w.draw(st.integers(5, 40)) * s)}"
+    if w.draw(st.booleans()):
+        w.emit(f"{side}{dword} G1 X{mid[0]:.4f} Y{mid[1]:.4f}{feed}")
+    else:
+        # an arc lead-in tangent to the side
+        w.emit(f"{side}{dword}")
+        # (a quarter circle whose centre is `start`, entered by a line
+        # longer than any tool radius)
+        side_x = mid[0] - r if ccw else mid[0] + r
+        w.emit(f"G1 X{side_x:.4f} Y{start[1]:.4f}{feed}")
+        if inside:
+            code = "G3" if ccw else "G2"
+            w.emit(f"{code} X{mid[0]:.4f} Y{mid[1]:.4f} " + w.pick([f"R{r:.4f}", f"I{mid[0] - side_x:.4f} J0"]))
+        else:
+            w.emit(f"G1 X{mid[0]:.4f} Y{mid[1]:.4f}")
+    incremental = w.draw(st.integers(0, 4)) == 0
+    here = mid
+    for code, end, ij in path:
+        if incremental:
+            words = f"X{end[0] - here[0]:.4f} Y{end[1] - here[1]:.4f}"
+        else:
+            words = f"X{end[0]:.4f} Y{end[1]:.4f}"
+        if ij is not None:
+            if w.draw(st.booleans()):
+                words += f" I{ij[0]:.4f} J{ij[1]:.4f}"
+            else:
+                words += f" R{r:.4f}"
+        w.emit(("G91 " if incremental else "") + f"{code} {words}")
+        here = end
+        if w.draw(st.integers(0, 6)) == 0:
+            w.emit(w.pick(["(corner)", "M8", "M9", "G4 P0.1", f"F{fmt(10 * s)}", "(debug, #<_ccomp>)"]))
+    if incremental:
+        w.emit("G90")
+    w.emit(f"G40 G1 X{start[0]:.4f} Y{start[1]:.4f}")
+    w.clear()
+
+
+#: Canned cycles: the plane, its two in-plane letters and the hole axis.
+_HOLE_AXES = {17: ("X", "Y", "Z"), 18: ("Z", "X", "Y"), 19: ("Y", "Z", "X")}
+
+
+def job_drill(w: JobWriter) -> None:
+    """A drilling pattern: a row repeated with L in G91, a list of holes
+    each on its own line, a grid from a loop, or holes drilled by a
+    subroutine called with their positions, with every cycle's words; or a
+    rigid tap (G33.1) into and out of a hole."""
+    s = w.scale
+    if w.draw(st.integers(0, 5)) == 1:
+        w.spindle_on(3)
+        w.emit(f"G0 X{w.num(0, 1)} Y{w.num(0, 1)} Z{fmt(0.1 * s)}")
+        scale_i = w.pick(["", " I1.1", " I0.9"])
+        w.emit(f"G33.1 Z{w.num(-0.5, -0.1)} K{fmt(0.05 * s)}{scale_i}")
+        w.clear()
+        return
+    plane = w.pick([17, 17, 18, 19])
+    a, b, hole = _HOLE_AXES[plane]
+    cycle = w.pick(["G81", "G82", "G83", "G73", "G84", "G74", "G85", "G86", "G87", "G88", "G89"])
+    if cycle in ("G84", "G86", "G87", "G88"):
+        w.spindle_on(3)
+    elif cycle == "G74":
+        w.spindle_on(4)
+    elif w.draw(st.booleans()):
+        w.spindle_on(3)
+    retract = w.pick(["G98", "G99"])
+    top = 1.0 * s
+    w.emit(f"G{plane} G0 {hole}{fmt(top)}")
+    extra = ""
+    if cycle in ("G82", "G86", "G88", "G89"):
+        extra += f" P{w.num(0, 1)}"  # the dwell these cycles require
+    if cycle in ("G83", "G73"):
+        extra += f" Q{w.num(0.05, 0.3, 0.05)}"
+    if cycle == "G87":
+        # back boring: the offsets in the plane, then the level to bore up to
+        off1, off2, level = {17: ("I", "J", "K"), 18: ("K", "I", "J"), 19: ("J", "K", "I")}[plane]
+        extra += f" {off1}{w.num(0.05, 0.2, 0.05)} {off2}0 {level}{w.num(-0.4, -0.2)}"
+    feed = f" F{fmt(w.draw(st.integers(2, 30)) * s)}"
+    z = w.num(-0.5, -0.1)
+    rr = w.num(0.05, 0.3, 0.05)
+    pattern = w.draw(st.integers(0, 3))
+    if pattern == 0 and cycle != "G74":
+        n = w.draw(st.integers(1, 4))
+        step = w.num(0.2, 1)
+        w.emit(f"G0 {a}0 {b}0")
+        w.emit(f"G91 {retract} {cycle} {a}{step} {b}0 {hole}{fmt(-0.6 * s)} R{fmt(-0.4 * s)}{extra} L{n}{feed}")
+        w.emit("G90 G80")
+    elif pattern == 1:
+        w.emit(f"{retract} {cycle} {a}{w.num(0, 1)} {b}{w.num(0, 1)} {hole}{z} R{rr}{extra}{feed}")
+        for _ in range(w.draw(st.integers(0, 3))):
+            words = [f"{a}{w.num(-1, 2)}", f"{b}{w.num(-1, 2)}"]
+            if w.draw(st.integers(0, 3)) == 0:
+                words.append(f"{hole}{w.num(-0.6, -0.1)}")  # a new depth sticks
+            if w.draw(st.integers(0, 4)) == 0:
+                words.append(w.pick(["G98", "G99"]))
+            w.emit(" ".join(w.draw(st.permutations(words))))
+        w.emit(w.pick(["G80", "G0 " + hole + fmt(top)]))
+    elif pattern == 3:
+        name = f"<holes{w.new_label()}>"
+        w.subs += [
+            f"o{name} sub",
+            f"  {retract} {cycle} {a}#1 {b}#2 {hole}{z} R{rr}{extra}{feed}",
+            f"  {a}[#1 + {fmt(0.3 * s)}]",
+            "  G80",
+            f"o{name} endsub",
+        ]
+        for _ in range(w.draw(st.integers(1, 3))):
+            w.emit(f"o{name} call [{w.num(-1, 1)}] [{w.num(-1, 1)}]")
+    else:
+        label = w.new_label()
+        w.emit(f"#<row> = 0")
+        w.emit(f"o{label} while [#<row> LT {w.draw(st.integers(1, 3))}]")
+        w.emit(
+            f"  {retract} {cycle} {a}[#<row> * {fmt(0.5 * s)}] {b}{w.num(0, 1)} {hole}{z} R{rr}{extra}{feed}"
+        )
+        w.emit("  #<row> = [#<row> + 1]")
+        w.emit(f"o{label} endwhile")
+        w.emit("G80")
+    w.clear()
+
+
+def job_lathe(w: JobWriter) -> None:
+    """Turning in XZ: a lathe tool, diameter or radius mode, constant surface
+    speed with a limit, a profile roughed by G71 (or faced by G72) and
+    finished by G70, a thread (G33 or G76), back to rpm mode."""
+    s = w.scale
+    lathe = w.lathe_tools() or w.mill_tools()
+    t = w.pick(lathe)
+    mode = w.pick(["G7", "G8"])
+    w.emit(f"G18 {mode}")
+    w.emit(f"T{t} M6 G43")
+    if w.draw(st.booleans()):
+        w.emit(f"G96 D{w.pick([1500, 2500])} S{w.pick([100, 250])} M3")
+    else:
+        w.emit(f"G97 S{w.pick([400, 800])} M3")
+    w.spindle = 3
+    label = w.new_label()
+    x, z = 0.4, 0.0
+    profile = [f"o{label} sub", f"  G1 X{fmt(x * s)} Z0"]
+    for _ in range(w.draw(st.integers(1, 3))):
+        dx = w.draw(st.integers(2, 6)) / 10
+        dz = w.draw(st.integers(3, 10)) / 10
+        corner = w.pick(["", "", f" C{fmt(0.02 * s)}"])
+        if w.draw(st.booleans()):
+            x, z = x + dx, z - dz
+            profile.append(f"  G1 X{fmt(x * s)} Z{fmt(z * s)}")
+        else:
+            z -= dz
+            profile.append(f"  G1 Z{fmt(z * s)}{corner}")
+            x += dx
+            profile.append(f"  G1 X{fmt(x * s)}")
+    profile.append(f"o{label} endsub")
+    w.subs += profile
+    w.emit(f"G0 X{fmt((x + 0.2) * s)} Z{fmt(0.2 * s)}")
+    cycle = w.pick(["G71", "G71", "G71.1", "G72"])
+    words = [f"Q{label}", f"D{fmt(w.draw(st.integers(1, 5)) / 50 * s)}", f"F{fmt(4 * s)}"]
+    if w.draw(st.booleans()):
+        words.append(f"I{fmt(0.02 * s)}")
+    w.emit(f"{cycle} " + " ".join(w.draw(st.permutations(words))))
+    if w.draw(st.booleans()):
+        w.emit(f"G70 Q{label} P{w.draw(st.integers(1, 2))}")
+    if w.draw(st.integers(0, 2)) == 1:
+        # a finishing pass along the profile under nose-radius compensation
+        w.emit(f"G0 X{fmt((x + 0.3) * s)} Z{fmt(0.3 * s)}")
+        orient = w.draw(st.integers(0, 9))
+        w.emit(w.pick([f"G42 D{t}", f"G41 D{t}", f"G42.1 D{fmt(0.02 * s)} L{orient}", f"G41.1 D{fmt(0.02 * s)} L{orient}"]))
+        w.emit(f"G1 X{fmt(0.4 * s)} Z{fmt(0.1 * s)} F{fmt(4 * s)}")
+        w.lines += [ln.strip() for ln in profile[1:-1]]
+        w.emit(f"G40 G0 X{fmt((x + 0.3) * s)}")
+    thread = w.draw(st.integers(0, 2))
+    w.emit(f"G0 X{fmt((x + 0.2) * s)} Z{fmt(0.2 * s)}")
+    if thread == 0:
+        w.emit(f"G33 Z{fmt(-0.5 * s)} K{fmt(0.05 * s)}")
+    elif thread == 1:
+        w.emit(
+            f"G76 P{fmt(0.05 * s)} Z{fmt(-0.5 * s)} I{fmt(-0.05 * s)} J{fmt(0.01 * s)} K{fmt(0.03 * s)}"
+            + w.pick(["", f" Q29.5 R1.5 H2 E{fmt(0.02 * s)} L2"])
+        )
+    w.emit(f"G97 S{w.pick([400, 800])}")
+    if mode == "G7":
+        w.emit("G8")
+    w.emit(f"G0 X{fmt((x + 0.5) * s)}")
+    w.clear()
+
+
+def job_probe(w: JobWriter) -> None:
+    """Probe down to the surface, then use the result (#5061-#5070) to set a
+    work offset and move relative to it; sometimes a sideways probe too."""
+    s = w.scale
+    w.emit(f"G0 X{w.num(0, 1)} Y{w.num(0, 1)} Z{fmt(0.5 * s)}")
+    code = w.pick(["G38.2", "G38.3", "G38.4", "G38.5"])
+    if w.draw(st.booleans()):
+        w.emit(f"G91 {code} Z{fmt(-w.draw(st.integers(1, 10)) / 10 * s)} F{fmt(2 * s)}")
+        w.emit("G90")
+    else:
+        w.emit(f"{code} Z{w.num(-1, 0.4)} F{fmt(2 * s)}")
+    w.emit("(debug, probed #5061 #5062 #5063 ok #5070)")
+    use = w.draw(st.integers(0, 3))
+    if use == 0:
+        label = w.new_label()
+        w.emit(f"o{label} if [#5070 EQ 0]")
+        w.emit("  (MSG, probe did not trip)")
+        w.emit(f"o{label} endif")
+    elif use == 1:
+        w.emit(f"G10 L20 P{w.draw(st.integers(1, 3))} Z[#5063 - #5063]")
+    elif use == 2:
+        w.emit("#<surface> = #5063")
+        w.emit(f"G0 Z[#<surface> + {fmt(0.2 * s)}]")
+    else:
+        w.emit(f"G38.3 X[#5061 + {fmt(0.5 * s)}] F{fmt(3 * s)}")
+        w.emit("(debug, side #5061 #5062 #5070)")
+    w.clear()
+
+
+def job_spline(w: JobWriter) -> None:
+    """Splines in the XY plane at feed: a cubic G5 chain (the second one
+    without I and J), a quadratic G5.1, a NURBS G5.2 ... G5.3."""
+    s = w.scale
+    w.emit(f"G0 X0 Y0")
+    w.emit(f"G1 Z{fmt(-0.1 * s)} F{fmt(10 * s)}")
+    kind = w.draw(st.integers(0, 2))
+    if kind == 0:
+        w.emit(f"G5 I{w.num(0, 1)} J{w.num(0, 1)} P{w.num(-1, 0)} Q{w.num(0, 1)} X{w.num(1, 2)} Y{w.num(0, 1)}")
+        if w.draw(st.booleans()):
+            w.emit(f"G5 P{w.num(-1, 0)} Q{w.num(0, 1)} X{w.num(2, 3)} Y{w.num(0, 1)}")
+    elif kind == 1:
+        w.emit(f"G5.1 I{w.num(0, 1)} J{w.num(0.1, 1)} X{w.num(1, 2)} Y{w.num(-1, 1)}")
+    else:
+        order = w.pick([3, 4])
+        w.emit(f"G5.2 X{w.num(0, 1)} Y{w.num(0, 1)} P1" + (f" L{order}" if order != 3 else ""))
+        for _ in range(order):
+            w.emit(f"X{w.num(0, 3)} Y{w.num(0, 3)} P{w.pick(['1', '0.5', '2'])}")
+        w.emit("G5.3")
+    w.emit("(debug, after the spline #5420 #5421)")
+    w.emit(f"G0 Z{fmt(s)}")
+    w.emit("G1 X0 Y0")  # a known point again
+    w.clear()
+
+
+def job_modal_sub(w: JobWriter) -> None:
+    """A subroutine that changes modes and puts them back: M70/M72 around
+    the changes, or M73 for an automatic restore at its return; M71 makes a
+    saved state unusable."""
+    s = w.scale
+    name = f"<modes{w.new_label()}>"
+    how = w.draw(st.integers(0, 1)) if w.draw(st.integers(0, 5)) else 2
+    body = [f"o{name} sub"]
+    body.append("  M70" if how == 0 else "  M73" if how == 1 else "  M70")
+    changes = w.draw(
+        st.lists(
+            st.sampled_from(["G20", "G21", "G91", "G18", "G61", "G64 P0.01", "F77", "M8", "G95", "G93", "G90.1", "S900 M4", "G55"]),
+            min_size=1,
+            max_size=4,
+            unique=True,
+        )
+    )
+    # one code of a modal group per line
+    for first, second in (("G93", "G95"), ("G61", "G64 P0.01"), ("G20", "G21")):
+        if first in changes and second in changes:
+            changes.remove(second)
+    body.append("  " + " ".join(changes) if w.draw(st.booleans()) else "\n".join("  " + c for c in changes))
+    body.append("  (debug, inside #<_metric> #<_absolute> #<_plane> #<_feed> #<_coord_system>)")
+    if how == 0:
+        body.append("  M72")
+    elif how == 2:
+        body.append("  M71")
+        body.append("  M72")  # an error: the state was forgotten (M71)
+    body.append(f"o{name} endsub")
+    w.subs += "\n".join(body).split("\n")
+    if how == 2 and not w.errors:
+        w.subs[-3:-1] = ["  G90 G17 G94 G54 G64 G91.1 M9"]
+    w.emit(f"o{name} call")
+    w.emit("(debug, after #<_metric> #<_absolute> #<_plane> #<_feed> #<_coord_system> #<_flood>)")
+    w.emit(f"G{20 if w.inch else 21} F{fmt(10 * s)}")
+    w.spindle = -1
+    w.clear()
+
+
+def job_io(w: JobWriter) -> None:
+    """Spindle orientation, override switches and digital/analog I/O."""
+    for _ in range(w.draw(st.integers(1, 4))):
+        w.emit(
+            w.pick(
+                [
+                    f"M19 R{w.draw(st.integers(0, 360))} Q{w.draw(st.integers(1, 5))} P{w.draw(st.integers(0, 2))}",
+                    "M48",
+                    "M49",
+                    f"M50 P{w.draw(st.integers(0, 1))}",
+                    f"M51 P{w.draw(st.integers(0, 1))}",
+                    "M52 P1",
+                    "M53 P0",
+                    f"M{w.pick([62, 63, 64, 65])} P{w.draw(st.integers(0, 3))}",
+                    f"M66 P{w.draw(st.integers(0, 3))} L{w.draw(st.integers(0, 4))} Q{w.draw(st.integers(1, 5))}",
+                    f"M66 E{w.draw(st.integers(0, 3))} L0",
+                    f"M67 E{w.draw(st.integers(0, 3))} Q{w.num(-1, 1)}",
+                    f"M68 E{w.draw(st.integers(0, 3))} Q{w.num(-1, 1)}",
+                    f"G1 X{w.num(0, 1)} F{fmt(10 * w.scale)} M62 P1",
+                ]
+            )
+        )
+    w.emit("(debug, input #5399)")
+    w.spindle = -1  # M19 stops the spindle turning
+
+
+def job_frames(w: JobWriter) -> None:
+    """Units, distance modes, coordinate systems and G92, and the three feed
+    modes (inverse time needs F on every feed move; per revolution needs a
+    turning spindle)."""
+    s = w.scale
+    for _ in range(w.draw(st.integers(1, 4))):
+        kind = w.draw(st.integers(0, 7))
+        if kind == 0:
+            w.emit(w.pick(["G54", "G55", "G56", "G57", "G58", "G59", "G59.1", "G59.2", "G59.3"]))
+        elif kind == 1:
+            w.emit(f"G10 L2 P{w.draw(st.integers(0, 9))} X{w.num(-1, 1)} Y{w.num(-1, 1)}" + w.pick(["", " R15"]))
+        elif kind == 2:
+            w.emit(f"G92 X{w.num(-1, 1)} Y{w.num(-1, 1)}")
+            w.emit(w.pick(["G92.1", "G92.2", "G92.3", "(keep it)"]))
+        elif kind == 3:
+            other = "G21" if w.inch else "G20"
+            w.emit(f"{other} G0 X1 Y1")
+            w.emit(f"G{20 if w.inch else 21}")
+        elif kind == 4:
+            w.emit(f"G91 G1 X{w.num(-1, 1)} Y{w.num(-1, 1)} F{fmt(10 * s)}")
+            w.emit("G90")
+        elif kind == 5:
+            w.emit(f"G93 G1 X{w.num(-1, 1)} Y{w.num(-1, 1)} F{w.draw(st.integers(1, 60))}")
+            w.emit(f"G2 X{w.num(-1, 1)} Y{w.num(-1, 1)} R{fmt(3 * s)} F{w.draw(st.integers(1, 60))}")
+            w.emit(f"G94 F{fmt(10 * s)}")
+        elif kind == 6:
+            w.spindle_on(3)
+            w.emit(f"G95 G1 X{w.num(-1, 1)} F{fmt(0.004 * s)}")
+            w.emit(f"G94 F{fmt(10 * s)}")
+        else:
+            w.emit(f"G53 G0 Z0")
+            w.emit(w.pick(["G28", "G30", "G28.1", "G30.1"]))
+    w.emit("(debug, at #<_x> #<_y> #<_z> in #<_coord_system>)")
+    w.emit("G54")
+    w.clear()
+
+
+def job_comp_mix(w: JobWriter) -> None:
+    """Outside compensation around a convex outline whose edges mix every
+    kind of feed move: lines, arcs along the outline, inverse-time moves
+    (F on each), a NURBS block, moves along Z, and calls rs274 queues."""
+    s = w.scale
+    radius = w.draw(st.integers(15, 40)) / 10 * s
+    angles = sorted(w.draw(st.lists(st.integers(0, 35), min_size=3, max_size=7, unique=True)))
+    ccw = w.draw(st.booleans())
+    if not ccw:
+        angles.reverse()
+    points = [(radius * math.cos(math.radians(a * 10)), radius * math.sin(math.radians(a * 10))) for a in angles]
+    side = "G42" if ccw else "G41"  # the tool outside the outline
+    diameter = fmt(w.draw(st.integers(1, 10)) / 20 * s)
+    side += w.pick([f".1 D{diameter}", f" D{w.pick(w.mill_tools())}", ""])
+    out = (points[0][0] * 1.6, points[0][1] * 1.6)
+    w.emit(f"G0 X{out[0]:.4f} Y{out[1]:.4f}")
+    w.emit(f"G1 Z{fmt(-0.1 * s)} F{fmt(10 * s)}")
+    w.emit(f"{side} G1 X{points[0][0]:.4f} Y{points[0][1]:.4f}")
+    inverse = False
+    for k in range(1, len(points) + 1):
+        end = points[k % len(points)]
+        kind = w.draw(st.integers(0, 6))
+        target = f"X{end[0]:.4f} Y{end[1]:.4f}"
+        if inverse and kind != 1:
+            w.emit(f"G94 F{fmt(10 * s)}")
+            inverse = False
+        if kind == 0:
+            w.emit(f"{'G3' if ccw else 'G2'} {target} R{radius:.4f}")
+        elif kind == 1:
+            inverse = True
+            w.emit(f"G93 G1 {target} F{w.draw(st.integers(5, 60))}")
+        elif kind == 2:
+            start = points[k - 1]
+            mid = ((start[0] + end[0]) / 2 * 1.05, (start[1] + end[1]) / 2 * 1.05)
+            w.emit(f"G5.2 X{start[0]:.4f} Y{start[1]:.4f} P1")
+            w.emit(f"X{mid[0]:.4f} Y{mid[1]:.4f} P{w.pick(['1', '2', '0.5'])}")
+            w.emit(f"{target} P1")
+            w.emit("G5.3")
+            w.emit("G1")
+        elif kind == 3:
+            w.emit(f"G1 {target} Z{fmt(-w.draw(st.integers(1, 3)) / 10 * s)}")
+        else:
+            w.emit(f"G1 {target}")
+        if w.draw(st.integers(0, 4)) == 0:
+            w.emit(w.pick(["(edge)", "M8", "M9", "G4 P0.2", f"F{fmt(12 * s)}", "M3 S800"]))
+    if inverse:
+        w.emit(f"G94 F{fmt(10 * s)}")
+    w.emit(f"G40 G0 X{out[0]:.4f} Y{out[1]:.4f}")
+    w.clear()
+
+
+#: Deliberately wrong lines: each breaks a rule of the chapters above.
+def _wrong_lines(w: JobWriter) -> list:
+    s = w.scale
+    missing = max(w.tools) + 7
+    return [
+        f"G41 D{missing}",  # no such tool
+        f"G41 D{w.pick(w.mill_tools())}\nG1 X{fmt(s)} Y0\nG42 D{w.pick(w.mill_tools())}",  # already on
+        "G41.1 D0.1\nG1 X1 Y1\nG18",  # plane change under comp
+        "G41.1 D0.2\nG1 X0 Y0\nG2 X0.1 Y0 R0.05",  # arc radius under the tool's
+        "G41.1 D0.2 G1 X1 Y1\nG81 X0 Y0 Z-1 R1",  # cycle under comp
+        "G40 G2 X1 Y0 I0.5 J0",  # an arc that ends compensation
+        f"G83 X0 Y0 Z{fmt(-0.5 * s)} R{fmt(0.1 * s)} F10",  # no Q
+        f"M5\nG84 X0 Y0 Z{fmt(-0.5 * s)} R{fmt(0.1 * s)} F10",  # spindle stopped
+        f"G81 X0 Y0 Z{fmt(0.5 * s)} R{fmt(0.1 * s)} F10",  # R below Z
+        f"G81 X0 Y0 A10 Z-1 R0.1 F10",  # rotary axis in a cycle
+        "G74 X0 Y0 Z-1 R0.1 L2 F10",  # L with G74
+        "G38.2 Z[#<_z>] F10",  # probe to where the tool is
+        "G1 F0\nG38.2 Z-1",  # zero feed probe
+        "G18\nG5 I1 J1 P1 Q1 X1 Z1",  # spline out of its plane
+        "G5.1 I1 X1 Y1",  # no J
+        "G5.2 X1 Y1 P1\nX2 Y2\nG5.3",  # a NURBS point without weight
+        "G18\nG71 Q999 D0.1",  # profile subroutine never defined
+        "G41.1 D0.1\nG1 X1 Y1\nG5 I1 J0 P1 Q0 X2 Y2",  # cubic spline under comp
+        "G18 G41.1 D0.1\nG1 X1 Z1\nG71 Q999 D0.1",  # lathe cycle under comp
+        "G41.1 D0.1\nG1 X1 Y1\nG38.2 X2",  # probing under comp
+        "G96 D2000 M3",  # constant surface speed without S
+        f"G43 H{missing}",
+        f"T{missing} M6",
+        "M66 L1",
+        "M67 Q1",
+        "M19 R400",
+        f"M{w.draw(st.integers(100, 199))} P1 Q2",
+        "S500 M3\nG76 P0.1 Z-1 I-0.1 J0 K0.1",  # J must be positive
+        "S500 M3\nG33 Z-1",  # no K
+        "G10 L1 P0 Z1",
+        "M72",  # nothing saved
+        "G93\nG1 X1 Y1",  # inverse time move without F
+        f"G1 X1 D{w.pick(w.mill_tools())}",  # D with nothing to use it
+        "G43.1 X0.1 Y0.1",  # Y offsets are not allowed
+        "$1 S200 M3",  # a spindle that does not exist
+    ]
+
+
+JOBS = [
+    (job_tool_change, 2),
+    (job_pocket, 3),
+    (job_drill, 3),
+    (job_lathe, 2),
+    (job_probe, 2),
+    (job_spline, 1),
+    (job_modal_sub, 2),
+    (job_io, 1),
+    (job_frames, 2),
+    (job_comp_mix, 2),
+]
+
+
+@st.composite
+def whole_language_programs(draw, errors: bool = True, max_jobs: int = 7) -> tuple:
+    """A job-shop program and its tool table: ``(program text, table text)``.
+
+    The program runs with ``-t`` and the table in its folder. With
+    ``errors``, about one program in five has a wrong line somewhere
+    between its jobs (and may end there)."""
+    tools = draw(tool_tables())
+    inch = draw(st.booleans())
+    w = JobWriter(draw, tools, inch)
+    w.errors = errors
+    s = w.scale
+    w.emit(draw(st.sampled_from([f"G{20 if inch else 21} G17 G40 G49 G54 G80 G90 G94", f"G{20 if inch else 21} G90"])))
+    w.emit(f"F{fmt(10 * s)}")
+    w.emit(f"G0 Z{fmt(s)}")
+    fns = [f for f, k in JOBS for _ in range(k)]
+    jobs = draw(st.lists(st.sampled_from(fns), min_size=1, max_size=max_jobs))
+    # (a middle value: Hypothesis draws the ends of a range more often)
+    wrong_at = draw(st.integers(0, len(jobs))) if errors and draw(st.integers(0, 4)) == 2 else None
+    for k, job in enumerate(jobs):
+        if k == wrong_at:
+            w.lines += draw(st.sampled_from(_wrong_lines(w))).split("\n")
+        job(w)
+    if wrong_at == len(jobs):
+        w.lines += draw(st.sampled_from(_wrong_lines(w))).split("\n")
+    w.emit(draw(st.sampled_from(["M5 M9\nM2", "M30", "M2"])))
+    lines = w.subs + "\n".join(w.lines).split("\n")
+    if draw(st.integers(0, 3)) == 0:
+        lines = [f"N{10 * (i + 1)} {ln}" if not ln.lstrip().lower().startswith("o") else ln for i, ln in enumerate(lines)]
+    return "\n".join(lines) + "\n", tool_table_text(draw, tools)
+
+
+@st.composite
+def broken_whole_language_programs(draw) -> tuple:
+    """A whole-language program (with its tool table) with one line broken
+    as ``invalid_programs`` breaks them, or a line's words shuffled onto a
+    code family that does not take them: errors in the middle of a cycle,
+    a compensated outline, a lathe cycle's profile."""
+    text, table = draw(whole_language_programs(errors=False))
+    lines = text.splitlines()
+    k = draw(st.integers(0, len(lines) - 1))
+    if draw(st.integers(0, 3)) == 1:
+        # words of other families added to a line of this program
+        extra = draw(st.sampled_from([
+            "G41.1 D0.1", "G40", "G43 H1", "G80", "G96 S100", "G93", "G95", "M70", "M72",
+            "G38.2 Z-1", "G5.3", "G7", "G33 K1", "G76 P1", "M19 R10", "M66 P0 L0", "L2", "K0.1",
+            "G18", "G20", "G91", "G92 X0", "G10 L1 P1 Z0", "M6", "T1", "M61 Q1", "$0 M3", "D1",
+        ]))
+        lines[k] = f"{lines[k].rstrip()} {extra}"
+    else:
+        lines[k] = draw(mutated_line(lines[k]))
+    return "\n".join(lines) + "\n", table

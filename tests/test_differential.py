@@ -16,6 +16,9 @@ number of examples per test.
 from __future__ import annotations
 
 import os
+import shutil
+import tempfile
+from pathlib import Path
 
 import pytest
 from hypothesis import HealthCheck, Phase, given, reject, settings
@@ -170,10 +173,16 @@ _COMP_PROGRAM = harness.GOLDEN / "cutter_comp" / "_generated.ngc"
 @PROFILE
 @given(strategies.compensated_programs(tool_table=True))
 def test_compensated_profiles_with_tool_table_run(text):
-    expected = harness.run_rs274(_COMP_PROGRAM, ["-t", "tools.tbl"], text=text, timeout=TIMEOUT)
-    if expected.timed_out or (expected.rc is not None and expected.rc < 0):
-        reject()
-    actual = harness.run_ngc2py(_COMP_PROGRAM, ["-t", "tools.tbl"], text=text, timeout=TIMEOUT * 3)
+    # The runners copy a program's folder only for a program file, not for
+    # program text: write both into a folder of their own.
+    with tempfile.TemporaryDirectory() as tmp:
+        program = Path(tmp) / _COMP_PROGRAM.name
+        program.write_text(text)
+        shutil.copy(_COMP_PROGRAM.parent / "tools.tbl", tmp)
+        expected = harness.run_rs274(program, ["-t", "tools.tbl"], timeout=TIMEOUT)
+        if expected.timed_out or (expected.rc is not None and expected.rc < 0):
+            reject()
+        actual = harness.run_ngc2py(program, ["-t", "tools.tbl"], timeout=TIMEOUT * 3)
     problems = harness.compare(expected, actual)
     if problems:
         pytest.fail(f"ngc2py differs from rs274 on this program:\n{text}\n" + "\n".join(problems), pytrace=False)
