@@ -126,7 +126,8 @@ def printed_rows(machine, by_index, cells: List[str], at: int, end: int, plans) 
                     point[axis] = float(texts[axis])
             machine.current = machine.world.position = machine._params.position = point
             machine.motion_mode = motion_mode
-            machine.feed_rate = machine.world.feed_rate = feed_rate
+            if feed_rate != machine.feed_rate:  # as plain_rows: see runtime.world
+                machine.feed_rate = machine.world.feed_rate = feed_rate
             machine._block_n = block_n
             machine.line = int(cells[row])
     return at
