@@ -10,9 +10,11 @@ error happens at run time at the same point (the golden rule of
 docs/ARCHITECTURE.md).
 
 What rs274 does while it *skips* lines also shapes the tree: it still reads
-each one, so a line with a :data:`TEXT_ERRORS` problem fails even in an
-untaken arm (``first_text_error`` finds it; codegen.py places the failure),
-and a skipped opener reusing the label being skipped to fails as a duplicate
+each one's text and O-word, so a line with a :data:`TEXT_ERRORS` problem or
+an unreadable O-word fails even in an untaken arm (:func:`skip_error`;
+``first_text_error`` finds it; codegen.py places the failure), reading past
+a definition has its own rules (:func:`define_error`), and a skipped opener
+reusing the label being skipped to fails as a duplicate
 (``_Builder._duplicate``). Other errors in skipped lines (bad words,
 expressions) are never noticed. :func:`opening_error` is what fails already
 while rs274 opens the file, before the program starts.
@@ -275,6 +277,49 @@ TEXT_ERRORS = frozenset(
 )
 
 
+UNKNOWN_O_COMMAND = "Unknown control command in o word"
+AFTER_OWORD = "Unexpected character after O-word"
+
+
+def skip_error(line: nodes.Line) -> bool:
+    """Does rs274 fail on ``line`` while skipping over it in running code?
+
+    It reads every line's text (:data:`TEXT_ERRORS`) and the O-word of
+    every line it skips over: its label (a computed one is evaluated) and
+    its keyword, but not what follows."""
+    return line.error in TEXT_ERRORS or line.oword_unread
+
+
+def define_error(line: nodes.Line, sub_name: str) -> Optional[str]:
+    """rs274's error on ``line`` while it reads past a subroutine definition
+    (``o<sub_name> sub`` ... ``endsub``), or None.
+
+    Reading a definition differs from other skipping: an unknown O-word
+    keyword is only noticed when the line runs, a bare (Fanuc) O-word is a
+    nested definition, and the definition's own ``return`` and ``endsub``
+    lines have their value read."""
+    if line.error in TEXT_ERRORS:
+        return line.error
+    if line.oword_unread:
+        return None if line.error == UNKNOWN_O_COMMAND else line.error
+    word = line.oword
+    if word is None:
+        return None
+    if word.keyword == "fanuc_sub":
+        return NESTED_SUB
+    if (
+        word.keyword in ("return", "endsub")
+        and line.error not in (None, AFTER_OWORD)
+        and str(word.name) == sub_name
+    ):
+        return line.error
+    return None
+
+
+#: O-words reached by skipping as often as by running into them.
+_CLOSERS = frozenset(("elseif", "else", "endif", "endwhile", "endrepeat", "while"))
+
+
 def eof_message(demarcated: bool) -> str:
     """What rs274 says when it reads past the last line of a file."""
     return EOF_NO_PERCENT if demarcated else EOF_NO_END
@@ -335,8 +380,25 @@ class _Builder:
 
     def add(self, line: nodes.Line) -> None:
         word = line.oword
-        if line.error in TEXT_ERRORS:
-            self._text_error(line)
+        sub = self.open_sub()
+        if sub is not None and sub.define_error is None:
+            message = define_error(line, sub.name)
+            if message is not None:
+                sub.define_error = Fail(line, message)
+        if sub is not None and word is not None and word.keyword == "fanuc_sub":
+            return  # a nested definition: the outer one fails (above)
+        if (
+            word is not None
+            and line.error == AFTER_OWORD
+            and word.keyword in _CLOSERS
+            and self.stack
+        ):
+            # rs274 checks what follows an O-word only when it does not
+            # skip: running into this line fails, skipping to it (an arm
+            # not taken, a loop's continue) does not.
+            self.body.append(Fail(line, line.error))
+            getattr(self, "on_" + word.keyword)(line, word)
+            return
         if word is not None and word.keyword == "endsub" and line.error is not None:
             # Skipping over a definition, rs274 reads only the O-word: the
             # endsub closes it, and the rest of the line fails when run.
@@ -348,13 +410,6 @@ class _Builder:
             return
         handler = getattr(self, "on_" + word.keyword)
         handler(line, word)
-
-    def _text_error(self, line: nodes.Line) -> None:
-        """rs274 reads a definition's lines when it passes the ``sub`` line:
-        the first one with a text error fails the definition."""
-        sub = self.open_sub()
-        if sub is not None and sub.define_error is None:
-            sub.define_error = Fail(line, line.error)
 
     # -- subroutines ------------------------------------------------------
 
@@ -826,11 +881,11 @@ def walk(stmts: List[Stmt], into_subs: bool = True) -> Iterator[Stmt]:
 
 
 def first_text_error(bodies: List[List[Stmt]]) -> Optional[nodes.Line]:
-    """The first line in ``bodies`` (source order) with a :data:`TEXT_ERRORS`
-    error: rs274 fails on it even when only skipping over it."""
+    """The first line in ``bodies`` (source order) that rs274 fails on even
+    when only skipping over it (:func:`skip_error`)."""
     for body in bodies:
         for stmt in walk(body):
-            if isinstance(stmt, Block) and stmt.line.error in TEXT_ERRORS:
+            if isinstance(stmt, Block) and skip_error(stmt.line):
                 return stmt.line
     return None
 
