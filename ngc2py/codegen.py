@@ -893,6 +893,15 @@ class CodeGen:
         ):
             # A continue skips forward past a later break line of its loop.
             self.w.stmt("m.doing_break = True", stmt.line)
+        elif (
+            self.break_flag
+            and stmt.kind == "break"
+            and stmt.target.kind == "do"
+            and stmt.target.end is not None
+        ):
+            # rs274 skips to the loop's closing while, which clears the flag
+            # (set by this break, or left over from a while-loop's).
+            self.w.stmt("m.doing_break = False", stmt.line)
         if self.continue_flag:
             self.stale_continue(stmt)
         if stmt.target.end is None and stmt.target.eof is not None:
