@@ -1086,10 +1086,11 @@ class CodeGen:
         self.loops.pop()
         self.w.depth -= 1
         self.loop_else(stmt)
-        if self.continue_flag and stmt.kind == "while":
-            # Ending by its condition, a while-loop clears rs274's flag.
-            self.w.raw(self.indent() + "m.doing_continue = False")
         self.check_exits(stmt, self.loops[-1] if self.loops else None)
+        if self.continue_flag and stmt.kind == "while":
+            # Ending by its condition, a while-loop clears rs274's flag (a
+            # jump to an outer loop skips past the endwhile: checked above).
+            self.w.raw(self.indent() + "m.doing_continue = False")
         unreadable = self.skip_error([stmt.body])
         if unreadable is not None:
             # The loop ends by skipping (the rest of) its body: rs274 reads
