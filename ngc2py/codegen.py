@@ -823,7 +823,10 @@ class CodeGen:
 
     def s_fail(self, stmt: st.Fail) -> None:
         self.w.comment(stmt.line)
-        self.w.stmt(fail_call(stmt.line.number, stmt.message), stmt.line)
+        call = fail_call(stmt.line.number, stmt.message)
+        if stmt.finish:
+            call = call[:-1] + ", finish=True)"
+        self.w.stmt(call, stmt.line)
 
     def s_endoffile(self, stmt: st.EndOfFile) -> None:
         self.w.raw(INDENT * self.w.depth + "# end of file, no program end")
@@ -1001,6 +1004,13 @@ class CodeGen:
                 then=self.skip_error([arm.body for arm in arms[i + 1 :]]),
                 later=stmt.branches[i + 1 :],
             )
+            if i == 0 and stmt.lands is not None and stmt.lands.end is not None:
+                # A false condition lands on the do line of the same label.
+                self.w.stmt("else:", branch.line)
+                self.w.depth += 1
+                self.statement(stmt.lands)
+                self.w.depth -= 1
+                return
             unreadable = self.skip_error([branch.body])
             if unreadable is not None:
                 # A false condition makes rs274 read this arm while skipping

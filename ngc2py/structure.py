@@ -97,6 +97,10 @@ class If:
     branches: List[Branch]
     orelse: Optional[Branch] = None
     end: Optional[nodes.Line] = None
+    #: A do-loop reusing this if's label inside its first arm: a false
+    #: condition makes rs274 stop skipping at that ``do`` line and run the
+    #: loop (whose closing ``while`` then fails: the label is the if's).
+    lands: Optional["Loop"] = None
 
 
 @dataclass(eq=False)
@@ -359,7 +363,9 @@ class _Builder:
         # its lines start in that body).
         self.fanuc: Optional[Tuple[Sub, List[Stmt], int]] = None
         # Failures at the end of the file, for abandoned constructs.
-        self.eof_fails: List[Fail] = []
+        self.eof_fails: List[Tuple[Fail, str]] = []  # and the label's key
+        # break/continue lines aimed at a finished loop: (label, failure)
+        self.stale_jumps: List[Tuple[str, Fail]] = []
 
     # -- helpers ----------------------------------------------------------
 
@@ -380,6 +386,9 @@ class _Builder:
 
     def add(self, line: nodes.Line) -> None:
         word = line.oword
+        if word is not None and self.stale_jumps:
+            name = str(word.name)
+            self.stale_jumps = [j for j in self.stale_jumps if j[0].split("#")[-1] != name]
         sub = self.open_sub()
         if sub is not None and sub.define_error is None:
             message = define_error(line, sub.name)
@@ -538,6 +547,19 @@ class _Builder:
             self._reopen_do(label, seen[3])
             return
         self._open_loop("do", line, word)
+        for entry in reversed(self.stack[:-1]):
+            if isinstance(entry.node, Sub):
+                break
+            if entry.label == label:
+                node = entry.node
+                if (
+                    isinstance(node, If)
+                    and len(node.branches) == 1
+                    and node.orelse is None
+                    and node.lands is None
+                ):
+                    node.lands = self.stack[-1].node
+                break
 
     def _reopens_do(self, label: str, seen) -> bool:
         """Is ``label`` that of a finished do-loop earlier in this body (so
@@ -657,6 +679,12 @@ class _Builder:
             message = NO_MATCHING_IF % ((line.number, line.text) + found)
         elif word.keyword in ("break", "continue"):
             message = NO_MATCHING_LOOP % ((line.number, line.text) + found)
+            if seen[0] in ("while", "do"):
+                # rs274 skips forward to the label: with no line carrying it
+                # later in the file, that is the end of the file (finish).
+                self.fail(line, message)
+                self.stale_jumps.append((key, self.body[-1]))
+                return
         else:
             message = NO_MATCHING_END % ((line.number, line.text) + found)
         self.fail(line, message)
@@ -701,19 +729,22 @@ class _Builder:
         skip forward to its label, it reads to the end of the file and fails
         there (the line is known at :meth:`finish`)."""
         node = entry.node
+        key = self._key(entry.label)
         if isinstance(node, Loop):
-            node.eof = self._eof_fail()
+            node.eof = self._eof_fail(key)
         elif isinstance(node, If):
             arms = node.branches + ([node.orelse] if node.orelse else [])
             for arm in arms[:-1]:
                 # after a taken arm, the next arm's line starts the skip
-                arm.body.append(self._eof_fail())
+                arm.body.append(self._eof_fail(key))
             if node.orelse is None:
-                node.orelse = Branch(node.branches[-1].line, [self._eof_fail()])
+                node.orelse = Branch(node.branches[-1].line, [self._eof_fail(key)])
 
-    def _eof_fail(self) -> Fail:
-        fail = Fail(None, eof_message(self.demarcated))  # line set at finish
-        self.eof_fails.append(fail)
+    def _eof_fail(self, key: str) -> Fail:
+        """Skipping to ``key``'s label, rs274 reaches the end of the file
+        (the message and line are known at :meth:`finish`)."""
+        fail = Fail(None, eof_message(self.demarcated))
+        self.eof_fails.append((fail, key))
         return fail
 
     # -- labels -----------------------------------------------------------
@@ -774,8 +805,25 @@ class _Builder:
         self, last: Optional[nodes.Line], closing: Optional[nodes.Line] = None
     ) -> None:
         """The end of the file (``closing``: the closing ``%`` line)."""
-        for fail in self.eof_fails:
-            fail.line = last
+        while self.stack:
+            entry = self.stack.pop()
+            if isinstance(entry.node, If):
+                # an arm taken, the next arm's line skips to the end
+                self._abandon(entry)
+            elif isinstance(entry.node, Loop) and last is not None:
+                # its break and continue lines skip to the end of the file
+                entry.node.eof = self._eof_fail(entry.node.key)
+            elif isinstance(entry.node, Sub):
+                self.stack.append(entry)
+                break
+        self.eof_fails += [(fail, key) for key, fail in self.stale_jumps]
+        for fail, key in self.eof_fails:
+            if closing is not None:
+                # rs274 meets the closing % while it skips
+                fail.line, fail.finish = closing, True
+                fail.message = "Failed to find sub 'O%s' before EOF" % key
+            else:
+                fail.line, fail.message = last, eof_message(self.demarcated)
         if self.fanuc is not None and last is not None:
             # A call runs the definition into the end of the file.
             sub, body, start = self.fanuc
@@ -785,6 +833,10 @@ class _Builder:
             if isinstance(entry.node, Loop) and last is not None:
                 # its break and continue lines skip to the end of the file
                 entry.node.eof = Fail(last, eof_message(self.demarcated))
+            elif isinstance(entry.node, If):
+                self._abandon(entry)
+                for fail, _ in self.eof_fails:
+                    fail.line = fail.line or last
             if isinstance(entry.node, Sub) and closing is not None:
                 # Skipping the definition reaches the closing %.
                 entry.node.define_error = entry.node.define_error or Fail(
