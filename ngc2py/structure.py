@@ -403,9 +403,10 @@ class _Builder:
             and self.stack
         ):
             # rs274 checks what follows an O-word only when it does not
-            # skip: running into this line fails, skipping to it (an arm
-            # not taken, a loop's continue) does not.
-            self.body.append(Fail(line, line.error))
+            # skip: running into this line fails (after reading its
+            # condition), skipping to it (an arm not taken, a loop's
+            # continue) does not.
+            self.body.append(Block(line))
             getattr(self, "on_" + word.keyword)(line, word)
             return
         if word is not None and word.keyword == "endsub" and line.error is not None:
@@ -734,9 +735,11 @@ class _Builder:
             node.eof = self._eof_fail(key)
         elif isinstance(node, If):
             arms = node.branches + ([node.orelse] if node.orelse else [])
-            for arm in arms[:-1]:
+            for k, arm in enumerate(arms[:-1]):
                 # after a taken arm, the next arm's line starts the skip
-                arm.body.append(self._eof_fail(key))
+                # (which fails earlier at a line it cannot read: codegen)
+                if first_text_error([later.body for later in arms[k + 1 :]]) is None:
+                    arm.body.append(self._eof_fail(key))
             if node.orelse is None:
                 node.orelse = Branch(node.branches[-1].line, [self._eof_fail(key)])
 
