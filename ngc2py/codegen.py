@@ -878,7 +878,10 @@ class CodeGen:
 
     def s_fail(self, stmt: st.Fail) -> None:
         self.w.comment(stmt.line)
-        self.w.stmt(fail_call(stmt.line.number, stmt.message), stmt.line)
+        call = fail_call(stmt.line.number, stmt.message)
+        if stmt.finish:
+            call = call[:-1] + ", finish=True)"
+        self.w.stmt(call, stmt.line)
 
     def s_endoffile(self, stmt: st.EndOfFile) -> None:
         self.w.raw(INDENT * self.w.depth + "# end of file, no program end")
@@ -948,6 +951,15 @@ class CodeGen:
         ):
             # A continue skips forward past a later break line of its loop.
             self.w.stmt("m.doing_break = True", stmt.line)
+        elif (
+            self.break_flag
+            and stmt.kind == "break"
+            and stmt.target.kind == "do"
+            and stmt.target.end is not None
+        ):
+            # rs274 skips to the loop's closing while, which clears the flag
+            # (set by this break, or left over from a while-loop's).
+            self.w.stmt("m.doing_break = False", stmt.line)
         if self.continue_flag:
             self.stale_continue(stmt)
         if stmt.target.end is None and stmt.target.eof is not None:
@@ -1047,6 +1059,13 @@ class CodeGen:
                 then=self.skip_error([arm.body for arm in arms[i + 1 :]]),
                 later=stmt.branches[i + 1 :],
             )
+            if i == 0 and stmt.lands is not None and stmt.lands.end is not None:
+                # A false condition lands on the do line of the same label.
+                self.w.stmt("else:", branch.line)
+                self.w.depth += 1
+                self.statement(stmt.lands)
+                self.w.depth -= 1
+                return
             unreadable = self.skip_error([branch.body])
             if unreadable is not None:
                 # A false condition makes rs274 read this arm while skipping
@@ -1132,10 +1151,11 @@ class CodeGen:
         self.loops.pop()
         self.w.depth -= 1
         self.loop_else(stmt)
-        if self.continue_flag and stmt.kind == "while":
-            # Ending by its condition, a while-loop clears rs274's flag.
-            self.w.raw(self.indent() + "m.doing_continue = False")
         self.check_exits(stmt, self.loops[-1] if self.loops else None)
+        if self.continue_flag and stmt.kind == "while":
+            # Ending by its condition, a while-loop clears rs274's flag (a
+            # jump to an outer loop skips past the endwhile: checked above).
+            self.w.raw(self.indent() + "m.doing_continue = False")
         unreadable = self.skip_error([stmt.body])
         if unreadable is not None:
             # The loop ends by skipping (the rest of) its body: rs274 reads

@@ -354,6 +354,10 @@ class Line:
     #: ``fanuc_value`` is the M value and ``fanuc_alt`` that M98 reading.
     fanuc_value: Optional[Expr] = None
     fanuc_alt: Optional["Line"] = None
+    #: With ``error``: it came while reading the O-word itself (its label or
+    #: its keyword). rs274 reads the O-word of every line it skips over, so
+    #: such a line fails even unexecuted (``structure.skip_error``).
+    oword_unread: bool = False
 
     @property
     def comment(self) -> Optional[Comment]:

@@ -231,6 +231,7 @@ class _Block:
     items: List[Union[Word, Assign]] = field(default_factory=list)
     comments: List[Comment] = field(default_factory=list)
     oword: Optional[OWord] = None
+    oword_unread: bool = False  # reading an O-word's label or keyword
     seen: Dict[str, Word] = field(default_factory=dict)  # letter -> last word
     #: "g"/"m" -> modal group -> code, for the literal codes read so far.
     groups: Dict[str, Dict[int, int]] = field(
@@ -628,12 +629,14 @@ class _LineReader:
 
     def read_oword(self) -> None:
         """rs274's read_o, then only comments may follow."""
+        self.block.oword_unread = True
         self.pos += 1
         if self.peek() == "<":
             if self.text.find(">", self.pos + 1) == -1:
                 # rs274 ignores read_name's failure here: the name is the
                 # rest of the line and the line a bare O-word.
                 self.block.oword = OWord("fanuc_sub", self.text[self.pos + 1 :])
+                self.block.oword_unread = False
                 self.pos = len(self.text)
                 return
             name: Union[str, Expr] = self.read_name()
@@ -647,6 +650,7 @@ class _LineReader:
             raise _ReadError("Unknown control command in o word")
         self.pos += len(keyword or "")
         self.block.oword = OWord(keyword or "fanuc_sub", name)
+        self.block.oword_unread = False
         if not isinstance(name, str):
             self.open_values.pop()
         if keyword is not None:
@@ -773,6 +777,7 @@ def _line(
         oword=block.oword,
         error=error,
         partial=reader.partial() if error and reader else (),
+        oword_unread=bool(error) and block.oword_unread,
     )
 
 

@@ -10,9 +10,11 @@ error happens at run time at the same point (the golden rule of
 docs/ARCHITECTURE.md).
 
 What rs274 does while it *skips* lines also shapes the tree: it still reads
-each one, so a line with a :data:`TEXT_ERRORS` problem fails even in an
-untaken arm (``first_text_error`` finds it; codegen.py places the failure),
-and a skipped opener reusing the label being skipped to fails as a duplicate
+each one's text and O-word, so a line with a :data:`TEXT_ERRORS` problem or
+an unreadable O-word fails even in an untaken arm (:func:`skip_error`;
+``first_text_error`` finds it; codegen.py places the failure), reading past
+a definition has its own rules (:func:`define_error`), and a skipped opener
+reusing the label being skipped to fails as a duplicate
 (``_Builder._duplicate``). Other errors in skipped lines (bad words,
 expressions) are never noticed. :func:`opening_error` is what fails already
 while rs274 opens the file, before the program starts.
@@ -95,6 +97,10 @@ class If:
     branches: List[Branch]
     orelse: Optional[Branch] = None
     end: Optional[nodes.Line] = None
+    #: A do-loop reusing this if's label inside its first arm: a false
+    #: condition makes rs274 stop skipping at that ``do`` line and run the
+    #: loop (whose closing ``while`` then fails: the label is the if's).
+    lands: Optional["Loop"] = None
 
 
 @dataclass(eq=False)
@@ -275,6 +281,49 @@ TEXT_ERRORS = frozenset(
 )
 
 
+UNKNOWN_O_COMMAND = "Unknown control command in o word"
+AFTER_OWORD = "Unexpected character after O-word"
+
+
+def skip_error(line: nodes.Line) -> bool:
+    """Does rs274 fail on ``line`` while skipping over it in running code?
+
+    It reads every line's text (:data:`TEXT_ERRORS`) and the O-word of
+    every line it skips over: its label (a computed one is evaluated) and
+    its keyword, but not what follows."""
+    return line.error in TEXT_ERRORS or line.oword_unread
+
+
+def define_error(line: nodes.Line, sub_name: str) -> Optional[str]:
+    """rs274's error on ``line`` while it reads past a subroutine definition
+    (``o<sub_name> sub`` ... ``endsub``), or None.
+
+    Reading a definition differs from other skipping: an unknown O-word
+    keyword is only noticed when the line runs, a bare (Fanuc) O-word is a
+    nested definition, and the definition's own ``return`` and ``endsub``
+    lines have their value read."""
+    if line.error in TEXT_ERRORS:
+        return line.error
+    if line.oword_unread:
+        return None if line.error == UNKNOWN_O_COMMAND else line.error
+    word = line.oword
+    if word is None:
+        return None
+    if word.keyword == "fanuc_sub":
+        return NESTED_SUB
+    if (
+        word.keyword in ("return", "endsub")
+        and line.error not in (None, AFTER_OWORD)
+        and str(word.name) == sub_name
+    ):
+        return line.error
+    return None
+
+
+#: O-words reached by skipping as often as by running into them.
+_CLOSERS = frozenset(("elseif", "else", "endif", "endwhile", "endrepeat", "while"))
+
+
 def eof_message(demarcated: bool) -> str:
     """What rs274 says when it reads past the last line of a file."""
     return EOF_NO_PERCENT if demarcated else EOF_NO_END
@@ -314,7 +363,9 @@ class _Builder:
         # its lines start in that body).
         self.fanuc: Optional[Tuple[Sub, List[Stmt], int]] = None
         # Failures at the end of the file, for abandoned constructs.
-        self.eof_fails: List[Fail] = []
+        self.eof_fails: List[Tuple[Fail, str]] = []  # and the label's key
+        # break/continue lines aimed at a finished loop: (label, failure)
+        self.stale_jumps: List[Tuple[str, Fail]] = []
 
     # -- helpers ----------------------------------------------------------
 
@@ -335,8 +386,29 @@ class _Builder:
 
     def add(self, line: nodes.Line) -> None:
         word = line.oword
-        if line.error in TEXT_ERRORS:
-            self._text_error(line)
+        if word is not None and self.stale_jumps:
+            name = str(word.name)
+            self.stale_jumps = [j for j in self.stale_jumps if j[0].split("#")[-1] != name]
+        sub = self.open_sub()
+        if sub is not None and sub.define_error is None:
+            message = define_error(line, sub.name)
+            if message is not None:
+                sub.define_error = Fail(line, message)
+        if sub is not None and word is not None and word.keyword == "fanuc_sub":
+            return  # a nested definition: the outer one fails (above)
+        if (
+            word is not None
+            and line.error == AFTER_OWORD
+            and word.keyword in _CLOSERS
+            and self.stack
+        ):
+            # rs274 checks what follows an O-word only when it does not
+            # skip: running into this line fails (after reading its
+            # condition), skipping to it (an arm not taken, a loop's
+            # continue) does not.
+            self.body.append(Block(line))
+            getattr(self, "on_" + word.keyword)(line, word)
+            return
         if word is not None and word.keyword == "endsub" and line.error is not None:
             # Skipping over a definition, rs274 reads only the O-word: the
             # endsub closes it, and the rest of the line fails when run.
@@ -348,13 +420,6 @@ class _Builder:
             return
         handler = getattr(self, "on_" + word.keyword)
         handler(line, word)
-
-    def _text_error(self, line: nodes.Line) -> None:
-        """rs274 reads a definition's lines when it passes the ``sub`` line:
-        the first one with a text error fails the definition."""
-        sub = self.open_sub()
-        if sub is not None and sub.define_error is None:
-            sub.define_error = Fail(line, line.error)
 
     # -- subroutines ------------------------------------------------------
 
@@ -483,6 +548,19 @@ class _Builder:
             self._reopen_do(label, seen[3])
             return
         self._open_loop("do", line, word)
+        for entry in reversed(self.stack[:-1]):
+            if isinstance(entry.node, Sub):
+                break
+            if entry.label == label:
+                node = entry.node
+                if (
+                    isinstance(node, If)
+                    and len(node.branches) == 1
+                    and node.orelse is None
+                    and node.lands is None
+                ):
+                    node.lands = self.stack[-1].node
+                break
 
     def _reopens_do(self, label: str, seen) -> bool:
         """Is ``label`` that of a finished do-loop earlier in this body (so
@@ -602,6 +680,12 @@ class _Builder:
             message = NO_MATCHING_IF % ((line.number, line.text) + found)
         elif word.keyword in ("break", "continue"):
             message = NO_MATCHING_LOOP % ((line.number, line.text) + found)
+            if seen[0] in ("while", "do"):
+                # rs274 skips forward to the label: with no line carrying it
+                # later in the file, that is the end of the file (finish).
+                self.fail(line, message)
+                self.stale_jumps.append((key, self.body[-1]))
+                return
         else:
             message = NO_MATCHING_END % ((line.number, line.text) + found)
         self.fail(line, message)
@@ -646,19 +730,24 @@ class _Builder:
         skip forward to its label, it reads to the end of the file and fails
         there (the line is known at :meth:`finish`)."""
         node = entry.node
+        key = self._key(entry.label)
         if isinstance(node, Loop):
-            node.eof = self._eof_fail()
+            node.eof = self._eof_fail(key)
         elif isinstance(node, If):
             arms = node.branches + ([node.orelse] if node.orelse else [])
-            for arm in arms[:-1]:
+            for k, arm in enumerate(arms[:-1]):
                 # after a taken arm, the next arm's line starts the skip
-                arm.body.append(self._eof_fail())
+                # (which fails earlier at a line it cannot read: codegen)
+                if first_text_error([later.body for later in arms[k + 1 :]]) is None:
+                    arm.body.append(self._eof_fail(key))
             if node.orelse is None:
-                node.orelse = Branch(node.branches[-1].line, [self._eof_fail()])
+                node.orelse = Branch(node.branches[-1].line, [self._eof_fail(key)])
 
-    def _eof_fail(self) -> Fail:
-        fail = Fail(None, eof_message(self.demarcated))  # line set at finish
-        self.eof_fails.append(fail)
+    def _eof_fail(self, key: str) -> Fail:
+        """Skipping to ``key``'s label, rs274 reaches the end of the file
+        (the message and line are known at :meth:`finish`)."""
+        fail = Fail(None, eof_message(self.demarcated))
+        self.eof_fails.append((fail, key))
         return fail
 
     # -- labels -----------------------------------------------------------
@@ -719,8 +808,25 @@ class _Builder:
         self, last: Optional[nodes.Line], closing: Optional[nodes.Line] = None
     ) -> None:
         """The end of the file (``closing``: the closing ``%`` line)."""
-        for fail in self.eof_fails:
-            fail.line = last
+        while self.stack:
+            entry = self.stack.pop()
+            if isinstance(entry.node, If):
+                # an arm taken, the next arm's line skips to the end
+                self._abandon(entry)
+            elif isinstance(entry.node, Loop) and last is not None:
+                # its break and continue lines skip to the end of the file
+                entry.node.eof = self._eof_fail(entry.node.key)
+            elif isinstance(entry.node, Sub):
+                self.stack.append(entry)
+                break
+        self.eof_fails += [(fail, key) for key, fail in self.stale_jumps]
+        for fail, key in self.eof_fails:
+            if closing is not None:
+                # rs274 meets the closing % while it skips
+                fail.line, fail.finish = closing, True
+                fail.message = "Failed to find sub 'O%s' before EOF" % key
+            else:
+                fail.line, fail.message = last, eof_message(self.demarcated)
         if self.fanuc is not None and last is not None:
             # A call runs the definition into the end of the file.
             sub, body, start = self.fanuc
@@ -730,6 +836,10 @@ class _Builder:
             if isinstance(entry.node, Loop) and last is not None:
                 # its break and continue lines skip to the end of the file
                 entry.node.eof = Fail(last, eof_message(self.demarcated))
+            elif isinstance(entry.node, If):
+                self._abandon(entry)
+                for fail, _ in self.eof_fails:
+                    fail.line = fail.line or last
             if isinstance(entry.node, Sub) and closing is not None:
                 # Skipping the definition reaches the closing %.
                 entry.node.define_error = entry.node.define_error or Fail(
@@ -826,11 +936,11 @@ def walk(stmts: List[Stmt], into_subs: bool = True) -> Iterator[Stmt]:
 
 
 def first_text_error(bodies: List[List[Stmt]]) -> Optional[nodes.Line]:
-    """The first line in ``bodies`` (source order) with a :data:`TEXT_ERRORS`
-    error: rs274 fails on it even when only skipping over it."""
+    """The first line in ``bodies`` (source order) that rs274 fails on even
+    when only skipping over it (:func:`skip_error`)."""
     for body in bodies:
         for stmt in walk(body):
-            if isinstance(stmt, Block) and stmt.line.error in TEXT_ERRORS:
+            if isinstance(stmt, Block) and skip_error(stmt.line):
                 return stmt.line
     return None
 

@@ -181,13 +181,18 @@ def exp(x: float) -> float:
 
 
 def fix(x: float) -> float:
-    """Round down (towards minus infinity): ``FIX[-2.8] == -3``."""
-    return float(math.floor(finite(x)))
+    """Round down (towards minus infinity): ``FIX[-2.8] == -3``. A zero
+    result keeps the argument's sign, as C's floor does (``FIX[-0]`` is
+    -0, printed ``-0.0000``)."""
+    x = finite(x)
+    return math.copysign(float(math.floor(x)), x)
 
 
 def fup(x: float) -> float:
-    """Round up (towards plus infinity): ``FUP[-2.8] == -2``."""
-    return float(math.ceil(finite(x)))
+    """Round up (towards plus infinity): ``FUP[-2.8] == -2``. A zero result
+    keeps the argument's sign, as C's ceil does (``FUP[-0.5]`` is -0)."""
+    x = finite(x)
+    return math.copysign(float(math.ceil(x)), x)
 
 
 def ln(x: float) -> float:

@@ -37,6 +37,8 @@ from typing import List
 
 from hypothesis import strategies as st
 
+from long_programs import RandomChooser, error_program, long_program
+
 # --------------------------------------------------------------------------
 # numbers and expressions
 # --------------------------------------------------------------------------
@@ -857,6 +859,7 @@ class LanguageWriter:
         self.loops: List[tuple] = []
         # labels of constructs already closed in this body: (label, kind)
         self.closed: List[tuple] = []
+        self.open_ifs: List[str] = []  # labels of the ifs around this point
         self.counters: List[str] = []  # loop counters visible here
         self.sub: str = ""  # name of the subroutine being written
         self.subs: List[str] = []  # callable subroutines
@@ -914,7 +917,7 @@ class LanguageWriter:
 
 def lang_plain(w: LanguageWriter) -> None:
     """An ordinary line of some kind."""
-    kind = w.draw(st.integers(0, 7))
+    kind = w.draw(st.integers(0, 8 if w.chance(8) else 7))
     if kind == 0:
         w.emit(f"G1 X{w.draw(numbers(-50, 50, 10))} F{w.draw(numbers(10, 900, 1))}")
     elif kind == 1:
@@ -932,28 +935,46 @@ def lang_plain(w: LanguageWriter) -> None:
         w.lines.append("  " * w.depth + w.pick(["/", "N20", "/N30", "; only a comment", "/()"]))
     elif kind == 6:
         w.emit(w.pick(["M3 S1000", "M5", "G91 G0 X1", "G90", "M8", "M9"]))
-    else:
+    elif kind == 7:
         w.emit("(DEBUG,counters " + " ".join(f"#<{c}>" for c in w.counters) + ")")
+    else:
+        # O-word lines rs274 cannot read: it reads the O-word even of a
+        # line it skips over (an untaken arm, a definition)
+        bad = ["o[1 call", "o9 foo", "o7777", "o<s0> return [1", "o9 endif G1"]
+        if w.sub:
+            bad.append(f"o{w.sub} return [1")
+        w.lines.append("  " * w.depth + w.pick(bad))
+
+
+def closer_words(w: LanguageWriter) -> str:
+    """Now and then words after a closing O-word: rs274 checks them only
+    when it runs into the line, not when it skips to it."""
+    return w.pick([" G1", " X1"]) if w.chance(30) else ""
 
 
 def lang_if(w: LanguageWriter) -> None:
     label = w.label()
     w.emit(f"o{label} if {w.condition()}", slash_ok=False)
+    w.open_ifs.append(label)
     arms = 1 + w.draw(st.integers(0, 2))
     for arm in range(arms):
         if arm:
-            w.emit(f"o{label} elseif {w.condition()}", slash_ok=False)
+            w.emit(f"o{label} elseif {w.condition()}{closer_words(w)}", slash_ok=False)
         lang_body(w)
     if w.chance(2):
-        w.emit(f"o{label} else", slash_ok=False)
+        w.emit(f"o{label} else{closer_words(w)}", slash_ok=False)
         lang_body(w)
-    w.emit(f"o{label} endif", slash_ok=False)
+    w.open_ifs.pop()
+    w.emit(f"o{label} endif{closer_words(w)}", slash_ok=False)
     w.closed.append((label, "if"))
 
 
 def lang_loop(w: LanguageWriter) -> None:
     kind = w.pick(["while", "do", "repeat"])
     label = w.label()
+    if kind == "do" and w.open_ifs and w.chance(12):
+        # the label of an if around it: a false condition lands on the do
+        label = w.pick(w.open_ifs)
     w.next_counter += 1
     counter = f"k{w.next_counter}"
     count = w.draw(st.integers(0, 3))
@@ -986,11 +1007,11 @@ def lang_loop(w: LanguageWriter) -> None:
     w.loops.pop()
     unclosed = w.chance(25)
     if kind == "while" and not unclosed:
-        w.emit(f"o{label} endwhile", slash_ok=False)
+        w.emit(f"o{label} endwhile{closer_words(w)}", slash_ok=False)
     elif kind == "do" and not unclosed:
-        w.emit(f"o{label} while [#<{counter}> LT {count}]", slash_ok=False)
+        w.emit(f"o{label} while [#<{counter}> LT {count}]{closer_words(w)}", slash_ok=False)
     elif kind == "repeat" and not unclosed:
-        w.emit(f"o{label} endrepeat", slash_ok=False)
+        w.emit(f"o{label} endrepeat{closer_words(w)}", slash_ok=False)
     w.closed.append((label, kind))
 
 
@@ -1001,6 +1022,10 @@ def lang_jump(w: LanguageWriter) -> None:
         w.emit(f"o{w.sub} return{value}", slash_ok=False)
         return
     loops = [entry for entry in w.loops if entry[1] != "repeat" or w.chance(8)]
+    finished = [entry for entry in w.closed if entry[1] in ("while", "do")]
+    if finished and w.chance(15):
+        # aimed at a loop that has ended: rs274 skips forward to its label
+        loops = finished
     if not loops:
         lang_plain(w)
         return
@@ -1072,6 +1097,28 @@ def language_programs(draw, max_statements: int = 8) -> tuple:
     w.lines.append(draw(st.sampled_from(["M2", "m30", "N999 M2", "M2 ()", "M2 (end)"])))
     w.lines[1:1] = [f"#<{name}> = 0" for name in w.globals]
     return "\n".join(w.lines) + "\n", (["-b"] if block_delete else [])
+
+
+def long_programs(min_subs: int = 20, max_subs: int = 60):
+    """(program text, rs274 options): a long core-language program
+    (tests/long_programs.py: many subroutines calling each other, loops and
+    conditionals nested deeply with break, continue and return at every
+    depth, every kind of line). Drawn from one seed, not choice by choice:
+    such a program takes tens of thousands of choices, more than Hypothesis
+    keeps for one example; a failure prints the whole program instead of a
+    shrunk one."""
+    return st.integers(0, 2**32 - 1).map(
+        lambda seed: long_program(RandomChooser(seed), min_subs, max_subs)
+    )
+
+
+def long_error_programs():
+    """(program text, rs274 options): a long program with one mistake at a
+    random depth (tests/long_programs.py: bad words and codes, unclosed
+    brackets and comments, arithmetic errors, undefined parameters, modal
+    group conflicts, O-words that are wrong, unreadable, unmatched or
+    missing, missing subroutines, a line cut short)."""
+    return st.integers(0, 2**32 - 1).map(lambda seed: error_program(RandomChooser(seed)))
 
 
 # --------------------------------------------------------------------------

@@ -11,6 +11,9 @@ Some reuse a label or leave a loop unclosed on purpose. Each program runs
 through the live rs274 and ngc2py (half of them with block delete on, -b);
 stdout must be byte-identical, with the same exit status and error message.
 
+``long_programs()`` and ``long_error_programs()`` (tests/long_programs.py)
+write long programs, with one mistake in the second kind.
+
 Profiles as in tests/test_differential.py: ``ci`` (the default) is
 derandomised, so CI sees the same examples every run.
 """
@@ -61,3 +64,21 @@ def test_language_programs_converted(program):
     """The generated module on its own, not only `ngc2py run`."""
     text, args = program
     check_same(text, args, "convert")
+
+
+@settings(PROFILE, max_examples=max(3, PROFILE.max_examples // 8))
+@given(strategies.long_programs())
+def test_long_programs(program):
+    """Long programs: 20-60 subroutines, deep nesting (past the code
+    generator's nesting limit), jumps at every depth. Few examples: each is
+    thousands of lines."""
+    text, args = program
+    check_same(text, args, "inprocess")
+
+
+@settings(PROFILE, max_examples=max(3, PROFILE.max_examples // 8))
+@given(strategies.long_error_programs())
+def test_long_error_programs(program):
+    """The same with one mistake somewhere: same failure, same point."""
+    text, args = program
+    check_same(text, args, "inprocess")
