@@ -31,7 +31,7 @@ import io
 import sys
 from typing import Callable, Dict, Iterator, NamedTuple, Optional, TextIO
 
-from runtime import blockcheck, loopflags, olabels
+from runtime import blockcheck, fanuc_subs, loopflags, olabels
 from runtime.canon import Canon, TraceCanon
 from runtime.blockcheck import (
     DRILL_CYCLES,
@@ -469,6 +469,7 @@ class Machine(
         """Call a subroutine by name (for calls the compiler could not resolve)."""
         known = self._subroutines.get(name)
         if known is None:
+            fanuc_subs.check_ocall(self, name)
             known = self._subroutines[name] = _Subroutine(self._read_ahead(name))
         return self.call(known.fn, *args)
 
@@ -521,8 +522,7 @@ class Machine(
         blockcheck.check(block, self.distance_incremental)
         if fn is None:
             name = "%d" % to_integer(words["p"])
-            fanuc = self.source.subs.get("O" + name) if self.source else None
-            fn = fanuc or self._read_ahead(name)
+            fn = fanuc_subs.m98_target(self, name, self._read_ahead)
         times = words.get("l", 1)
         if times == 0:
             # rs274 enters the call but never runs or leaves it: the rest of
@@ -533,7 +533,7 @@ class Machine(
             caller_locals.__dict__.clear()
             self._locals = caller_locals
         for _ in range(times):
-            self._run_sub(fn)
+            fanuc_subs.run_fanuc(self, self._run_sub, fn)
         self.value = self.value_returned = 0.0
 
     def _run_sub(self, fn: Callable) -> Optional[float]:
