@@ -824,6 +824,8 @@ LINE_COMMENTS = [
     "(DEBUG,one=#1 two=#<_g>)",
     "(debug,)",
     "(PRINT,printed #1)",
+    "(PRINT,%f#1 then #<_g> %d#1 %.2f#1 100% %.x)",
+    "(DEBUG,%f stays for #1 and #1)",
     "(LOG,logged #2)",
     "(first) ()",
     "() (MSG,after an empty one)",
