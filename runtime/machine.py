@@ -31,7 +31,7 @@ import io
 import sys
 from typing import Callable, Dict, Iterator, NamedTuple, Optional, TextIO
 
-from runtime import blockcheck, fanuc_subs, loopflags, olabels
+from runtime import blockcheck, fanuc_subs, loopflags, olabels, remap
 from runtime.canon import Canon, TraceCanon
 from runtime.blockcheck import (
     DRILL_CYCLES,
@@ -347,6 +347,7 @@ class Machine(
         self._initialise()
         try:
             self._start()
+            remap.refuse_standard_remaps(self.settings)
             self.refresh_plain()
             main(self)
         except ProgramEnd:
@@ -417,6 +418,9 @@ class Machine(
         """An error rs274 reports when it reaches ``line`` (``finish``: after
         the FINISH() of a closing ``%`` it met on the way)."""
         self.line = line
+        if self.settings.ini.lines:
+            frames = g_code_frames_of_stack()
+            remap.refuse_in_line(self.settings, message, frames[-1].text if frames else "")
         if finish:
             self.announce_block(None)
             self.canon.finish()
@@ -424,7 +428,11 @@ class Machine(
 
     def gcode(self, value: float) -> int:
         """A G code given by an expression, validated as rs274's reader does."""
-        return g_code(value)
+        try:
+            return g_code(value)
+        except GCodeError as error:
+            remap.refuse_unknown(self.settings, "g", value, error)
+            raise
 
     @staticmethod
     def is_m98(value: float) -> bool:
@@ -437,7 +445,11 @@ class Machine(
 
     def mcode(self, value: float) -> int:
         """An M code given by an expression, validated as rs274's reader does."""
-        return m_code(value)
+        try:
+            return m_code(value)
+        except GCodeError as error:
+            remap.refuse_unknown(self.settings, "m", value, error)
+            raise
 
     # ------------------------------------------------------------------
     # Subroutines
