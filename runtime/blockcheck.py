@@ -323,14 +323,8 @@ def _check_dollar_word(block: Block) -> None:
             "$ (spindle selection) word with no M3, M4, M5, M19, M51, G33, G33.1,"
             " G76, G95, G96 or G97 to use it"
         )
-    if block.motion in (G33, G33_1, G76):
-        return  # runtime.lathe checks the number when it gets there
-    number = int(block.words["dollar"])  # rs274 keeps $ as an int
-    # The stand-alone rs274 has one spindle: $0, or $-1 ("all") for S, M3,
-    # M4 and M5. Its messages for other numbers depend on the code.
-    everything = number == -1 and spindle_m != 19 and SPINDLE_MODE not in block.g
-    if number != 0 and not (everything and block.m.get(M_OVERRIDE) != 51):
-        raise GCodeError("ngc2py does not support spindle selection ($%d) yet" % number)
+    # The number itself is checked by each step that uses it, as the block
+    # runs (runtime.spindle_select; G33, G33.1, G76 in runtime.lathe).
 
 
 def _check_motion_words(motion: Optional[int], words) -> None:

@@ -31,7 +31,7 @@ import io
 import sys
 from typing import Callable, Dict, Iterator, NamedTuple, Optional, TextIO
 
-from runtime import blockcheck, fanuc_subs, loopflags, olabels, remap
+from runtime import blockcheck, fanuc_subs, loopflags, olabels, remap, spindle_select
 from runtime.canon import Canon, TraceCanon
 from runtime.blockcheck import (
     DRILL_CYCLES,
@@ -640,13 +640,20 @@ class Machine(
         g, words = block.g, block.words
         if comment is not None:
             execute_comment(self, comment)
+        dollar = "dollar" in words
         if SPINDLE_MODE in g:
+            if dollar:
+                spindle_select.check_spindle_mode(words)
             self._spindle_mode(g[SPINDLE_MODE], words)
         if FEED_MODE in g:
+            if dollar:
+                spindle_select.check_feed_mode(words)
             self._feed_mode(g[FEED_MODE])
         if "f" in words and self.feed_mode != INVERSE_TIME:
             self._set_feed_rate(words["f"])
         if "s" in words:
+            if dollar:
+                spindle_select.check_speed(words)
             self.speed = words["s"]
             self.canon.set_spindle_speed(0, self.speed)
         if "t" in words:

@@ -17,6 +17,7 @@ from runtime.blockcheck import (
     round_to_int,
 )
 from runtime.codes import G1
+from runtime import spindle_select
 from runtime.errors import GCodeError
 from runtime.motion import UNITS_PER_MINUTE, rotate
 from runtime.offsets import COORD_SYSTEM
@@ -64,6 +65,8 @@ class MCodesMixin:
             self._set_tool_number(words.get("q"))
         if self.settings.retain_g43:
             self._retain_g43(block)
+        if M_SPINDLE in m and m[M_SPINDLE] in (3, 4, 5) and "dollar" in words:
+            spindle_select.check_m(m[M_SPINDLE], words)
         if M_SPINDLE in m and self._spindle(m[M_SPINDLE], words):
             return True
         if M_COOLANT in m:
@@ -128,6 +131,8 @@ class MCodesMixin:
     def _orient_spindle(self, words) -> None:
         """M19 [R angle] [P direction] [Q timeout]; the INI may offset the angle."""
         self.spindle = "stopped"
+        if "dollar" in words:
+            spindle_select.check_m(19, words)
         if "r" in words or "p" in words:
             angle = words.get("r", 0.0) + self.settings.orient_offset
             self.canon.orient_spindle(0, angle, int(words.get("p", 0.0)))
@@ -184,6 +189,8 @@ class MCodesMixin:
             self.mist = self.flood = False
 
     def _overrides(self, code: int, words) -> None:
+        if code == 51 and "dollar" in words:
+            spindle_select.check_m(51, words)
         on = code == 48 or (code != 49 and words.get("p", -1.0) != 0)
         if self.cutter_comp:
             raise GCodeError(
