@@ -517,11 +517,11 @@ def test_abs_position_parameters_match_rs274(text, tmp_path):
     assert message == " ".join(values + ["######"])
 
 
-def test_unsupported_codes_say_so():
-    # The stand-alone rs274 has one spindle; other spindle numbers are not
-    # modelled yet, and say so.
+def test_other_spindle_numbers_fail_as_rs274s_do():
+    # The stand-alone rs274 has one spindle: $2 fails at the S step, with
+    # rs274's message (runtime.spindle_select).
     machine = Machine(RecordingCanon())
-    with pytest.raises(GCodeError, match="does not support spindle selection"):
+    with pytest.raises(GCodeError, match=r"^Invalid spindle \(\$\) number in Spindle speed command$"):
         machine.run(lambda m: m.block(1, m_code(3), s=100.0, dollar=2.0))
 
 
