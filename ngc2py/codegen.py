@@ -1,7 +1,7 @@
 """Statement tree -> Python module text, black-stable, with a line map.
 
-Text is emitted directly (libcst and black are far too slow per statement,
-see /work/shared/DESIGN.md); black is the oracle in the tests. Statements
+Text is emitted directly (libcst and black are far too slow per statement);
+black is the oracle in the tests. Statements
 that fit in 88 columns are written on one line, which is what black does;
 the rare longer one is laid out by black itself.
 
@@ -11,11 +11,11 @@ in comments is reduced to printable characters, so no input can inject code.
 
 Big CAM files: the main program is split into chunk functions of bounded
 size, and runs of constant blocks become data (see ``runtime/rows.py``): a
-module-level ``SHAPES`` table of (codes, word letters) and, per run, one flat
-tuple of literals with one G-code line per text line (``24, 0, 1.0, 2.0,``:
-line, shape, values). A flat tuple of literals compiles into one constant,
-about twice as fast as a tuple of row tuples (measured for 200k rows: 4 s
-against 8 s), and nothing is parsed at run time.
+module-level ``SHAPES`` table of (codes, word letters) and, per run, one
+text table with one G-code line per text line (``24 0 1.0 2.0``: line,
+shape, values), which compiles as one string constant; see runtime/rows.py
+for why, and runtime/printed_rows.py for tables written as the trace prints
+their numbers.
 
 Deep nesting: Python allows 20 statically nested blocks per function and
 about 100 indentation levels; G-code has no limit. An if or loop that starts
@@ -43,7 +43,7 @@ import re
 from dataclasses import dataclass, field
 from typing import Dict, Iterable, List, Optional, Sequence, Tuple
 
-from ngc2py import __version__, nodes, parser
+from ngc2py import __version__, assigned, nodes, parser
 from ngc2py.parser import DEFAULT_AXES
 from ngc2py import structure as st
 from ngc2py.parser import RowLine
@@ -277,9 +277,55 @@ def may_fail(e: nodes.Expr) -> bool:
 
 def may_overflow(e: nodes.Expr) -> bool:
     """Can ``e`` make an inf/nan that nothing has checked yet?"""
-    if isinstance(e, nodes.Unary) and e.op in ("neg", "pos"):
-        return may_overflow(e.arg)
-    return isinstance(e, nodes.Binary) and e.op in ARITHMETIC
+    return value_bound(e) is None
+
+
+#: Past this, a bound proves nothing: a sum or product may overflow.
+_LARGEST_BOUND = 1e300
+#: Results of the checked functions: at most this in magnitude.
+_FUNCTION_BOUNDS = {"sin": 1.0, "cos": 1.0, "acos": 180.0, "asin": 180.0, "atan": 180.0}
+
+
+def value_bound(e: nodes.Expr) -> Optional[float]:
+    """A bound on ``|e|`` when ``e`` is certainly finite; ``math.inf`` when
+    it is finite but unbounded (a parameter, a checked function); None when
+    arithmetic may make an inf or nan that only a ``finite`` check catches.
+
+    ``[30 * COS[#<a>] + [#<i> MOD 3]]`` is below 33 whatever the
+    parameters hold, so it needs no check; ``[#<i> * 0.3]`` does.
+    """
+    if isinstance(e, nodes.Num):
+        return abs(e.value) if abs(e.value) <= _LARGEST_BOUND else None
+    if isinstance(e, nodes.Bracket):
+        inner = value_bound(e.inner)
+        return math.inf if inner is None else inner  # else checked at its ]
+    if isinstance(e, nodes.Unary):
+        if e.op in ("neg", "pos"):
+            return value_bound(e.arg)
+        if e.op in _FUNCTION_BOUNDS:
+            return _FUNCTION_BOUNDS[e.op]
+        if e.op in ("abs", "fix", "fup", "round"):
+            inner = value_bound(e.arg)
+            return math.inf if inner is None else inner + 1.0
+        return math.inf  # the helper checks its result
+    if isinstance(e, nodes.Atan2):
+        return 180.0
+    if isinstance(e, nodes.Binary):
+        if e.op not in ARITHMETIC:
+            return 1.0  # comparisons and logic give 0.0 or 1.0
+        left, right = value_bound(e.left), value_bound(e.right)
+        if e.op == "mod":
+            if left is None or not isinstance(e.right, nodes.Num) or not e.right.value:
+                return None
+            return abs(e.right.value)
+        if e.op in ("+", "-") and left is not None and right is not None:
+            total = left + right
+            return total if total <= _LARGEST_BOUND else None
+        if e.op == "*" and left is not None and right is not None:
+            product = left * right
+            return product if product <= _LARGEST_BOUND else None
+        return None
+    return math.inf  # parameter reads, EXISTS: checked where they are read
 
 
 # --------------------------------------------------------------------------
@@ -457,6 +503,8 @@ class CodeGen:
         opening: Optional[nodes.Line] = None,
     ):
         self.program = program
+        #: names certainly set before each line (ngc2py.assigned)
+        self.settled = assigned.settled_names(program)
         self.source_name = source_name
         self.opening = opening
         self.demarcated = opening is not None
@@ -698,14 +746,21 @@ class CodeGen:
         for first in range(0, len(run), ROWS_PER_TABLE):
             part = run[first : first + ROWS_PER_TABLE]
             name = "ROWS_%d" % (len(self.row_tables) + 1)
+            printed = as_printed(part)
             cells = []
             texts = self.w.texts[self.w.file_index]
-            for line, (shape, values) in part:
+            for (line, (shape, values)), cells_printed in zip(
+                part, printed or [None] * len(part)
+            ):
+                values = cells_printed if printed else values
                 head = "%d %d" % (line.number, self.shape(shape))
                 cells.append(head + " " + values if values else head)
                 texts[line.number] = line.text
-            self.row_tables.append(row_table(name, cells))
-            self.w.row_loop("run_rows(m, SHAPES, %s)" % name)
+            self.row_tables.append(row_table(name, cells, bool(printed)))
+            if printed:
+                self.w.row_loop("run_rows(m, SHAPES, %s, as_printed=True)" % name)
+            else:
+                self.w.row_loop("run_rows(m, SHAPES, %s)" % name)
 
     def shape(self, shape: Shape) -> int:
         """The index of ``shape`` in the module's SHAPES table."""
@@ -1181,7 +1236,8 @@ class CodeGen:
     def item_reads(self, line: nodes.Line) -> List[ItemRead]:
         """The code for reading each item of ``line``, in order."""
         reads = []
-        declared: set = set()
+        # names set before this line need no declare (ngc2py.assigned)
+        declared = set(self.settled.get(id(line), ()))
         for i, item in enumerate(line.items):
             read = ItemRead(self.x.expr(item.value), is_constant(item.value))
             if isinstance(item, nodes.Assign):
@@ -1217,6 +1273,8 @@ class CodeGen:
 
     def block_call(self, line: nodes.Line, words, values: List[str]) -> str:
         move = self.move_call(line, words, values)
+        if move is None:
+            move = self.arc_call(line, words, values)
         if move is not None:
             return move
         args = ["%d" % line.number]
@@ -1237,21 +1295,43 @@ class CodeGen:
     def move_call(self, line: nodes.Line, words, values: List[str]) -> Optional[str]:
         """``m.move(line, G1, x=..)`` for a plain straight move: G0, G1 or no
         motion code, axis words, F and N only (runtime.fastpath); else None."""
+        return self.motion_call(
+            "m.move", line, words, values, (codes.G0, codes.G1), "xyzabcuvwf", False
+        )
+
+    def arc_call(self, line: nodes.Line, words, values: List[str]) -> Optional[str]:
+        """``m.arc(line, G2, x=.., i=..)`` for an arc: G2 or G3 written as
+        a literal, axis words (X Y Z A B C), I J K or R, F and N only
+        (``Machine.arc``); else None."""
+        return self.motion_call(
+            "m.arc", line, words, values, (codes.G2, codes.G3), "xyzabcijkrf", True
+        )
+
+    def motion_call(
+        self, call, line, words, values, motions, letters, motion_needed
+    ) -> Optional[str]:
+        """``call(line[, motion], word=..)`` when the line has one literal
+        code of ``motions`` (or none, unless ``motion_needed``), words of
+        ``letters`` including an axis, an N number and nothing else."""
         if line.comment is not None:
             return None
         motion = None
         kwargs = []
         for word, value in zip(words, values):
             letter = word.letter
-            if letter in AXIS_LETTERS or letter == "f":
+            if letter in letters:
                 kwargs.append("%s=%s" % (letter, value))
             elif letter == "g" and motion is None and is_constant(word.value):
                 motion = convert_code(letter, word.value.value)
-                if motion not in (codes.G0, codes.G1):
+                if motion not in motions:
                     return None
             else:
                 return None
-        if not any(word.letter in AXIS_LETTERS for word in words):
+        if motion is None and motion_needed:
+            return None
+        if not any(
+            word.letter in AXIS_LETTERS and word.letter in letters for word in words
+        ):
             return None
         args = ["%d" % line.number]
         if motion is not None:
@@ -1260,7 +1340,7 @@ class CodeGen:
             args.append(name)
         if line.n_text is not None:
             kwargs.append("n=%s" % string(line.n_text))
-        return "m.move(%s)" % ", ".join(args + kwargs)
+        return "%s(%s)" % (call, ", ".join(args + kwargs))
 
     def code_arg(self, word: nodes.Word, value: str) -> str:
         """A G/M code: its constant's name, or a run-time conversion."""
@@ -1356,13 +1436,38 @@ def shapes_table(shapes: Dict[Shape, int]) -> List[str]:
     return lines
 
 
-def row_table(name: str, cells: List[str]) -> List[str]:
+def as_printed(rows: List[Tuple[nodes.Line, Row]]) -> Optional[List[str]]:
+    """The rows' value cells written as rs274's trace prints numbers (four
+    decimals), if that is exact for every value; else None.
+
+    ``12.345`` becomes ``12.3450``: the same float, and the very text of the
+    trace line, so runtime.printed_rows writes a CAM file's trace without
+    reading or formatting a float per value. (Done for the whole table at
+    once: a million-line file pays for it in C loops, not per cell.)"""
+    cells = " ".join([values for _, (_, values) in rows]).split()
+    numbers = list(map(float, cells))
+    printed = list(map("%.4f".__mod__, numbers))
+    if list(map(float, printed)) != numbers:
+        return None
+    lines = []
+    at = 0
+    for _, (shape, _) in rows:
+        width = len(shape[1])
+        if shape[1][:1] == ("n",):
+            printed[at] = cells[at]  # the N number stays as written
+        lines.append(" ".join(printed[at : at + width]))
+        at += width
+    return lines
+
+
+def row_table(name: str, cells: List[str], printed: bool = False) -> List[str]:
     """``ROWS_n`` as a triple-quoted string: one G-code line per text line
     (see runtime.rows for why a table is text)."""
     lines = [
         "",
         "",
-        "# G-code line, shape (see SHAPES), word values",
+        "# G-code line, shape (see SHAPES), word values%s"
+        % (" as the trace prints them" if printed else ""),
         '%s = """' % name,
     ]
     lines.extend(cells)

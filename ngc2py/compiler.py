@@ -19,8 +19,9 @@ import os
 from dataclasses import dataclass, field
 from typing import List, Optional, Tuple
 
-from ngc2py import codegen
-from ngc2py import structure as st
+# The compiler's stages (structure, codegen) are imported where they are
+# used: `ngc2py run` of a cached program needs this module's errors only,
+# and importing the whole compiler cost every such run a visible moment.
 
 
 class CompileError(Exception):
@@ -39,6 +40,8 @@ class OpenError(CompileError):
 
 def open_failure(path: str, error: OSError) -> OpenError:
     """The :class:`OpenError` for ``error`` raised reading ``path``."""
+    from ngc2py import structure as st
+
     if isinstance(error, IsADirectoryError):
         return OpenError("%s: is a directory" % path, st.EOF_NO_PERCENT)
     unable = "Unable to open file <%s>" % path
@@ -81,12 +84,16 @@ def _parse(path: str):
 
 
 def _program(parsed) -> st.Program:
+    from ngc2py import structure as st
+
     return st.build(parsed.file, list(parsed.lines), parsed.demarcated)
 
 
 def _externals(program: st.Program, dirs: List[str]) -> List[Tuple[str, bool]]:
     """Find and compile the external subroutines ``program`` calls, and
     those they call in turn; return the paths probed."""
+    from ngc2py import structure as st
+
     probes: List[Tuple[str, bool]] = []
     known = {sub.name for sub in program.subs}
     pending = st.called_names(program)
@@ -122,6 +129,9 @@ def _find_external(name: str, dirs: List[str], probes) -> Optional[st.Sub]:
 
 
 def _compile(parsed, name: str, ini: Optional[str]) -> Compiled:
+    from ngc2py import codegen
+    from ngc2py import structure as st
+
     program = _program(parsed)
     probes = _externals(program, subroutine_dirs(ini))
     st.resolve_calls(program)

@@ -40,7 +40,6 @@ from typing import Optional, Tuple, Union
 from runtime.errors import GCodeError
 from runtime.ops import TOLERANCE_EQUAL
 from runtime.params import MAX_PARAMETERS
-from runtime.py_comments import run_py_comment
 from runtime.varfile import DEBUG_SWITCH
 
 #: The kind of ``()``: a comment rs274 does not act on.
@@ -241,6 +240,9 @@ def execute_comment(machine, comment: Comment) -> None:
     elif kind == "abort":
         raise GCodeError(expand(machine, comment.parts))
     elif kind == "py":
+        # imported here: its ast tables cost every run's start-up otherwise
+        from runtime.py_comments import run_py_comment
+
         run_py_comment(machine, comment.text)
     elif kind in ("pyrun", "pyreload"):
         pass  # rs274 ignores their errors; ngc2py runs no Python (runtime.py_comments)

@@ -219,8 +219,10 @@ class CyclesMixin:
         """rs274's cycle_traverse/cycle_feed: the three values go to the
         plane's first, second and hole axis; nothing else moves."""
         ia, ib, ic = _GEOMETRY[self.plane]
-        end = list(self.current)
-        end[ia], end[ib], end[ic] = end1, end2, end3
+        end = self.current[:]
+        end[ia] = end1
+        end[ib] = end2
+        end[ic] = end3
         self._emit_move(rapid, end)
 
     # ------------------------------------------------------------------

@@ -32,10 +32,13 @@ from __future__ import annotations
 
 from typing import List, Optional
 
-from runtime.codes import G0, G1
+from runtime import arcs
+from runtime.codes import G0, G1, G2, G3
+from runtime.errors import GCodeError
 from runtime.motion import UNITS_PER_MINUTE
 
 _AXIS_LETTERS = "xyzabcuvw"
+_AXIS_INDEX = {letter: i for i, letter in enumerate(_AXIS_LETTERS)}
 
 
 class FastPathMixin:
@@ -84,14 +87,14 @@ class FastPathMixin:
         given = motion
         if motion is None:
             motion = self.motion_mode
-        if not self._plain or not self._straight_ok(motion, f):
-            self._general_move(line, given, (x, y, z, a, b, c, u, v, w), f, n)
-            return
-        cur = self.current
-        self._plain_straight(
-            line,
-            motion,
-            [
+        # One method, no helpers: a loop's moves come through here.
+        if self._plain and (
+            (self.feed_rate if f is None else f) > 0.0
+            if motion == G1
+            else motion == G0 and (f is None or f >= 0.0)
+        ):
+            cur = self.current
+            end = [
                 cur[0] if x is None else x,
                 cur[1] if y is None else y,
                 cur[2] if z is None else z,
@@ -101,17 +104,25 @@ class FastPathMixin:
                 cur[6] if u is None else u,
                 cur[7] if v is None else v,
                 cur[8] if w is None else w,
-            ],
-            f,
-            n,
-        )
+            ]
+            self._open_plain_block(line, n, f)
+            if motion == G1:
+                self.canon.straight_feed(*end)
+            else:
+                self.canon.straight_traverse(*end)
+            self.motion_mode = motion
+            # One list shared as the current point, the canon model's
+            # position and #5420-#5428: a general block copies it first.
+            self.current = self.world.position = self._params.position = end
+            return
+        self._general_move(line, given, (x, y, z, a, b, c, u, v, w), f, n)
 
     def plain_rows(self, cells: List[str], at: int, end: int, plans) -> int:
         """Run data rows (runtime.rows) from ``cells[at]`` while they are
         plain straight moves; returns where it stopped (a row for the
         general path, or ``end``).
 
-        The same steps as :meth:`_plain_straight`, with the machine's state
+        The same steps as :meth:`move`, with the machine's state
         in local variables for the whole run: this loop is where a CAM
         file's time goes.
         """
@@ -170,32 +181,84 @@ class FastPathMixin:
             self._block_n = block_n
         return at
 
-    def _straight_ok(self, motion: Optional[int], f: Optional[float]) -> bool:
-        """The value-dependent part of "nothing but a move": G0/G1, a valid F,
-        and a feed rate for G1."""
-        if motion == G1:
-            return (self.feed_rate if f is None else f) > 0.0
-        return motion == G0 and (f is None or f >= 0.0)
+    def arc(self, line: int, motion: int, n: Optional[str] = None, **words) -> None:
+        """A line of G2/G3, axis words, I J K or R and F (the code generator
+        knows its shape): :meth:`plain_arc` where it can, else ``block``."""
+        if not self.plain_arc(line, motion, words, n):
+            self.block(line, motion, n=n, **words)
 
-    def _plain_straight(self, line, motion, end, f, n) -> None:
-        """Set F, announce N, emit the move, publish the end point."""
+    def plain_arc(self, line: int, motion: Optional[int], words, n) -> bool:
+        """A line of G2/G3 (``motion``; None: the modal motion), axis words,
+        I J K or R, and F, in the plain state: what ``block`` does, without
+        reading, enhancing and checking the line again (runtime.rows knows
+        its shape). Returns False, having done nothing, where the general
+        path must decide: not plain, a modal motion that is not an arc, or
+        any error, which ``block`` then raises in rs274's order."""
+        if not self._plain:
+            return False
+        if motion is None:
+            motion = self.motion_mode
+            if motion not in (G2, G3):
+                return False
+        f = words.get("f")
+        if f is not None and f < 0.0:
+            return False
+        plane = self.plane
+        cur = self.current
+        end = cur[:]
+        for letter, value in words.items():
+            axis = _AXIS_INDEX.get(letter)
+            if axis is not None:
+                end[axis] = value
+        s1, s2, _ = arcs.to_plane(plane, cur[0], cur[1], cur[2])
+        e1, e2, e3 = arcs.to_plane(plane, end[0], end[1], end[2])
+        try:
+            arcs.check_arc_format(plane, words)
+            arcs.check_arc_feed(
+                self.feed_mode,
+                self.feed_rate if f is None else f,
+                self.speed,
+                f is not None,
+            )
+            centre = arcs.arc_center_words(plane, words, self.ijk_absolute)
+            turns = arcs.check_arc_turns(None)
+            if centre is None:
+                arc = arcs.arc_from_radius(
+                    motion == G2, (s1, s2), (e1, e2), words["r"], turns, self.inches
+                )
+            else:
+                arc = arcs.arc_from_center(
+                    motion == G2,
+                    plane,
+                    (s1, s2),
+                    (e1, e2),
+                    centre,
+                    self.ijk_absolute,
+                    turns,
+                    self.inches,
+                    self.spiral_tolerance(),
+                )
+        except GCodeError:
+            return False
+        self._open_plain_block(line, n, f)
+        self.motion_mode = motion
+        self._emit_arc(arc, e3, end)
+        self._params.position = end  # shared, as for a straight move
+        return True
+
+    def _open_plain_block(
+        self, line: int, n: Optional[str], f: Optional[float]
+    ) -> None:
+        """What a plain block does before its motion: its line, its N number
+        (announced when it changes) and its F word."""
         self.line = line
-        canon = self.canon
         if n != self._block_n:
-            canon.set_block_number(n)
+            self.canon.set_block_number(n)
             self._block_n = n
         if f is not None:
             self.feed_rate = f
-            canon.set_feed_rate(f)
+            self.canon.set_feed_rate(f)
             self.world.feed_rate = f
-        if motion == G1:
-            canon.straight_feed(*end)
-        else:
-            canon.straight_traverse(*end)
-        self.motion_mode = motion
-        # One list shared as the current point, the canon model's position
-        # and #5420-#5428: a general block copies it before changing it.
-        self.current = self.world.position = self._params.position = end
 
     def _general_move(self, line, motion, axes, f, n) -> None:
         """The same line through the general path (checks and errors)."""

@@ -194,8 +194,9 @@ class MotionMixin:
             self.canon.straight_traverse(*end)
         else:
             self.canon.straight_feed(*end)
-        self.world.move_to(*end[:6])
-        self.current = end
+        # The end list is new and never changed in place (a general block
+        # copies the current point first): share it, as the fast path does.
+        self.current = self.world.position = end
 
     # ------------------------------------------------------------------
     # Arcs

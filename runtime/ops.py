@@ -28,9 +28,8 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
-from typing import Tuple
+from typing import List, Tuple
 
-from runtime import x87
 from runtime.errors import GCodeError
 
 #: rs274's TOLERANCE_EQUAL, used by EQ and NE.
@@ -340,10 +339,21 @@ def _pi_fixed(bits: int) -> int:
     return (16 * arctan_inv(5) - 4 * arctan_inv(239)) >> 32
 
 
-_PI_FIXED = _pi_fixed(_PI_BITS)
-_HALF_PI_FIXED = _PI_FIXED >> 1  # pi/2 * 2**_PI_BITS (pi's low bit is lost: 2**-1400)
-#: M_PIl: pi rounded to a 64-bit significand.
-_PI_L = _rounded_ratio(_PI_FIXED, 1, -_PI_BITS, _LD_BITS)
+_HALF_PI: List[int] = []
+
+
+def _half_pi_fixed() -> int:
+    """pi/2 * 2**_PI_BITS (pi's low bit is lost: 2**-1400), computed the
+    first time the emulation needs it (milliseconds a run would pay at
+    import for nothing where the C library does the trigonometry)."""
+    if not _HALF_PI:
+        _HALF_PI.append(_pi_fixed(_PI_BITS) >> 1)
+    return _HALF_PI[0]
+
+
+#: M_PIl: pi rounded to a 64-bit significand, ``(m, e)``; test_ops checks
+#: it against pi from Machin's formula above.
+_PI_L = (0xC90FDAA22168C235, -62)
 
 
 def plus_half_pi(x: float, sign: int = 1) -> float:
@@ -427,9 +437,10 @@ def _trig(degrees: float, name: str) -> float:
 
 def _sin_cos(m: int, e: int) -> Tuple[int, int]:
     """sin and cos of ``m * 2**e`` radians, as fixed-point ints (_FIXED_BITS)."""
+    half_pi = _half_pi_fixed()
     scaled = m << (e + _PI_BITS) if e + _PI_BITS >= 0 else m >> -(e + _PI_BITS)
-    quadrant = (2 * scaled + _HALF_PI_FIXED) // (2 * _HALF_PI_FIXED)
-    rest = (scaled - quadrant * _HALF_PI_FIXED) >> (_PI_BITS - _FIXED_BITS)
+    quadrant = (2 * scaled + half_pi) // (2 * half_pi)
+    rest = (scaled - quadrant * half_pi) >> (_PI_BITS - _FIXED_BITS)
     s, c = _sin_cos_series(rest)
     return ((s, c), (c, -s), (-s, -c), (-c, s))[quadrant % 4]
 
@@ -459,12 +470,38 @@ def _emulated(name: str):
     return compute
 
 
-# The C library's own sinl/cosl/tanl where this platform has the x87 long
-# double (exact, and ten times faster); the integer emulation elsewhere.
-_FAST = x87.trig_functions(_PI_L[0], _PI_L[1], _trig)
-_sin, _cos, _tan = (
-    (_FAST or {}).get(name) or _emulated(name) for name in ("sin", "cos", "tan")
-)
+def _choose_trig() -> None:
+    """Bind ``_sin``, ``_cos``, ``_tan``: the C library's own sinl/cosl/tanl
+    where this platform has the x87 long double (exact, and ten times
+    faster), the integer emulation elsewhere. Done at the first SIN, COS or
+    TAN a program evaluates, not at import: loading ctypes and checking the
+    library costs every run a few milliseconds, and most programs (CAM
+    output) never take a sine."""
+    global _sin, _cos, _tan, _BACKEND
+    from runtime import x87
+
+    fast = x87.trig_functions(_PI_L[0], _PI_L[1], _trig) or {}
+    _BACKEND = "library" if fast else "emulation"
+    _sin, _cos, _tan = (
+        fast.get(name) or _emulated(name) for name in ("sin", "cos", "tan")
+    )
+
+
+def _first_call(name: str):
+    def compute(degrees: float) -> float:
+        _choose_trig()
+        return globals()["_" + name](degrees)
+
+    return compute
+
+
+_sin, _cos, _tan = (_first_call(name) for name in ("sin", "cos", "tan"))
+
+
+def trig_backend() -> str:
+    """``"library"`` (sinl/cosl/tanl through ctypes) or ``"emulation"``."""
+    _choose_trig()
+    return _BACKEND
 
 
 #: M_PIl / 180.0 as a compiler folds it: a long double ``(m, e)``.

@@ -260,15 +260,15 @@ class Globals(NamedStore):
         object.__setattr__(self, "_machine_", machine)
 
     def __getitem__(self, name: str) -> float:
-        try:
+        value = self.__dict__.get(name)  # a float, never None, once set
+        if value is not None:
+            return value
+        machine = self._machine_
+        if name in machine.PREDEFINED:  # #<_value> after every call: no raise
+            return machine.predefined(name)
+        if name.startswith("_ini[") and _from_ini(self, name):
             return self.__dict__[name]
-        except KeyError:
-            machine = self._machine_
-            if name in machine.PREDEFINED:
-                return machine.predefined(name)
-            if name.startswith("_ini[") and _from_ini(self, name):
-                return self.__dict__[name]
-            raise GCodeError("Named parameter #<%s> not defined" % name) from None
+        raise GCodeError("Named parameter #<%s> not defined" % name)
 
     def __setattr__(self, name: str, value: float) -> None:
         self[name] = value

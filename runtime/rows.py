@@ -27,19 +27,34 @@ path (:mod:`runtime.fastpath`); the others through ``Machine.block``.
 
 from __future__ import annotations
 
+from functools import partial
 from typing import List, Optional, Sequence, Tuple
 
-from runtime.codes import G0, G1
+from runtime.canon import TraceCanon
+from runtime.codes import G0, G1, G2, G3
+from runtime.printed_rows import printed_rows
 
 Shape = Tuple[Tuple[int, ...], Tuple[str, ...]]
 
 _AXES = "xyzabcuvw"
+_ARC_LETTERS = "xyzabcijkrf"
 
 
 class _Plan:
     """How to run the rows of one shape."""
 
-    __slots__ = ("codes", "letters", "width", "has_n", "motion", "slots", "f_at")
+    __slots__ = (
+        "codes",
+        "letters",
+        "width",
+        "has_n",
+        "motion",
+        "slots",
+        "f_at",
+        "beyond_printed",
+        "printed",
+        "arc",
+    )
 
     def __init__(self, shape: Shape):
         codes, letters = shape
@@ -53,17 +68,55 @@ class _Plan:
         self.motion: Optional[int] = codes[0] if codes else None
         self.slots: Optional[List[Tuple[int, int]]] = None
         self.f_at = -1
+        #: Names U, V or W, which the trace does not print (runtime.printed_rows).
+        self.beyond_printed = False
         plain = len(codes) <= 1 and (not codes or codes[0] in (G0, G1))
         axes = [(i, _AXES.index(x)) for i, x in enumerate(self.letters) if x in _AXES]
         others = [x for x in self.letters if x not in _AXES and x != "f"]
         if plain and axes and not others:
             self.slots = axes
+            self.beyond_printed = any(axis >= 6 for _, axis in axes)
             if "f" in self.letters:
                 self.f_at = self.letters.index("f")
+        #: An arc (G2/G3 or the modal motion) for Machine.plain_arc: axis
+        #: words, I J K or R, F; no P (turns) and no U V W.
+        self.arc = (
+            len(codes) <= 1
+            and (not codes or codes[0] in (G2, G3))
+            and any(x in "xyzabc" for x in self.letters)
+            and all(x in _ARC_LETTERS for x in self.letters)
+        )
+        #: What runtime.printed_rows needs, in one tuple (None: not for it).
+        self.printed = None
+        if self.slots is not None and not self.beyond_printed:
+            self.printed = (
+                self.motion,
+                self.has_n,
+                self.f_at,
+                self.width,
+                contiguous(self.slots),
+                self.slots,
+            )
 
 
-def run_rows(machine, shapes: Sequence[Shape], table: str) -> None:
+def contiguous(slots: List[Tuple[int, int]]) -> Optional[Tuple[int, int, int]]:
+    """(first value, first axis, count) when the values fill consecutive
+    axes in order (``X Y``, ``X Y Z``, ``Z``): one slice assignment."""
+    first_value, first_axis = slots[0]
+    for k, (value, axis) in enumerate(slots):
+        if value != first_value + k or axis != first_axis + k:
+            return None
+    return first_value, first_axis, len(slots)
+
+
+def run_rows(
+    machine, shapes: Sequence[Shape], table: str, as_printed: bool = False
+) -> None:
     """Execute the rows of ``table`` (see the module docstring).
+
+    ``as_printed``: every value is written as the trace prints it, four
+    decimals (see runtime.printed_rows), so the trace can be written from
+    the text itself.
 
     An error is tagged with the row's G-code line (``ngc_row_line``) so the
     source map can name it: the generated frame only knows which table ran.
@@ -71,9 +124,12 @@ def run_rows(machine, shapes: Sequence[Shape], table: str) -> None:
     plans = [_Plan(shape) for shape in shapes]
     cells = table.split()
     at, end = 0, len(cells)
+    fast = machine.plain_rows
+    if as_printed and type(machine.canon) is TraceCanon:
+        fast = partial(printed_rows, machine, [plan.printed for plan in plans])
     try:
         while at < end:
-            at = machine.plain_rows(cells, at, end, plans)
+            at = fast(cells, at, end, plans)
             if at == end:
                 break
             machine.line = line = int(cells[at])
@@ -84,8 +140,10 @@ def run_rows(machine, shapes: Sequence[Shape], table: str) -> None:
             if plan.has_n:
                 n = cells[start]
                 start += 1
-            values = map(float, cells[start:at])
-            machine.block(line, *plan.codes, n=n, **dict(zip(plan.letters, values)))
+            words = dict(zip(plan.letters, map(float, cells[start:at])))
+            if plan.arc and machine.plain_arc(line, plan.motion, words, n):
+                continue
+            machine.block(line, *plan.codes, n=n, **words)
     except Exception as error:
         error.ngc_row_line = machine.line
         raise

@@ -1,5 +1,9 @@
 """``sinl``/``cosl``/``tanl`` from the C library, on rs274's long double radians.
 
+(Where the optional C extension ``runtime._libm_trig`` was built, its
+functions are used instead: the same computation, written in C as rs274
+writes it, without Python forming the radians. See :func:`trig_functions`.)
+
 rs274 computes ``SIN[d]`` as ``sinl((d * M_PIl) / 180.0)`` in 80-bit x87
 arithmetic and stores the result into a double. :mod:`runtime.ops` emulates
 that exactly with integers, at about 16 us a call. This module is the fast
@@ -11,7 +15,7 @@ into a double. About 1.5 us a call.
 
 The fast path is used only where ``c_longdouble`` is the x87 format and the
 library's answers agree with the integer emulation on a set of probe angles
-(checked once, at import); otherwise :data:`AVAILABLE` is False and
+(checked once, at a program's first SIN, COS or TAN); otherwise
 :mod:`runtime.ops` keeps its emulation.
 """
 
@@ -105,26 +109,29 @@ def make_radians(pi_significand: int, pi_exponent: int) -> Callable[[float], obj
     return radians
 
 
-_FUNCTIONS = _libm_functions()
-AVAILABLE = _FUNCTIONS is not None
-
-
-def trig_functions(pi_significand: int, pi_exponent: int, reference) -> Optional[dict]:
+def trig_functions(
+    pi_significand: int, pi_exponent: int, reference, use_extension: bool = True
+) -> Optional[dict]:
     """``{"sin": f, "cos": f, "tan": f}`` computing through the C library, or
     None when this platform's long double cannot do it exactly.
 
-    ``reference(degrees, name)`` is the integer emulation; the library must
-    agree with it on sin and cos of ordinary probe angles or the fast path is
-    not used. (Not on tan: rs274's tanl is not always correctly rounded, and
-    the library, not the emulation, is what rs274 prints.)
+    The optional C extension ``runtime._libm_trig`` (setup.py) when it was
+    built, else ctypes. ``reference(degrees, name)`` is the integer
+    emulation; the library must agree with it on sin and cos of ordinary
+    probe angles or the fast path is not used. (Not on tan: rs274's tanl is
+    not always correctly rounded, and the library, not the emulation, is
+    what rs274 prints.)
     """
-    if _FUNCTIONS is None:
-        return None
-    radians = make_radians(pi_significand, pi_exponent)
-    sinl, cosl, tanl = _FUNCTIONS
-    made = {}
-    for name, fn in (("sin", sinl), ("cos", cosl), ("tan", tanl)):
-        made[name] = _wrap(name, fn, radians, reference)
+    made = _extension_functions() if use_extension else None
+    if made is None:
+        functions = _libm_functions()
+        if functions is None:
+            return None
+        radians = make_radians(pi_significand, pi_exponent)
+        made = {
+            name: _wrap(name, fn, radians, reference)
+            for name, fn in zip(("sin", "cos", "tan"), functions)
+        }
     probes = (30.0, 45.0, 60.0, 90.0, 180.0, 270.0, -33.3, 0.3, 1e-3, 12345.678)
     for degrees in probes + tuple(k * 7.77 for k in range(1, 60)):
         for name in ("sin", "cos"):
@@ -135,6 +142,16 @@ def trig_functions(pi_significand: int, pi_exponent: int, reference) -> Optional
             except (ArithmeticError, ctypes.ArgumentError, TypeError):
                 return None
     return made
+
+
+def _extension_functions() -> Optional[dict]:
+    """The C extension's functions (rs274's very expression, compiled), or
+    None where it was not built."""
+    try:
+        from runtime import _libm_trig
+    except ImportError:
+        return None
+    return {"sin": _libm_trig.sin, "cos": _libm_trig.cos, "tan": _libm_trig.tan}
 
 
 def _wrap(name: str, libm_fn, radians, reference) -> Callable[[float], float]:

@@ -197,11 +197,12 @@ def test_big_cam_files_become_data_rows():
     lines = ["G21 G90"] + ["G1 X%d.5 Y%d F1200" % (i, i % 7) for i in range(3000)]
     lines[1500] = "(halfway)"
     code = compile_text("\n".join(lines + ["M2"]) + "\n", "cam.ngc")
-    assert "run_rows(m, SHAPES, ROWS_1)" in code
-    assert "run_rows(m, SHAPES, ROWS_2)" in code  # after the comment
+    assert "run_rows(m, SHAPES, ROWS_1, as_printed=True)" in code
+    assert "run_rows(m, SHAPES, ROWS_2, as_printed=True)" in code  # after the comment
     # line 3 is "G1 X1.5 Y1 F1200": shape 1 (G1 X Y F) and its values as written
     assert '    # 1: G1 X Y F\n    ((G1,), ("x", "y", "f")),' in code
-    assert '\nROWS_1 = """\n1 0\n2 1 0.5 0 1200\n3 1 1.5 1 1200\n' in code
+    # four decimals at most: written as the trace prints them (test_rows.py)
+    assert '\nROWS_1 = """\n1 0\n2 1 0.5000 0.0000 1200.0000\n3 1 1.5000 1.0000' in code
     table = code.split('ROWS_1 = """')[1].split('"""')[0]
     assert "G1" not in table and "X" not in table  # no G-code text to parse
     assert_black_stable(code)
@@ -219,7 +220,7 @@ def test_long_programs_become_chunks_of_bounded_size():
 def test_row_tables_are_bounded():
     lines = ["G1 X%d Y1 F100" % i for i in range(codegen.ROWS_PER_TABLE + 10)]
     code = compile_text("\n".join(lines + ["M2"]) + "\n", "big.ngc")
-    assert "run_rows(m, SHAPES, ROWS_2)" in code
+    assert "run_rows(m, SHAPES, ROWS_2, as_printed=True)" in code
     assert "ROWS_3" not in code
 
 
@@ -292,3 +293,10 @@ def test_generated_code_runs_like_rs274(text, mode, tmp_path):
         expected = harness.run_rs274(program, args, text=text)
         actual = harness.run_ngc2py(program, args, text=text, mode=mode)
         assert harness.compare(expected, actual) == []
+
+
+def test_arcs_with_computed_words_call_machine_arc():
+    code = compile_text("G17 G1 X0 Y0 F100\nG2 X[1 + 1] Y0 I1 J0\nG3 X0 Y0 R5 F[50]\nG2 X1 P2 I1\nM2\n")
+    assert "m.arc(2, G2, x=2.0, y=0.0, i=1.0, j=0.0)" in code
+    assert "m.arc(3, G3, x=0.0, y=0.0, r=5.0, f=50.0)" in code
+    assert "m.block(4, G2, x=1.0, p=2.0, i=1.0)" in code  # P (turns): the general path

@@ -330,13 +330,48 @@ def test_c_hypot_rounds_like_the_c_library():
     assert ops.c_hypot(0.0, 0.0) == 0.0
 
 
-@pytest.mark.skipif(ops._FAST is None, reason="no x87 long double C library here")
+@pytest.mark.skipif(
+    ops.trig_backend() != "library", reason="no x87 long double C library here"
+)
 def test_library_sin_cos_agree_with_the_exact_emulation():
     """sinl/cosl through ctypes (the fast path) against the integer emulation."""
     rng = random.Random(87)
     for _ in range(3000):
         x = rng.choice(
-            [rng.uniform(-720, 720), round(rng.uniform(-720, 720), 2), rng.uniform(-1e5, 1e5)]
+            [
+                rng.uniform(-720, 720),
+                round(rng.uniform(-720, 720), 2),
+                rng.uniform(-1e5, 1e5),
+            ]
         )
         assert ops.sin(x) == ops._trig(x, "sin"), x
         assert ops.cos(x) == ops._trig(x, "cos"), x
+
+
+def test_the_c_extension_computes_what_the_ctypes_path_computes():
+    """runtime._libm_trig (built by setup.py where a C compiler is found)
+    against sinl/cosl/tanl through ctypes on the same long double radians;
+    where it was not built, the ctypes path is what runs, and this says so."""
+    from runtime import x87
+
+    extension = x87._extension_functions()
+    if extension is None:
+        pytest.skip("runtime._libm_trig not built here (no C compiler or headers)")
+    through_ctypes = x87.trig_functions(
+        ops._PI_L[0], ops._PI_L[1], ops._trig, use_extension=False
+    )
+    assert through_ctypes is not None
+    rng = random.Random(5)
+    angles = [271.0, -236.1, 0.0, -0.0, 90.0, 1e-300, 5e15]
+    angles += [rng.uniform(-1e5, 1e5) for _ in range(20000)]
+    angles += [round(rng.uniform(-720, 720), 3) for _ in range(20000)]
+    for x in angles:
+        for name in ("sin", "cos", "tan"):
+            got, want = extension[name](x), through_ctypes[name](x)
+            assert got == want or (got != got and want != want), (name, x)
+            assert math.copysign(1, got) == math.copysign(1, want), (name, x)
+
+
+def test_m_pil_is_pi_rounded_to_a_long_double():
+    pi = ops._pi_fixed(ops._PI_BITS)
+    assert ops._PI_L == ops._rounded_ratio(pi, 1, -ops._PI_BITS, ops._LD_BITS)

@@ -1,0 +1,197 @@
+"""Hypothesis strategies for CAM output: long runs of literal-only lines.
+
+A CAM post-processor writes a program as a few set-up lines and then
+thousands of blocks of literal words: ``G1 X12.345 Y-0.5 F800``, an axis
+word alone in the modal motion, an N number on every line or on none,
+numbers with any count of decimals and written every way G-code allows
+(``-.5``, ``+2``, ``007.250``, ``12.``). ngc2py keeps such runs as data
+tables (runtime/rows.py), and as the trace's own text when every value has
+at most four decimals (runtime/printed_rows.py); these programs exercise
+both, the modes that turn the fast paths off (incremental distance, offsets,
+inverse time, units), the blocks that interrupt a run (dwell, spindle,
+coolant, plane), arcs in each plane (Machine.plain_arc), long stretches
+of one row shape (written in batches) and the value errors a run can hit (no feed rate, a negative F, a zero F under G1).
+"""
+
+from __future__ import annotations
+
+import re
+
+from hypothesis import strategies as st
+
+ARC = re.compile(r"\bG0?[23]\b")
+
+AXES = "XYZABC"
+
+
+@st.composite
+def numbers(draw, places: int = 6) -> str:
+    """A literal as a CAM post (or a person) may write it, with at most
+    ``places`` decimals."""
+    whole = draw(st.integers(-400, 400))
+    decimals = min(places, draw(st.sampled_from([0, 1, 2, 3, 3, 3, 4, 4, 5, 6])))
+    fraction = draw(st.integers(0, 10**decimals - 1)) if decimals else 0
+    sign = "-" if whole < 0 or (whole == 0 and draw(st.booleans()) and fraction) else ""
+    digits = str(abs(whole))
+    style = draw(st.integers(0, 5))
+    if style == 1 and digits == "0" and decimals:
+        digits = ""  # -.5
+    elif style == 2:
+        digits = "00" + digits  # leading zeros
+    elif style == 3 and not sign:
+        sign = "+"
+    text = sign + digits
+    if decimals:
+        text += "." + str(fraction).rjust(decimals, "0")
+    elif style == 4:
+        text += "."  # 12.
+    return text
+
+
+@st.composite
+def feed(draw, places: int = 6) -> str:
+    """An F word; now and then one rs274 rejects (negative) or that leaves
+    G1 without a feed rate (zero)."""
+    if draw(st.integers(0, 30)) == 0:
+        return "F" + draw(st.sampled_from(["0", "-5"]))
+    rates = ["800", "1200.5", "60.25", "0.1234"] + (["99.87654"] if places > 4 else [])
+    return "F" + draw(st.sampled_from(rates))
+
+
+#: plane code -> (its two axes, the centre letters, the third axis)
+PLANES = {"G17": ("XY", "IJ", "Z"), "G18": ("ZX", "KI", "Y"), "G19": ("YZ", "JK", "X")}
+
+
+@st.composite
+def arc_row(draw, plane: str, places: int = 6) -> str:
+    """An arc that is valid wherever the tool is: a full circle given by its
+    centre (no end point in the plane, so it ends where it starts, rising
+    along the third axis), or an end point with a radius too big to miss."""
+    axes, centre, third = PLANES[plane]
+    words = [draw(st.sampled_from(["G2", "G3", "G02", "G03"]))]
+    if draw(st.booleans()):
+        words.append(third + draw(numbers(places)))
+        radius = draw(st.sampled_from(["5", "12.5", "0.75", "-3.25"]))
+        words.append(centre[0] + radius)
+        words.append(centre[1] + draw(st.sampled_from(["0", "1.5", "-2"])))
+    else:
+        for letter in axes:
+            words.append(letter + draw(numbers(places)))
+        words.append("R" + draw(st.sampled_from(["1000", "-1000", "999.5"])))
+    if draw(st.integers(0, 5)) == 0:
+        words.append(draw(feed(places)))
+    return " ".join(words)
+
+
+@st.composite
+def move_row(
+    draw,
+    numbered: bool,
+    line: int,
+    plane: str = "G17",
+    after_arc: bool = False,
+    places: int = 6,
+) -> str:
+    """A move; after an arc, mostly one that names its motion (an axis word
+    alone would continue the arc and, without I J K or R, fail)."""
+    words = []
+    if numbered:
+        words.append("N%d" % (line * 10))
+    if draw(st.integers(0, 7)) == 0:
+        words.append(draw(arc_row(plane, places)))
+        return " ".join(words)
+    motion = draw(st.sampled_from(["", "", "G1", "G0", "G01", "G00"]))
+    if after_arc and not motion and draw(st.integers(0, 3)):
+        motion = draw(st.sampled_from(["G1", "G0"]))
+    if motion:
+        words.append(motion)
+    axes = draw(st.lists(st.sampled_from(AXES[:3] * 4 + AXES[3:]), min_size=1, max_size=4, unique=True))
+    for letter in sorted(axes, key=AXES.index):
+        words.append(letter + draw(numbers(places)))
+    if draw(st.integers(0, 7)) == 0:
+        words.append(draw(feed(places)))
+    return " ".join(words)
+
+
+@st.composite
+def same_shape_rows(draw, numbered: bool, line: int, places: int = 6) -> list:
+    """Eight or more moves of one shape (the same motion code or none, the
+    same axis letters, F on each or on none): what runtime.printed_rows
+    writes in one batch. Now and then one F is an error (zero under G1)."""
+    motion = draw(st.sampled_from(["", "G1", "G0", "G01"]))
+    axes = draw(st.lists(st.sampled_from(AXES), min_size=1, max_size=4, unique=True))
+    axes.sort(key=AXES.index)
+    with_f = draw(st.integers(0, 3)) == 0
+    rows = []
+    for k in range(draw(st.integers(8, 30))):
+        words = ["N%d" % ((line + k) * 10)] if numbered else []
+        words += [motion] if motion else []
+        words += [letter + draw(numbers(places)) for letter in axes]
+        if with_f:
+            words.append(draw(feed(places)))
+        rows.append(" ".join(words))
+    return rows
+
+
+INTERRUPTIONS = [
+    "G4 P0.25",
+    "S1500 M3",
+    "M8",
+    "M9",
+    "G17",
+    "G18",
+    "G19",
+    "G91 X1.5",
+    "G90",
+    "G20",
+    "G21",
+    "G92 X1 Y2",
+    "G92.1",
+    "G55",
+    "G54",
+    "G93",
+    "G94",
+    "M5",
+]
+
+SETUPS = [
+    "G21 G90 G17 G94",
+    "G20 G90",
+    "G21 G90 F600",
+    "G91 F300",
+    "G10 L2 P1 X5 Y-3 Z1 (G54 offset)",
+    "G10 L2 P1 R30",
+    "G92 X10 Y10",
+    "G0 X1 Y1 Z1 A10",
+    "F1000",
+    "G8",
+    "G7",
+]
+
+
+@st.composite
+def cam_programs(draw) -> str:
+    """Set-up lines, then one or more runs of move rows (each long enough
+    to become a data table), with the odd interruption between rows."""
+    lines = draw(st.lists(st.sampled_from(SETUPS), min_size=0, max_size=3))
+    numbered = draw(st.booleans())
+    plane = "G17"
+    # Most CAM posts write 3 or 4 decimals: such tables are written as the
+    # trace prints them (runtime/printed_rows.py); others are not.
+    places = draw(st.sampled_from([3, 4, 4, 6]))
+    for _ in range(draw(st.integers(1, 3))):
+        for _ in range(draw(st.integers(8, 40))):
+            if draw(st.integers(0, 25)) == 0:
+                lines.append(draw(st.sampled_from(INTERRUPTIONS)))
+                plane = lines[-1] if lines[-1] in PLANES else plane
+            elif draw(st.integers(0, 12)) == 0:
+                lines.extend(draw(same_shape_rows(numbered, len(lines) + 1, places)))
+            else:
+                after_arc = bool(lines) and ARC.search(lines[-1]) is not None
+                row = move_row(numbered, len(lines) + 1, plane, after_arc, places)
+                lines.append(draw(row))
+        if draw(st.booleans()):
+            lines.append(draw(st.sampled_from(INTERRUPTIONS)))
+            plane = lines[-1] if lines[-1] in PLANES else plane
+    lines.append("M2")
+    return "\n".join(lines) + "\n"

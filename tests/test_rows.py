@@ -1,0 +1,120 @@
+"""Runs of literal-only lines (CAM output) against rs274.
+
+The code generator keeps such runs as data tables, written as the trace
+prints their numbers when that is exact (runtime/rows.py,
+runtime/printed_rows.py). Generated CAM programs (tests/cam_strategies.py)
+must give rs274's trace byte for byte through both table forms, and a
+table written as printed must drive a non-trace canon with the same calls
+and values as one written as the G-code was.
+"""
+
+from __future__ import annotations
+
+import pytest
+from hypothesis import given, settings
+
+import cam_strategies
+from ngc2py import codegen
+from ngc2py.compiler import compile_text
+from runtime.canon import RecordingCanon
+from test_differential import PROFILE, check_same
+
+FOUR_PLACES = (
+    "\n".join(
+        ["G21 G90 F500"] + ["G1 X%d.125 Y-0.5 Z3" % i for i in range(12)] + ["M2"]
+    )
+    + "\n"
+)
+
+
+@pytest.mark.rs274
+@settings(PROFILE, max_examples=PROFILE.max_examples * 2)
+@given(cam_strategies.cam_programs())
+def test_cam_programs_run(text):
+    check_same(text, "inprocess")
+
+
+@pytest.mark.rs274
+@PROFILE
+@given(cam_strategies.cam_programs())
+def test_cam_programs_converted(text):
+    check_same(text, "convert")
+
+
+def _calls(code: str) -> list:
+    namespace: dict = {"__name__": "cam"}
+    exec(compile(code, "cam.py", "exec"), namespace)
+    canon = RecordingCanon()
+    namespace["run"](canon)
+    return canon.calls
+
+
+def test_values_with_four_decimals_are_written_as_printed():
+    code = compile_text(FOUR_PLACES, "cam.ngc")
+    assert "run_rows(m, SHAPES, ROWS_1, as_printed=True)" in code
+    assert "\n3 1 1.1250 -0.5000 3.0000\n" in code
+
+
+def test_a_fifth_decimal_keeps_the_table_as_written():
+    code = compile_text(FOUR_PLACES.replace("Y-0.5 ", "Y-0.50001 ", 1), "cam.ngc")
+    assert "run_rows(m, SHAPES, ROWS_1)" in code
+    assert "\n2 1 0.125 -0.50001 3\n3 1 1.125 -0.5 3\n" in code
+
+
+def test_printed_tables_give_a_canon_the_same_calls(monkeypatch):
+    printed = _calls(compile_text(FOUR_PLACES, "cam.ngc"))
+    monkeypatch.setattr(codegen, "as_printed", lambda rows: None)
+    as_written = compile_text(FOUR_PLACES, "cam.ngc")
+    assert "as_printed" not in as_written
+    assert _calls(as_written) == printed
+    assert (
+        "straight_feed",
+        (11.125, -0.5, 3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+    ) in printed
+
+
+def test_converting_rows_never_reads_a_row_line_again(monkeypatch):
+    """A CAM line is kept as its compact data row; any pass that asks it for
+    more (its words, its error) makes the parser read the line again, which
+    for a million-line file costs as much as the whole conversion."""
+    from ngc2py import parser
+
+    reads = []
+    full = parser.RowLine.full
+    monkeypatch.setattr(
+        parser.RowLine, "full", lambda self: reads.append(self) or full(self)
+    )
+    lines = ["G21 G90 F300"] + ["G1 X%d.25 Y%d Z-1" % (i, i % 9) for i in range(500)]
+    compile_text("\n".join(lines + ["M2"]) + "\n", "cam.ngc")
+    assert reads == []
+
+
+def _stretch(template: str, count: int) -> str:
+    return "\n".join(template.format(k=k, x=k * 1.25, y=-k * 0.5) for k in range(count))
+
+
+BATCHES = {
+    # long stretches of one shape: runtime.printed_rows writes each in one go
+    "xy": "G21 G90 G17 F500\nG1 Z-1\n" + _stretch("X{x:.3f} Y{y:.3f}", 60) + "\nM2\n",
+    "numbered_with_feed": "G90\n"
+    + _stretch("N{k} G1 X{x:.2f} Z{y:.4f} F{k}1.5", 40)
+    + "\nM2\n",
+    "rapids_then_other_shapes": "G90\n"
+    + _stretch("G0 Y{y:.1f}", 20)
+    + "\n"
+    + _stretch("X{x:.1f} Y{y:.1f} A{k}", 12)
+    + "\nG1 F0\n"
+    + _stretch("G1 X{x:.1f}", 10)
+    + "\nM2\n",
+    "zero_feed_inside": "G90 F100\n"
+    + "\n".join("G1 X%d F%d" % (k, abs(k - 15)) for k in range(30))
+    + "\nM2\n",
+}
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize("name", sorted(BATCHES))
+def test_stretches_of_one_shape_match_rs274(name):
+    text = BATCHES[name]
+    assert "as_printed=True" in compile_text(text, "cam.ngc")
+    check_same(text, "inprocess")
