@@ -614,11 +614,13 @@ class CodeGen:
 
     def sub_table(self) -> Coll:
         """``{"name": fn}`` for the main file's subroutines (for seeking);
-        Fanuc-style ones as ``"O<number>"`` (an o-call never finds them)."""
-        pairs = [
-            "%s: %s" % (string("O" + sub.name if sub.fanuc else sub.name), sub.fn)
-            for sub in self.program.subs
-        ]
+        Fanuc-style ones as ``"O<number>"`` (an o-call never finds them).
+        Reading ahead stops at the first definition of a name, so that one
+        is kept when a name is defined twice."""
+        first = {}
+        for sub in self.program.subs:
+            first.setdefault("O" + sub.name if sub.fanuc else sub.name, sub.fn)
+        pairs = ["%s: %s" % (string(name), fn) for name, fn in first.items()]
         return Coll("{", pairs, "}")
 
     def end_of_main(self) -> Tuple[int, bool]:

@@ -974,7 +974,10 @@ def resolve_calls(program: Program) -> None:
     everywhere = list(walk(program.body))
     for sub in program.externals:
         everywhere.extend(walk(sub.body))
-    fanuc = {sub.name: sub for sub in program.subs if sub.fanuc}
+    fanuc: Dict[str, Sub] = {}
+    for sub in program.subs:  # reading ahead stops at the first definition
+        if sub.fanuc:
+            fanuc.setdefault(sub.name, sub)
     for stmt in everywhere:
         if isinstance(stmt, FanucCall) and isinstance(stmt.line.oword.name, str):
             stmt.sub = fanuc.get(stmt.line.oword.name)

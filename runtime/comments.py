@@ -17,8 +17,9 @@ Facts measured against rs274 (LinuxCNC 2.9) that shape this module:
 * The last comment of a line is the one acted on, and only when its text is
   not empty: ``()`` prints nothing and silences an earlier comment on the
   line; ``( )`` prints ``COMMENT("")``.  O-word lines act on no comment.
-* ``%d`` and ``%.Nf`` (N one digit) in the text are not printed; they set the
-  number of decimals for the parameters after them (``%d`` means 0). Any
+* ``%d``, ``%f`` and ``%.Nf`` (N one digit) in the text are not printed; they
+  set the number of decimals for the parameters after them (``%d`` means 0,
+  ``%f`` 4). Any
   other ``%.`` loses its ``%``; any other ``%`` is kept.
 * DEBUG prints only while ``#5599`` is positive. PRINT writes the line to
   stdout (the same stream as the trace), not to stderr; here it goes to the
@@ -163,9 +164,9 @@ def split_parts(text: str) -> Tuple[Part, ...]:
             else:
                 literal.append("#")
                 i += 1
-        elif char == "%" and nxt == "d":
+        elif char == "%" and nxt in ("d", "f"):
             flush()
-            parts.append(Decimals(0))
+            parts.append(Decimals(0 if nxt == "d" else 4))
             i += 2
         elif char == "%" and nxt == ".":
             digit, f = text[i + 2 : i + 3], text[i + 3 : i + 4]

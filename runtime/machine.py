@@ -31,7 +31,7 @@ import io
 import sys
 from typing import Callable, Dict, Iterator, NamedTuple, Optional, TextIO
 
-from runtime import blockcheck, loopflags, olabels
+from runtime import blockcheck, fanuc_subs, loopflags, olabels, remap
 from runtime.canon import Canon, TraceCanon
 from runtime.blockcheck import (
     DRILL_CYCLES,
@@ -348,6 +348,7 @@ class Machine(
         self._initialise()
         try:
             self._start()
+            remap.refuse_standard_remaps(self.settings)
             self.refresh_plain()
             main(self)
         except ProgramEnd:
@@ -418,6 +419,9 @@ class Machine(
         """An error rs274 reports when it reaches ``line`` (``finish``: after
         the FINISH() of a closing ``%`` it met on the way)."""
         self.line = line
+        if self.settings.ini.lines:
+            frames = g_code_frames_of_stack()
+            remap.refuse_in_line(self.settings, message, frames[-1].text if frames else "")
         if finish:
             self.announce_block(None)
             self.canon.finish()
@@ -425,7 +429,11 @@ class Machine(
 
     def gcode(self, value: float) -> int:
         """A G code given by an expression, validated as rs274's reader does."""
-        return g_code(value)
+        try:
+            return g_code(value)
+        except GCodeError as error:
+            remap.refuse_unknown(self.settings, "g", value, error)
+            raise
 
     @staticmethod
     def is_m98(value: float) -> bool:
@@ -438,7 +446,11 @@ class Machine(
 
     def mcode(self, value: float) -> int:
         """An M code given by an expression, validated as rs274's reader does."""
-        return m_code(value)
+        try:
+            return m_code(value)
+        except GCodeError as error:
+            remap.refuse_unknown(self.settings, "m", value, error)
+            raise
 
     # ------------------------------------------------------------------
     # Subroutines
@@ -470,6 +482,7 @@ class Machine(
         """Call a subroutine by name (for calls the compiler could not resolve)."""
         known = self._subroutines.get(name)
         if known is None:
+            fanuc_subs.check_ocall(self, name)
             known = self._subroutines[name] = _Subroutine(self._read_ahead(name))
         return self.call(known.fn, *args)
 
@@ -522,8 +535,7 @@ class Machine(
         blockcheck.check(block, self.distance_incremental)
         if fn is None:
             name = "%d" % to_integer(words["p"])
-            fanuc = self.source.subs.get("O" + name) if self.source else None
-            fn = fanuc or self._read_ahead(name)
+            fn = fanuc_subs.m98_target(self, name, self._read_ahead)
         times = words.get("l", 1)
         if times == 0:
             # rs274 enters the call but never runs or leaves it: the rest of
@@ -534,7 +546,7 @@ class Machine(
             caller_locals.__dict__.clear()
             self._locals = caller_locals
         for _ in range(times):
-            self._run_sub(fn)
+            fanuc_subs.run_fanuc(self, self._run_sub, fn)
         self.value = self.value_returned = 0.0
 
     def _run_sub(self, fn: Callable) -> Optional[float]:

@@ -12,6 +12,8 @@ checks only for labels it sees reused.
 
 from __future__ import annotations
 
+from runtime import fanuc_subs
+
 UNDEFINED_LABEL = "%d: undefined O-word label: '%s'"
 NO_MATCHING = {
     "elseif": "%d: no matching 'if' label: '%s' (found '%s' in line %d)",
@@ -77,6 +79,8 @@ def top_level_return(machine, line: int, keyword: str, text: str, value=None) ->
     a call to the main program until it next reads a definition; then
     ``return`` only sets ``#<_value>`` and ``endsub`` fails for not
     defining one."""
+    if fanuc_subs.in_fanuc_call(machine):
+        machine.fail(line, fanuc_subs.FANUC_END_M99)
     machine.value = 0.0 if value is None else value
     machine.value_returned = 0.0 if value is None else 1.0
     if not getattr(machine, "returned_to_main", False):

@@ -294,7 +294,10 @@ def stmt_modal(w: Writer) -> None:
     elif kind == 5:
         w.emit(w.draw(st.sampled_from(["G92.1", "G92.2", "G92.3", "G61", "G61.1", "G64", "G64 P0.01"])))
     elif kind == 6:
-        w.emit(f"S{w.draw(numbers(0, 5000, 1))} {w.draw(st.sampled_from(['M3', 'M4', 'M5']))}")
+        # $ (spindle selection): rs274 keeps it as a truncated int; one
+        # spindle, so 0 or -1 run, anything else fails at its step.
+        dollar = w.draw(st.sampled_from(["", "", "", " $0", " $-1", " $0.5", " $-0.9", " $1", " $-2"]))
+        w.emit(f"S{w.draw(numbers(0, 5000, 1))} {w.draw(st.sampled_from(['M3', 'M4', 'M5']))}{dollar}")
     elif kind == 7:
         w.emit(w.draw(st.sampled_from(["M7", "M8", "M9"])))
     elif kind == 8:
@@ -832,6 +835,8 @@ LINE_COMMENTS = [
     "(DEBUG,one=#1 two=#<_g>)",
     "(debug,)",
     "(PRINT,printed #1)",
+    "(PRINT,%f#1 then #<_g> %d#1 %.2f#1 100% %.x)",
+    "(DEBUG,%f stays for #1 and #1)",
     "(LOG,logged #2)",
     "(first) ()",
     "() (MSG,after an empty one)",

@@ -23,6 +23,11 @@ crashes on over-long comment expansions are golden programs with an
    never runs code from a G-code file: it evaluates simple assignments and
    arithmetic itself (golden/comments/py_*) and stops with an error that
    says so on anything else, e.g. an import. ``(pyrun,...)`` does nothing.
+6. ``[RS274NGC]REMAP`` in the ``-i`` file: rs274 runs the remapped code's
+   subroutine (or Python handler). ngc2py does not run remaps: a remapped
+   code it does not know (``M400``) fails where it is used, a remap of a
+   code it would run (``M6``) fails as the program starts, both saying
+   that the code is remapped (runtime.remap).
 
 Each case shows rs274's behaviour where it can be shown cheaply (a hang is
 checked with a short timeout), then ngc2py's.
@@ -239,3 +244,49 @@ def test_ngc2py_refuses_python_it_does_not_evaluate(tmp_path):
     assert proc.returncode == 1
     assert "ngc2py does not run embedded Python" in proc.stderr
     assert "(py,import os)" in proc.stderr
+
+
+# -- 6. REMAP ------------------------------------------------------------------
+
+REMAP_PROGRAM = "G0 X1\nM400\nG0 X2\nM2\n"
+REMAP_SUB = "o<m400> sub\n(PRINT,remap ran)\nG0 X4\no<m400> endsub\nM2\n"
+
+
+def remap_folder(tmp_path, entry):
+    (tmp_path / "r.ini").write_text("[RS274NGC]\nSUBROUTINE_PATH=.\n" + entry + "\n")
+    (tmp_path / "m400.ngc").write_text(REMAP_SUB)
+    return tmp_path / "p.ngc"
+
+
+@pytest.mark.rs274
+def test_rs274_runs_a_remapped_code(tmp_path):
+    program = remap_folder(tmp_path, "REMAP=M400 modalgroup=10 ngc=m400")
+    program.write_text(REMAP_PROGRAM)
+    result = harness.run_rs274(program, ["-i", "r.ini"])
+    assert result.rc == 0 and b"remap ran" in result.stdout
+
+
+def test_ngc2py_refuses_a_remapped_code_where_it_is_used(tmp_path):
+    remap_folder(tmp_path, "REMAP=M400 modalgroup=10 ngc=m400")
+    proc = ngc2py_run(tmp_path, REMAP_PROGRAM, "-i", "r.ini")
+    assert proc.returncode == 1
+    assert "STRAIGHT_TRAVERSE(1.0000" in proc.stdout  # the line before ran
+    assert (
+        "M400 is remapped by the INI file ([RS274NGC]REMAP); "
+        "ngc2py does not run remapped codes"
+    ) in proc.stderr
+
+
+def test_ngc2py_refuses_a_remapped_standard_code_at_the_start(tmp_path):
+    remap_folder(tmp_path, "REMAP=m6 modalgroup=6 ngc=m400")
+    proc = ngc2py_run(tmp_path, "G0 X1\nM2\n", "-i", "r.ini")
+    assert proc.returncode == 1
+    assert "STRAIGHT_TRAVERSE" not in proc.stdout
+    assert "M6 is remapped by the INI file" in proc.stderr
+
+
+def test_an_unremapped_unknown_code_keeps_rs274s_message(tmp_path):
+    remap_folder(tmp_path, "REMAP=M401 modalgroup=10 ngc=m400")
+    proc = ngc2py_run(tmp_path, REMAP_PROGRAM, "-i", "r.ini")
+    assert proc.returncode == 1
+    assert "M-code greater than 199: M400" in proc.stderr

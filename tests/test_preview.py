@@ -201,6 +201,12 @@ _PY = (
     "run_string(...) (see tests/test_not_copied.py)"
 )
 
+_FANUC_LINE = (
+    "gap: where a Fanuc O sub and an o-word sub are mixed up (runtime/fanuc_subs.py),"
+    " gcode.parse reports the error, and the next_line before it, one line away from"
+    " ngc2py.parse; the rs274 trace and message match (golden/fanuc_calls)"
+)
+
 #: Known differences between ngc2py.parse and gcode.parse: program (golden
 #: name, or LinuxCNC sample file name) -> reason. Marked as strict expected
 #: failures, so a fixed one shows up as XPASS(strict).
@@ -208,6 +214,13 @@ KNOWN_GAPS = {
     **{
         "comments/" + name: _PY
         for name in "py_indented py_name_error py_syntax_error py_zero_division".split()
+    },
+    **{
+        "fanuc_calls/" + name: _FANUC_LINE
+        for name in (
+            "fanuc_ended_by_endsub fanuc_return_other_label m98_finds_osub_ahead "
+            "m98_osub_read_before ocall_finds_fanuc_sub"
+        ).split()
     },
 }
 
