@@ -908,6 +908,7 @@ class RowLine:
 
     __slots__ = ("number", "text", "file", "axes", "shape", "cells")
     oword = error = None
+    oword_unread = False
     percent = block_delete = is_blank = False
     comments = ()
 
