@@ -525,7 +525,14 @@ class PreviewMachine(Machine):
 _CONTROL_ERROR = re.compile(r"\d+: ")
 #: Errors rs274 finds while executing a line (its parameter settings, an
 #: endsub's control function), not while reading it.
-_EXECUTE_PREFIXES = ("Cannot assign to read-only parameter", "Not in subroutine definition")
+_EXECUTE_PREFIXES = (
+    "Cannot assign to read-only parameter",
+    "Not in subroutine definition",
+    # a call finding the wrong kind of subroutine (runtime.fanuc_subs)
+    "Fanuc 'O....' subroutine must be called with",
+    "'O.... sub' subroutine must be called with",
+    "Fanuc 'O....' subroutine definition must end with",
+)
 #: G61, G61.1, G64.
 _PATH_MODES = frozenset((610, 611, 640))
 #: active_g_codes' feed mode entry: units per minute, inverse time, per rev.

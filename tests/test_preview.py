@@ -202,9 +202,9 @@ _PY = (
 )
 
 _FANUC_LINE = (
-    "gap: where a Fanuc O sub and an o-word sub are mixed up (runtime/fanuc_subs.py),"
-    " gcode.parse reports the error, and the next_line before it, one line away from"
-    " ngc2py.parse; the rs274 trace and message match (golden/fanuc_calls)"
+    "gap: an M98 of an o-word sub read before it (runtime/fanuc_subs.py): gcode.parse"
+    " makes no next_line for the sub's line before the error, ngc2py.parse does;"
+    " the rs274 trace and message match (golden/fanuc_calls)"
 )
 
 #: Known differences between ngc2py.parse and gcode.parse: program (golden
@@ -215,13 +215,7 @@ KNOWN_GAPS = {
         "comments/" + name: _PY
         for name in "py_indented py_name_error py_syntax_error py_zero_division".split()
     },
-    **{
-        "fanuc_calls/" + name: _FANUC_LINE
-        for name in (
-            "fanuc_ended_by_endsub fanuc_return_other_label m98_finds_osub_ahead "
-            "m98_osub_read_before ocall_finds_fanuc_sub"
-        ).split()
-    },
+    "fanuc_calls/m98_osub_read_before": _FANUC_LINE,
 }
 
 #: Generated programs using a feature with a known gap (see KNOWN_GAPS):
