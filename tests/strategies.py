@@ -295,8 +295,9 @@ def stmt_modal(w: Writer) -> None:
         w.emit(w.draw(st.sampled_from(["G92.1", "G92.2", "G92.3", "G61", "G61.1", "G64", "G64 P0.01"])))
     elif kind == 6:
         # $ (spindle selection): rs274 keeps it as a truncated int; one
-        # spindle, so 0 or -1 run, anything else fails at its step.
-        dollar = w.draw(st.sampled_from(["", "", "", " $0", " $-1", " $0.5", " $-0.9", " $1", " $-2"]))
+        # spindle, so 0 or -1 run (these programs must run to their end;
+        # other numbers fail at their step: invalid_programs, golden/spindle).
+        dollar = w.draw(st.sampled_from(["", "", "", " $0", " $-1", " $0.5", " $-0.9"]))
         w.emit(f"S{w.draw(numbers(0, 5000, 1))} {w.draw(st.sampled_from(['M3', 'M4', 'M5']))}{dollar}")
     elif kind == 7:
         w.emit(w.draw(st.sampled_from(["M7", "M8", "M9"])))

@@ -55,16 +55,32 @@ pytestmark = pytest.mark.rs274
 _PROGRAM = harness.REPO / "tests" / "_generated" / "prog.ngc"
 
 
-def check_same(text: str, mode: str = "run") -> None:
-    expected = harness.run_rs274(_PROGRAM, text=text, timeout=TIMEOUT)
+def check_same(
+    text: str,
+    mode: str = "run",
+    args=(),
+    program=_PROGRAM,
+    timeout: float = TIMEOUT,
+    slack: float = 3,
+) -> None:
+    """rs274 and ngc2py (``mode``, with rs274's options ``args``) on ``text``
+    must agree; an example rs274 hangs or crashes on is discarded (no
+    reference behaviour to compare with). ngc2py gets ``slack`` times
+    rs274's time limit."""
+    expected = harness.run_rs274(program, args, text=text, timeout=timeout)
     if expected.timed_out or (expected.rc is not None and expected.rc < 0):
-        reject()  # rs274 hung or crashed: no reference behaviour to compare with
-    actual = harness.run_ngc2py(_PROGRAM, text=text, mode=mode, timeout=TIMEOUT * 3)
+        reject()
+    actual = harness.run_ngc2py(
+        program, args, text=text, mode=mode, timeout=timeout * slack
+    )
     problems = harness.compare(expected, actual)
     if problems:
-        numbered = "\n".join(f"{i:4d}  {ln}" for i, ln in enumerate(text.splitlines(), 1))
+        numbered = "\n".join(
+            f"{i:4d}  {ln}" for i, ln in enumerate(text.splitlines(), 1)
+        )
+        options = f", options {list(args)}" if args else ""
         pytest.fail(
-            f"ngc2py ({mode}) differs from rs274 on this program:\n{numbered}\n\n"
+            f"ngc2py ({mode}{options}) differs from rs274 on this program:\n{numbered}\n\n"
             + "\n".join(problems),
             pytrace=False,
         )
@@ -110,7 +126,11 @@ def test_invalid_programs_converted(text):
     check_same(text, "convert")
 
 
-@pytest.mark.parametrize("program", harness.golden_programs(), ids=lambda p: str(p.relative_to(harness.GOLDEN).with_suffix("")))
+@pytest.mark.parametrize(
+    "program",
+    harness.golden_programs(),
+    ids=lambda p: str(p.relative_to(harness.GOLDEN).with_suffix("")),
+)
 def test_golden_recording_is_current(program):
     """The recordings still match the installed rs274 (re-record with
     golden/record.py if LinuxCNC was upgraded on purpose)."""
@@ -125,20 +145,29 @@ def test_golden_recording_is_current(program):
     actual = harness.run_rs274(program, harness.read_args(program), timeout=TIMEOUT)
     problems = harness.compare(expected, actual)
     if problems:
-        pytest.fail("installed rs274 disagrees with the recording:\n" + "\n".join(problems), pytrace=False)
+        pytest.fail(
+            "installed rs274 disagrees with the recording:\n" + "\n".join(problems),
+            pytrace=False,
+        )
 
 
-@pytest.mark.parametrize("program", sorted((harness.REPO / "examples").glob("*.ngc")), ids=lambda p: p.name)
+@pytest.mark.parametrize(
+    "program", sorted((harness.REPO / "examples").glob("*.ngc")), ids=lambda p: p.name
+)
 def test_bundled_example(program):
     """The README's example programs behave exactly as in rs274."""
     args = harness.read_args(program)
     expected = harness.run_rs274(program, args, timeout=TIMEOUT)
-    assert expected.rc == 0, "the bundled example must run cleanly in rs274:\n" + expected.describe()
+    assert expected.rc == 0, (
+        "the bundled example must run cleanly in rs274:\n" + expected.describe()
+    )
     for mode in ("run", "convert"):
         actual = harness.run_ngc2py(program, args, mode=mode, timeout=TIMEOUT * 3)
         problems = harness.compare(expected, actual)
         if problems:
-            pytest.fail(f"{program.name} ({mode}):\n" + "\n".join(problems), pytrace=False)
+            pytest.fail(
+                f"{program.name} ({mode}):\n" + "\n".join(problems), pytrace=False
+            )
 
 
 @settings(PROFILE, max_examples=PROFILE.max_examples * 2)
@@ -149,7 +178,9 @@ def test_generator_writes_valid_programs(text):
     result = harness.run_rs274(_PROGRAM, text=text, timeout=TIMEOUT)
     if result.timed_out:
         reject()
-    assert result.rc == 0, f"rs274 rejects a generated valid program:\n{text}\n{result.describe()}"
+    assert (
+        result.rc == 0
+    ), f"rs274 rejects a generated valid program:\n{text}\n{result.describe()}"
 
 
 @settings(PROFILE, max_examples=PROFILE.max_examples * 2)
@@ -177,4 +208,8 @@ def test_compensated_profiles_with_tool_table_run(text):
         actual = harness.run_ngc2py(program, ["-t", "tools.tbl"], timeout=TIMEOUT * 3)
     problems = harness.compare(expected, actual)
     if problems:
-        pytest.fail(f"ngc2py differs from rs274 on this program:\n{text}\n" + "\n".join(problems), pytrace=False)
+        pytest.fail(
+            f"ngc2py differs from rs274 on this program:\n{text}\n"
+            + "\n".join(problems),
+            pytrace=False,
+        )

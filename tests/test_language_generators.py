@@ -21,10 +21,11 @@ derandomised, so CI sees the same examples every run.
 from __future__ import annotations
 
 import pytest
-from hypothesis import given, reject, settings
+from hypothesis import given, settings
 
 import rs274 as harness
 import strategies
+import test_differential as differential
 from test_differential import PROFILE
 
 pytestmark = pytest.mark.rs274
@@ -37,18 +38,7 @@ _PROGRAM = harness.REPO / "tests" / "_generated" / "lang.ngc"
 
 
 def check_same(text: str, args, mode: str) -> None:
-    expected = harness.run_rs274(_PROGRAM, args, text=text, timeout=TIMEOUT)
-    if expected.timed_out or expected.rc < 0:
-        reject()
-    actual = harness.run_ngc2py(_PROGRAM, args, text=text, mode=mode, timeout=TIMEOUT * 6)
-    problems = harness.compare(expected, actual)
-    if problems:
-        numbered = "\n".join(f"{i:4d}  {ln}" for i, ln in enumerate(text.splitlines(), 1))
-        pytest.fail(
-            f"ngc2py ({mode}, options {args}) differs from rs274 on:\n{numbered}\n\n"
-            + "\n".join(problems),
-            pytrace=False,
-        )
+    differential.check_same(text, mode, args, _PROGRAM, TIMEOUT, slack=6)
 
 
 @settings(PROFILE, max_examples=PROFILE.max_examples * 3)
