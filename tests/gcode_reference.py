@@ -11,19 +11,9 @@ tests/test_preview.py's does, so the two call sequences can be compared.
 
 import json
 import sys
-from pathlib import Path
 
 import gcode
-
-#: the canon's answers, shared with tests/test_preview.py
-ANSWERS = {
-    key: value
-    for key, value in json.loads(
-        Path(__file__).with_name("gcode_answers.json").read_text()
-    ).items()
-    if not key.startswith("_")
-}
-QUESTIONS = set(ANSWERS) | {"get_tool"}
+from gcode_answers import ANSWERS, QUESTIONS  # the canon's answers, shared
 
 
 class Recorder:

@@ -28,6 +28,7 @@ import pytest
 from hypothesis import given, reject, settings
 
 import rs274 as harness
+from gcode_answers import ANSWERS, QUESTIONS  # the canon's answers, shared
 import strategies
 from test_differential import PROFILE
 from test_stats import scratch_run
@@ -57,16 +58,6 @@ needs_gcode = pytest.mark.skipif(
     reason="no Python with LinuxCNC's gcode module (%s; set GCODE_PYTHON)"
     % GCODE_PYTHON,
 )
-
-#: the canon's answers, shared with tests/gcode_reference.py
-ANSWERS = {
-    key: value
-    for key, value in json.loads(
-        Path(__file__).with_name("gcode_answers.json").read_text()
-    ).items()
-    if not key.startswith("_")
-}
-QUESTIONS = set(ANSWERS) | {"get_tool"}
 
 
 class Recorder:
