@@ -27,6 +27,7 @@ from typing import Dict, FrozenSet, Iterable, List
 from ngc2py import nodes
 from ngc2py import structure as st
 from ngc2py.parser import RowLine
+from ngc2py.rowrun import RowRun
 
 Known = FrozenSet[str]
 
@@ -48,7 +49,7 @@ def settled_names(program: st.Program) -> Dict[int, Known]:
 def _flow(stmts: Iterable[st.Stmt], known: Known, before: Dict[int, Known]) -> Known:
     for stmt in stmts:
         if isinstance(stmt, st.Block):
-            if isinstance(stmt.line, RowLine):
+            if type(stmt.line) in (RowLine, RowRun):
                 continue  # literal words only: no settings (and kept compact)
             before[id(stmt.line)] = known
             known = known | _settings(stmt.line)

@@ -43,10 +43,11 @@ import re
 from dataclasses import dataclass, field
 from typing import Dict, Iterable, List, Optional, Sequence, Tuple
 
-from ngc2py import __version__, assigned, nodes, parser
+from ngc2py import __version__, assigned, nodes, parser, rowtable
 from ngc2py.parser import DEFAULT_AXES
 from ngc2py import structure as st
 from ngc2py.parser import RowLine
+from ngc2py.rowrun import RowRun
 from runtime import codes
 from runtime.errors import GCodeError
 from runtime.params import Params
@@ -118,6 +119,8 @@ def string(text: str) -> str:
     in ``text`` can end the literal, and every character is one column wide,
     which keeps our line-length arithmetic equal to black's), double quotes
     unless that adds escapes."""
+    if "'" not in text and '"' not in text:
+        return '"%s"' % ascii(text)[1:-1]  # (a source map's megabytes)
     single = ascii(text)
     if single.startswith('"'):
         return single  # ascii() chose double quotes: text has a '
@@ -383,6 +386,9 @@ class ModuleWriter:
         self.file_index = 0
         self.map = LineMap()
         self.texts: List[Dict[int, str]] = [{} for _ in self.files]
+        #: per file, (first line, the texts of consecutive lines joined by
+        #: newlines): a row run's texts in one piece
+        self.blocks: List[List[Tuple[int, str]]] = [[] for _ in self.files]
 
     def raw(self, text: str = "") -> None:
         self.out.append(text)
@@ -412,7 +418,11 @@ class ModuleWriter:
         self.out.append(INDENT * self.depth + code)
 
     def text(self) -> str:
-        return "\n".join(self.out) + "\n"
+        self.out.append("")  # the final newline, without copying the text again
+        try:
+            return "\n".join(self.out)
+        finally:
+            self.out.pop()
 
 
 def fit(code: str, indent: int) -> List[str]:
@@ -452,25 +462,37 @@ class Coll:
         self.open = open_
         self.items = list(items)
         self.close = close
+        self._flat: Optional[str] = None
 
     def flat(self) -> str:
-        inner = ", ".join(flat(item) for item in self.items)
-        if len(self.items) == 1 and self.close == ")" and self.open == "(":
-            inner += ","  # a one-element tuple; black does not treat it as magic
-        return self.open + inner + self.close
+        # Kept: the source map's texts can be tens of megabytes.
+        if self._flat is None:
+            inner = ", ".join(flat(item) for item in self.items)
+            if len(self.items) == 1 and self.close == ")" and self.open == "(":
+                inner += ","  # a one-element tuple; black does not treat it as magic
+            self._flat = self.open + inner + self.close
+        return self._flat
 
     def magic(self) -> bool:
         return any(isinstance(i, Coll) and i.magic() for i in self.items)
 
     def layout(self, indent: int, suffix: str = "") -> List[str]:
         pad = " " * indent
-        text = pad + self.flat() + suffix
-        if len(text) <= LINE_LENGTH:
-            return [text]
-        body = self.flat()[len(self.open) : -len(self.close)]
-        inner = " " * (indent + 4) + body
-        if len(inner) <= LINE_LENGTH and not self.magic() and not body.endswith(","):
-            return [pad + self.open, inner, pad + self.close + suffix]
+        flat = self.flat()
+        if indent + len(flat) + len(suffix) <= LINE_LENGTH:
+            return [pad + flat + suffix]
+        body_length = len(flat) - len(self.open) - len(self.close)
+        if (
+            indent + 4 + body_length <= LINE_LENGTH
+            and not self.magic()
+            and not flat[: -len(self.close)].endswith(",")
+        ):
+            body = flat[len(self.open) : -len(self.close)]
+            return [
+                pad + self.open,
+                " " * (indent + 4) + body,
+                pad + self.close + suffix,
+            ]
         lines = [pad + self.open]
         for item in self.items:
             lines.extend(layout(item, indent + 4, ","))
@@ -575,6 +597,7 @@ class CodeGen:
         final.out = head + body.out
         final.map.entries = [(py + shift, f, g) for py, f, g in body.map.entries]
         final.texts = body.texts
+        final.blocks = body.blocks
         if self.row_tables:
             final.out.extend(shapes_table(self.shapes))
         for table in self.row_tables:
@@ -705,6 +728,30 @@ class CodeGen:
         chunks: List[List[st.Stmt]] = [[]]
         weight = rows = 0
         for stmt in body:
+            run = stmt.line if type(stmt) is st.Block else None
+            if type(run) is RowRun:
+                # row by row as below, a row run cut where a chunk ends
+                i = start = 0
+                while i < run.count:
+                    if rows % ROWS_PER_TABLE:
+                        step = min(
+                            run.count - i, ROWS_PER_TABLE - rows % ROWS_PER_TABLE
+                        )
+                        rows += step
+                        i += step
+                        continue
+                    weight += 1
+                    rows += 1
+                    if weight > CHUNK_STATEMENTS:
+                        if i > start:
+                            head, run = run.split(i - start)
+                            chunks[-1].append(st.Block(head))
+                        chunks.append([])
+                        weight = rows = 1
+                        start = i
+                    i += 1
+                chunks[-1].append(stmt if start == 0 else st.Block(run))
+                continue
             if constant_row(stmt) is None:
                 weight += 1
                 rows = 0
@@ -725,8 +772,11 @@ class CodeGen:
         if not stmts:
             self.w.raw(INDENT * self.w.depth + "pass")
             return
-        run: List[Tuple[nodes.Line, Row]] = []
+        run: List = []  # row runs and (line, row) pairs
         for stmt in stmts:
+            if type(stmt) is st.Block and type(stmt.line) is RowRun:
+                run.append(stmt.line)
+                continue
             row = constant_row(stmt)
             if row is not None:
                 run.append((stmt.line, row))
@@ -736,31 +786,66 @@ class CodeGen:
             self.statement(stmt)
         self.flush(run)
 
-    def flush(self, run: List[Tuple[nodes.Line, Row]]) -> None:
-        """Emit a run of constant blocks: as statements when short, else as
-        a data table executed by ``runtime.rows.run_rows``."""
-        if len(run) < MIN_ROWS:
-            for line, _ in run:
-                self.line_block(line.full() if isinstance(line, RowLine) else line)
+    def flush(self, run: List) -> None:
+        """Emit a run of constant blocks (row runs and (line, row) pairs):
+        as statements when short, else as data tables executed by
+        ``runtime.rows.run_rows``."""
+        if sum(item.count if type(item) is RowRun else 1 for item in run) < MIN_ROWS:
+            for item in run:
+                for line in item.lines() if type(item) is RowRun else [item[0]]:
+                    self.line_block(line.full() if isinstance(line, RowLine) else line)
             return
-        for first in range(0, len(run), ROWS_PER_TABLE):
-            part = run[first : first + ROWS_PER_TABLE]
-            name = "ROWS_%d" % (len(self.row_tables) + 1)
-            printed = as_printed(part)
-            cells = []
-            texts = self.w.texts[self.w.file_index]
-            for (line, (shape, values)), cells_printed in zip(
-                part, printed or [None] * len(part)
-            ):
-                values = cells_printed if printed else values
-                head = "%d %d" % (line.number, self.shape(shape))
-                cells.append(head + " " + values if values else head)
-                texts[line.number] = line.text
-            self.row_tables.append(row_table(name, cells, bool(printed)))
-            if printed:
-                self.w.row_loop("run_rows(m, SHAPES, %s, as_printed=True)" % name)
+        for part in tables(run):
+            self.table(part)
+
+    def table(self, part: List) -> None:
+        """One ``ROWS_n`` table of at most ROWS_PER_TABLE rows."""
+        name = "ROWS_%d" % (len(self.row_tables) + 1)
+        pieces: List = []  # row runs, and lists of consecutive pairs
+        for item in part:
+            if type(item) is RowRun:
+                pieces.append(item)
+            elif pieces and type(pieces[-1]) is list:
+                pieces[-1].append(item)
             else:
-                self.w.row_loop("run_rows(m, SHAPES, %s)" % name)
+                pieces.append([item])
+        runs = [p for p in pieces if type(p) is RowRun]
+        texts = {id(run): rowtable.cells(run.data) for run in runs}
+        present = {id(run): list(dict.fromkeys(run.kinds)) for run in runs}
+        values: List = []
+        for piece in pieces:
+            if type(piece) is RowRun:
+                facts = rowtable.kinds(piece, present[id(piece)])
+                values.append(rowtable.printed(piece, texts[id(piece)], facts))
+            else:
+                values.append(as_printed(piece))
+            if values[-1] is None:
+                break
+        printed = values[-1] is not None
+        file = self.w.file_index
+        lines: List[str] = []
+        for k, piece in enumerate(pieces):
+            if type(piece) is RowRun:
+                shapes = piece.lane.kind_shapes
+                index = {kind: self.shape(shapes[kind]) for kind in present[id(piece)]}
+                if printed:
+                    cells, numbers = values[k]
+                else:
+                    cells, numbers = rowtable.written(texts[id(piece)]), None
+                lines.append(rowtable.rows(piece, index, cells, numbers))
+                self.w.blocks[file].append((piece.number, piece.text()))
+                continue
+            printed_piece = values[k] if printed else [None] * len(piece)
+            for (line, (shape, cells)), cells_printed in zip(piece, printed_piece):
+                cells = cells_printed if printed else cells
+                head = "%d %d" % (line.number, self.shape(shape))
+                lines.append(head + " " + cells if cells else head)
+                self.w.texts[file][line.number] = line.text
+        self.row_tables.append(row_table(name, lines, printed))
+        if printed:
+            self.w.row_loop("run_rows(m, SHAPES, %s, as_printed=True)" % name)
+        else:
+            self.w.row_loop("run_rows(m, SHAPES, %s)" % name)
 
     def shape(self, shape: Shape) -> int:
         """The index of ``shape`` in the module's SHAPES table."""
@@ -1408,6 +1493,8 @@ def constant_row(stmt: st.Stmt) -> Optional[Row]:
     line = stmt.line
     if isinstance(line, RowLine):
         return line.shape, line.cells
+    if type(line) is RowRun:
+        return None  # many rows: see CodeGen.block
     if line.error or line.comment is not None or line.block_delete or line.oword:
         return None
     codes_: List[int] = []
@@ -1430,6 +1517,28 @@ def constant_row(stmt: st.Stmt) -> Optional[Row]:
         letters.insert(0, "n")  # first, as it is written
         values.insert(0, line.n_text)
     return (tuple(codes_), tuple(letters)), " ".join(values)
+
+
+def tables(run: List) -> List[List]:
+    """``run`` (row runs and (line, row) pairs) cut into tables of
+    ROWS_PER_TABLE rows, a row run split where a table ends."""
+    parts: List[List] = [[]]
+    room = ROWS_PER_TABLE
+    for item in run:
+        count = item.count if type(item) is RowRun else 1
+        while True:
+            if room == 0:
+                parts.append([])
+                room = ROWS_PER_TABLE
+            if count <= room:
+                break
+            head, item = item.split(room)
+            parts[-1].append(head)
+            count -= room
+            room = 0
+        parts[-1].append(item)
+        room -= count
+    return parts
 
 
 def shape_text(shape: Shape) -> str:
@@ -1698,6 +1807,8 @@ def stmt_line(stmt: st.Stmt) -> Optional[nodes.Line]:
         return stmt.sub.end or stmt.sub.line
     if isinstance(stmt, st.Loop):
         return stmt.end or stmt.line
+    if isinstance(stmt, st.Block) and type(stmt.line) is RowRun:
+        return stmt.line.final()
     return getattr(stmt, "line", None)
 
 
@@ -1710,10 +1821,7 @@ def source_map_lines(
     Texts are one string per file, lines joined by newlines (only the lines
     the map refers to; others are empty), which compiles to one constant.
     """
-    texts = []
-    for table in w.texts:
-        top = max(table) if table else 0
-        texts.append("\n".join(table.get(i, "") for i in range(1, top + 1)))
+    texts = [joined_texts(table, blocks) for table, blocks in zip(w.texts, w.blocks)]
     call = Coll(
         "__ngc__ = SourceMap(",
         [
@@ -1727,6 +1835,27 @@ def source_map_lines(
         ")",
     )
     return call.layout(0)
+
+
+def joined_texts(table: Dict[int, str], blocks: List[Tuple[int, str]]) -> str:
+    """One file's line texts (``table``: line -> text, ``blocks``: runs of
+    lines) joined by newlines from line 1, lines not given empty."""
+    pieces = [(number, 1, text) for number, text in table.items()]
+    pieces += [(number, text.count("\n") + 1, text) for number, text in blocks]
+    pieces.sort(key=lambda piece: piece[0])
+    out: List[str] = []
+    at = 1  # the next line to write
+    for number, count, text in pieces:
+        if number + count <= at:
+            continue  # written already (a line can be mapped twice)
+        if number < at:
+            text = text.split("\n", at - number)[-1]
+            number = at
+        if number > at:
+            out.append("\n" * (number - at - 1))
+        out.append(text)
+        at = number + count
+    return "\n".join(out)
 
 
 def generate(

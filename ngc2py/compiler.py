@@ -78,7 +78,7 @@ def _parse(path: str):
     from ngc2py import parser
 
     try:
-        return parser.parse_file(path)
+        return parser.parse_file(path, runs=True)
     except OSError as error:
         raise open_failure(path, error) from None
 
@@ -155,4 +155,5 @@ def compile_text(
     """The generated module text for G-code ``text`` named ``file``."""
     from ngc2py import parser
 
-    return _compile(parser.parse_text(text, file), os.path.basename(file), ini).text
+    parsed = parser.parse_text(text, file, runs=True)
+    return _compile(parsed, os.path.basename(file), ini).text

@@ -964,13 +964,20 @@ class ParsedFile:
 
 
 def parse_text(
-    data: Union[bytes, str], file: str = "", axes: str = DEFAULT_AXES
+    data: Union[bytes, str],
+    file: str = "",
+    axes: str = DEFAULT_AXES,
+    runs: bool = False,
 ) -> ParsedFile:
-    """Parse a file's contents (bytes as read, or already-decoded text)."""
+    """Parse a file's contents (bytes as read, or already-decoded text).
+
+    With ``runs``, stretches of data rows come as :class:`rowrun.RowRun`
+    items (many lines each) instead of one :class:`RowLine` per line: what
+    the compiler reads; without, every line is its own item."""
     if isinstance(data, str):
         data = source.encode(data)
     with _no_cyclic_gc():
-        return _parse_lines(data, file, axes)
+        return _parse_lines(data, file, axes, runs)
 
 
 @contextmanager
@@ -987,42 +994,75 @@ def _no_cyclic_gc() -> Iterator[None]:
             gc.enable()
 
 
-def _parse_lines(data: bytes, file: str, axes: str) -> ParsedFile:
-    lines: List[Line] = []
-    demarcated = closed = False
-    seen_content = False
-    shapes: Dict = {}
-    for raw in source.split_lines(data):
+class _Reader:
+    """Reads a file's lines one at a time, with the state of its ``%``
+    demarcation."""
+
+    def __init__(self, file: str, axes: str):
+        self.file = file
+        self.axes = axes
+        self.lines: List = []
+        self.demarcated = self.closed = False
+        self.seen_content = False
+        self.shapes: Dict = {}  # row shapes, interned
+
+    def read(self, raw: source.RawLine) -> None:
+        file, axes = self.file, self.axes
         if raw.too_long:
-            lines.append(
+            self.lines.append(
                 Line(raw.number, raw.text, file, error=source.COMMAND_TOO_LONG)
             )
-            seen_content = True
-            continue
-        row = read_row_line(raw.text, raw.number, file, axes, shapes)
+            self.seen_content = True
+            return
+        row = read_row_line(raw.text, raw.number, file, axes, self.shapes)
         if row is not None:
-            seen_content = True
-            lines.append(row)
-            continue
+            self.seen_content = True
+            self.lines.append(row)
+            return
         simple = read_simple_line(raw.text, raw.number, file, axes)
         if simple is not None:  # never a % line
-            seen_content = seen_content or not simple.is_blank
-            lines.append(simple)
-            continue
+            self.seen_content = self.seen_content or not simple.is_blank
+            self.lines.append(simple)
+            return
         normalised = normalise(raw.text)
-        if normalised.text == "%" and demarcated == seen_content:
+        if normalised.text == "%" and self.demarcated == self.seen_content:
             # The first content line opens the demarcation; a later one
             # closes it.
-            lines.append(Line(raw.number, raw.text, file, percent=True))
-            closed, demarcated, seen_content = demarcated, True, True
-            if closed:
-                break
-            continue
-        seen_content = seen_content or bool(normalised.text)
-        lines.append(read_any_line(raw.text, normalised, raw.number, file, axes))
-    return ParsedFile(file, lines, demarcated, closed)
+            self.lines.append(Line(raw.number, raw.text, file, percent=True))
+            self.closed, self.demarcated = self.demarcated, True
+            self.seen_content = True
+            return
+        self.seen_content = self.seen_content or bool(normalised.text)
+        self.lines.append(read_any_line(raw.text, normalised, raw.number, file, axes))
 
 
-def parse_file(path: str, axes: str = DEFAULT_AXES) -> ParsedFile:
+def _parse_lines(data: bytes, file: str, axes: str, runs: bool) -> ParsedFile:
+    from ngc2py import rowrun
+
+    reader = _Reader(file, axes)
+    lane = rowrun.Lane(file, axes, reader.shapes) if runs else None
+    pos, number = 0, 0
+    while pos < len(data) and not reader.closed:
+        if lane is not None:
+            end = lane.region_end(data, pos)
+            if end > pos:
+                items, end, count = lane.scan(data, pos, end, number + 1)
+                for item in items:
+                    if type(item) is rowrun.RowRun:
+                        reader.lines.append(item)
+                        reader.seen_content = True
+                    else:  # never a % line
+                        reader.read(item)
+                number += count
+                if end > pos:
+                    pos = end
+                    continue
+        number += 1
+        raw, pos = source.read_line(data, pos, number)
+        reader.read(raw)
+    return ParsedFile(file, reader.lines, reader.demarcated, reader.closed)
+
+
+def parse_file(path: str, axes: str = DEFAULT_AXES, runs: bool = False) -> ParsedFile:
     """Read and parse ``path``; OSError propagates (compile-time failure)."""
-    return parse_text(source.read_file(path), path, axes)
+    return parse_text(source.read_file(path), path, axes, runs)

@@ -17,7 +17,7 @@ UTF-8 stays readable in the generated Python.
 
 from __future__ import annotations
 
-from typing import Iterator, NamedTuple
+from typing import Iterator, NamedTuple, Tuple
 
 #: fgets reads at most this many bytes of one line (LINELEN - 1 in rs274);
 #: a chunk of exactly this length means the line did not fit.
@@ -26,7 +26,7 @@ LINE_LIMIT = 254
 COMMAND_TOO_LONG = "Command too long"
 
 #: C's isspace in the "C" locale.
-_C_SPACE = b" \t\n\v\f\r"
+C_SPACE = b" \t\n\v\f\r"
 
 
 class RawLine(NamedTuple):
@@ -63,19 +63,24 @@ def split_lines(data: bytes) -> Iterator[RawLine]:
     """Yield the lines of a file the way rs274's fgets loop meets them."""
     pos, number = 0, 0
     while pos < len(data):
-        newline = data.find(b"\n", pos, pos + LINE_LIMIT)
-        end = newline + 1 if newline != -1 else min(len(data), pos + LINE_LIMIT)
-        chunk = data[pos:end].split(b"\0", 1)[0]
-        pos = end
         number += 1
-        if len(chunk) == LINE_LIMIT:
-            # rs274 discards the rest of the physical line before failing.
-            if not chunk.endswith(b"\n"):
-                rest = data.find(b"\n", pos)
-                pos = len(data) if rest == -1 else rest + 1
-            yield RawLine(number, decode(chunk.rstrip(b"\n")), too_long=True)
-        else:
-            yield RawLine(number, decode(chunk.rstrip(_C_SPACE)))
+        raw, pos = read_line(data, pos, number)
+        yield raw
+
+
+def read_line(data: bytes, pos: int, number: int) -> Tuple[RawLine, int]:
+    """The line ``number`` starting at ``pos`` (``pos < len(data)``), and
+    where the next one starts."""
+    newline = data.find(b"\n", pos, pos + LINE_LIMIT)
+    end = newline + 1 if newline != -1 else min(len(data), pos + LINE_LIMIT)
+    chunk = data[pos:end].split(b"\0", 1)[0]
+    if len(chunk) == LINE_LIMIT:
+        # rs274 discards the rest of the physical line before failing.
+        if not chunk.endswith(b"\n"):
+            rest = data.find(b"\n", end)
+            end = len(data) if rest == -1 else rest + 1
+        return RawLine(number, decode(chunk.rstrip(b"\n")), too_long=True), end
+    return RawLine(number, decode(chunk.rstrip(C_SPACE))), end
 
 
 def read_file(path: str) -> bytes:

@@ -25,4 +25,4 @@ def compile_stdin(ini: Optional[str] = None) -> str:
     from ngc2py import parser
     from ngc2py.compiler import _compile
 
-    return _compile(parser.parse_text(read_stdin(), NAME), NAME, ini).text
+    return _compile(parser.parse_text(read_stdin(), NAME, runs=True), NAME, ini).text

@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 from typing import Dict, Iterator, List, Optional, Tuple, Union
 
 from ngc2py import lexer, nodes, source
+from ngc2py.rowrun import RowRun
 
 # --------------------------------------------------------------------------
 # Statements
@@ -893,6 +894,8 @@ def build(file: str, lines: List[nodes.Line], demarcated: bool = False) -> Progr
             break
         builder.add(line)
         last = line
+    if type(last) is RowRun:
+        last = last.final()
     builder.finish(last, closing)
     if last is None and demarcated and lines:
         # Only the opening %: rs274 then reads nothing more, and echoes "".

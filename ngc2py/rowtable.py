@@ -1,0 +1,192 @@
+"""A row run's lines of a row table, made in bulk (see codegen.row_table).
+
+A :class:`rowrun.RowRun` holds CAM lines as bytes. Its rows are the same
+text ``codegen`` writes for each :class:`parser.RowLine` -- line number,
+shape index, the values as written (the N digits first) -- and, for a
+table written as printed, the values as rs274's trace prints them
+(``12.3450``). Both are made here with whole-region ``bytes`` operations
+(translate, replace, expandtabs), not a Python step per value:
+
+* cells: G and M words dropped (they are the shape), every other letter
+  and blank becomes one space, so each line reads `` v1 v2`` -- a space
+  before each value, the N digits marked ``=``;
+* printed: a value whose text has at most four decimals, at most eleven
+  integer digits and no leading zero is printed by ``%.4f`` as its own
+  digits with the decimals padded to four (a sign ``+`` dropped, ``.5``
+  read as ``0.5``): the float nearest to it is within 0.00005 of it. Such
+  values are padded with ``expandtabs``: each value's column restarts at
+  its point and a tab after it pads to a fixed column. A run with any other
+  value is checked value by value, as ``codegen.as_printed`` does.
+"""
+
+from __future__ import annotations
+
+import re
+from itertools import chain, compress
+from typing import Dict, Iterable, List, NamedTuple, Optional, Tuple
+
+from ngc2py.rowrun import RowRun
+
+_GM_WORD = re.compile(rb"[GgMm][+-]?[0-9.]*")
+_LETTERS = b"ABCDEFGHIJKLMOPQRSTUVWXYZabcdefghijklmopqrstuvwxyz"
+#: Letters to one space each, N to the marker ``=``; blanks are deleted
+#: (a row's blanks are only ever between words).
+_TO_CELLS = bytes.maketrans(_LETTERS + b"Nn", b" " * len(_LETTERS) + b"==")
+_BLANKS = b" \t"
+#: N cells, taken out while the values are padded.
+_N_CELL = re.compile(rb" =([0-9]+)")
+#: An integer value, in the reversed text (`` 008 `` is ``800``).
+_REVERSED_INTEGER = re.compile(rb" (?=[0-9]+-? )")
+#: Leading zeros show as `` 0`` then a digit (signs made blanks).
+_LEADING = bytes.maketrans(b"123456789-", b"111111111 ")
+#: Pad spaces to zeros, separators back to spaces.
+_PADDED = bytes.maketrans(b" \x01", b"0 ")
+#: A tab at column 0 (before a line's first value, or on a line without
+#: values) expands to this; a value's pad is 1 to 5 spaces.
+_TAB_AT_START = b" " * 6
+
+
+class Kind(NamedTuple):
+    """What the values of every line of one kind look like."""
+
+    numbered: bool  # the row starts with the N digits
+    integers: bool  # some value has no point
+    padded: bool  # every value pads to its printed text (see module doc)
+    odd: bool  # some value starts with ``+`` or a point
+
+
+def kinds(run: RowRun, present: Iterable[int]) -> Dict[int, Kind]:
+    """The :class:`Kind` of each of the ``present`` kinds of ``run``."""
+    lane = run.lane
+    return {kind: _kind(lane, kind) for kind in present}
+
+
+def _kind(lane, kind: int) -> Kind:
+    facts = lane.facts.get(kind)
+    if facts is None:
+        numbered = integers = odd = False
+        padded = True
+        for value in cells(lane.kind_lines[kind] + b"\n").split():
+            if value.startswith(b"="):
+                numbered = True
+                continue
+            odd = odd or value[:1] in b"+." or value.startswith(b"-.")
+            whole, point, decimals = value.lstrip(b"+-").partition(b".")
+            integers = integers or not point
+            padded = padded and len(decimals) <= 4 and len(whole) <= 11
+        facts = lane.facts[kind] = Kind(numbered, integers, padded, odd)
+    return facts
+
+
+def cells(data: bytes) -> bytes:
+    """Each line's values as `` v1 v2`` (N digits as `` =123``), one line
+    per row, from rows' bytes."""
+    text = _GM_WORD.sub(b"", data).translate(_TO_CELLS, _BLANKS)
+    return text.replace(b"=", b" =") if b"=" in text else text
+
+
+def written(text: bytes) -> bytes:
+    """Each row's values as written, from :func:`cells`' text."""
+    return text.replace(b"=", b"")
+
+
+def printed(
+    run: RowRun, text: bytes, facts: Dict[int, Kind]
+) -> Optional[Tuple[bytes, Optional[List[bytes]]]]:
+    """Each row's values as the trace prints them, from :func:`cells`'
+    text, or None when some value is not exactly its four-decimal text;
+    ``facts``: the run's kinds. With the values, the N digits
+    of every row when every row has them (else they are in the values)."""
+    numbers: Optional[List[bytes]] = None
+    if any(kind.numbered for kind in facts.values()):
+        parts = _N_CELL.split(text)
+        text = b"".join(parts[0::2])
+        numbers = parts[1::2]
+    if any(kind.odd for kind in facts.values()):
+        text = text.replace(b" +", b" ").replace(b" .", b" 0.").replace(b" -.", b" -0.")
+    zeros = text.translate(_LEADING)
+    padded = all(kind.padded for kind in facts.values())
+    if padded and b" 00" not in zeros and b" 01" not in zeros:
+        integers = [k for k, kind in facts.items() if kind.integers]
+        text = _pad(_points(run, text, integers) if integers else text)
+    else:
+        text = _exact(text)
+        if text is None:
+            return None
+    if numbers is None or len(numbers) == run.count:
+        return text, numbers
+    return _with_numbers(run, text, numbers), None
+
+
+def _points(run: RowRun, text: bytes, integers: List[int]) -> bytes:
+    """``text`` with a point after each value that has none (``800.``);
+    ``integers``: the kinds of the lines with such values."""
+    which = list(map(set(integers).__contains__, run.kinds))
+    if sum(which) * 8 > len(which):  # many: in one pass over the text
+        flipped = text.replace(b"\n", b" \n")[::-1]
+        flipped = b" .".join(_REVERSED_INTEGER.split(flipped))
+        return flipped[::-1].replace(b" \n", b"\n")
+    lines = text.split(b"\n")
+    for i in compress(range(len(which)), which):
+        values = lines[i].split(b" ")
+        lines[i] = b" ".join(v if not v or b"." in v else v + b"." for v in values)
+    return b"\n".join(lines)
+
+
+def _pad(text: bytes) -> bytes:
+    """Values (all with a point) with their decimals padded to four."""
+    # Each value: separator \x01, digits, then "\r" (column 0) before the
+    # point and a tab after the decimals, which pads to column 6: 5 - k
+    # spaces for k decimals, one more than wanted.
+    text = text.replace(b" ", b"\t\x01").replace(b".", b"\r.")
+    text = text.replace(b"\n", b"\t\n").expandtabs(6)
+    text = text.replace(_TAB_AT_START, b"")
+    text = text.replace(b" \x01", b"\x01").replace(b" \n", b"\n")
+    return text.translate(_PADDED, b"\r")
+
+
+def _exact(text: bytes) -> Optional[bytes]:
+    """The printed values of each line when every ``%.4f`` reads back as
+    the same float (the general rule of codegen.as_printed), else None."""
+    lines = text.decode("ascii").split("\n")
+    lines.pop()
+    values = " ".join(lines).split()
+    numbers = list(map(float, values))
+    texts = list(map("%.4f".__mod__, numbers))
+    if list(map(float, texts)) != numbers:
+        return None
+    out = []
+    at = 0
+    for line in lines:
+        width = line.count(" ")
+        out.append("".join(" " + t for t in texts[at : at + width]))
+        at += width
+    return ("\n".join(out) + "\n").encode("ascii")
+
+
+def _with_numbers(run: RowRun, text: bytes, numbers: List[bytes]) -> bytes:
+    """``text`` with the N digits put back first on the rows that have them."""
+    shapes = run.lane.kind_shapes
+    taken = iter(numbers)
+    lines = text.split(b"\n")
+    for i, kind in enumerate(run.kinds):
+        if shapes[kind][1][:1] == ("n",):
+            lines[i] = b" " + next(taken) + lines[i]
+    return b"\n".join(lines)
+
+
+def rows(
+    run: RowRun, index: Dict[int, int], text: bytes, numbers: Optional[List[bytes]]
+) -> str:
+    """The run's table rows, ``line shape values`` one per text line, from
+    the values' text and the N digits of every row (if they are apart);
+    ``index``: each kind's shape index in the module's SHAPES."""
+    first = run.number
+    columns = [range(first, first + run.count), map(index.__getitem__, run.kinds)]
+    head = b"%d %d"
+    if numbers is not None:
+        columns.append(numbers)
+        head = b"%d %d %b"
+    # One format for the whole run: the values hold no "%".
+    form = head + text[:-1].replace(b"\n", b"\n" + head)
+    return (form % tuple(chain.from_iterable(zip(*columns)))).decode("ascii")
