@@ -731,12 +731,11 @@ class CodeGen:
             run = stmt.line if type(stmt) is st.Block else None
             if type(run) is RowRun:
                 # row by row as below, a row run cut where a chunk ends
+                count = run.count
                 i = start = 0
-                while i < run.count:
+                while i < count:
                     if rows % ROWS_PER_TABLE:
-                        step = min(
-                            run.count - i, ROWS_PER_TABLE - rows % ROWS_PER_TABLE
-                        )
+                        step = min(count - i, ROWS_PER_TABLE - rows % ROWS_PER_TABLE)
                         rows += step
                         i += step
                         continue
@@ -1850,7 +1849,7 @@ def joined_texts(table: Dict[int, str], blocks: List[Tuple[int, str]]) -> str:
             continue  # written already (a line can be mapped twice)
         if number < at:
             text = text.split("\n", at - number)[-1]
-            number = at
+            number, count = at, count - (at - number)
         if number > at:
             out.append("\n" * (number - at - 1))
         out.append(text)

@@ -150,10 +150,12 @@ def compile_file(path: str, ini: Optional[str] = None) -> str:
 
 
 def compile_text(
-    text: str, file: str = "program.ngc", ini: Optional[str] = None
+    text: str, file: str = "program.ngc", ini: Optional[str] = None, runs: bool = True
 ) -> str:
-    """The generated module text for G-code ``text`` named ``file``."""
+    """The generated module text for G-code ``text`` named ``file``
+    (``runs=False``: every line read on its own, not by the parser's fast
+    lane for CAM rows -- the same module, more slowly)."""
     from ngc2py import parser
 
-    parsed = parser.parse_text(text, file, runs=True)
+    parsed = parser.parse_text(text, file, runs=runs)
     return _compile(parsed, os.path.basename(file), ini).text

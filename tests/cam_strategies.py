@@ -195,3 +195,138 @@ def cam_programs(draw) -> str:
             plane = lines[-1] if lines[-1] in PLANES else plane
     lines.append("M2")
     return "\n".join(lines) + "\n"
+
+
+# -- CAM text with odd lines: the edges of the parser's fast lane --------------
+#
+# ngc2py/rowrun.py recognises whole regions of row lines at once (by each
+# line's template) and leaves every other line to the line reader. These
+# programs mix long stretches of rows with the lines it must leave alone or
+# read exactly as the line reader does: comments, parameters, unreadable
+# numbers, N words anywhere, blanks and tabs, lower case, block delete, CR
+# line ends and lone CRs, trailing blanks, lines too long for rs274's
+# buffer, checked values (negative F/S, H L T, invalid or conflicting G/M
+# codes), repeated words, O-words, NUL bytes and non-ASCII text.
+
+#: Lines a stretch of rows may meet that rs274 runs without failing.
+HARMLESS_ODD = [
+    "",
+    "   ",
+    "\t",
+    "(a comment)",
+    "G1 X1 (trailing comment)",
+    "G1 X1 ; semicolon comment",
+    "#1 = 2.5",
+    "G1 X#1",
+    "#<depth> = -0.5",
+    "G1 Z#<depth>",
+    "G1 X[1 + 2]",
+    "N0012 G1 X1.5",
+    "n5 x1 y2",
+    "N10.5 X1",
+    "G 1 X 1 . 5",
+    "X 1.25",
+    "\tG1\tX1\tY2",
+    "g1 x-1.5 y+.5",
+    "/G1 X9",
+    "G1 /X1",
+    "G1 X1  ",
+    "G1 X1\t",
+    "G1 X1\r",
+    "G1 X1\rY2",
+    "F-0",
+    "S-0",
+    "F+5.",
+    "G80 G1 X1",
+    "X007.5 Y-00.25",
+    "X.5 Y-.5 Z5.",
+    "X1.23456 Y7.654321",
+    "X123456789012 Y0.0001",
+    "X-0 Y-0.0",
+    "G1 X1\0Y$",
+    "(é comment)",
+    "T1 M6",
+    "H1",
+    "M3 S1000",
+    "M5",
+    "G4 P0.1",
+    "G17 G90",
+    "D1 E2",
+    "G1 X1 @1 ^30",
+    "N5",
+]
+
+#: Lines rs274 fails on (reading or running them).
+FAILING_ODD = [
+    "X1.2.3",
+    "X--1",
+    "G1 X",
+    "G1 X.",
+    "N-5 X1",
+    "N.5 X1",
+    "G1 N10 X1",
+    "G1 X1 X2",
+    "G1 G0 X1",
+    "G4.5",
+    "G99 X1",
+    "M3 M4",
+    "F-5",
+    "S-1",
+    "T1.5",
+    "T-1",
+    "H-2",
+    "L-1",
+    "X1 M98",
+    "U1",
+    "O100",
+    "o1 if [1]",
+    "G1 X1 Y2 $",
+    "G1 X1 (open",
+    "G1 X1 ((nested))",
+    "x" * 253,
+    "G1 X" + "1" * 251,
+    "G1 X" + "1" * 249,
+    "(" + "c" * 251 + ")",
+    "%",
+]
+
+
+@st.composite
+def odd_lines(draw, failing: bool) -> str:
+    """One odd line (a failing one only when ``failing``)."""
+    if failing and draw(st.integers(0, 3)) == 0:
+        return draw(st.sampled_from(FAILING_ODD))
+    return draw(st.sampled_from(HARMLESS_ODD))
+
+
+@st.composite
+def odd_cam_programs(draw, failing: bool = True) -> str:
+    """Set-up lines, stretches of rows (N numbers, spacing, letter case and
+    line ends varied per stretch) and odd lines between and inside them;
+    CR LF line ends now and then, a ``%`` demarcation now and then."""
+    lines = draw(st.lists(st.sampled_from(SETUPS[:4]), min_size=1, max_size=2))
+    places = draw(st.sampled_from([3, 4, 6]))
+    for _ in range(draw(st.integers(1, 4))):
+        numbered = draw(st.integers(0, 3)) == 0
+        style = draw(st.sampled_from(["", "", "lower", "tight", "spaced"]))
+        for _ in range(draw(st.integers(4, 40))):
+            if draw(st.integers(0, 12)) == 0:
+                lines.append(draw(odd_lines(failing)))
+                continue
+            row = draw(move_row(numbered, len(lines) + 1, "G17", True, places))
+            if ARC.search(row):
+                row = re.sub(r"\bG0?[23]\b", "G1", row)
+                row = re.sub(r" [IJKR]\S*", "", row)
+            if style == "lower":
+                row = row.lower()
+            elif style == "tight":
+                row = row.replace(" ", "")
+            elif style == "spaced":
+                row = "  " + row.replace(" ", " \t")
+            lines.append(row)
+    lines.append("M2")
+    ends = draw(st.sampled_from(["\n", "\n", "\n", "\r\n"]))
+    text = ends.join(lines) + ends
+    if draw(st.integers(0, 5)) == 0:
+        text = "%" + ends + text + "%" + ends
+    return text
