@@ -120,7 +120,7 @@ def string(text: str) -> str:
     which keeps our line-length arithmetic equal to black's), double quotes
     unless that adds escapes."""
     if "'" not in text and '"' not in text:
-        return '"%s"' % ascii(text)[1:-1]  # (a source map's megabytes)
+        return ascii(text).replace("'", '"')  # (a source map's megabytes)
     single = ascii(text)
     if single.startswith('"'):
         return single  # ascii() chose double quotes: text has a '
@@ -462,37 +462,38 @@ class Coll:
         self.open = open_
         self.items = list(items)
         self.close = close
-        self._flat: Optional[str] = None
+
+    def one_tuple(self) -> bool:
+        """A one-element tuple: its comma is no magic trailing comma."""
+        return len(self.items) == 1 and self.close == ")" and self.open == "("
 
     def flat(self) -> str:
-        # Kept: the source map's texts can be tens of megabytes.
-        if self._flat is None:
-            inner = ", ".join(flat(item) for item in self.items)
-            if len(self.items) == 1 and self.close == ")" and self.open == "(":
-                inner += ","  # a one-element tuple; black does not treat it as magic
-            self._flat = self.open + inner + self.close
-        return self._flat
+        inner = ", ".join(flat(item) for item in self.items)
+        if self.one_tuple():
+            inner += ","
+        return self.open + inner + self.close
+
+    def width(self) -> int:
+        """``len(self.flat())``, without making it (a source map's texts
+        can be tens of megabytes)."""
+        items = sum(width(item) for item in self.items)
+        commas = 2 * max(len(self.items) - 1, 0) + self.one_tuple()
+        return len(self.open) + items + commas + len(self.close)
 
     def magic(self) -> bool:
         return any(isinstance(i, Coll) and i.magic() for i in self.items)
 
     def layout(self, indent: int, suffix: str = "") -> List[str]:
         pad = " " * indent
-        flat = self.flat()
-        if indent + len(flat) + len(suffix) <= LINE_LENGTH:
-            return [pad + flat + suffix]
-        body_length = len(flat) - len(self.open) - len(self.close)
-        if (
-            indent + 4 + body_length <= LINE_LENGTH
-            and not self.magic()
-            and not flat[: -len(self.close)].endswith(",")
-        ):
-            body = flat[len(self.open) : -len(self.close)]
-            return [
-                pad + self.open,
-                " " * (indent + 4) + body,
-                pad + self.close + suffix,
-            ]
+        size = self.width()
+        if indent + size + len(suffix) <= LINE_LENGTH:
+            return [pad + self.flat() + suffix]
+        body_size = size - len(self.open) - len(self.close)
+        if indent + 4 + body_size <= LINE_LENGTH and not self.magic():
+            body = self.flat()[len(self.open) : -len(self.close)]
+            if not body.endswith(","):
+                inner = " " * (indent + 4) + body
+                return [pad + self.open, inner, pad + self.close + suffix]
         lines = [pad + self.open]
         for item in self.items:
             lines.extend(layout(item, indent + 4, ","))
@@ -502,6 +503,10 @@ class Coll:
 
 def flat(item) -> str:
     return item.flat() if isinstance(item, Coll) else item
+
+
+def width(item) -> int:
+    return item.width() if isinstance(item, Coll) else len(item)
 
 
 def layout(item, indent: int, suffix: str = "") -> List[str]:

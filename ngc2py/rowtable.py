@@ -53,6 +53,7 @@ class Kind(NamedTuple):
     integers: bool  # some value has no point
     padded: bool  # every value pads to its printed text (see module doc)
     odd: bool  # some value starts with ``+`` or a point
+    empty: bool  # no value but the N digits
 
 
 def kinds(run: RowRun, present: Iterable[int]) -> Dict[int, Kind]:
@@ -65,16 +66,17 @@ def _kind(lane, kind: int) -> Kind:
     facts = lane.facts.get(kind)
     if facts is None:
         numbered = integers = odd = False
-        padded = True
+        padded = empty = True
         for value in cells(lane.kind_lines[kind] + b"\n").split():
             if value.startswith(b"="):
                 numbered = True
                 continue
+            empty = False
             odd = odd or value[:1] in b"+." or value.startswith(b"-.")
             whole, point, decimals = value.lstrip(b"+-").partition(b".")
             integers = integers or not point
             padded = padded and len(decimals) <= 4 and len(whole) <= 11
-        facts = lane.facts[kind] = Kind(numbered, integers, padded, odd)
+        facts = lane.facts[kind] = Kind(numbered, integers, padded, odd, empty)
     return facts
 
 
@@ -108,7 +110,11 @@ def printed(
     padded = all(kind.padded for kind in facts.values())
     if padded and b" 00" not in zeros and b" 01" not in zeros:
         integers = [k for k, kind in facts.items() if kind.integers]
-        text = _pad(_points(run, text, integers) if integers else text)
+        text = _points(run, text, integers) if integers else text
+        if any(kind.empty for kind in facts.values()):
+            text = _pad(text)
+        else:
+            text = _pad_rows(text)
     else:
         text = _exact(text)
         if text is None:
@@ -143,6 +149,17 @@ def _pad(text: bytes) -> bytes:
     text = text.replace(_TAB_AT_START, b"")
     text = text.replace(b" \x01", b"\x01").replace(b" \n", b"\n")
     return text.translate(_PADDED, b"\r")
+
+
+def _pad_rows(text: bytes) -> bytes:
+    """:func:`_pad` for rows that all have a value: the tab after each line's
+    last value goes in with the next line's first separator, and nothing
+    lands at column 0. Each line keeps a blank at its end (for
+    :func:`rows`)."""
+    text = b"\x01" + text[1:] + b" "  # the first separator; the last line end
+    text = text.replace(b"\n ", b"\t\x01\n\x01").replace(b" ", b"\t\x01")
+    text = text.replace(b".", b"\r.").expandtabs(6).replace(b" \x01", b"\x01")
+    return text[:-1].translate(_PADDED, b"\r")
 
 
 def _exact(text: bytes) -> Optional[bytes]:
@@ -187,6 +204,7 @@ def rows(
     if numbers is not None:
         columns.append(numbers)
         head = b"%d %d %b"
+    end = b" \n" if text.endswith(b" \n") else b"\n"  # (from _pad_rows)
     # One format for the whole run: the values hold no "%".
-    form = head + text[:-1].replace(b"\n", b"\n" + head)
+    form = head + text[: -len(end)].replace(end, b"\n" + head)
     return (form % tuple(chain.from_iterable(zip(*columns)))).decode("ascii")
