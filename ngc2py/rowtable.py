@@ -197,14 +197,24 @@ def rows(
 ) -> str:
     """The run's table rows, ``line shape values`` one per text line, from
     the values' text and the N digits of every row (if they are apart);
-    ``index``: each kind's shape index in the module's SHAPES."""
-    first = run.number
-    columns = [range(first, first + run.count), map(index.__getitem__, run.kinds)]
-    head = b"%d %d"
+    ``index``: the shape index in the module's SHAPES of each kind the run
+    has."""
+    # Formats over the whole run (the values hold no "%"): the line numbers
+    # first, then the shapes (written in when there is one) and N digits.
+    shapes = {kind: b"%d" % shape for kind, shape in index.items()}
+    one = next(iter(shapes.values())) if len(shapes) == 1 else None
+    head = b"%d " + (b"%%b" if one is None else one)
     if numbers is not None:
-        columns.append(numbers)
-        head = b"%d %d %b"
+        head += b" %%b"
     end = b" \n" if text.endswith(b" \n") else b"\n"  # (from _pad_rows)
-    # One format for the whole run: the values hold no "%".
     form = head + text[: -len(end)].replace(end, b"\n" + head)
-    return (form % tuple(chain.from_iterable(zip(*columns)))).decode("ascii")
+    first = run.number
+    text = form % tuple(range(first, first + run.count))
+    if one is None and numbers is not None:
+        shaped = map(shapes.__getitem__, run.kinds)
+        text %= tuple(chain.from_iterable(zip(shaped, numbers)))
+    elif one is None:
+        text %= tuple(map(shapes.__getitem__, run.kinds))
+    elif numbers is not None:
+        text %= tuple(numbers)
+    return text.decode("ascii")
