@@ -23,7 +23,9 @@ executing a line.
 
 from __future__ import annotations
 
-from typing import IO, List, Optional, Tuple
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import IO, List, Optional, Tuple
 
 
 class Canon:

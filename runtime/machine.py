@@ -29,7 +29,11 @@ from __future__ import annotations
 
 import io
 import sys
-from typing import Callable, Dict, Iterator, NamedTuple, Optional, TextIO
+from collections import namedtuple
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import Callable, Dict, Iterator, Optional, TextIO
 
 from runtime import blockcheck, fanuc_subs, loopflags, olabels, remap
 from runtime.canon import Canon, TraceCanon
@@ -177,12 +181,12 @@ MAX_PARAMETER = 5602
 #: rs274 refuses a call made from this call level (nine nested calls at most).
 MAX_CALL_LEVEL = 9
 
-class _Subroutine(NamedTuple):
+
+class _Subroutine(namedtuple("_Subroutine", "fn file", defaults=(None,))):
     """A known subroutine: its function, and the file its definition was
     read in (None when rs274 found it by reading ahead for a call)."""
 
-    fn: Callable
-    file: Optional[str] = None
+    __slots__ = ()
 
 
 class Machine(
@@ -421,7 +425,9 @@ class Machine(
         self.line = line
         if self.settings.ini.lines:
             frames = g_code_frames_of_stack()
-            remap.refuse_in_line(self.settings, message, frames[-1].text if frames else "")
+            remap.refuse_in_line(
+                self.settings, message, frames[-1].text if frames else ""
+            )
         if finish:
             self.announce_block(None)
             self.canon.finish()

@@ -27,8 +27,10 @@ Facts measured against rs274 (LinuxCNC 2.9) that shape this module:
 from __future__ import annotations
 
 import math
-from fractions import Fraction
-from typing import List, Tuple
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import List, Tuple
 
 from runtime.errors import GCodeError
 
@@ -368,6 +370,8 @@ def plus_half_pi(x: float, sign: int = 1) -> float:
     rounded to a long double first and then to a double; doing it in doubles
     alone sometimes turns a centre rs274 prints as ``-0.0000`` into ``0.0000``.
     """
+    from fractions import Fraction  # here: its import costs start-up time
+
     pm, pe = _PI_L
     exact = Fraction(x) + sign * Fraction(pm) * Fraction(2) ** (pe - 1)
     if exact == 0:
@@ -375,9 +379,16 @@ def plus_half_pi(x: float, sign: int = 1) -> float:
     return _to_double(*_rounded_ratio(exact.numerator, exact.denominator, 0, _LD_BITS))
 
 
-#: M_PIl and M_PI_2l exactly, for `long_double_sum`.
-PI_L = Fraction(_PI_L[0]) * Fraction(2) ** _PI_L[1]
-HALF_PI_L = PI_L / 2
+def __getattr__(name: str):
+    # PI_L and HALF_PI_L: M_PIl and M_PI_2l exactly (Fractions), for
+    # `long_double_sum`; made on first use, as fractions costs start-up time.
+    if name in ("PI_L", "HALF_PI_L"):
+        from fractions import Fraction
+
+        pi = Fraction(_PI_L[0]) * Fraction(2) ** _PI_L[1]
+        globals().update(PI_L=pi, HALF_PI_L=pi / 2)
+        return globals()[name]
+    raise AttributeError("module %r has no attribute %r" % (__name__, name))
 
 
 def long_double_sum(first: float, *terms) -> float:
@@ -386,6 +397,8 @@ def long_double_sum(first: float, *terms) -> float:
     does: each partial sum rounded to a long double, the result stored into a
     double. Sums of doubles alone must be done before (they round to double).
     """
+    from fractions import Fraction
+
     acc = Fraction(first)
     for term in terms:
         acc += Fraction(term)

@@ -25,7 +25,10 @@ whole run is written at the end, in one piece, before anything else can be.
 from __future__ import annotations
 
 from itertools import takewhile
-from typing import List
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import List
 
 from runtime.codes import G0, G1
 

@@ -24,7 +24,10 @@ from __future__ import annotations
 import ctypes
 import ctypes.util
 import struct
-from typing import Callable, Optional, Tuple
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import Callable, Optional, Tuple
 
 #: The 80-bit format: 64-bit significand (explicit leading bit) and a 15-bit
 #: exponent biased by 16383, sign on top, padded to 16 bytes on x86-64.
