@@ -349,20 +349,23 @@ class Machine(
         ON_RESET calls; everything later is followed by them, error or not.
         (The CLI prints the INI's ``settings.stderr_report``, not the machine.)
         """
-        self._initialise()
         try:
-            self._start()
-            remap.refuse_standard_remaps(self.settings)
-            self.refresh_plain()
-            main(self)
-        except ProgramEnd:
-            pass
+            self._initialise()
+            try:
+                self._start()
+                remap.refuse_standard_remaps(self.settings)
+                self.refresh_plain()
+                main(self)
+            except ProgramEnd:
+                pass
+            finally:
+                self.announce_block(None)
+                for _ in range(self._closing_resets):
+                    self.canon.on_reset()
+                if self.var_file is not None:
+                    self._save_parameters()
         finally:
-            self.announce_block(None)
-            for _ in range(self._closing_resets):
-                self.canon.on_reset()
-            if self.var_file is not None:
-                self._save_parameters()
+            self.canon.flush()  # a trace canon keeps lines back (runtime.canon)
 
     def fail_open(self, message: str, location: Optional[Location] = None) -> None:
         """What rs274 does when it cannot open the program: the main file is
@@ -370,7 +373,10 @@ class Machine(
         lines ("File ended with no percent sign", ``location`` the last of
         them). It initialises, then stops: no ON_RESET, no closing save of
         the parameter file."""
-        self._initialise()
+        try:
+            self._initialise()
+        finally:
+            self.canon.flush()
         raise GCodeError(message, location)
 
     def _save_parameters(self) -> None:

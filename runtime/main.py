@@ -145,8 +145,8 @@ def run_cli(
     stderr.write("executing\n")
     stderr.flush()
     mode = options.pop("continue_mode", continue_mode.STOP)
+    canon = TraceCanon(stdout)
     try:
-        canon = TraceCanon(stdout)
         machine = Machine(
             canon if wrap_canon is None else wrap_canon(canon),
             source=source_map,
@@ -159,26 +159,29 @@ def run_cli(
         stderr.write(machine.settings.stderr_report)
 
         def report_and_go_on(error: GCodeError) -> None:
-            stdout.flush()
+            canon.flush()  # the trace so far comes before the message
             report(error, stderr)
 
         continue_mode.enable(machine, mode, report_and_go_on, sys.stdin, stderr)
         start(machine, main)
     except GCodeError as error:
-        stdout.flush()
+        canon.flush()
         if not getattr(error, "reported", False):
             report(error, stderr)
         return 1
     except (KeyboardInterrupt, BrokenPipeError):
         return 1
     except Exception as error:  # noqa: BLE001 - never a bare traceback
-        stdout.flush()
+        canon.flush()
         stderr.write(describe(error) + "\n")
         if os.environ.get("NGC2PY_TRACEBACK"):
             stderr.write(format_traceback(error))
         return 1
     finally:
-        stdout.flush()
+        try:
+            canon.flush()
+        except BrokenPipeError:  # the reader went away (`| head`)
+            return 1
     return 0
 
 

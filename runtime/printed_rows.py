@@ -123,6 +123,8 @@ def printed_rows(machine, by_index, cells: List[str], at: int, end: int, plans) 
         if out:
             canon._write("".join(out))
             canon._count, canon._column = count, column
+            if count >= canon._drain_at:
+                canon._drain()
             point = cur[:]
             for axis in range(_PRINTED_AXES):
                 if texts[axis] is not entry[axis]:  # a row named it
