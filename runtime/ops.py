@@ -496,13 +496,35 @@ def _choose_trig() -> None:
     library costs every run a few milliseconds, and most programs (CAM
     output) never take a sine."""
     global _sin, _cos, _tan, _BACKEND
-    from runtime import x87
+    fast = None
+    if _extension is not None:  # no ctypes needed: the extension is sinl itself
+        made = {"sin": _extension.sin, "cos": _extension.cos, "tan": _extension.tan}
+        fast = made if library_agrees(made, _trig) else None
+    if fast is None:
+        from runtime import x87
 
-    fast = x87.trig_functions(_PI_L[0], _PI_L[1], _trig) or {}
+        fast = x87.trig_functions(_PI_L[0], _PI_L[1], _trig, use_extension=False)
+    fast = fast or {}
     _BACKEND = "library" if fast else "emulation"
     _sin, _cos, _tan = (
         fast.get(name) or _emulated(name) for name in ("sin", "cos", "tan")
     )
+
+
+def library_agrees(made: dict, reference) -> bool:
+    """Do the library's sin and cos (``made``) give the integer emulation's
+    (``reference(degrees, name)``) answers on ordinary probe angles? (Not
+    tan: rs274's tanl is not always correctly rounded, and the library, not
+    the emulation, is what rs274 prints.)"""
+    probes = (30.0, 45.0, 60.0, 90.0, 180.0, 270.0, -33.3, 0.3, 1e-3, 12345.678)
+    for degrees in probes + tuple(k * 7.77 for k in range(1, 60)):
+        for name in ("sin", "cos"):
+            try:
+                if made[name](degrees) != reference(degrees, name):
+                    return False
+            except Exception:  # noqa: BLE001 - any failure: not this library
+                return False
+    return True
 
 
 def _first_call(name: str):
@@ -517,9 +539,44 @@ _sin, _cos, _tan = (_first_call(name) for name in ("sin", "cos", "tan"))
 
 
 def trig_backend() -> str:
-    """``"library"`` (sinl/cosl/tanl through ctypes) or ``"emulation"``."""
+    """``"library"`` (sinl/cosl/tanl: the C extension or ctypes) or
+    ``"emulation"``."""
     _choose_trig()
     return _BACKEND
+
+
+# --------------------------------------------------------------------------
+# The C extension's own entry points
+# --------------------------------------------------------------------------
+# Where setup.py built runtime._libm_trig, generated code calls its SIN, COS,
+# TAN and MOD directly: a Python wrapper around each would cost more than
+# the computation. It checks operands with `finite` and, at the first call,
+# asks `_library_or_instead` whether the library may be used (the same
+# check `_choose_trig` makes; if not, the emulation's functions answer).
+
+
+def _library_or_instead():
+    _choose_trig()
+    if _BACKEND == "library" and _sin is getattr(_extension, "sin", None):
+        return None
+    return (lambda d: _sin(d), lambda d: _cos(d), lambda d: _tan(d))
+
+
+try:
+    from runtime import _libm_trig as _extension
+except ImportError:  # not built here: the Python functions above serve
+    _extension = None
+#: The Python versions, which serve where the extension was not built (the
+#: tests hold the extension's to them).
+PYTHON_VERSIONS = {"sin": sin, "cos": cos, "tan": tan, "mod": mod}
+if hasattr(_extension, "checked_sin"):
+    _extension.configure(finite, _library_or_instead)
+    sin, cos, tan = (
+        _extension.checked_sin,
+        _extension.checked_cos,
+        _extension.checked_tan,
+    )
+    mod = _extension.mod
 
 
 #: M_PIl / 180.0 as a compiler folds it: a long double ``(m, e)``.
