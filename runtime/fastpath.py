@@ -36,6 +36,7 @@ if TYPE_CHECKING:
 
 from runtime import arcs
 from runtime.codes import G0, G1, G2, G3
+from runtime.rows import BATCH, straight_batch
 from runtime.errors import GCodeError
 from runtime.motion import UNITS_PER_MINUTE
 
@@ -147,6 +148,24 @@ class FastPathMixin:
                 if slots is None:
                     break
                 motion = motion_mode if plan.motion is None else plan.motion
+                if (
+                    plan.batch
+                    and end - at >= (plan.width + 2) * BATCH
+                    and (motion == G0 or (motion == G1 and feed_rate > 0.0))
+                ):
+                    if block_n is not None:
+                        canon.set_block_number(None)
+                        block_n = None
+                    call = feed if motion == G1 else traverse
+                    rows, point, error = straight_batch(call, cells, at, end, plan, cur)
+                    if rows:
+                        at += rows * (plan.width + 2)
+                        cur, motion_mode = point, motion
+                    if error is not None:
+                        row = at  # the row whose canon call failed
+                        raise error
+                    if rows:
+                        continue
                 start = at + 2
                 if plan.has_n:
                     n = cells[start]
