@@ -36,10 +36,12 @@ loop. Programs without such lines get none of this.
 
 from __future__ import annotations
 
+import base64
 import builtins
 import keyword
 import math
 import re
+import zlib
 from dataclasses import dataclass, field
 from typing import Dict, Iterable, List, Optional, Sequence, Tuple
 
@@ -1711,22 +1713,45 @@ def source_map_lines(
     the map refers to; others are empty), which compiles to one constant.
     """
     texts = []
+    packed: List[str] = []
     for table in w.texts:
         top = max(table) if table else 0
-        texts.append("\n".join(table.get(i, "") for i in range(1, top + 1)))
+        text = "\n".join(table.get(i, "") for i in range(1, top + 1))
+        if len(text) > PACK_TEXT_OVER:
+            name = "_NGC_TEXT_%d" % len(packed)
+            packed += ["# The G-code text of %s, compressed (it is large)." % name]
+            packed += ["%s = %s" % (name, packed_literal(text)), "", ""]
+            texts.append(name)
+        else:
+            texts.append(string(text))
     call = Coll(
         "__ngc__ = SourceMap(",
         [
             Coll("(", [string(f) for f in w.files], ")"),
             string(w.map.encode()),
-            Coll("(", [string(t) for t in texts], ")"),
+            Coll("(", texts, ")"),
             subs,
             Coll("(", ["%d" % end[0], str(end[1])], ")"),
         ]
         + ([opening] if opening else []),
         ")",
     )
-    return call.layout(0)
+    return packed + call.layout(0)
+
+
+#: A file's G-code text longer than this goes into the source map
+#: compressed: a large CAM file's text would otherwise be a third of the
+#: module that Python compiles on every ``python prog.py``.
+PACK_TEXT_OVER = 1 << 16
+
+
+def packed_literal(text: str) -> str:
+    """A bytes literal of ``text`` deflated and in base64, 76 characters a
+    line (runtime.errors.SourceMap unpacks it when an error needs a line).
+    The fastest level: converting a million-line file must stay quick, and
+    the literal's size costs a run little (about 5 ns a byte to compile)."""
+    data = zlib.compress(text.encode("utf-8", "surrogateescape"), 1)
+    return 'b"""\\\n%s"""' % base64.encodebytes(data).decode("ascii")
 
 
 def generate(
