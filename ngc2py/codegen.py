@@ -284,6 +284,9 @@ def may_overflow(e: nodes.Expr) -> bool:
 
 #: Past this, a bound proves nothing: a sum or product may overflow.
 _LARGEST_BOUND = 1e300
+#: Below half the spacing of doubles at the largest one (2**970): added to
+#: any finite double, it rounds to a finite one.
+_NEGLIGIBLE_TERM = 2.0**960
 #: Results of the checked functions: at most this in magnitude.
 _FUNCTION_BOUNDS = {"sin": 1.0, "cos": 1.0, "acos": 180.0, "asin": 180.0, "atan": 180.0}
 
@@ -320,12 +323,21 @@ def value_bound(e: nodes.Expr) -> Optional[float]:
             if left is None or not isinstance(e.right, nodes.Num) or not e.right.value:
                 return None
             return abs(e.right.value)
-        if e.op in ("+", "-") and left is not None and right is not None:
+        if left is None or right is None:
+            return None
+        if e.op in ("+", "-"):
             total = left + right
-            return total if total <= _LARGEST_BOUND else None
-        if e.op == "*" and left is not None and right is not None:
+            if total <= _LARGEST_BOUND:
+                return total
+            # A finite value plus a small one cannot round past the largest
+            # double: ``[#<i> + 1]`` needs no check.
+            return math.inf if min(left, right) <= _NEGLIGIBLE_TERM else None
+        if e.op == "*":
             product = left * right
-            return product if product <= _LARGEST_BOUND else None
+            if product <= _LARGEST_BOUND:
+                return product
+            # Nor can a finite value times at most 1 in size: ``[#<i> * 0.3]``.
+            return math.inf if min(left, right) <= 1.0 else None
         return None
     return math.inf  # parameter reads, EXISTS: checked where they are read
 
