@@ -108,11 +108,20 @@ class FastPathMixin:
                 cur[7] if v is None else v,
                 cur[8] if w is None else w,
             ]
-            self._open_plain_block(line, n, f)
+            # _open_plain_block, inline
+            self.line = line
+            canon = self.canon
+            if n != self._block_n:
+                canon.set_block_number(n)
+                self._block_n = n
+            if f is not None:
+                self.feed_rate = f
+                canon.set_feed_rate(f)
+                self.world.feed_rate = f
             if motion == G1:
-                self.canon.straight_feed(*end)
+                canon.straight_feed(*end)
             else:
-                self.canon.straight_traverse(*end)
+                canon.straight_traverse(*end)
             self.motion_mode = motion
             # One list shared as the current point, the canon model's
             # position and #5420-#5428: a general block copies it first.
