@@ -11,9 +11,11 @@ from __future__ import annotations
 
 import bisect
 import sys
-from dataclasses import dataclass
 from types import TracebackType
-from typing import List, Optional, Sequence, Tuple
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import List, Optional, Sequence, Tuple, Union
 
 
 class GCodeError(Exception):
@@ -30,13 +32,24 @@ class GCodeError(Exception):
         self.location = location
 
 
-@dataclass(frozen=True)
 class Location:
     """A G-code position: file, 1-based line and the line's text."""
 
-    file: str
-    line: int
-    text: str
+    __slots__ = ("file", "line", "text")
+
+    def __init__(self, file: str, line: int, text: str):
+        self.file, self.line, self.text = file, line, text
+
+    def __eq__(self, other) -> bool:
+        return isinstance(other, Location) and (
+            (self.file, self.line, self.text) == (other.file, other.line, other.text)
+        )
+
+    def __hash__(self) -> int:
+        return hash((self.file, self.line, self.text))
+
+    def __repr__(self) -> str:
+        return "Location(%r, %d, %r)" % (self.file, self.line, self.text)
 
     def __str__(self) -> str:
         # Line 0: the file itself (it could not be opened or read).
@@ -50,7 +63,8 @@ class SourceMap:
     ``py,file,line[,count]`` runs (``count`` consecutive Python lines map to
     consecutive G-code lines). G-code line 0 means the statement runs data
     rows: the row's line number is attached to the error by ``run_rows``.
-    ``texts`` holds, per file, the G-code lines joined by newlines.
+    ``texts`` holds, per file, the G-code lines joined by newlines (for a
+    large file, that text deflated and in base64, as bytes).
     ``subs`` maps every subroutine name defined in the main file to its
     function, so a call to a sub not yet defined can seek it the way rs274
     reads ahead; ``end`` is the main file's last line number and whether
@@ -64,7 +78,7 @@ class SourceMap:
         self,
         files: Sequence[str],
         lines: str,
-        texts: Sequence[str],
+        texts: Sequence[Union[str, bytes]],
         subs: Optional[dict] = None,
         end: Tuple[int, bool] = (0, False),
         open_error: Optional[Tuple[str, int]] = None,
@@ -110,9 +124,14 @@ class SourceMap:
     def text(self, file: int, line: int) -> str:
         """The text of G-code ``line`` of file number ``file`` ("" if unknown)."""
         if file not in self._split:
-            self._split[file] = (
-                self._texts[file].split("\n") if file < len(self._texts) else []
-            )
+            text = self._texts[file] if file < len(self._texts) else ""
+            if isinstance(text, bytes):  # a large file's text, compressed
+                import binascii
+                import zlib
+
+                text = zlib.decompress(binascii.a2b_base64(text))
+                text = text.decode("utf-8", "surrogateescape")
+            self._split[file] = text.split("\n") if text else []
         lines = self._split[file]
         return lines[line - 1] if 0 < line <= len(lines) else ""
 
@@ -210,7 +229,9 @@ def format_traceback(error: BaseException) -> str:
             else None
         )
         if location is not None:
-            out.append('  File "%s", line %d (G-code)\n' % (location.file, location.line))
+            out.append(
+                '  File "%s", line %d (G-code)\n' % (location.file, location.line)
+            )
             out.append("    %s\n" % location.text.strip())
         else:
             summary = traceback.extract_tb(tb, limit=1)

@@ -300,3 +300,27 @@ def test_arcs_with_computed_words_call_machine_arc():
     assert "m.arc(2, G2, x=2.0, y=0.0, i=1.0, j=0.0)" in code
     assert "m.arc(3, G3, x=0.0, y=0.0, r=5.0, f=50.0)" in code
     assert "m.block(4, G2, x=1.0, p=2.0, i=1.0)" in code  # P (turns): the general path
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize("where", ["row", "statement"])
+def test_a_large_files_text_is_packed_and_errors_still_show_their_line(
+    where, tmp_path
+):
+    """Above codegen.PACK_TEXT_OVER the G-code text goes into the source map
+    compressed; an error must still print rs274's message and line text,
+    wherever the failing line is (a data row or a statement)."""
+    rows = ["G1 X%d.25 Y%d (moving \u00e9 %d)" % (k, k % 7, k) for k in range(4000)]
+    bad = "G1 X1 F0" if where == "row" else "#1 = [1 / 0]"
+    rows[3210] = bad
+    text = "G21 G90 G17 F100\nG0 Z5\n" + "\n".join(rows) + "\nM2\n"
+    assert len(text) > codegen.PACK_TEXT_OVER
+    code = compile_text(text, "big.ngc")
+    assert "_NGC_TEXT_0 = b" in code and bad not in code.split("__ngc__")[-1]
+    assert black.format_str(code, mode=black.Mode()) == code
+    program = tmp_path / "big.ngc"
+    program.write_text(text, encoding="utf-8")
+    expected = harness.run_rs274(program)
+    actual = harness.run_ngc2py(program, mode="convert")
+    assert not harness.compare(expected, actual)
+    assert bad in actual.stderr.decode()
