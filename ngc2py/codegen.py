@@ -1876,8 +1876,10 @@ def packed_literal(text: str) -> str:
     line (runtime.errors.SourceMap unpacks it when an error needs a line).
     The fastest level: converting a million-line file must stay quick, and
     the literal's size costs a run little (about 5 ns a byte to compile)."""
-    data = zlib.compress(text.encode("utf-8", "surrogateescape"), 1)
-    return 'b"""\\\n%s"""' % base64.encodebytes(data).decode("ascii")
+    data = base64.b64encode(zlib.compress(text.encode("utf-8", "surrogateescape"), 1))
+    # base64.encodebytes' lines, without its Python loop over 57-byte pieces
+    lines = [data[at : at + 76] for at in range(0, len(data), 76)]
+    return 'b"""\\\n%s\n"""' % b"\n".join(lines).decode("ascii")
 
 
 def joined_texts(table: Dict[int, str], blocks: List[Tuple[int, str]]) -> str:

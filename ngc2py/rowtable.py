@@ -22,7 +22,7 @@ table written as printed, the values as rs274's trace prints them
 from __future__ import annotations
 
 import re
-from itertools import chain
+from itertools import chain, compress
 from typing import Dict, Iterable, List, NamedTuple, Optional, Tuple
 
 from ngc2py.rowrun import RowRun
@@ -127,21 +127,15 @@ def printed(
 def _points(run: RowRun, text: bytes, integers: List[int]) -> bytes:
     """``text`` with a point after each value that has none (``800.``);
     ``integers``: the kinds of the lines with such values."""
-    kinds = run.kinds
-    if sum(map(kinds.count, integers)) * 8 > len(kinds):  # many: one pass
+    which = list(map(set(integers).__contains__, run.kinds))
+    if sum(which) * 8 > len(which):  # many: in one pass over the text
         flipped = text.replace(b"\n", b" \n")[::-1]
         flipped = b" .".join(_REVERSED_INTEGER.split(flipped))
         return flipped[::-1].replace(b" \n", b"\n")
     lines = text.split(b"\n")
-    for kind in integers:
-        i = kinds.index(kind)
-        while True:
-            values = lines[i].split(b" ")
-            lines[i] = b" ".join(v if not v or b"." in v else v + b"." for v in values)
-            try:
-                i = kinds.index(kind, i + 1)
-            except ValueError:
-                break
+    for i in compress(range(len(which)), which):
+        values = lines[i].split(b" ")
+        lines[i] = b" ".join(v if not v or b"." in v else v + b"." for v in values)
     return b"\n".join(lines)
 
 
