@@ -30,6 +30,7 @@ from __future__ import annotations
 from functools import partial
 from typing import List, Optional, Sequence, Tuple
 
+from runtime.arc_rows import ArcRows
 from runtime.canon import TraceCanon
 from runtime.codes import G0, G1, G2, G3
 from runtime.printed_rows import printed_rows
@@ -125,6 +126,7 @@ def run_rows(
     cells = table.split()
     at, end = 0, len(cells)
     fast = machine.plain_rows
+    arc_rows = ArcRows(machine, plans, as_printed).run
     if as_printed and type(machine.canon) is TraceCanon:
         fast = partial(printed_rows, machine, [plan.printed for plan in plans])
     try:
@@ -132,6 +134,10 @@ def run_rows(
             at = fast(cells, at, end, plans)
             if at == end:
                 break
+            stop = arc_rows(cells, at, end)
+            if stop != at:
+                at = stop
+                continue
             machine.line = line = int(cells[at])
             plan = plans[int(cells[at + 1])]
             start = at + 2
@@ -141,8 +147,6 @@ def run_rows(
                 n = cells[start]
                 start += 1
             words = dict(zip(plan.letters, map(float, cells[start:at])))
-            if plan.arc and machine.plain_arc(line, plan.motion, words, n):
-                continue
             machine.block(line, *plan.codes, n=n, **words)
     except Exception as error:
         error.ngc_row_line = machine.line
