@@ -214,6 +214,7 @@ class ArcRows:
         # The batch form writes trace text itself (as runtime.printed_rows
         # does); other canons get every call, row by row.
         batch_from = at if type(canon) is TraceCanon else end
+        groups = self.groups if self.groups is not None else self._groups()
         row = at
         try:
             while at < end:
@@ -225,7 +226,15 @@ class ArcRows:
                 if recipe is None:
                     break
                 motion, has_n, f_at, width, slots, r_at, i1, i2 = recipe
-                if at >= batch_from and r_at < 0:
+                if (
+                    at >= batch_from
+                    and r_at < 0
+                    # the quick test: the eighth row from here is an arc
+                    # of these words too (_batch checks all of them)
+                    and end - at >= (2 + width) * _BATCH
+                    and cells[at + 1 + (2 + width) * (_BATCH - 1)]
+                    in groups.get(key, ())
+                ):
                     done = self._batch(
                         cells, at, end, recipe, cur, feed_rate, absolute, zero, spiral
                     )
@@ -308,18 +317,15 @@ class ArcRows:
             machine._block_n = block_n
         return at
 
-    def _group(self, key: str) -> Optional[frozenset]:
-        if self.groups is None:
-            by_words: dict = {}
-            for index, plan in enumerate(self.plans):
-                if plan.arc and plan.motion is not None:
-                    by_words.setdefault(plan.letters, set()).add(str(index))
-            self.groups = {
-                shape: frozenset(shapes)
-                for shapes in by_words.values()
-                for shape in shapes
-            }
-        return self.groups.get(key)
+    def _groups(self) -> dict:
+        by_words: dict = {}
+        for index, plan in enumerate(self.plans):
+            if plan.arc and plan.motion is not None:
+                by_words.setdefault(plan.letters, set()).add(str(index))
+        self.groups = {
+            shape: frozenset(shapes) for shapes in by_words.values() for shape in shapes
+        }
+        return self.groups
 
     def _batch(self, cells, at, end, recipe, cur, feed_rate, absolute, zero, spiral):
         """The trace of the run of centre-format rows of the shape of the
@@ -334,7 +340,7 @@ class ArcRows:
         end point. Every step is a ``map`` over whole columns, with the
         same floating-point operations as the row loop."""
         _, has_n, f_at, width, slots, _, i1, i2 = recipe
-        group = self._group(cells[at + 1])
+        group = self.groups.get(cells[at + 1])
         if group is None:
             return None
         stride = width + 2
