@@ -37,7 +37,7 @@ bad usage); golden: 1 a program changed, 2 nothing to check. See the
 README's "Exit status" section."""
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(workflows: bool = True) -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="ngc2py",
         description=DESCRIPTION,
@@ -55,7 +55,9 @@ def build_parser() -> argparse.ArgumentParser:
         "with `python OUT.py [-t TBL] [-v VAR] [-i INI] [-b] [-n 0|1|2] "
         "[--max-steps N]`.",
     )
-    convert.add_argument("program", metavar="PROG.ngc", help="the G-code file ('-': stdin)")
+    convert.add_argument(
+        "program", metavar="PROG.ngc", help="the G-code file ('-': stdin)"
+    )
     convert.add_argument(
         "-o",
         "--output",
@@ -86,8 +88,8 @@ def build_parser() -> argparse.ArgumentParser:
         "-b", dest="block_delete", action="store_true", help="turn block delete on"
     )
     run.add_argument("-q", "--quiet", action="store_true", help=QUIET_HELP)
-    for workflow in WORKFLOWS:  # each adds its sub-command and handler
-        importlib.import_module(workflow).register(commands)
+    for workflow in WORKFLOWS if workflows else ():
+        importlib.import_module(workflow).register(commands)  # its sub-command
     run.add_argument(
         "-n",
         dest="continue_mode",
@@ -129,7 +131,9 @@ def convert(args: argparse.Namespace) -> int:
     else:
         output = args.output or default_output(args.program)
         if output != "-" and same_file(output, args.program):
-            raise CompileError("%s: the output would overwrite the G-code file" % output)
+            raise CompileError(
+                "%s: the output would overwrite the G-code file" % output
+            )
         with spinner("converting " + args.program, args.quiet):
             text = compile_file(args.program, args.ini)
     if output == "-":
@@ -214,12 +218,19 @@ def run(args: argparse.Namespace) -> int:
             getattr(canon, "close", lambda: None)()
 
 
+def _parser_for(argv: List[str]) -> argparse.ArgumentParser:
+    """The parser, without the workflows' sub-commands when ``argv`` runs or
+    converts a program: importing them would add to every ``ngc2py run``."""
+    core = bool(argv) and argv[0] in ("run", "convert")
+    return build_parser(workflows=not core or bool({"-h", "--help"} & set(argv)))
+
+
 def main(argv: Optional[List[str]] = None) -> int:
     """The command line; returns the exit status (never calls sys.exit), so
     it can be called in-process. Output goes to sys.stdout/sys.stderr as
     they are at call time."""
     try:
-        args = build_parser().parse_args(argv)
+        args = _parser_for(sys.argv[1:] if argv is None else argv).parse_args(argv)
     except SystemExit as stop:  # argparse: --help, --version, or a usage error
         # A usage error exits 1, as rs274 does (argparse would say 2).
         return 0 if stop.code in (0, None) else 1

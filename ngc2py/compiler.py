@@ -16,8 +16,12 @@ into the same module, keeping its own file name for error reports.
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass, field
-from typing import List, Optional, Tuple
+
+TYPE_CHECKING = (
+    False  # `ngc2py run` of a cached program imports this module: keep it light
+)
+if TYPE_CHECKING:
+    from typing import List, Optional, Tuple
 
 # The compiler's stages (structure, codegen) are imported where they are
 # used: `ngc2py run` of a cached program needs this module's errors only,
@@ -50,7 +54,6 @@ def open_failure(path: str, error: OSError) -> OpenError:
     return OpenError("%s: cannot read: %s" % (path, error.strerror or error), unable)
 
 
-@dataclass
 class Compiled:
     """A generated module and the files its text depends on.
 
@@ -58,8 +61,11 @@ class Compiled:
     it existed: the cache must be invalidated when any of them changes.
     """
 
-    text: str
-    probes: List[Tuple[str, bool]] = field(default_factory=list)
+    __slots__ = ("text", "probes")
+
+    def __init__(self, text: str, probes: Optional[List[Tuple[str, bool]]] = None):
+        self.text = text
+        self.probes = [] if probes is None else probes
 
 
 def subroutine_dirs(ini: Optional[str]) -> List[str]:

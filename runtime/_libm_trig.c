@@ -28,10 +28,106 @@ static PyObject *sin_degrees(PyObject *self, PyObject *arg) { return in_degrees(
 static PyObject *cos_degrees(PyObject *self, PyObject *arg) { return in_degrees(arg, cosl); }
 static PyObject *tan_degrees(PyObject *self, PyObject *arg) { return in_degrees(arg, tanl); }
 
+/*
+ * What generated code calls for SIN, COS and TAN (through runtime.ops): the
+ * operand checked as rs274 checks it, and the library checked once, at the
+ * first call, by runtime.ops (a Python call per SIN would cost more than the
+ * sine). configure() hands over the two Python functions involved:
+ * nonfinite(d) raises rs274's error for an inf/nan operand; first_use()
+ * returns None when the library may be used, else the (sin, cos, tan) to use
+ * instead.
+ */
+static PyObject *nonfinite = NULL, *first_use = NULL, *instead = NULL;
+static int checked = 0;
+
+static PyObject *configure(PyObject *self, PyObject *args) {
+    PyObject *on_nonfinite, *on_first_use;
+    if (!PyArg_ParseTuple(args, "OO", &on_nonfinite, &on_first_use)) {
+        return NULL;
+    }
+    Py_INCREF(on_nonfinite);
+    Py_INCREF(on_first_use);
+    Py_XSETREF(nonfinite, on_nonfinite);
+    Py_XSETREF(first_use, on_first_use);
+    Py_CLEAR(instead);
+    checked = 0;
+    Py_RETURN_NONE;
+}
+
+static PyObject *checked_degrees(PyObject *arg, libm_function function, int which) {
+    double degrees = PyFloat_AsDouble(arg);
+    if (degrees == -1.0 && PyErr_Occurred()) {
+        return NULL;
+    }
+    if (!isfinite(degrees)) {
+        if (nonfinite == NULL) {
+            PyErr_SetString(PyExc_ArithmeticError, "not a finite number");
+            return NULL;
+        }
+        return PyObject_CallOneArg(nonfinite, arg);
+    }
+    if (!checked) {
+        checked = 1; /* first: the check itself calls the library */
+        if (first_use != NULL) {
+            PyObject *answer = PyObject_CallNoArgs(first_use);
+            if (answer == NULL) {
+                checked = 0;
+                return NULL;
+            }
+            if (answer == Py_None) {
+                Py_DECREF(answer);
+            } else {
+                Py_XSETREF(instead, answer);
+            }
+        }
+    }
+    if (instead != NULL) {
+        PyObject *fallback = PySequence_GetItem(instead, which);
+        if (fallback == NULL) {
+            return NULL;
+        }
+        PyObject *result = PyObject_CallOneArg(fallback, arg);
+        Py_DECREF(fallback);
+        return result;
+    }
+    return PyFloat_FromDouble((double) function(((long double) degrees * M_PIl) / 180.0));
+}
+
+static PyObject *checked_sin(PyObject *self, PyObject *arg) { return checked_degrees(arg, sinl, 0); }
+static PyObject *checked_cos(PyObject *self, PyObject *arg) { return checked_degrees(arg, cosl, 1); }
+static PyObject *checked_tan(PyObject *self, PyObject *arg) { return checked_degrees(arg, tanl, 2); }
+
+/* rs274's MOD: C's fmod, made non-negative by adding |b| (NaN for an
+ * infinite a or a zero b, as fmod gives). */
+static PyObject *mod(PyObject *self, PyObject *const *args, Py_ssize_t count) {
+    if (count != 2) {
+        PyErr_SetString(PyExc_TypeError, "mod() takes two numbers");
+        return NULL;
+    }
+    double a = PyFloat_AsDouble(args[0]);
+    if (a == -1.0 && PyErr_Occurred()) {
+        return NULL;
+    }
+    double b = PyFloat_AsDouble(args[1]);
+    if (b == -1.0 && PyErr_Occurred()) {
+        return NULL;
+    }
+    double result = fmod(a, b);
+    if (result < 0.0) {
+        result += fabs(b);
+    }
+    return PyFloat_FromDouble(result);
+}
+
 static PyMethodDef methods[] = {
     {"sin", sin_degrees, METH_O, "sinl((d * M_PIl) / 180.0) stored into a double"},
     {"cos", cos_degrees, METH_O, "cosl((d * M_PIl) / 180.0) stored into a double"},
     {"tan", tan_degrees, METH_O, "tanl((d * M_PIl) / 180.0) stored into a double"},
+    {"configure", configure, METH_VARARGS, "configure(nonfinite, first_use)"},
+    {"checked_sin", checked_sin, METH_O, "SIN[d]: the operand and the library checked"},
+    {"checked_cos", checked_cos, METH_O, "COS[d]: the operand and the library checked"},
+    {"checked_tan", checked_tan, METH_O, "TAN[d]: the operand and the library checked"},
+    {"mod", (PyCFunction) (void (*)(void)) mod, METH_FASTCALL, "rs274's MOD"},
     {NULL, NULL, 0, NULL},
 };
 

@@ -26,8 +26,13 @@ because the machine must interleave them with its own checks:
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import Mapping, Optional, Tuple
+from collections import namedtuple
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import Mapping, Optional, Tuple
+
+    Point2 = Tuple[float, float]
 
 from runtime.errors import GCodeError
 from runtime.ops import c_hypot, plus_half_pi
@@ -70,22 +75,15 @@ _CENTER_LETTERS = {"XY": ("i", "j"), "XZ": ("k", "i"), "YZ": ("j", "k")}
 #: The centre letter that is not allowed in each plane.
 _FORBIDDEN_CENTER_LETTER = {"XY": "k", "XZ": "j", "YZ": "i"}
 
-Point2 = Tuple[float, float]
 
-
-@dataclass(frozen=True)
-class Arc:
+class Arc(namedtuple("Arc", "end1 end2 center1 center2 rotation")):
     """One arc in plane coordinates: ARC_FEED's first five arguments.
 
     ``rotation`` is rs274's signed turn count: +P for G3 (counter-clockwise),
     -P for G2 (clockwise), P defaulting to 1.
     """
 
-    end1: float
-    end2: float
-    center1: float
-    center2: float
-    rotation: int
+    __slots__ = ()
 
 
 # --------------------------------------------------------------------------

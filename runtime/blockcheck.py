@@ -13,7 +13,10 @@ parser and the runtime); this module adds rs274's later, block-level ones.
 from __future__ import annotations
 
 import math
-from typing import Dict, Mapping, Optional
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import Dict, Mapping, Optional
 
 from runtime import arcs
 from runtime.codes import (  # the codes this module reasons about, and helpers

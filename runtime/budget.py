@@ -14,7 +14,9 @@ means no limit.
 
 from __future__ import annotations
 
-from typing import Iterator
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import Iterator
 
 from runtime.errors import GCodeError
 

@@ -23,7 +23,9 @@ executing a line.
 
 from __future__ import annotations
 
-from typing import IO, List, Optional, Tuple
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import IO, List, Optional, Tuple
 
 
 class Canon:
@@ -133,6 +135,10 @@ class Canon:
     def clear_aux_output_bit(self, index): ...
     def set_aux_output_value(self, index, value): ...
     def canon_error(self, text): ...
+    def flush(self):
+        """Output kept back (the trace's buffered lines) goes out now: the
+        machine calls this when a run ends, errors or not."""
+
     def print_text(self, text):
         """Text rs274 writes to stdout itself, outside the canon: a
         ``(PRINT,...)`` comment's expansion, G7x's "Oops" diagnostics. A
@@ -157,7 +163,9 @@ def _call_names() -> Tuple[str, ...]:
     return tuple(
         name
         for name, value in vars(Canon).items()
-        if callable(value) and not name.startswith("_") and name != "set_block_number"
+        if callable(value)
+        and not name.startswith("_")
+        and name not in ("set_block_number", "flush")
     )
 
 
@@ -228,6 +236,10 @@ _FEED = "%5d %sSTRAIGHT_FEED(%.4f, %.4f, %.4f, %.4f, %.4f, %.4f)\n"
 _ARC = "%5d %sARC_FEED(%.4f, %.4f, %.4f, %.4f, %d, %.4f, %.4f, %.4f, %.4f)\n"
 _FEED_RATE = "%5d %sSET_FEED_RATE(%.4f)\n"
 
+#: Trace lines kept before one write to the stream: writing a line to a
+#: text stream costs about a microsecond, as much as formatting it.
+BUFFERED_LINES = 1024
+
 
 class TraceCanon(Canon):
     """Prints calls exactly as ``rs274 -g`` does.
@@ -240,9 +252,29 @@ class TraceCanon(Canon):
     """
 
     def __init__(self, out: IO[str]):
-        self._write = out.write
+        self._out = out
+        self._pending: List[str] = []
+        self._write = self._pending.append
         self._count = 0
         self._column = "N..... "
+        self._drain_at = BUFFERED_LINES
+
+    # The lines wait in a list and go to the stream in batches: each method
+    # that adds a line checks ``_drain_at``. Machine.run flushes at the end,
+    # errors or not; whoever writes to the same stream meanwhile (run_cli)
+    # flushes first.
+    def flush(self) -> None:
+        """Write every pending line to the stream, and flush the stream."""
+        self._drain()
+        flush = getattr(self._out, "flush", None)
+        if flush is not None:
+            flush()
+
+    def _drain(self) -> None:
+        if self._pending:
+            self._out.write("".join(self._pending))
+            self._pending.clear()
+        self._drain_at = self._count + BUFFERED_LINES
 
     def set_block_number(self, n: Optional[str]) -> None:
         self._column = "N..... " if n is None else f"N{n:<6}"
@@ -250,6 +282,8 @@ class TraceCanon(Canon):
     def _emit(self, text: str) -> None:
         self._count += 1
         self._write(f"{self._count:5d} {self._column}{text}\n")
+        if self._count >= self._drain_at:
+            self._drain()
 
     # --- representation -------------------------------------------------
     def set_g5x_offset(self, index, x, y, z, a, b, c, u, v, w):
@@ -276,10 +310,14 @@ class TraceCanon(Canon):
     def straight_traverse(self, x, y, z, a, b, c, u, v, w):
         self._count += 1
         self._write(_TRAVERSE % (self._count, self._column, x, y, z, a, b, c))
+        if self._count >= self._drain_at:
+            self._drain()
 
     def straight_feed(self, x, y, z, a, b, c, u, v, w):
         self._count += 1
         self._write(_FEED % (self._count, self._column, x, y, z, a, b, c))
+        if self._count >= self._drain_at:
+            self._drain()
 
     def arc_feed(
         self,
@@ -313,6 +351,8 @@ class TraceCanon(Canon):
                 c,
             )
         )
+        if self._count >= self._drain_at:
+            self._drain()
 
     def straight_probe(self, x, y, z, a, b, c, u, v, w, probe_type):
         self._emit(f"STRAIGHT_PROBE({_axes6(x, y, z, a, b, c)})")
@@ -333,6 +373,8 @@ class TraceCanon(Canon):
     def set_feed_rate(self, rate):
         self._count += 1
         self._write(_FEED_RATE % (self._count, self._column, rate))
+        if self._count >= self._drain_at:
+            self._drain()
 
     def set_feed_reference(self, workpiece):
         self._emit(
@@ -498,6 +540,8 @@ class TraceCanon(Canon):
     def print_text(self, text):
         # rs274 prints the line itself, between trace lines, unnumbered.
         self._write(text + "\n")
+        if self._count >= self._drain_at:
+            self._drain()
 
     # --- program flow --------------------------------------------------
     program_stop = _no_arguments("PROGRAM_STOP")

@@ -18,7 +18,10 @@ from __future__ import annotations
 import linecache
 import re
 from types import TracebackType
-from typing import Optional
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import Optional
 
 _KEYWORD = re.compile(r"\b([a-z])=(?!=)")
 _MESSAGE_PATTERNS = (

@@ -14,7 +14,10 @@ the manual (G92.1-G92.3 are *not* in group 0), rs274 wins.
 from __future__ import annotations
 
 import math
-from typing import Dict, Iterable, Tuple, Union
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import Dict, Iterable, Tuple, Union
 
 from runtime.errors import GCodeError
 

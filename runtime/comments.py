@@ -33,9 +33,12 @@ Facts measured against rs274 (LinuxCNC 2.9) that shape this module:
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections import namedtuple
 from functools import lru_cache
-from typing import Optional, Tuple, Union
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import Optional, Tuple, Union
 
 from runtime.errors import GCodeError
 from runtime.ops import TOLERANCE_EQUAL
@@ -74,25 +77,23 @@ _CLASSIFY_LENGTH = 256
 _C_SPACE = " \t\n\v\f\r"
 
 
-@dataclass(frozen=True)
-class Name:
+class Name(namedtuple("Name", "name")):
     """``#<name>`` inside a comment (normalised: lower case, no white space)."""
 
-    name: str
+    __slots__ = ()
 
 
-@dataclass(frozen=True)
-class Decimals:
+class Decimals(namedtuple("Decimals", "places")):
     """A ``%d`` (0) or ``%.Nf`` (N) directive: decimals for later values."""
 
-    places: int
+    __slots__ = ()
 
 
-Part = Union[str, int, Name, Decimals]
+if TYPE_CHECKING:
+    Part = Union[str, int, Name, Decimals]
 
 
-@dataclass(frozen=True)
-class Comment:
+class Comment(namedtuple("Comment", "kind text parts")):
     """The comment rs274 acts on for a line.
 
     ``text`` is what follows the prefix (``msg,`` etc.), the file name for
@@ -101,13 +102,12 @@ class Comment:
     out and it is computed (and cached) from ``text``.
     """
 
-    kind: str
-    text: str
-    parts: Optional[Tuple[Part, ...]] = None
+    __slots__ = ()
 
-    def __post_init__(self):
-        if self.parts is None and self.kind in EXPANDING_KINDS:
-            object.__setattr__(self, "parts", split_parts(self.text))
+    def __new__(cls, kind: str, text: str, parts: Optional[Tuple[Part, ...]] = None):
+        if parts is None and kind in EXPANDING_KINDS:
+            parts = split_parts(text)
+        return super().__new__(cls, kind, text, parts)
 
 
 def classify(comment: str) -> Comment:

@@ -23,7 +23,9 @@ each, and ``quit`` or the end of stdin leaves MDI mode.
 
 from __future__ import annotations
 
-from typing import Callable, TextIO
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import Callable, TextIO
 
 from runtime.errors import GCodeError, g_code_frames_of_stack
 

@@ -23,13 +23,17 @@ calls :meth:`CutterCompMixin._comp_flush_for_stop` for M0/M1/M2/M30/M60.
 from __future__ import annotations
 
 import math
-from typing import List, Optional
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import List, Optional
 
 from runtime import arcs
 from runtime.arcs import from_plane, to_plane
 from runtime.codes import G2, G3, G40, G41, G41_1, G42_1, G53
 from runtime.errors import GCodeError
-from runtime.ops import HALF_PI_L, PI_L, c_hypot, long_double_sum
+from runtime import ops
+from runtime.ops import c_hypot, long_double_sum
 
 LEFT, RIGHT = 1, 2
 
@@ -126,11 +130,11 @@ def _find_turn(x1, y1, cx, cy, turn, x2, y2) -> float:
     beta = math.atan2(y2 - cy, x2 - cx)
     if turn > 0:
         if beta <= alpha:
-            beta = long_double_sum(beta, 2 * PI_L)
-        return long_double_sum(beta - alpha, (turn - 1) * 2 * PI_L)
+            beta = long_double_sum(beta, 2 * ops.PI_L)
+        return long_double_sum(beta - alpha, (turn - 1) * 2 * ops.PI_L)
     if alpha <= beta:
-        alpha = long_double_sum(alpha, 2 * PI_L)
-    return long_double_sum(beta - alpha, (turn + 1) * 2 * PI_L)
+        alpha = long_double_sum(alpha, 2 * ops.PI_L)
+    return long_double_sum(beta - alpha, (turn + 1) * 2 * ops.PI_L)
 
 
 class CutterCompMixin:
@@ -414,7 +418,7 @@ class CutterCompMixin:
                 raise GCodeError(
                     "Length of cutter compensation entry move is not greater than the tool radius"
                 )
-            turn = HALF_PI_L if st.side == LEFT else -HALF_PI_L
+            turn = ops.HALF_PI_L if st.side == LEFT else -ops.HALF_PI_L
             alpha = long_double_sum(math.atan2(py - cy, px - cx), turn)
             end_x = px + radius * math.cos(alpha)
             end_y = py + radius * math.sin(alpha)
@@ -439,13 +443,13 @@ class CutterCompMixin:
         alpha = math.atan2(py - opy, px - opx)
         if side == LEFT:
             if theta < alpha:
-                theta = long_double_sum(theta, 2 * PI_L)
-            beta = long_double_sum(theta - alpha, -HALF_PI_L)
+                theta = long_double_sum(theta, 2 * ops.PI_L)
+            beta = long_double_sum(theta - alpha, -ops.HALF_PI_L)
             gamma = math.pi / 2
         else:
             if alpha < theta:
-                alpha = long_double_sum(alpha, 2 * PI_L)
-            beta = long_double_sum(alpha - theta, -HALF_PI_L)
+                alpha = long_double_sum(alpha, 2 * ops.PI_L)
+            beta = long_double_sum(alpha - theta, -ops.HALF_PI_L)
             gamma = -math.pi / 2
         end_x = px + radius * math.cos(alpha + gamma)
         end_y = py + radius * math.sin(alpha + gamma)
@@ -486,7 +490,7 @@ class CutterCompMixin:
             self._set_endpoint(mid_x, mid_y)
         elif concave:
             if self._queue_front().kind != "arc":  # line -> line: trim both
-                halfcorner = long_double_sum(beta, PI_L) / 2.0
+                halfcorner = long_double_sum(beta, ops.PI_L) / 2.0
                 if halfcorner == 0.0:
                     raise GCodeError(
                         "Zero degree inside corner is invalid for cutter compensation"
@@ -510,7 +514,9 @@ class CutterCompMixin:
         prev = self._queue_front()
         oldrad = c_hypot(prev.c2 - prev.y, prev.c1 - prev.x)
         base_dir = math.atan2(py - opy, px - opx)
-        theta = long_double_sum(base_dir, HALF_PI_L if prev.turn > 0 else -HALF_PI_L)
+        theta = long_double_sum(
+            base_dir, ops.HALF_PI_L if prev.turn > 0 else -ops.HALF_PI_L
+        )
         phi = math.atan2(prev.c2 - opy, prev.c1 - opx)
         inside = _tool_inside_arc(side, prev.turn)
         oldrad_uncomp = oldrad + radius if inside else oldrad - radius
@@ -521,9 +527,9 @@ class CutterCompMixin:
                 "Arc to straight motion makes a corner the compensated tool can't fit in without gouging"
             )
         if inside == (prev.turn > 0):
-            angle = long_double_sum(-math.acos(l) + theta, PI_L)
+            angle = long_double_sum(-math.acos(l) + theta, ops.PI_L)
         else:
-            angle = long_double_sum(math.acos(l) + theta, PI_L)
+            angle = long_double_sum(math.acos(l) + theta, ops.PI_L)
         return prev.c1 + oldrad * math.cos(angle), prev.c2 + oldrad * math.sin(angle)
 
     # ------------------------------------------------------------------
@@ -646,21 +652,23 @@ class CutterCompMixin:
         centre_x, centre_y, turn = arc.center1, arc.center2, arc.rotation
         arc_radius = c_hypot(centre_x - ex, centre_y - ey)
         theta = math.atan2(cy - opy, cx - opx)
-        theta = long_double_sum(theta, -HALF_PI_L if side == LEFT else HALF_PI_L)
+        theta = long_double_sum(
+            theta, -ops.HALF_PI_L if side == LEFT else ops.HALF_PI_L
+        )
         delta = math.atan2(centre_y - opy, centre_x - opx)
-        alpha = long_double_sum(delta, -HALF_PI_L if move == G3 else HALF_PI_L)
+        alpha = long_double_sum(delta, -ops.HALF_PI_L if move == G3 else ops.HALF_PI_L)
         beta = theta - alpha if side == LEFT else alpha - theta
         if beta > 1.5 * math.pi:
-            beta = long_double_sum(beta, -2 * PI_L)
+            beta = long_double_sum(beta, -2 * ops.PI_L)
         elif beta < -math.pi / 2:
-            beta = long_double_sum(beta, 2 * PI_L)
+            beta = long_double_sum(beta, 2 * ops.PI_L)
         if (side == LEFT and move == G3) or (side == RIGHT and move == G2):
             gamma = math.atan2(centre_y - ey, centre_x - ex)
             if arc_radius <= radius:
                 raise GCodeError(_TOOL_RADIUS_TOO_BIG)
         else:
             gamma = math.atan2(ey - centre_y, ex - centre_x)
-            delta = long_double_sum(delta, PI_L)
+            delta = long_double_sum(delta, ops.PI_L)
         new_x = ex + radius * math.cos(gamma)
         new_y = ey + radius * math.sin(gamma)
         main = _Move(
@@ -716,7 +724,7 @@ class CutterCompMixin:
     def _line_to_arc_corner(self, theta, beta, arc_radius, centre_x, centre_y, turn):
         st = self._cc
         radius = st.radius
-        across = arc_radius * math.sin(long_double_sum(beta, -HALF_PI_L))
+        across = arc_radius * math.sin(long_double_sum(beta, -ops.HALF_PI_L))
         if _tool_inside_arc(st.side, turn):
             dist = arc_radius - radius
             ratio = (across + radius) / dist
@@ -732,9 +740,9 @@ class CutterCompMixin:
             if ratio > 1.0 or ratio < -1.0:
                 raise GCodeError(_ARC_CONCAVE)
             if turn > 0:
-                angle = long_double_sum(theta, PI_L, -math.asin(ratio))
+                angle = long_double_sum(theta, ops.PI_L, -math.asin(ratio))
             else:
-                angle = long_double_sum(theta, PI_L, math.asin(ratio))
+                angle = long_double_sum(theta, ops.PI_L, math.asin(ratio))
         return centre_x + dist * math.cos(angle), centre_y + dist * math.sin(angle)
 
     def _arc_to_arc_corner(self, arc_radius, centre_x, centre_y, turn):

@@ -29,7 +29,10 @@ go straight to the canon.
 from __future__ import annotations
 
 import math
-from typing import Dict, Optional, Tuple
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import Dict, Optional, Tuple
 
 from runtime.blockcheck import Block
 from runtime.codes import G73, G74, G81, G82, G83, G84, G85, G86, G87, G88, G89

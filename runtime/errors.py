@@ -11,9 +11,11 @@ from __future__ import annotations
 
 import bisect
 import sys
-from dataclasses import dataclass
 from types import TracebackType
-from typing import List, Optional, Sequence, Tuple
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import List, Optional, Sequence, Tuple
 
 
 class GCodeError(Exception):
@@ -30,13 +32,24 @@ class GCodeError(Exception):
         self.location = location
 
 
-@dataclass(frozen=True)
 class Location:
     """A G-code position: file, 1-based line and the line's text."""
 
-    file: str
-    line: int
-    text: str
+    __slots__ = ("file", "line", "text")
+
+    def __init__(self, file: str, line: int, text: str):
+        self.file, self.line, self.text = file, line, text
+
+    def __eq__(self, other) -> bool:
+        return isinstance(other, Location) and (
+            (self.file, self.line, self.text) == (other.file, other.line, other.text)
+        )
+
+    def __hash__(self) -> int:
+        return hash((self.file, self.line, self.text))
+
+    def __repr__(self) -> str:
+        return "Location(%r, %d, %r)" % (self.file, self.line, self.text)
 
     def __str__(self) -> str:
         # Line 0: the file itself (it could not be opened or read).
@@ -210,7 +223,9 @@ def format_traceback(error: BaseException) -> str:
             else None
         )
         if location is not None:
-            out.append('  File "%s", line %d (G-code)\n' % (location.file, location.line))
+            out.append(
+                '  File "%s", line %d (G-code)\n' % (location.file, location.line)
+            )
             out.append("    %s\n" % location.text.strip())
         else:
             summary = traceback.extract_tb(tb, limit=1)

@@ -16,9 +16,11 @@ ahead for one it does not know yet), and names the definition's line:
 
 from __future__ import annotations
 
-import re
-from typing import Callable, Optional
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import Callable, Optional
 
+from .lazy_re import Pattern
 from .errors import GCodeError, Location
 
 FANUC_NEEDS_M98 = "Fanuc 'O....' subroutine must be called with 'M98'"
@@ -26,7 +28,7 @@ O_SUB_NEEDS_CALL = "'O.... sub' subroutine must be called with 'O.... call'"
 FANUC_END_M99 = "Fanuc 'O....' subroutine definition must end with 'M99'"
 
 # Each generated subroutine's docstring ends "(lines FIRST-LAST)".
-_LINES = re.compile(r"\(lines (\d+)-\d+\)")
+_LINES = Pattern(r"\(lines (\d+)-\d+\)")
 
 
 def _definition(source, fn: Callable) -> Optional[Location]:

@@ -30,7 +30,9 @@ data rows.
 
 from __future__ import annotations
 
-from typing import List, Optional
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import List, Optional
 
 from runtime import arc_rows, arcs
 from runtime.codes import G0, G1, G2, G3

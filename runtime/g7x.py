@@ -24,7 +24,10 @@ from __future__ import annotations
 
 import copy
 import math
-from typing import Callable, List, Optional
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import Callable, List, Optional
 
 from runtime.ops import c_hypot
 

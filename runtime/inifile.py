@@ -29,9 +29,13 @@ stderr; CR-LF line ends only add a warning before the other reports.
 from __future__ import annotations
 
 import os
-import re
-from dataclasses import dataclass, field, replace
-from typing import Optional, Tuple
+from collections import namedtuple
+
+from runtime.lazy_re import Pattern
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import Optional, Tuple
 
 from runtime.arcs import (
     CENTER_ARC_RADIUS_TOLERANCE_INCH,
@@ -50,7 +54,7 @@ FEATURE_INI_VARS = 4
 
 #: A carriage return that does not end a line: LinuxCNC's reader refuses
 #: such a file. A CR before LF (or at the end) only earns a warning.
-_AMBIGUOUS_CR = re.compile(r"\r(?!\n|\Z)")
+_AMBIGUOUS_CR = Pattern(r"\r(?!\n|\Z)")
 AMBIGUOUS_CR_ERROR = "inifile: error: File contains ambiguous carriage returns\n"
 DOS_LINE_ENDINGS_WARNING = "inifile: warning: File contains DOS-style line endings.\n"
 
@@ -58,15 +62,14 @@ DOS_LINE_ENDINGS_WARNING = "inifile: warning: File contains DOS-style line endin
 #: unreadable file), counted from its output.
 RS274_INI_LOOKUPS = 31
 
-_INTEGER = re.compile(r"[+-]?\d+")
-_FLOAT = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
+_INTEGER = Pattern(r"[+-]?\d+")
+_FLOAT = Pattern(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
 
 
-@dataclass(frozen=True)
-class IniFile:
+class IniFile(namedtuple("IniFile", "lines", defaults=((),))):
     """An INI file's logical lines (continuations joined), for lookups."""
 
-    lines: Tuple[str, ...] = ()
+    __slots__ = ()
 
     @classmethod
     def parse(cls, text: str) -> "IniFile":
@@ -105,47 +108,58 @@ class IniFile:
         return None
 
 
-@dataclass(frozen=True)
-class IniSettings:
-    """The INI settings that change what ``rs274 -g`` prints."""
-
+#: The INI settings that change what ``rs274 -g`` prints: (name, default).
+_SETTINGS = (
     #: [RS274NGC]SUBROUTINE_PATH: existing directories, absolute, in order.
     #: Relative entries are relative to the *current directory*; ``~/`` is
     #: expanded; entries that do not exist are dropped.
-    subroutine_path: Tuple[str, ...] = ()
+    ("subroutine_path", ()),
     #: [DISPLAY]PROGRAM_PREFIX, resolved the same way (None if absent/missing).
-    program_prefix: Optional[str] = None
+    ("program_prefix", None),
     #: [RS274NGC]FEATURES bit mask (see FEATURE_INI_VARS).
-    features: int = 0
+    ("features", 0),
     #: [RS274NGC]CENTER_ARC_RADIUS_TOLERANCE_INCH / _MM (see runtime.arcs).
-    center_arc_radius_tolerance_inch: float = CENTER_ARC_RADIUS_TOLERANCE_INCH
-    center_arc_radius_tolerance_mm: float = CENTER_ARC_RADIUS_TOLERANCE_MM
+    ("center_arc_radius_tolerance_inch", CENTER_ARC_RADIUS_TOLERANCE_INCH),
+    ("center_arc_radius_tolerance_mm", CENTER_ARC_RADIUS_TOLERANCE_MM),
     #: [RS274NGC]DISABLE_G92_PERSISTENCE: clear #5210-#5219 at start-up.
-    disable_g92_persistence: bool = False
+    ("disable_g92_persistence", False),
     #: [RS274NGC]ORIENT_OFFSET (M19).
-    orient_offset: float = 0.0
+    ("orient_offset", 0.0),
     #: [EMCIO] tool change behaviour of M6.
-    tool_change_at_g30: bool = False
-    tool_change_quill_up: bool = False
-    tool_change_with_spindle_on: bool = False
-    random_toolchanger: bool = False
+    ("tool_change_at_g30", False),
+    ("tool_change_quill_up", False),
+    ("tool_change_with_spindle_on", False),
+    ("random_toolchanger", False),
     #: [AXIS_3], [AXIS_4], [AXIS_5] (A, B, C) WRAPPED_ROTARY / LOCKING_INDEXER.
-    wrapped_rotary: Tuple[bool, bool, bool] = (False, False, False)
-    locking_indexer: Tuple[bool, bool, bool] = (False, False, False)
+    ("wrapped_rotary", (False, False, False)),
+    ("locking_indexer", (False, False, False)),
     #: [RS274NGC]INI_VARS (on unless "0"): #<_ini[SECTION]KEY> parameters.
-    ini_vars: bool = True
+    ("ini_vars", True),
     #: [RS274NGC]RETAIN_G43 ("1"): G43 follows every tool change.
-    retain_g43: bool = False
+    ("retain_g43", False),
     #: [RS274NGC]OWORD_NARGS ("1"): a called sub gets #<n_args>.
-    oword_nargs: bool = False
+    ("oword_nargs", False),
     #: [RS274NGC]DISABLE_FANUC_STYLE_SUB (an integer, non-zero): M98 fails.
-    disable_fanuc_style_sub: bool = False
+    ("disable_fanuc_style_sub", False),
     #: The file itself, for #<_ini[SECTION]KEY>.
-    ini: IniFile = field(default_factory=IniFile)
+    ("ini", IniFile()),
     #: What rs274 prints on stderr while reading the file (after "executing").
-    stderr_report: str = ""
+    ("stderr_report", ""),
     #: False when the file could not be opened (rs274 then runs as without -i).
-    opened: bool = True
+    ("opened", True),
+)
+
+
+class IniSettings(
+    namedtuple(
+        "IniSettings",
+        [name for name, _ in _SETTINGS],
+        defaults=[default for _, default in _SETTINGS],
+    )
+):
+    """The INI settings that change what ``rs274 -g`` prints."""
+
+    __slots__ = ()
 
     def ini_value(self, section: str, key: str) -> Optional[str]:
         """The raw text of an INI entry, or None."""
@@ -173,7 +187,7 @@ def load_ini(path: str) -> IniSettings:
     settings = settings_from(IniFile.parse(text))
     if "\r" in text:
         report = DOS_LINE_ENDINGS_WARNING + settings.stderr_report
-        settings = replace(settings, stderr_report=report)
+        settings = settings._replace(stderr_report=report)
     return settings
 
 
@@ -240,7 +254,7 @@ def settings_from(ini: IniFile) -> IniSettings:
         disable_fanuc_style_sub=bool(integer("DISABLE_FANUC_STYLE_SUB", "RS274NGC")),
         ini=ini,
     )
-    return replace(settings, stderr_report="".join(report))
+    return settings._replace(stderr_report="".join(report))
 
 
 def _existing_dir(entry: Optional[str]) -> Optional[str]:
@@ -261,8 +275,8 @@ def _subroutine_dirs(value: Optional[str]) -> Tuple[str, ...]:
 
 
 #: What boost::lexical_cast<double> accepts (how rs274 reads an INI number).
-_LEXICAL_DOUBLE = re.compile(
-    r"[+-]?(?:(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?|inf(?:inity)?|nan)", re.IGNORECASE
+_LEXICAL_DOUBLE = Pattern(
+    r"(?i)[+-]?(?:(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?|inf(?:inity)?|nan)"
 )
 
 

@@ -11,7 +11,10 @@ block's values).
 from __future__ import annotations
 
 import math
-from typing import List
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import List
 
 from runtime.blockcheck import Block
 from runtime.codes import G33, G76

@@ -18,7 +18,10 @@ update the position as any G0/G1/G2/G3 does, and leave that motion mode.
 from __future__ import annotations
 
 import math
-from typing import List, Optional
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import List, Optional
 
 from runtime import blockcheck
 from runtime.blockcheck import Block

@@ -25,7 +25,9 @@ left the next time its ``repeat`` line is reached.
 
 from __future__ import annotations
 
-from typing import Iterator
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import Iterator
 
 
 def repeat_with_stale_continue(machine, count: int) -> Iterator[int]:

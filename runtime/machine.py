@@ -29,7 +29,11 @@ from __future__ import annotations
 
 import io
 import sys
-from typing import Callable, Dict, Iterator, NamedTuple, Optional, TextIO
+from collections import namedtuple
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import Callable, Dict, Iterator, Optional, TextIO
 
 from runtime import blockcheck, fanuc_subs, loopflags, olabels, remap
 from runtime.canon import Canon, TraceCanon
@@ -177,12 +181,12 @@ MAX_PARAMETER = 5602
 #: rs274 refuses a call made from this call level (nine nested calls at most).
 MAX_CALL_LEVEL = 9
 
-class _Subroutine(NamedTuple):
+
+class _Subroutine(namedtuple("_Subroutine", "fn file", defaults=(None,))):
     """A known subroutine: its function, and the file its definition was
     read in (None when rs274 found it by reading ahead for a call)."""
 
-    fn: Callable
-    file: Optional[str] = None
+    __slots__ = ()
 
 
 class Machine(
@@ -345,20 +349,23 @@ class Machine(
         ON_RESET calls; everything later is followed by them, error or not.
         (The CLI prints the INI's ``settings.stderr_report``, not the machine.)
         """
-        self._initialise()
         try:
-            self._start()
-            remap.refuse_standard_remaps(self.settings)
-            self.refresh_plain()
-            main(self)
-        except ProgramEnd:
-            pass
+            self._initialise()
+            try:
+                self._start()
+                remap.refuse_standard_remaps(self.settings)
+                self.refresh_plain()
+                main(self)
+            except ProgramEnd:
+                pass
+            finally:
+                self.announce_block(None)
+                for _ in range(self._closing_resets):
+                    self.canon.on_reset()
+                if self.var_file is not None:
+                    self._save_parameters()
         finally:
-            self.announce_block(None)
-            for _ in range(self._closing_resets):
-                self.canon.on_reset()
-            if self.var_file is not None:
-                self._save_parameters()
+            self.canon.flush()  # a trace canon keeps lines back (runtime.canon)
 
     def fail_open(self, message: str, location: Optional[Location] = None) -> None:
         """What rs274 does when it cannot open the program: the main file is
@@ -366,7 +373,10 @@ class Machine(
         lines ("File ended with no percent sign", ``location`` the last of
         them). It initialises, then stops: no ON_RESET, no closing save of
         the parameter file."""
-        self._initialise()
+        try:
+            self._initialise()
+        finally:
+            self.canon.flush()
         raise GCodeError(message, location)
 
     def _save_parameters(self) -> None:
@@ -421,7 +431,9 @@ class Machine(
         self.line = line
         if self.settings.ini.lines:
             frames = g_code_frames_of_stack()
-            remap.refuse_in_line(self.settings, message, frames[-1].text if frames else "")
+            remap.refuse_in_line(
+                self.settings, message, frames[-1].text if frames else ""
+            )
         if finish:
             self.announce_block(None)
             self.canon.finish()

@@ -9,11 +9,12 @@ O-call stack that led there.
 
 from __future__ import annotations
 
-import getopt
 import os
-import re
 import sys
-from typing import Callable, List, Optional, Sequence, TextIO
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import Callable, List, Optional, Sequence, TextIO
 
 from runtime import continue_mode
 from runtime.errors import GCodeError, SourceMap, describe, format_traceback, locate
@@ -24,6 +25,10 @@ USAGE = (
 )
 
 
+class UsageError(Exception):
+    """The command line is not one rs274 (or ``--max-steps``) accepts."""
+
+
 def parse_options(argv: Sequence[str]) -> dict:
     """rs274's options (getopt style, so ``-tfile.tbl`` works too), and
     ngc2py's ``--max-steps N`` (see runtime.budget; 0: no limit).
@@ -31,10 +36,17 @@ def parse_options(argv: Sequence[str]) -> dict:
     ``-n`` is returned as ``continue_mode`` (see runtime.continue_mode); like
     rs274's atoi, a value that is not a number counts as 0.
     """
-    opts, rest = getopt.getopt(list(argv), "t:v:i:bn:", ["max-steps="])
-    if rest:
-        raise getopt.GetoptError("unexpected argument %r" % rest[0])
     options = {"block_delete": False}
+    if not argv:
+        return options  # the usual run: getopt's import is not paid for
+    import getopt
+
+    try:
+        opts, rest = getopt.getopt(list(argv), "t:v:i:bn:", ["max-steps="])
+    except getopt.GetoptError as error:
+        raise UsageError(str(error)) from None
+    if rest:
+        raise UsageError("unexpected argument %r" % rest[0])
     names = {"-t": "tool_table", "-v": "var_file", "-i": "ini"}
     for flag, value in opts:
         if flag == "-b":
@@ -45,7 +57,7 @@ def parse_options(argv: Sequence[str]) -> dict:
             try:
                 options["max_steps"] = int(value)
             except ValueError:
-                raise getopt.GetoptError("--max-steps needs a whole number") from None
+                raise UsageError("--max-steps needs a whole number") from None
         else:
             options[names[flag]] = value
     return options
@@ -53,6 +65,8 @@ def parse_options(argv: Sequence[str]) -> dict:
 
 def _atoi(text: str) -> int:
     """C's atoi: leading blanks, a sign and digits; anything else is 0."""
+    import re
+
     match = re.match(r"\s*([+-]?\d+)", text)
     return int(match.group(1)) if match else 0
 
@@ -125,14 +139,14 @@ def run_cli(
     args = sys.argv[1:] if argv is None else argv
     try:
         options = parse_options(args)
-    except getopt.GetoptError as error:
+    except UsageError as error:
         stderr.write("%s\n%s\n" % (error, USAGE % "program"))
         return 1
     stderr.write("executing\n")
     stderr.flush()
     mode = options.pop("continue_mode", continue_mode.STOP)
+    canon = TraceCanon(stdout)
     try:
-        canon = TraceCanon(stdout)
         machine = Machine(
             canon if wrap_canon is None else wrap_canon(canon),
             source=source_map,
@@ -145,26 +159,29 @@ def run_cli(
         stderr.write(machine.settings.stderr_report)
 
         def report_and_go_on(error: GCodeError) -> None:
-            stdout.flush()
+            canon.flush()  # the trace so far comes before the message
             report(error, stderr)
 
         continue_mode.enable(machine, mode, report_and_go_on, sys.stdin, stderr)
         start(machine, main)
     except GCodeError as error:
-        stdout.flush()
+        canon.flush()
         if not getattr(error, "reported", False):
             report(error, stderr)
         return 1
     except (KeyboardInterrupt, BrokenPipeError):
         return 1
     except Exception as error:  # noqa: BLE001 - never a bare traceback
-        stdout.flush()
+        canon.flush()
         stderr.write(describe(error) + "\n")
         if os.environ.get("NGC2PY_TRACEBACK"):
             stderr.write(format_traceback(error))
         return 1
     finally:
-        stdout.flush()
+        try:
+            canon.flush()
+        except BrokenPipeError:  # the reader went away (`| head`)
+            return 1
     return 0
 
 

@@ -29,7 +29,11 @@ show in the trace (all confirmed against rs274):
 
 from __future__ import annotations
 
-from typing import Dict, List, NamedTuple, Optional, Tuple
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import Dict, List, Optional, Tuple
+
+from collections import namedtuple
 
 from runtime import blockcheck
 from runtime.codes import (
@@ -84,20 +88,15 @@ _SYSTEM_CODES = (G54, G55, G56, G57, G58, G59, G59_1, G59_2, G59_3)
 NONE = -1
 
 
-class ModalState(NamedTuple):
-    """What rs274's save_settings keeps, in the order it writes it back."""
+class ModalState(namedtuple("ModalState", "units feed speed tolerance naivecam g m")):
+    """What rs274's save_settings keeps, in the order it writes it back.
 
-    units: int
-    feed: float
-    speed: float
-    tolerance: float
-    naivecam: float
-    #: (plane, cutter comp, distance, feed mode, coordinate system, tool
-    #: offset, retract mode, control mode, spindle mode, arc distance, lathe
-    #: mode, G92 applied), rs274's active_g_codes order.
-    g: Tuple[int, ...]
-    #: (spindle, mist, flood, overrides, adaptive feed, feed hold).
-    m: Tuple[int, ...]
+    ``g``: (plane, cutter comp, distance, feed mode, coordinate system, tool
+    offset, retract mode, control mode, spindle mode, arc distance, lathe
+    mode, G92 applied), rs274's active_g_codes order; ``m``: (spindle, mist,
+    flood, overrides, adaptive feed, feed hold)."""
+
+    __slots__ = ()
 
 
 class SavedContext:

@@ -13,7 +13,10 @@ units (mm or inch by G21/G20) and degrees.
 from __future__ import annotations
 
 import math
-from typing import List
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import List
 
 from runtime import arcs
 from runtime.blockcheck import Block

@@ -17,9 +17,11 @@ depend on it. Standard library only.
 
 from __future__ import annotations
 
-from typing import List, Sequence, Tuple
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import List, Sequence, Tuple
 
-ControlPoint = Tuple[float, float, float]
+    ControlPoint = Tuple[float, float, float]
 
 #: Straight feeds per control point in the preview's polyline.
 SEGMENTS_PER_POINT = 15
@@ -64,7 +66,9 @@ def curve_point(
     return x, y
 
 
-def preview_points(points: Sequence[ControlPoint], order: int) -> List[Tuple[float, float]]:
+def preview_points(
+    points: Sequence[ControlPoint], order: int
+) -> List[Tuple[float, float]]:
     """The ends of the straight feeds the preview makes of a NURBS_FEED."""
     n = len(points) - 1
     k = int(order)

@@ -13,7 +13,9 @@ canon shifts its idea of the current position when offsets change.
 
 from __future__ import annotations
 
-from typing import List, Sequence
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import List, Sequence
 
 from runtime.errors import GCodeError
 from runtime.motion import AXES, LINEAR, rotate

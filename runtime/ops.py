@@ -27,8 +27,10 @@ Facts measured against rs274 (LinuxCNC 2.9) that shape this module:
 from __future__ import annotations
 
 import math
-from fractions import Fraction
-from typing import List, Tuple
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import List, Tuple
 
 from runtime.errors import GCodeError
 
@@ -368,6 +370,8 @@ def plus_half_pi(x: float, sign: int = 1) -> float:
     rounded to a long double first and then to a double; doing it in doubles
     alone sometimes turns a centre rs274 prints as ``-0.0000`` into ``0.0000``.
     """
+    from fractions import Fraction  # here: its import costs start-up time
+
     pm, pe = _PI_L
     exact = Fraction(x) + sign * Fraction(pm) * Fraction(2) ** (pe - 1)
     if exact == 0:
@@ -375,9 +379,16 @@ def plus_half_pi(x: float, sign: int = 1) -> float:
     return _to_double(*_rounded_ratio(exact.numerator, exact.denominator, 0, _LD_BITS))
 
 
-#: M_PIl and M_PI_2l exactly, for `long_double_sum`.
-PI_L = Fraction(_PI_L[0]) * Fraction(2) ** _PI_L[1]
-HALF_PI_L = PI_L / 2
+def __getattr__(name: str):
+    # PI_L and HALF_PI_L: M_PIl and M_PI_2l exactly (Fractions), for
+    # `long_double_sum`; made on first use, as fractions costs start-up time.
+    if name in ("PI_L", "HALF_PI_L"):
+        from fractions import Fraction
+
+        pi = Fraction(_PI_L[0]) * Fraction(2) ** _PI_L[1]
+        globals().update(PI_L=pi, HALF_PI_L=pi / 2)
+        return globals()[name]
+    raise AttributeError("module %r has no attribute %r" % (__name__, name))
 
 
 def long_double_sum(first: float, *terms) -> float:
@@ -386,6 +397,8 @@ def long_double_sum(first: float, *terms) -> float:
     does: each partial sum rounded to a long double, the result stored into a
     double. Sums of doubles alone must be done before (they round to double).
     """
+    from fractions import Fraction
+
     acc = Fraction(first)
     for term in terms:
         acc += Fraction(term)
@@ -483,13 +496,35 @@ def _choose_trig() -> None:
     library costs every run a few milliseconds, and most programs (CAM
     output) never take a sine."""
     global _sin, _cos, _tan, _BACKEND
-    from runtime import x87
+    fast = None
+    if _extension is not None:  # no ctypes needed: the extension is sinl itself
+        made = {"sin": _extension.sin, "cos": _extension.cos, "tan": _extension.tan}
+        fast = made if library_agrees(made, _trig) else None
+    if fast is None:
+        from runtime import x87
 
-    fast = x87.trig_functions(_PI_L[0], _PI_L[1], _trig) or {}
+        fast = x87.trig_functions(_PI_L[0], _PI_L[1], _trig, use_extension=False)
+    fast = fast or {}
     _BACKEND = "library" if fast else "emulation"
     _sin, _cos, _tan = (
         fast.get(name) or _emulated(name) for name in ("sin", "cos", "tan")
     )
+
+
+def library_agrees(made: dict, reference) -> bool:
+    """Do the library's sin and cos (``made``) give the integer emulation's
+    (``reference(degrees, name)``) answers on ordinary probe angles? (Not
+    tan: rs274's tanl is not always correctly rounded, and the library, not
+    the emulation, is what rs274 prints.)"""
+    probes = (30.0, 45.0, 60.0, 90.0, 180.0, 270.0, -33.3, 0.3, 1e-3, 12345.678)
+    for degrees in probes + tuple(k * 7.77 for k in range(1, 60)):
+        for name in ("sin", "cos"):
+            try:
+                if made[name](degrees) != reference(degrees, name):
+                    return False
+            except Exception:  # noqa: BLE001 - any failure: not this library
+                return False
+    return True
 
 
 def _first_call(name: str):
@@ -504,9 +539,44 @@ _sin, _cos, _tan = (_first_call(name) for name in ("sin", "cos", "tan"))
 
 
 def trig_backend() -> str:
-    """``"library"`` (sinl/cosl/tanl through ctypes) or ``"emulation"``."""
+    """``"library"`` (sinl/cosl/tanl: the C extension or ctypes) or
+    ``"emulation"``."""
     _choose_trig()
     return _BACKEND
+
+
+# --------------------------------------------------------------------------
+# The C extension's own entry points
+# --------------------------------------------------------------------------
+# Where setup.py built runtime._libm_trig, generated code calls its SIN, COS,
+# TAN and MOD directly: a Python wrapper around each would cost more than
+# the computation. It checks operands with `finite` and, at the first call,
+# asks `_library_or_instead` whether the library may be used (the same
+# check `_choose_trig` makes; if not, the emulation's functions answer).
+
+
+def _library_or_instead():
+    _choose_trig()
+    if _BACKEND == "library" and _sin is getattr(_extension, "sin", None):
+        return None
+    return (lambda d: _sin(d), lambda d: _cos(d), lambda d: _tan(d))
+
+
+try:
+    from runtime import _libm_trig as _extension
+except ImportError:  # not built here: the Python functions above serve
+    _extension = None
+#: The Python versions, which serve where the extension was not built (the
+#: tests hold the extension's to them).
+PYTHON_VERSIONS = {"sin": sin, "cos": cos, "tan": tan, "mod": mod}
+if hasattr(_extension, "checked_sin"):
+    _extension.configure(finite, _library_or_instead)
+    sin, cos, tan = (
+        _extension.checked_sin,
+        _extension.checked_cos,
+        _extension.checked_tan,
+    )
+    mod = _extension.mod
 
 
 #: M_PIl / 180.0 as a compiler folds it: a long double ``(m, e)``.

@@ -26,7 +26,10 @@ from __future__ import annotations
 
 import keyword
 import math
-from typing import Dict, Iterable, List, Optional, Sequence
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import Dict, Iterable, List, Optional, Sequence
 
 from runtime.errors import GCodeError
 from runtime.ops import c_int

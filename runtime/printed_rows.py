@@ -25,7 +25,10 @@ whole run is written at the end, in one piece, before anything else can be.
 from __future__ import annotations
 
 from itertools import takewhile
-from typing import List
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import List
 
 from runtime.codes import G0, G1
 
@@ -120,6 +123,8 @@ def printed_rows(machine, by_index, cells: List[str], at: int, end: int, plans) 
         if out:
             canon._write("".join(out))
             canon._count, canon._column = count, column
+            if count >= canon._drain_at:
+                canon._drain()
             point = cur[:]
             for axis in range(_PRINTED_AXES):
                 if texts[axis] is not entry[axis]:  # a row named it

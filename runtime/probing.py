@@ -19,7 +19,10 @@ canon; rs274 prints them as ordinary comments.)
 from __future__ import annotations
 
 import math
-from typing import List
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import List
 
 from runtime.arcs import UNITS_PER_REVOLUTION
 from runtime.blockcheck import Block

@@ -16,9 +16,12 @@ trace that silently differs:
 from __future__ import annotations
 
 import math
-import re
-from typing import Tuple
 
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import Tuple
+
+from .lazy_re import Pattern
 from .codes import G_GROUPS, M_GROUPS
 from .errors import GCodeError
 
@@ -88,8 +91,13 @@ def refuse_unknown(settings, letter: str, value: float, error: GCodeError) -> No
 
 
 #: rs274's reader errors for a code it does not know.
-_UNKNOWN_CODE = ("M-code greater than 199", "Unknown m code used", "Unknown g code used")
-_WORD = re.compile(r"([gm])\s*([0-9][0-9.\s]*)", re.I)
+_UNKNOWN_CODE = (
+    "M-code greater than 199",
+    "Unknown m code used",
+    "Unknown g code used",
+)
+_COMMENTS = Pattern(r"\([^)]*\)|;.*")
+_WORD = Pattern(r"(?i)([gm])\s*([0-9][0-9.\s]*)")
 
 
 def refuse_in_line(settings, message: str, text: str) -> None:
@@ -100,7 +108,7 @@ def refuse_in_line(settings, message: str, text: str) -> None:
     remapped = remapped_codes(settings.ini)
     if not remapped:
         return
-    for letter, digits in _WORD.findall(re.sub(r"\([^)]*\)|;.*", "", text)):
+    for letter, digits in _WORD.findall(_COMMENTS.sub("", text)):
         try:
             code = _normal(letter + digits.replace(" ", "").replace("\t", ""))
         except (ValueError, IndexError):

@@ -28,14 +28,17 @@ path (:mod:`runtime.fastpath`); the others through ``Machine.block``.
 from __future__ import annotations
 
 from functools import partial
-from typing import List, Optional, Sequence, Tuple
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import List, Optional, Sequence, Tuple
+
+    Shape = Tuple[Tuple[int, ...], Tuple[str, ...]]
 
 from runtime.arc_rows import ArcRows
 from runtime.canon import TraceCanon
 from runtime.codes import G0, G1, G2, G3
 from runtime.printed_rows import printed_rows
-
-Shape = Tuple[Tuple[int, ...], Tuple[str, ...]]
 
 _AXES = "xyzabcuvw"
 _ARC_LETTERS = "xyzabcijkrf"

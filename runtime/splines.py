@@ -23,14 +23,16 @@ rs274 facts kept on purpose:
 
 from __future__ import annotations
 
-from typing import List, Tuple
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import List, Tuple
+
+    ControlPoint = Tuple[float, float, float]
 
 from runtime.arcs import INVERSE_TIME, UNITS_PER_MINUTE
 from runtime.blockcheck import NO_MOTION, Block
 from runtime.codes import G5_1, G5_2
 from runtime.errors import GCodeError
-
-ControlPoint = Tuple[float, float, float]
 
 
 class SplinesMixin:

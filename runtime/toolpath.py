@@ -109,7 +109,9 @@ class Arc:
             # canned cycle in the XZ or YZ plane): its extremes are not at
             # the quarter turns, so sample it finely.
             turns = abs(self.sweep) / TAU
-            count = min(MAX_SPIRAL_SAMPLES, max(8, int(turns * SPIRAL_SAMPLES_PER_TURN)))
+            count = min(
+                MAX_SPIRAL_SAMPLES, max(8, int(turns * SPIRAL_SAMPLES_PER_TURN))
+            )
             return points + [self.point(i / count) for i in range(1, count)]
         quarter = math.pi / 2
         low, high = sorted((self.theta0, self.theta0 + self.sweep))
@@ -246,7 +248,8 @@ class ToolpathCanon(Canon):
         start = self.position
         k = MM_PER_INCH if self.inches else 1.0
         path = [start] + [
-            (x * k, y * k) + tuple(start[2:]) for x, y in preview_points(control_points, order)
+            (x * k, y * k) + tuple(start[2:])
+            for x, y in preview_points(control_points, order)
         ]
         self.position = path[-1]
         self.spline(path)

@@ -20,8 +20,9 @@ rs274 quirks reproduced here, all confirmed against rs274:
 
 from __future__ import annotations
 
-from dataclasses import replace
-from typing import List
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import List
 
 from runtime.blockcheck import TOOL_OFFSET, Block, round_to_int
 from runtime.codes import G43, G43_1, G49
@@ -181,7 +182,7 @@ class ToolsMixin:
             if int(q + 0.5) > 9:
                 raise GCodeError("Invalid tool orientation")
             changes["orientation"] = int(q + 0.5)
-        entry = replace(entry, **changes)
+        entry = entry._replace(**changes)
         self.tools.slots[pocket] = entry
         self._announce_tool_entry(pocket, entry)
         # A random changer's loaded tool has no home pocket to copy from.
@@ -286,6 +287,7 @@ class ToolsMixin:
         else:
             extra = [words[a] if given else 0.0 for a, given in zip("xyzabcuvw", axes)]
         return [a + b for a, b in zip(self.tool_offset, extra)]
+
     def _offset_pocket(self, words) -> int:
         if "h" in words:
             pocket = self._pocket_of(int(words["h"]))

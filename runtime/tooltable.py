@@ -25,9 +25,13 @@ with words separated by spaces. Facts about rs274's reader this reproduces:
 
 from __future__ import annotations
 
-import re
-from dataclasses import dataclass, field, replace
-from typing import Dict, Optional, Tuple
+from collections import namedtuple
+
+from runtime.lazy_re import Pattern
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import Dict, Optional, Tuple
 
 #: Where rs274 2.9 reads its tool table from when no ``-t`` is given: the
 #: "common" sample configuration's tool.tbl that ships with LinuxCNC.
@@ -38,41 +42,40 @@ DEFAULT_TOOL_TABLE_PATH = (
 #: Offset word letters, in the order of ToolEntry.offsets.
 OFFSET_AXES = "XYZABCUVW"
 
-_C_INT = re.compile(r"[ \t\n\v\f\r]*([+-]?\d+)")
-_C_FLOAT = re.compile(
-    r"[ \t\n\v\f\r]*([+-]?(?:(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?|inf(?:inity)?|nan))",
-    re.IGNORECASE,
+_C_INT = Pattern(r"[ \t\n\v\f\r]*([+-]?\d+)")
+_C_FLOAT = Pattern(
+    r"(?i)[ \t\n\v\f\r]*([+-]?(?:(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?|inf(?:inity)?|nan))"
 )
 
 
-@dataclass(frozen=True)
-class ToolEntry:
-    """One tool: its number, pocket (the P word as written) and data."""
+class ToolEntry(
+    namedtuple(
+        "ToolEntry",
+        "tool pocket offsets diameter frontangle backangle orientation comment",
+        defaults=(-1, -1, (0.0,) * len(OFFSET_AXES), 0.0, 0.0, 0.0, 0, ""),
+    )
+):
+    """One tool: its number, pocket (the P word as written) and data;
+    ``offsets`` in X Y Z A B C U V W order."""
 
-    tool: int = -1
-    pocket: int = -1
-    offsets: Tuple[float, ...] = (0.0,) * len(OFFSET_AXES)  # X Y Z A B C U V W
-    diameter: float = 0.0
-    frontangle: float = 0.0
-    backangle: float = 0.0
-    orientation: int = 0
-    comment: str = ""
+    __slots__ = ()
 
     def offset(self, axis: str) -> float:
         """The offset for one axis letter (``"z"`` or ``"Z"``)."""
         return self.offsets[OFFSET_AXES.index(axis.upper())]
 
 
-@dataclass(frozen=True)
-class ToolTable:
+class ToolTable(namedtuple("ToolTable", "slots load_report")):
     """Tool entries by table index (0 is the spindle), plus load messages.
 
     ``load_report`` is what rs274 prints on stdout while reading the file
     (before the first trace line); usually empty.
     """
 
-    slots: Dict[int, ToolEntry] = field(default_factory=dict)
-    load_report: str = ""
+    __slots__ = ()
+
+    def __new__(cls, slots: Optional[Dict[int, ToolEntry]] = None, load_report=""):
+        return super().__new__(cls, {} if slots is None else slots, load_report)
 
     def find(self, tool: int) -> Optional[int]:
         """The table index of ``tool`` as rs274 looks it up, or None."""
@@ -87,7 +90,7 @@ class ToolTable:
         rs274 copies the loaded tool into index 0, replacing whatever a
         P-less table line had put there (that tool can no longer be found).
         """
-        return replace(self, slots={**self.slots, 0: self.slots[index]})
+        return self._replace(slots={**self.slots, 0: self.slots[index]})
 
     def lookup(self, tool: int) -> Optional[ToolEntry]:
         """The entry rs274 uses for ``tool``, or None if it is not in the table."""
@@ -128,14 +131,12 @@ def parse_tool_table(text: str, path: str) -> ToolTable:
     return ToolTable(slots, "".join(report))
 
 
-@dataclass(frozen=True)
-class LineScan:
+class LineScan(namedtuple("LineScan", "entry pocket_words")):
     """A tool table line rs274 does not ignore: its entry (None if rs274
     rejects the line) and how many valid P words it has (each uses up a
     table index)."""
 
-    entry: Optional[ToolEntry]
-    pocket_words: int
+    __slots__ = ()
 
 
 def scan_tool_line(line: str) -> Optional[LineScan]:
@@ -221,7 +222,7 @@ def default_tool_table() -> ToolTable:
     ]
     lengths = [0.511, 0.1, 1.273, 0.1]
     slots = {
-        index: replace(entry, offsets=_z_offsets(length))
+        index: entry._replace(offsets=_z_offsets(length))
         for index, (entry, length) in enumerate(zip(entries, lengths), start=1)
     }
     return ToolTable(slots)

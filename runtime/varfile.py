@@ -26,7 +26,10 @@ from __future__ import annotations
 
 import os
 import sys
-from typing import Dict, Iterable, Mapping, Optional, TextIO
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import Dict, Iterable, Mapping, Optional, TextIO
 
 from runtime.errors import GCodeError
 from runtime.tooltable import scan_c_float, scan_c_int

@@ -21,7 +21,9 @@ every back end (trace, null, recording) sees the same calls.
 
 from __future__ import annotations
 
-from typing import List, Sequence
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import List, Sequence
 
 MM_PER_INCH = 25.4
 

@@ -13,7 +13,14 @@ import io
 import pytest
 
 import rs274 as harness
-from runtime.canon import CALLS, Canon, NullCanon, RecordingCanon, TraceCanon
+from runtime.canon import (
+    BUFFERED_LINES,
+    CALLS,
+    Canon,
+    NullCanon,
+    RecordingCanon,
+    TraceCanon,
+)
 
 START_LINES = 6  # rs274's start-up calls before the program's first line
 
@@ -34,6 +41,7 @@ def traced(calls) -> list:
     for n, name, args in calls:
         canon.set_block_number(n)
         getattr(canon, name)(*args)
+    canon.flush()
     return out.getvalue().splitlines()
 
 
@@ -108,6 +116,7 @@ def test_start_up_lines(tmp_path):
     canon.set_xy_rotation(0.0)
     canon.set_feed_reference(False)
     canon.on_reset()
+    canon.flush()
     assert out.getvalue().splitlines() == expected[:START_LINES]
 
 
@@ -120,6 +129,7 @@ def test_n_column_pads_to_six_and_never_truncates():
     canon.program_end()
     canon.set_block_number(None)
     canon.program_end()
+    canon.flush()
     assert out.getvalue().splitlines() == [
         "    1 N10    PROGRAM_END()",
         "    2 N1234567PROGRAM_END()",
@@ -151,3 +161,26 @@ def test_null_canon_accepts_every_call():
         method = getattr(canon, name)
         arity = method.__code__.co_argcount - 1
         assert method(*([0] * arity)) is None
+
+
+def test_trace_lines_are_written_in_batches_and_all_by_flush():
+    # The trace keeps lines back (a write per line costs as much as the
+    # formatting); nothing may be lost or reordered, whatever the count.
+    out = io.StringIO()
+    canon = TraceCanon(out)
+    total = 3 * BUFFERED_LINES + 7
+    for k in range(total):
+        if k % 3 == 0:
+            canon.straight_feed(float(k), *ZERO9[1:])
+        elif k % 3 == 1:
+            canon.set_feed_rate(float(k))
+        else:
+            canon.print_text("text %d" % k)
+    written = out.getvalue().splitlines()
+    assert 0 < len(written) < total  # batches went out on the way
+    canon.flush()
+    lines = out.getvalue().splitlines()
+    assert len(lines) == total
+    assert lines[: len(written)] == written
+    assert [line.split()[0] for line in lines[:2]] == ["1", "2"]
+    assert lines[2] == "text 2" and lines[-1].startswith("%5d" % (total - total // 3))

@@ -375,3 +375,52 @@ def test_the_c_extension_computes_what_the_ctypes_path_computes():
 def test_m_pil_is_pi_rounded_to_a_long_double():
     pi = ops._pi_fixed(ops._PI_BITS)
     assert ops._PI_L == ops._rounded_ratio(pi, 1, -ops._PI_BITS, ops._LD_BITS)
+
+
+def test_the_c_extension_mod_sin_cos_tan_are_the_python_ones():
+    """Where runtime._libm_trig was built, generated code calls its MOD and
+    checked SIN/COS/TAN directly; they must give the Python versions'
+    answers and errors (inf/nan operands, signed zeros, zero divisors)."""
+    if ops.mod is ops.PYTHON_VERSIONS["mod"]:
+        pytest.skip("runtime._libm_trig not built here: the Python versions run")
+    inf, nan = math.inf, math.nan
+    special = [
+        0.0,
+        -0.0,
+        1.0,
+        -1.0,
+        3.0,
+        -7.0,
+        0.5,
+        1e-300,
+        -1e300,
+        5e15,
+        inf,
+        -inf,
+        nan,
+    ]
+    rng = random.Random(11)
+    pairs = [(a, b) for a in special for b in special]
+    pairs += [
+        (rng.uniform(-1e4, 1e4), rng.choice([3.0, -3.0, 0.7, 360.0]))
+        for _ in range(5000)
+    ]
+    for a, b in pairs:
+        got, want = ops.mod(a, b), ops.PYTHON_VERSIONS["mod"](a, b)
+        if want != want:  # a NaN's sign is never seen: a bracket rejects it
+            assert got != got, (a, b)
+            continue
+        assert got == want and math.copysign(1, got) == math.copysign(1, want), (a, b)
+    for name in ("sin", "cos", "tan"):
+        fast, python = getattr(ops, name), ops.PYTHON_VERSIONS[name]
+        for x in [0.0, -0.0, 90.0, -33.3] + [
+            rng.uniform(-720, 720) for _ in range(2000)
+        ]:
+            assert fast(x) == python(x), (name, x)
+        for bad, message in (
+            (inf, "infinity"),
+            (-inf, "infinity"),
+            (nan, "not a number"),
+        ):
+            with pytest.raises(GCodeError, match=message):
+                fast(bad)
