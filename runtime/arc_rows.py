@@ -28,13 +28,18 @@ from __future__ import annotations
 from itertools import takewhile
 from math import asin, atan2, cos, hypot, sin
 from operator import add, sub
-from typing import List, Optional, Tuple
 
 from runtime import arcs
 from runtime.canon import TraceCanon
 from runtime.codes import G2, G3
 from runtime.errors import GCodeError
 from runtime.ops import c_hypot, plus_half_pi
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import List, Optional, Tuple
+
+    Recipe = Tuple[Tuple[Tuple[int, int], ...], int, int, int]
 
 #: plane -> indexes, in the 9-axis point, of its first and second axis and
 #: of the third (the helix axis).
@@ -56,8 +61,6 @@ _MOST = 4096
 
 #: The trace's rotation column for G2 and G3 (one turn: no P word here).
 _ROTATION = {G2: "-1", G3: "1"}
-
-Recipe = Tuple[Tuple[Tuple[int, int], ...], int, int, int]
 
 
 def arc_recipe(letters, plane: str, absolute: bool) -> Optional[Recipe]:
@@ -438,6 +441,8 @@ class ArcRows:
         parts += [numbers] if has_n else []
         canon._write("".join(map(fmt.__mod__, zip(*parts, *columns))))
         canon._count = count
+        if count >= canon._drain_at:  # TraceCanon's own batching
+            canon._drain()
         n = numbers[-1] if has_n else None
         canon._column = "N..... " if n is None else "N%-6s" % n
         point = cur[:]
