@@ -22,7 +22,8 @@ cached as bytecode); one string constant per table compiles in
 milliseconds, and ``float()`` of each value is exact (repr round-trips).
 
 Rows whose shape is a plain straight move run through the machine's fast
-path (:mod:`runtime.fastpath`); the others through ``Machine.block``.
+path (:mod:`runtime.fastpath`), arcs through :mod:`runtime.arc_rows`; the
+others through ``Machine.block``.
 """
 
 from __future__ import annotations
@@ -82,7 +83,7 @@ class _Plan:
             self.beyond_printed = any(axis >= 6 for _, axis in axes)
             if "f" in self.letters:
                 self.f_at = self.letters.index("f")
-        #: An arc (G2/G3 or the modal motion) for Machine.plain_arc: axis
+        #: An arc (G2/G3 or the modal motion) for runtime.arc_rows: axis
         #: words, I J K or R, F; no P (turns) and no U V W.
         self.arc = (
             len(codes) <= 1
