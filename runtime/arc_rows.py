@@ -324,7 +324,9 @@ class ArcRows:
         by_words: dict = {}
         for index, plan in enumerate(self.plans):
             if plan.arc and plan.motion is not None:
-                by_words.setdefault(plan.letters, set()).add(str(index))
+                # The same words and N or none: the same width.
+                words = (plan.letters, plan.has_n)
+                by_words.setdefault(words, set()).add(str(index))
         self.groups = {
             shape: frozenset(shapes) for shapes in by_words.values() for shape in shapes
         }

@@ -163,7 +163,12 @@ def arc_chain(draw, plane: str, numbered: bool, line: int, places: int = 4) -> l
     absolute = draw(st.integers(0, 3)) == 0
     lines = []
 
+    # Now and then N on some rows only: rows of the same words, two widths.
+    some = numbered and draw(st.integers(0, 3)) == 1
+
     def number(k: int) -> list:
+        if some and k % 3 == 2:
+            return []
         return ["N%d" % ((line + k) * 10)] if numbered else []
 
     start = [float(_text(draw(st.floats(-300, 300)), places)) for _ in range(2)]
