@@ -31,7 +31,7 @@ from operator import add, sub
 
 from runtime import arcs
 from runtime.canon import TraceCanon
-from runtime.codes import G2, G3
+from runtime.codes import G0, G1, G2, G3
 from runtime.errors import GCodeError
 from runtime.ops import c_hypot, plus_half_pi
 
@@ -164,7 +164,7 @@ class ArcRows:
     once per ``run_rows`` call, it keeps each shape's recipe per plane and
     IJK mode."""
 
-    __slots__ = ("machine", "plans", "recipes", "printed", "groups")
+    __slots__ = ("machine", "plans", "recipes", "printed", "groups", "straight")
 
     def __init__(self, machine, plans, printed: bool = False) -> None:
         self.machine = machine
@@ -177,6 +177,13 @@ class ArcRows:
         #: shape cell text -> the shape cells of the same words with G2 or
         #: G3 (their rows can share a batch), None for a modal motion.
         self.groups: Optional[dict] = None
+        #: shape cell text -> (motion, has_n, f_at, width, slots) of the
+        #: plain straight moves (runtime.rows._Plan.slots).
+        self.straight = {
+            str(index): (plan.motion, plan.has_n, plan.f_at, plan.width, plan.slots)
+            for index, plan in enumerate(plans)
+            if plan.slots is not None
+        }
 
     def _row_recipe(self, key: str, plane: str, absolute: bool):
         plan = self.plans[int(key)]
@@ -210,6 +217,9 @@ class ArcRows:
         spiral = machine.spiral_tolerance()
         canon = machine.canon
         arc_feed, set_feed_rate = canon.arc_feed, canon.set_feed_rate
+        straight_feed = canon.straight_feed
+        straight_traverse = canon.straight_traverse
+        straight = self.straight
         cur = machine.current
         motion_mode, feed_rate = machine.motion_mode, machine.feed_rate
         block_n = machine._block_n
@@ -227,7 +237,50 @@ class ArcRows:
                 if recipe is False:
                     recipe = known[key] = self._row_recipe(key, plane, absolute)
                 if recipe is None:
-                    break
+                    # Between arcs, a plain straight move (a contour's
+                    # lines) is taken here too, as Machine.plain_rows takes
+                    # it, rather than leaving this loop for one row.
+                    line = straight.get(key)
+                    if line is None:
+                        break
+                    motion, has_n, f_at, width, slots = line
+                    stride = 2 + width
+                    if end - at >= stride * _BATCH and (
+                        cells[at + 1 + stride * (_BATCH - 1)] == key
+                    ):
+                        break  # a stretch runtime.printed_rows writes at once
+                    if motion is None:
+                        motion = motion_mode
+                    start = at + 2
+                    if has_n:
+                        n = cells[start]
+                        start += 1
+                    else:
+                        n = None
+                    f = None if f_at < 0 else float(cells[start + f_at])
+                    if motion == G1:
+                        if (feed_rate if f is None else f) <= 0.0:
+                            break
+                    elif motion != G0 or (f is not None and f < 0.0):
+                        break
+                    if n != block_n:
+                        canon.set_block_number(n)
+                        block_n = n
+                    if f is not None:
+                        feed_rate = f
+                        feed_given = True
+                        set_feed_rate(f)
+                    point = cur[:]
+                    for i, axis in slots:
+                        point[axis] = float(cells[start + i])
+                    if motion == G1:
+                        straight_feed(*point)
+                    else:
+                        straight_traverse(*point)
+                    cur = point
+                    motion_mode = motion
+                    at += stride
+                    continue
                 motion, has_n, f_at, width, slots, r_at, i1, i2 = recipe
                 if (
                     at >= batch_from
