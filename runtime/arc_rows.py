@@ -130,6 +130,8 @@ def radius_centre(
 _HALF_PI_SCALED = 0xC90FDAA22168C235 << 65
 _SCALE = 2.0**128
 _UNSCALE = 2.0**-128
+#: M_PI_2l stored into a double.
+_HALF_PI = float(0xC90FDAA22168C235) * 2.0**-63
 
 
 def plus_half_pi_l(x: float, sign: int) -> float:
@@ -142,6 +144,8 @@ def plus_half_pi_l(x: float, sign: int) -> float:
     significant bits (half to even) is the x87's addition, and ``float()``
     of an integer rounds half to even, as the store does."""
     if not 2.0**-66 <= abs(x) <= 4.0:
+        if x == 0.0:  # a chord along an axis
+            return _HALF_PI if sign > 0 else -_HALF_PI
         return plus_half_pi(x, sign)
     total = int(x * _SCALE) + (_HALF_PI_SCALED if sign > 0 else -_HALF_PI_SCALED)
     negative = total < 0
