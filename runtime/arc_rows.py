@@ -25,7 +25,7 @@ in rs274's order.
 
 from __future__ import annotations
 
-from itertools import takewhile
+from itertools import repeat, takewhile
 from math import asin, atan2, cos, hypot, sin
 from operator import add, sub
 
@@ -288,7 +288,6 @@ class ArcRows:
                 motion, has_n, f_at, width, slots, r_at, i1, i2 = recipe
                 if (
                     at >= batch_from
-                    and r_at < 0
                     # the quick test: the eighth row from here is an arc
                     # of these words too (_batch checks all of them)
                     and end - at >= (2 + width) * _BATCH
@@ -298,9 +297,10 @@ class ArcRows:
                     done = self._batch(
                         cells, at, end, recipe, cur, feed_rate, absolute, zero, spiral
                     )
-                    if done is None:
-                        # Not here: row by row until past this stretch.
-                        batch_from = at + (2 + width) * _BATCH
+                    if type(done) is int:
+                        # Not here: row by row past this stretch (its rows
+                        # are not scanned again and again).
+                        batch_from = at + (2 + width) * max(done, _BATCH)
                     else:
                         rows, cur, rate, motion_mode, n = done
                         at += rows * (2 + width)
@@ -390,26 +390,27 @@ class ArcRows:
         return self.groups
 
     def _batch(self, cells, at, end, recipe, cur, feed_rate, absolute, zero, spiral):
-        """The trace of the run of centre-format rows of the shape of the
+        """The trace of the run of arc rows of the shape of the
         row at ``at`` (or the same words with the other of G2/G3), made in
         one go and written: ``(rows, end point, last F or None, last motion,
-        last N)``. None, having done nothing, for fewer than _BATCH
-        such rows or any row the row loop would not take (a zero or
-        negative F, radii not surely within the tolerances).
+        last N)``. Having done nothing, the number of rows of the stretch
+        (< _BATCH: too few) where any row is one the row loop would not take (a zero or
+        negative F, radii not surely within the tolerances, an R arc
+        the general path must decide).
 
         Rows of one width sit ``width + 2`` cells apart, so each word is
         one slice of ``cells``; each start point is the previous row's
         end point. Every step is a ``map`` over whole columns, with the
         same floating-point operations as the row loop."""
-        _, has_n, f_at, width, slots, _, i1, i2 = recipe
+        _, has_n, f_at, width, slots, r_at, i1, i2 = recipe
         group = self.groups.get(cells[at + 1])
         if group is None:
-            return None
+            return 0
         stride = width + 2
         shapes = cells[at + 1 : min(end, at + 1 + stride * _MOST) : stride]
         rows = len(list(takewhile(group.__contains__, shapes)))
         if rows < _BATCH:
-            return None
+            return rows
         del shapes[rows:]
         stop = at + rows * stride
         values = at + 2 + has_n
@@ -423,28 +424,46 @@ class ArcRows:
 
         e1, e2 = floats(p1), floats(p2)
         s1, s2 = [cur[p1]] + e1[:-1], [cur[p2]] + e2[:-1]
-        v1 = [0.0] * rows if i1 < 0 else list(map(float, texts[i1]))
-        v2 = [0.0] * rows if i2 < 0 else list(map(float, texts[i2]))
-        if absolute:
-            c1, c2 = v1, v2
+        if r_at >= 0:
+            clockwise = {k: self.plans[int(k)].motion == G2 for k in group}
+            centres = list(
+                map(
+                    radius_centre,
+                    map(clockwise.__getitem__, shapes),
+                    s1,
+                    s2,
+                    e1,
+                    e2,
+                    map(float, texts[r_at]),
+                    repeat(zero, rows),
+                )
+            )
+            if None in centres:
+                return rows
+            c1, c2 = map(list, zip(*centres))
         else:
-            c1, c2 = list(map(add, s1, v1)), list(map(add, s2, v2))
-        r1 = list(map(hypot, map(sub, c1, s1), map(sub, c2, s2)))
-        r2 = list(map(hypot, map(sub, c1, e1), map(sub, c2, e2)))
-        big = max(max(r1), max(r2))
-        if not (
-            min(min(r1), min(r2)) * _BELOW >= zero
-            and max(map(abs, map(sub, r1, r2))) + big * _MARGIN <= spiral
-        ):
-            return None
+            v1 = [0.0] * rows if i1 < 0 else list(map(float, texts[i1]))
+            v2 = [0.0] * rows if i2 < 0 else list(map(float, texts[i2]))
+            if absolute:
+                c1, c2 = v1, v2
+            else:
+                c1, c2 = list(map(add, s1, v1)), list(map(add, s2, v2))
+            r1 = list(map(hypot, map(sub, c1, s1), map(sub, c2, s2)))
+            r2 = list(map(hypot, map(sub, c1, e1), map(sub, c2, e2)))
+            big = max(max(r1), max(r2))
+            if not (
+                min(min(r1), min(r2)) * _BELOW >= zero
+                and max(map(abs, map(sub, r1, r2))) + big * _MARGIN <= spiral
+            ):
+                return rows
         rate = None
         if f_at >= 0:
             rates = list(map(float, texts[f_at]))
             if min(rates) <= 0.0:
-                return None
+                return rows
             rate = rates[-1]
         elif feed_rate == 0.0:
-            return None
+            return rows
         # The line pattern: each end coordinate a column (its text when the
         # table is written as printed) or, when no row names it, constant.
         parts, columns = [], []
