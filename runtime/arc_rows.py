@@ -200,11 +200,13 @@ class ArcRows:
         f_at = letters.index("f") if "f" in letters else -1
         return (plan.motion, plan.has_n, f_at, plan.width) + recipe
 
-    def run(self, cells: List[str], at: int, end: int, plans=None) -> int:
-        """Run the rows from ``cells[at]`` while they are plain arcs the
-        fast path can take; returns where it stopped (a row for the general
-        path, or ``end``). The same calls as ``Machine.plain_arc`` row by
-        row, with the machine's state in local variables."""
+    def run(self, cells: List[str], at: int, end: int) -> int:
+        """Run the rows from ``cells[at]``, an arc, while they are plain
+        arcs the fast path can take or plain straight moves between them;
+        returns where it stopped (a row for the general path or for
+        runtime.printed_rows, or ``end``). The same calls as
+        ``Machine.plain_arc`` and ``Machine.plain_rows`` row by row, with
+        the machine's state in local variables."""
         machine = self.machine
         plane = machine.plane
         if not machine._plain or plane not in PLANE_AXES:

@@ -87,7 +87,7 @@ def _trace(code: str):
 
 def _without_arc_fast_paths(monkeypatch) -> None:
     """Every arc through Machine.block, as rs274's pipeline runs it."""
-    monkeypatch.setattr(ArcRows, "run", lambda self, cells, at, end, plans=None: at)
+    monkeypatch.setattr(ArcRows, "run", lambda self, cells, at, end: at)
     monkeypatch.setattr(Machine, "plain_arc", lambda self, *args: False)
 
 
