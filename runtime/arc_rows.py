@@ -340,7 +340,12 @@ class ArcRows:
                         c1, c2 = v1, v2
                     else:
                         c1, c2 = s1 + v1, s2 + v2
-                    if not centre_checks_pass(s1, s2, e1, e2, c1, c2, zero, spiral):
+                    # centre_checks_pass, inlined
+                    r1 = hypot(c1 - s1, c2 - s2)
+                    r2 = hypot(c1 - e1, c2 - e2)
+                    if r1 < r2:
+                        r1, r2 = r2, r1
+                    if not (r2 * _BELOW >= zero and (r1 - r2) + r1 * _MARGIN <= spiral):
                         break
                 else:
                     centre = radius_centre(
