@@ -36,10 +36,12 @@ loop. Programs without such lines get none of this.
 
 from __future__ import annotations
 
+import base64
 import builtins
 import keyword
 import math
 import re
+import zlib
 from dataclasses import dataclass, field
 from typing import Dict, Iterable, List, Optional, Sequence, Tuple
 
@@ -282,6 +284,9 @@ def may_overflow(e: nodes.Expr) -> bool:
 
 #: Past this, a bound proves nothing: a sum or product may overflow.
 _LARGEST_BOUND = 1e300
+#: Below half the spacing of doubles at the largest one (2**970): added to
+#: any finite double, it rounds to a finite one.
+_NEGLIGIBLE_TERM = 2.0**960
 #: Results of the checked functions: at most this in magnitude.
 _FUNCTION_BOUNDS = {"sin": 1.0, "cos": 1.0, "acos": 180.0, "asin": 180.0, "atan": 180.0}
 
@@ -318,12 +323,21 @@ def value_bound(e: nodes.Expr) -> Optional[float]:
             if left is None or not isinstance(e.right, nodes.Num) or not e.right.value:
                 return None
             return abs(e.right.value)
-        if e.op in ("+", "-") and left is not None and right is not None:
+        if left is None or right is None:
+            return None
+        if e.op in ("+", "-"):
             total = left + right
-            return total if total <= _LARGEST_BOUND else None
-        if e.op == "*" and left is not None and right is not None:
+            if total <= _LARGEST_BOUND:
+                return total
+            # A finite value plus a small one cannot round past the largest
+            # double: ``[#<i> + 1]`` needs no check.
+            return math.inf if min(left, right) <= _NEGLIGIBLE_TERM else None
+        if e.op == "*":
             product = left * right
-            return product if product <= _LARGEST_BOUND else None
+            if product <= _LARGEST_BOUND:
+                return product
+            # Nor can a finite value times at most 1 in size: ``[#<i> * 0.3]``.
+            return math.inf if min(left, right) <= 1.0 else None
         return None
     return math.inf  # parameter reads, EXISTS: checked where they are read
 
@@ -1711,22 +1725,45 @@ def source_map_lines(
     the map refers to; others are empty), which compiles to one constant.
     """
     texts = []
+    packed: List[str] = []
     for table in w.texts:
         top = max(table) if table else 0
-        texts.append("\n".join(table.get(i, "") for i in range(1, top + 1)))
+        text = "\n".join(table.get(i, "") for i in range(1, top + 1))
+        if len(text) > PACK_TEXT_OVER:
+            name = "_NGC_TEXT_%d" % len(packed)
+            packed += ["# The G-code text of %s, compressed (it is large)." % name]
+            packed += ["%s = %s" % (name, packed_literal(text)), "", ""]
+            texts.append(name)
+        else:
+            texts.append(string(text))
     call = Coll(
         "__ngc__ = SourceMap(",
         [
             Coll("(", [string(f) for f in w.files], ")"),
             string(w.map.encode()),
-            Coll("(", [string(t) for t in texts], ")"),
+            Coll("(", texts, ")"),
             subs,
             Coll("(", ["%d" % end[0], str(end[1])], ")"),
         ]
         + ([opening] if opening else []),
         ")",
     )
-    return call.layout(0)
+    return packed + call.layout(0)
+
+
+#: A file's G-code text longer than this goes into the source map
+#: compressed: a large CAM file's text would otherwise be a third of the
+#: module that Python compiles on every ``python prog.py``.
+PACK_TEXT_OVER = 1 << 16
+
+
+def packed_literal(text: str) -> str:
+    """A bytes literal of ``text`` deflated and in base64, 76 characters a
+    line (runtime.errors.SourceMap unpacks it when an error needs a line).
+    The fastest level: converting a million-line file must stay quick, and
+    the literal's size costs a run little (about 5 ns a byte to compile)."""
+    data = zlib.compress(text.encode("utf-8", "surrogateescape"), 1)
+    return 'b"""\\\n%s"""' % base64.encodebytes(data).decode("ascii")
 
 
 def generate(

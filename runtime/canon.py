@@ -231,8 +231,9 @@ def _no_arguments(call: str):
     return emit
 
 
-_TRAVERSE = "%5d %sSTRAIGHT_TRAVERSE(%.4f, %.4f, %.4f, %.4f, %.4f, %.4f)\n"
-_FEED = "%5d %sSTRAIGHT_FEED(%.4f, %.4f, %.4f, %.4f, %.4f, %.4f)\n"
+_TRAVERSE = "%5d %sSTRAIGHT_TRAVERSE(%.4f, %.4f, %.4f, %s)\n"
+_FEED = "%5d %sSTRAIGHT_FEED(%.4f, %.4f, %.4f, %s)\n"
+_ABC = "%.4f, %.4f, %.4f"
 _ARC = "%5d %sARC_FEED(%.4f, %.4f, %.4f, %.4f, %d, %.4f, %.4f, %.4f, %.4f)\n"
 _FEED_RATE = "%5d %sSET_FEED_RATE(%.4f)\n"
 
@@ -258,6 +259,11 @@ class TraceCanon(Canon):
         self._count = 0
         self._column = "N..... "
         self._drain_at = BUFFERED_LINES
+        # The rotary axes of the last move, and their text: a straight move
+        # that passes the very same float objects on (an axis its block does
+        # not name) reuses the text instead of formatting three more floats.
+        self._a = self._b = self._c = None
+        self._abc = ""
 
     # The lines wait in a list and go to the stream in batches: each method
     # that adds a line checks ``_drain_at``. Machine.run flushes at the end,
@@ -309,13 +315,19 @@ class TraceCanon(Canon):
     # format specs are slower), the line number folded in.
     def straight_traverse(self, x, y, z, a, b, c, u, v, w):
         self._count += 1
-        self._write(_TRAVERSE % (self._count, self._column, x, y, z, a, b, c))
+        if a is not self._a or b is not self._b or c is not self._c:
+            self._a, self._b, self._c = a, b, c
+            self._abc = _ABC % (a, b, c)
+        self._write(_TRAVERSE % (self._count, self._column, x, y, z, self._abc))
         if self._count >= self._drain_at:
             self._drain()
 
     def straight_feed(self, x, y, z, a, b, c, u, v, w):
         self._count += 1
-        self._write(_FEED % (self._count, self._column, x, y, z, a, b, c))
+        if a is not self._a or b is not self._b or c is not self._c:
+            self._a, self._b, self._c = a, b, c
+            self._abc = _ABC % (a, b, c)
+        self._write(_FEED % (self._count, self._column, x, y, z, self._abc))
         if self._count >= self._drain_at:
             self._drain()
 

@@ -15,7 +15,7 @@ from types import TracebackType
 
 TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
-    from typing import List, Optional, Sequence, Tuple
+    from typing import List, Optional, Sequence, Tuple, Union
 
 
 class GCodeError(Exception):
@@ -63,7 +63,8 @@ class SourceMap:
     ``py,file,line[,count]`` runs (``count`` consecutive Python lines map to
     consecutive G-code lines). G-code line 0 means the statement runs data
     rows: the row's line number is attached to the error by ``run_rows``.
-    ``texts`` holds, per file, the G-code lines joined by newlines.
+    ``texts`` holds, per file, the G-code lines joined by newlines (for a
+    large file, that text deflated and in base64, as bytes).
     ``subs`` maps every subroutine name defined in the main file to its
     function, so a call to a sub not yet defined can seek it the way rs274
     reads ahead; ``end`` is the main file's last line number and whether
@@ -77,7 +78,7 @@ class SourceMap:
         self,
         files: Sequence[str],
         lines: str,
-        texts: Sequence[str],
+        texts: Sequence[Union[str, bytes]],
         subs: Optional[dict] = None,
         end: Tuple[int, bool] = (0, False),
         open_error: Optional[Tuple[str, int]] = None,
@@ -123,9 +124,14 @@ class SourceMap:
     def text(self, file: int, line: int) -> str:
         """The text of G-code ``line`` of file number ``file`` ("" if unknown)."""
         if file not in self._split:
-            self._split[file] = (
-                self._texts[file].split("\n") if file < len(self._texts) else []
-            )
+            text = self._texts[file] if file < len(self._texts) else ""
+            if isinstance(text, bytes):  # a large file's text, compressed
+                import binascii
+                import zlib
+
+                text = zlib.decompress(binascii.a2b_base64(text))
+                text = text.decode("utf-8", "surrogateescape")
+            self._split[file] = text.split("\n") if text else []
         lines = self._split[file]
         return lines[line - 1] if 0 < line <= len(lines) else ""
 

@@ -36,6 +36,7 @@ if TYPE_CHECKING:
 
 from runtime import arc_rows, arcs
 from runtime.codes import G0, G1, G2, G3
+from runtime.rows import BATCH, straight_batch
 from runtime.motion import UNITS_PER_MINUTE
 
 _AXIS_LETTERS = "xyzabcuvw"
@@ -107,11 +108,20 @@ class FastPathMixin:
                 cur[7] if v is None else v,
                 cur[8] if w is None else w,
             ]
-            self._open_plain_block(line, n, f)
+            # _open_plain_block, inline
+            self.line = line
+            canon = self.canon
+            if n != self._block_n:
+                canon.set_block_number(n)
+                self._block_n = n
+            if f is not None:
+                self.feed_rate = f
+                canon.set_feed_rate(f)
+                self.world.feed_rate = f
             if motion == G1:
-                self.canon.straight_feed(*end)
+                canon.straight_feed(*end)
             else:
-                self.canon.straight_traverse(*end)
+                canon.straight_traverse(*end)
             self.motion_mode = motion
             # One list shared as the current point, the canon model's
             # position and #5420-#5428: a general block copies it first.
@@ -147,6 +157,24 @@ class FastPathMixin:
                 if slots is None:
                     break
                 motion = motion_mode if plan.motion is None else plan.motion
+                if (
+                    plan.batch
+                    and end - at >= (plan.width + 2) * BATCH
+                    and (motion == G0 or (motion == G1 and feed_rate > 0.0))
+                ):
+                    if block_n is not None:
+                        canon.set_block_number(None)
+                        block_n = None
+                    call = feed if motion == G1 else traverse
+                    rows, point, error = straight_batch(call, cells, at, end, plan, cur)
+                    if rows:
+                        at += rows * (plan.width + 2)
+                        cur, motion_mode = point, motion
+                    if error is not None:
+                        row = at  # the row whose canon call failed
+                        raise error
+                    if rows:
+                        continue
                 start = at + 2
                 if plan.has_n:
                     n = cells[start]

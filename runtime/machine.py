@@ -142,7 +142,7 @@ from runtime.probing import ProbingMixin
 from runtime.spindle_select import check_dollar
 from runtime.splines import SplinesMixin
 from runtime.offsets import COORD_SYSTEM, G92_ENABLED, OffsetsMixin
-from runtime.params import ArgCountLocals, Globals, Locals, Params
+from runtime.params import CALL_ARGS, ArgCountLocals, Globals, Locals, Params
 from runtime.tooltable import ToolTable, default_tool_table, load_tool_table
 from runtime.tools import ToolsMixin
 from runtime.varfile import default_parameters, initial_parameters, save_parameter_file
@@ -180,6 +180,10 @@ MAX_PARAMETER = 5602
 
 #: rs274 refuses a call made from this call level (nine nested calls at most).
 MAX_CALL_LEVEL = 9
+#: A call's #1-#30: the slice of the parameter list, and what a call that
+#: passes fewer arguments sets the rest to.
+_CALL_ARGS_END = CALL_ARGS + 1
+_NO_ARGS = (0.0,) * CALL_ARGS
 
 
 class _Subroutine(namedtuple("_Subroutine", "fn file", defaults=(None,))):
@@ -516,13 +520,19 @@ class Machine(
 
     def call(self, fn: Callable, *args: float) -> None:
         """An O-word call: fresh #1-#30 and locals, restored afterwards."""
-        saved = self._params.save_locals()
-        self._params.set_call_args(args)
-        self._arg_count = len(args)
+        # Params.save_locals/set_call_args/restore_locals, inline: a loop of
+        # calls spends its time here.
+        values = self._params._values
+        saved = values[1:_CALL_ARGS_END]
+        count = len(args)
+        values[1:_CALL_ARGS_END] = (
+            args + _NO_ARGS[count:] if count <= CALL_ARGS else args[:CALL_ARGS]
+        )
+        self._arg_count = count
         try:
             result = self._run_sub(fn)
         finally:
-            self._params.restore_locals(saved)
+            values[1:_CALL_ARGS_END] = saved
         # A call that returns nothing resets _value too.
         self.value = 0.0 if result is None else float(result)
         self.value_returned = 0.0 if result is None else 1.0
@@ -564,7 +574,17 @@ class Machine(
     def _run_sub(self, fn: Callable) -> Optional[float]:
         """Run subroutine ``fn`` one call level down, with fresh named locals."""
         self.step()
-        caller_locals = self._enter_sub()
+        if (
+            self.call_level < MAX_CALL_LEVEL
+            and not self.settings.oword_nargs
+            and not self.__dict__.get("_saved_contexts")
+        ):  # _enter_sub's usual case, inline
+            caller_locals = self._locals
+            self._locals = Locals()
+            self.call_level += 1
+            self.value_returned = 0.0
+        else:
+            caller_locals = self._enter_sub()
         try:
             result = fn(self)
         finally:
@@ -572,7 +592,8 @@ class Machine(
             self._locals = caller_locals
             if not self.call_level:
                 self.returned_to_main = True  # see olabels.top_level_return
-        self._left_frame(self.call_level + 1)  # M73's restore
+        if self.__dict__.get("_saved_contexts"):
+            self._left_frame(self.call_level + 1)  # M73's restore
         return result
 
     def _enter_sub(self) -> Locals:
@@ -937,3 +958,8 @@ _PREDEFINED_VALUES: Dict[str, Callable[[Machine], float]] = {
     # rs274 asks the INI file before it knows the file's name: always -1.
     "_metric_machine": lambda m: -1,
 }
+
+# ``g._value`` after every call: a plain attribute read where it can be one.
+Globals.install_predefined(
+    Machine.PREDEFINED, {"_value": "value", "_value_returned": "value_returned"}
+)

@@ -273,8 +273,14 @@ class Globals(NamedStore):
             return self.__dict__[name]
         raise GCodeError("Named parameter #<%s> not defined" % name)
 
-    def __setattr__(self, name: str, value: float) -> None:
-        self[name] = value
+    @classmethod
+    def install_predefined(cls, names, direct) -> None:
+        """Make each predefined name a read-only attribute (a data
+        descriptor beats the instance dict, as for ``n_args``), so that
+        ``g._name = x`` needs no ``__setattr__`` on every global's assignment.
+        ``direct``: names whose value is simply the machine attribute given."""
+        for name in names:
+            setattr(cls, name, _predefined_property(name, direct.get(name)))
 
     def __setitem__(self, name: str, value: float) -> None:
         if name in self._machine_.PREDEFINED or (
@@ -297,6 +303,23 @@ class Globals(NamedStore):
             name.startswith("_ini[") and _from_ini(self, name)
         ):
             self.__dict__.setdefault(name, 0.0)
+
+
+def _predefined_property(name: str, attribute: Optional[str]) -> property:
+    if attribute is None:
+
+        def read(store: Globals) -> float:
+            return store._machine_.predefined(name)
+
+    else:
+
+        def read(store: Globals) -> float:
+            return getattr(store._machine_, attribute)
+
+    def write(store: Globals, value: float) -> None:
+        raise GCodeError("Cannot assign to read-only parameter #<%s>" % name)
+
+    return property(read, write, doc="#<%s>, read-only" % name)
 
 
 def _from_ini(store: "Globals", name: str) -> bool:

@@ -64,7 +64,7 @@ def printed_rows(machine, by_index, cells: List[str], at: int, end: int, plans) 
             if motion is None:
                 motion = motion_mode
             stride = width + 2
-            if end - at >= stride * _BATCH and motion in _STRAIGHT:
+            if end - at >= stride * BATCH and motion in _STRAIGHT:
                 batch = _batch(cells, at, end, printed, motion, feed_rate, texts, count)
                 if batch is not None:
                     text, rows, count, last_f = batch
@@ -138,16 +138,16 @@ def printed_rows(machine, by_index, cells: List[str], at: int, end: int, plans) 
     return at
 
 
-#: Rows of one shape in a row, at least, for the batch form below.
-_BATCH = 8
-#: At most this many rows in one batch (bounds the slices it takes).
-_MOST = 4096
+#: Rows of one shape in a row, at least, for the batch form below (and
+#: runtime.rows.straight_batch); at most (bounds the slices a batch takes).
+BATCH = 8
+MOST = 4096
 
 
 def _batch(cells, at, end, printed, motion, feed_rate, texts, count):
     """The trace of the consecutive rows of the shape of the row at ``at``,
     made in one go: ``(text, rows, new line count, last F or None)``; None
-    for fewer than ``_BATCH`` such rows, or a feed rate that would be an
+    for fewer than ``BATCH`` such rows, or a feed rate that would be an
     error (the row-by-row loop stops at it).
 
     Rows of one shape sit ``width + 2`` cells apart, so each of their
@@ -158,10 +158,10 @@ def _batch(cells, at, end, printed, motion, feed_rate, texts, count):
     _, has_n, f_at, width, _, slots = printed
     stride = width + 2
     key = cells[at + 1]
-    shapes = cells[at + 1 : at + 1 + stride * _BATCH : stride]
-    if shapes.count(key) != _BATCH:
+    shapes = cells[at + 1 : at + 1 + stride * BATCH : stride]
+    if shapes.count(key) != BATCH:
         return None
-    shapes = cells[at + 1 : min(end, at + 1 + stride * _MOST) : stride]
+    shapes = cells[at + 1 : min(end, at + 1 + stride * MOST) : stride]
     rows = len(list(takewhile(key.__eq__, shapes)))
     stop = at + rows * stride
     values = at + 2 + has_n  # the first value cell of the first row

@@ -29,6 +29,7 @@ others through ``Machine.block``.
 from __future__ import annotations
 
 from functools import partial
+from itertools import repeat, starmap, takewhile
 
 TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
@@ -39,7 +40,7 @@ if TYPE_CHECKING:
 from runtime.arc_rows import ArcRows
 from runtime.canon import TraceCanon
 from runtime.codes import G0, G1, G2, G3
-from runtime.printed_rows import printed_rows
+from runtime.printed_rows import BATCH, MOST, printed_rows
 
 _AXES = "xyzabcuvw"
 _ARC_LETTERS = "xyzabcijkrf"
@@ -58,6 +59,7 @@ class _Plan:
         "f_at",
         "beyond_printed",
         "printed",
+        "batch",
         "arc",
     )
 
@@ -83,6 +85,9 @@ class _Plan:
             self.beyond_printed = any(axis >= 6 for _, axis in axes)
             if "f" in self.letters:
                 self.f_at = self.letters.index("f")
+        #: Rows of this shape can go in one batch (straight_batch): plain
+        #: moves that set nothing but axes (no N, no F: one call a row).
+        self.batch = self.slots is not None and not self.has_n and self.f_at < 0
         #: An arc (G2/G3 or the modal motion) for runtime.arc_rows: axis
         #: words, I J K or R, F; no P (turns) and no U V W.
         self.arc = (
@@ -102,6 +107,42 @@ class _Plan:
                 contiguous(self.slots),
                 self.slots,
             )
+
+
+def straight_batch(call, cells: List[str], at: int, end: int, plan: "_Plan", cur):
+    """Make the canon call ``call`` (straight_feed or straight_traverse) for
+    the consecutive rows of ``plan``'s shape from ``cells[at]``, which set
+    only axes: ``(rows done, the point after the last, None)``, or
+    ``(rows done, ..., the exception)`` when a call raised (the next row's
+    failed), or ``(0, None, None)`` for fewer than ``BATCH`` such rows.
+
+    In a run of one shape the axes it does not name keep their values, so
+    the calls' arguments are columns of the table (float() of slices) and
+    constants, zipped and applied in C: the per-row cost is the call."""
+    stride = plan.width + 2
+    key = cells[at + 1]
+    if cells[at + 1 : at + 1 + stride * BATCH : stride].count(key) != BATCH:
+        return 0, None, None
+    shapes = cells[at + 1 : min(end, at + 1 + stride * MOST) : stride]
+    rows = len(list(takewhile(key.__eq__, shapes)))
+    stop = at + rows * stride
+    arguments = [repeat(value) for value in cur]
+    for i, axis in plan.slots:
+        arguments[axis] = map(float, cells[at + 2 + i : stop : stride])
+    done = 0
+    error = None
+    try:
+        for done, _ in enumerate(starmap(call, zip(*arguments)), 1):
+            pass
+    except Exception as failed:  # noqa: BLE001 - handed back, raised by the caller
+        error = failed
+    if not done:
+        return 0, None, error
+    point = list(cur)
+    last = at + (done - 1) * stride + 2
+    for i, axis in plan.slots:
+        point[axis] = float(cells[last + i])
+    return done, point, error
 
 
 def contiguous(slots: List[Tuple[int, int]]) -> Optional[Tuple[int, int, int]]:

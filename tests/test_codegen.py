@@ -226,9 +226,9 @@ def test_row_tables_are_bounded():
 
 def test_line_reads_declare_names_and_check_indices_in_order():
     code = compile_text("#<n> = [#<n> + 1]\n#[#1+1]=[#2*3] G0 X#1\nM2\n", "p.ngc")
-    assert '    v.declare("n")\n    v.n = finite(v.n + 1.0)\n' in code
+    assert '    v.declare("n")\n    v.n = v.n + 1.0\n' in code
     assert (
-        "    i1 = p.setting_index(finite(p[1] + 1.0))\n"
+        "    i1 = p.setting_index(p[1] + 1.0)\n"
         "    t2 = finite(p[2] * 3.0)\n"
         "    t3 = p[1]\n"
         "    p[i1] = t2\n"
@@ -300,3 +300,27 @@ def test_arcs_with_computed_words_call_machine_arc():
     assert "m.arc(2, G2, x=2.0, y=0.0, i=1.0, j=0.0)" in code
     assert "m.arc(3, G3, x=0.0, y=0.0, r=5.0, f=50.0)" in code
     assert "m.block(4, G2, x=1.0, p=2.0, i=1.0)" in code  # P (turns): the general path
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize("where", ["row", "statement"])
+def test_a_large_files_text_is_packed_and_errors_still_show_their_line(
+    where, tmp_path
+):
+    """Above codegen.PACK_TEXT_OVER the G-code text goes into the source map
+    compressed; an error must still print rs274's message and line text,
+    wherever the failing line is (a data row or a statement)."""
+    rows = ["G1 X%d.25 Y%d (moving \u00e9 %d)" % (k, k % 7, k) for k in range(4000)]
+    bad = "G1 X1 F0" if where == "row" else "#1 = [1 / 0]"
+    rows[3210] = bad
+    text = "G21 G90 G17 F100\nG0 Z5\n" + "\n".join(rows) + "\nM2\n"
+    assert len(text) > codegen.PACK_TEXT_OVER
+    code = compile_text(text, "big.ngc")
+    assert "_NGC_TEXT_0 = b" in code and bad not in code.split("__ngc__")[-1]
+    assert black.format_str(code, mode=black.Mode()) == code
+    program = tmp_path / "big.ngc"
+    program.write_text(text, encoding="utf-8")
+    expected = harness.run_rs274(program)
+    actual = harness.run_ngc2py(program, mode="convert")
+    assert not harness.compare(expected, actual)
+    assert bad in actual.stderr.decode()

@@ -173,3 +173,76 @@ def test_stretches_of_one_shape_match_rs274(name):
     text = BATCHES[name]
     assert "as_printed=True" in compile_text(text, "cam.ngc")
     check_same(text, "inprocess")
+
+
+def _run_recorded(code: str, canon) -> tuple:
+    """Run generated ``code`` against ``canon``: (error text or None, the
+    machine's line and position afterwards)."""
+    from runtime import Machine
+    from runtime.errors import GCodeError
+    from runtime.main import start
+
+    namespace: dict = {"__name__": "cam"}
+    exec(compile(code, "cam.py", "exec"), namespace)
+    machine = Machine(canon, source=namespace["__ngc__"])
+    try:
+        start(machine, namespace["main"])
+        error = None
+    except (GCodeError, RuntimeError) as failed:
+        error = str(failed)
+    return error, machine.line, list(machine.current)
+
+
+class _FailingCanon(RecordingCanon):
+    """Records calls, and raises at the ``fail_at``-th straight move."""
+
+    def __init__(self, fail_at: int) -> None:
+        super().__init__()
+        self.fail_at = fail_at
+        self.moves = 0
+
+    def straight_feed(self, *args):
+        self.moves += 1
+        if self.moves == self.fail_at:
+            raise RuntimeError("canon failed at move %d" % self.moves)
+        self._record("straight_feed", args)
+
+
+@PROFILE
+@given(cam_strategies.cam_programs())
+def test_batched_rows_give_a_canon_the_calls_of_row_by_row(text):
+    """runtime.rows.straight_batch (runs of one shape, applied in C) against
+    the row-by-row loop: the same calls, values and N numbers."""
+    import runtime.fastpath
+
+    code = compile_text(text, "cam.ngc")
+    batched = RecordingCanon()
+    outcome = _run_recorded(code, batched)
+    saved = runtime.fastpath.BATCH
+    runtime.fastpath.BATCH = 10**9  # never a batch
+    try:
+        single = RecordingCanon()
+        assert _run_recorded(code, single) == outcome
+    finally:
+        runtime.fastpath.BATCH = saved
+    assert (batched.calls, batched.numbers) == (single.calls, single.numbers)
+
+
+@pytest.mark.parametrize("fail_at", [1, 2, 9, 17, 30])
+def test_a_canon_failing_inside_a_batch_stops_where_row_by_row_stops(
+    fail_at, monkeypatch
+):
+    text = (
+        "G21 G90 F500\nG1 X0\n"
+        + "".join("X%d.5 Y%d\n" % (k, -k) for k in range(30))
+        + "M2\n"
+    )
+    code = compile_text(text, "cam.ngc")
+    assert "run_rows(" in code
+    batched = _FailingCanon(fail_at)
+    outcome = _run_recorded(code, batched)
+    assert outcome[0] == "canon failed at move %d" % fail_at
+    monkeypatch.setattr("runtime.fastpath.BATCH", 10**9)
+    single = _FailingCanon(fail_at)
+    assert _run_recorded(code, single) == outcome
+    assert batched.calls == single.calls
