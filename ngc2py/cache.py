@@ -18,7 +18,6 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import tempfile
 from pathlib import Path
 from typing import List, Optional, Tuple, Union
 
@@ -97,6 +96,8 @@ def write_atomic(target, data: Union[str, bytes]) -> None:
     old file or the new one, never half of one; the file keeps its mode."""
     target = Path(target)
     target.parent.mkdir(parents=True, exist_ok=True)
+    import tempfile  # here: a cached `ngc2py run` never writes
+
     fd, temp = tempfile.mkstemp(
         dir=str(target.parent), prefix=".tmp-", suffix=target.suffix
     )
