@@ -34,14 +34,14 @@ TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
     from typing import List, Optional
 
-from runtime import arcs
+from runtime import arc_rows, arcs
 from runtime.codes import G0, G1, G2, G3
 from runtime.rows import BATCH, straight_batch
-from runtime.errors import GCodeError
 from runtime.motion import UNITS_PER_MINUTE
 
 _AXIS_LETTERS = "xyzabcuvw"
-_AXIS_INDEX = {letter: i for i, letter in enumerate(_AXIS_LETTERS)}
+#: (word letters, plane, G90.1) -> runtime.arc_rows.arc_recipe's answer.
+_ARC_RECIPES: dict = {}
 
 
 class FastPathMixin:
@@ -226,60 +226,79 @@ class FastPathMixin:
     def plain_arc(self, line: int, motion: Optional[int], words, n) -> bool:
         """A line of G2/G3 (``motion``; None: the modal motion), axis words,
         I J K or R, and F, in the plain state: what ``block`` does, without
-        reading, enhancing and checking the line again (runtime.rows knows
-        its shape). Returns False, having done nothing, where the general
-        path must decide: not plain, a modal motion that is not an arc, or
-        any error, which ``block`` then raises in rs274's order."""
+        reading, enhancing and checking the line again (runtime.arc_rows
+        has the checks and geometry). Returns False, having done nothing,
+        where the general path must decide: not plain, a modal motion that
+        is not an arc, or any error, which ``block`` then raises in rs274's
+        order. Like :meth:`move`, it makes the canon call itself (the plain
+        state has no cutter compensation for ``_emit_arc`` to hand it to)."""
         if not self._plain:
             return False
         if motion is None:
             motion = self.motion_mode
-            if motion not in (G2, G3):
+            if motion != G2 and motion != G3:
                 return False
-        f = words.get("f")
-        if f is not None and f < 0.0:
-            return False
         plane = self.plane
+        key = (tuple(words), plane, self.ijk_absolute)
+        recipe = _ARC_RECIPES.get(key, False)
+        if recipe is False:
+            recipe = arc_rows.arc_recipe(key[0], plane, key[2])
+            if len(_ARC_RECIPES) < 4096:  # a program has few call sites
+                _ARC_RECIPES[key] = recipe
+        if recipe is None:
+            return False
+        f = words.get("f")
+        if f is None:
+            if self.feed_rate == 0.0:
+                return False
+        elif f <= 0.0:  # negative, or an arc without feed: errors
+            return False
+        slots, r_at, i1, i2 = recipe
+        values = tuple(words.values())
         cur = self.current
         end = cur[:]
-        for letter, value in words.items():
-            axis = _AXIS_INDEX.get(letter)
-            if axis is not None:
-                end[axis] = value
-        s1, s2, _ = arcs.to_plane(plane, cur[0], cur[1], cur[2])
-        e1, e2, e3 = arcs.to_plane(plane, end[0], end[1], end[2])
-        try:
-            arcs.check_arc_format(plane, words)
-            arcs.check_arc_feed(
-                self.feed_mode,
-                self.feed_rate if f is None else f,
-                self.speed,
-                f is not None,
-            )
-            centre = arcs.arc_center_words(plane, words, self.ijk_absolute)
-            turns = arcs.check_arc_turns(None)
-            if centre is None:
-                arc = arcs.arc_from_radius(
-                    motion == G2, (s1, s2), (e1, e2), words["r"], turns, self.inches
-                )
+        for i, axis in slots:
+            end[axis] = values[i]
+        p1, p2, p3 = arc_rows.PLANE_AXES[plane]
+        s1, s2, e1, e2 = cur[p1], cur[p2], end[p1], end[p2]
+        if r_at < 0:
+            v1 = values[i1] if i1 >= 0 else 0.0
+            v2 = values[i2] if i2 >= 0 else 0.0
+            if self.ijk_absolute:
+                c1, c2 = v1, v2
             else:
-                arc = arcs.arc_from_center(
-                    motion == G2,
-                    plane,
-                    (s1, s2),
-                    (e1, e2),
-                    centre,
-                    self.ijk_absolute,
-                    turns,
-                    self.inches,
-                    self.spiral_tolerance(),
-                )
-        except GCodeError:
-            return False
+                c1, c2 = s1 + v1, s2 + v2
+            if not arc_rows.centre_checks_pass(
+                s1,
+                s2,
+                e1,
+                e2,
+                c1,
+                c2,
+                arcs.radius_tolerance(self.inches),
+                self.spiral_tolerance(),
+            ):
+                return False
+        else:
+            centre = arc_rows.radius_centre(
+                motion == G2,
+                s1,
+                s2,
+                e1,
+                e2,
+                values[r_at],
+                arcs.radius_tolerance(self.inches),
+            )
+            if centre is None:
+                return False
+            c1, c2 = centre
         self._open_plain_block(line, n, f)
         self.motion_mode = motion
-        self._emit_arc(arc, e3, end)
-        self._params.position = end  # shared, as for a straight move
+        self.canon.arc_feed(
+            e1, e2, c1, c2, -1 if motion == G2 else 1, end[p3], *end[3:]
+        )
+        # One list shared, as for a straight move (see move()).
+        self.current = self.world.position = self._params.position = end
         return True
 
     def _open_plain_block(

@@ -22,7 +22,8 @@ cached as bytecode); one string constant per table compiles in
 milliseconds, and ``float()`` of each value is exact (repr round-trips).
 
 Rows whose shape is a plain straight move run through the machine's fast
-path (:mod:`runtime.fastpath`); the others through ``Machine.block``.
+path (:mod:`runtime.fastpath`), arcs through :mod:`runtime.arc_rows`; the
+others through ``Machine.block``.
 """
 
 from __future__ import annotations
@@ -36,6 +37,7 @@ if TYPE_CHECKING:
 
     Shape = Tuple[Tuple[int, ...], Tuple[str, ...]]
 
+from runtime.arc_rows import ArcRows
 from runtime.canon import TraceCanon
 from runtime.codes import G0, G1, G2, G3
 from runtime.printed_rows import BATCH, MOST, printed_rows
@@ -86,7 +88,7 @@ class _Plan:
         #: Rows of this shape can go in one batch (straight_batch): plain
         #: moves that set nothing but axes (no N, no F: one call a row).
         self.batch = self.slots is not None and not self.has_n and self.f_at < 0
-        #: An arc (G2/G3 or the modal motion) for Machine.plain_arc: axis
+        #: An arc (G2/G3 or the modal motion) for runtime.arc_rows: axis
         #: words, I J K or R, F; no P (turns) and no U V W.
         self.arc = (
             len(codes) <= 1
@@ -169,6 +171,7 @@ def run_rows(
     cells = table.split()
     at, end = 0, len(cells)
     fast = machine.plain_rows
+    arc_rows = ArcRows(machine, plans, as_printed).run
     if as_printed and type(machine.canon) is TraceCanon:
         fast = partial(printed_rows, machine, [plan.printed for plan in plans])
     try:
@@ -176,6 +179,10 @@ def run_rows(
             at = fast(cells, at, end, plans)
             if at == end:
                 break
+            stop = arc_rows(cells, at, end)
+            if stop != at:
+                at = stop
+                continue
             machine.line = line = int(cells[at])
             plan = plans[int(cells[at + 1])]
             start = at + 2
@@ -185,8 +192,6 @@ def run_rows(
                 n = cells[start]
                 start += 1
             words = dict(zip(plan.letters, map(float, cells[start:at])))
-            if plan.arc and machine.plain_arc(line, plan.motion, words, n):
-                continue
             machine.block(line, *plan.codes, n=n, **words)
     except Exception as error:
         error.ngc_row_line = machine.line

@@ -11,10 +11,20 @@ both, the modes that turn the fast paths off (incremental distance, offsets,
 inverse time, units), the blocks that interrupt a run (dwell, spindle,
 coolant, plane), arcs in each plane (Machine.plain_arc), long stretches
 of one row shape (written in batches) and the value errors a run can hit (no feed rate, a negative F, a zero F under G1).
+
+Chains of arcs (`arc_chain`, runtime/arc_rows.py) are computed from a
+known start point so that most of them are valid: centre (I J K, offsets
+or G90.1 centres) or radius (+R short, -R long) format, full circles,
+quarter, half and odd sweeps, radii from 0.002 to 20000, P turns, helical
+moves, modal continuation, F changes, N numbers, long stretches of one
+row layout alternating G2 and G3 (the batch form), and now and then an
+arc rs274 rejects: radii differing beyond the tolerance, a zero radius,
+an R arc ending where it starts, a missing G90.1 centre word, F0.
 """
 
 from __future__ import annotations
 
+import math
 import re
 
 from hypothesis import strategies as st
@@ -105,7 +115,14 @@ def move_row(
         motion = draw(st.sampled_from(["G1", "G0"]))
     if motion:
         words.append(motion)
-    axes = draw(st.lists(st.sampled_from(AXES[:3] * 4 + AXES[3:]), min_size=1, max_size=4, unique=True))
+    axes = draw(
+        st.lists(
+            st.sampled_from(AXES[:3] * 4 + AXES[3:]),
+            min_size=1,
+            max_size=4,
+            unique=True,
+        )
+    )
     for letter in sorted(axes, key=AXES.index):
         words.append(letter + draw(numbers(places)))
     if draw(st.integers(0, 7)) == 0:
@@ -131,6 +148,127 @@ def same_shape_rows(draw, numbered: bool, line: int, places: int = 6) -> list:
             words.append(draw(feed(places)))
         rows.append(" ".join(words))
     return rows
+
+
+def _text(value: float, places: int) -> str:
+    text = "%.*f" % (places, value)
+    return "0" if float(text) == 0 and text.startswith("-") and places < 4 else text
+
+
+@st.composite
+def arc_chain(draw, plane: str, numbered: bool, line: int, places: int = 4) -> list:
+    """A G0 to a known point, then a chain of arcs in ``plane`` (see the
+    module docstring), each starting where the previous one ended."""
+    axes, centre_letters, third = PLANES[plane]
+    absolute = draw(st.integers(0, 3)) == 0
+    lines = []
+
+    # Now and then N on some rows only: rows of the same words, two widths.
+    some = numbered and draw(st.integers(0, 3)) == 1
+
+    def number(k: int) -> list:
+        if some and k % 3 == 2:
+            return []
+        return ["N%d" % ((line + k) * 10)] if numbered else []
+
+    start = [float(_text(draw(st.floats(-300, 300)), places)) for _ in range(2)]
+    lines.append(
+        " ".join(
+            number(0)
+            + ["G0 G90 G94 G8" + (" G90.1" if absolute else "")]
+            + ["F" + draw(st.sampled_from(["300", "1200.5"]))]
+            + [a + _text(v, places) for a, v in zip(axes, start)]
+        )
+    )
+    uniform = draw(st.booleans())  # one row layout: the batch form
+    radius_format = draw(st.integers(0, 4)) == 0
+    helical = draw(st.booleans())
+    with_f = draw(st.integers(0, 3)) == 0
+    count = draw(st.integers(8, 40) if uniform else st.integers(1, 12))
+    # Now and then one arc of the chain is an error rs274 reports (after
+    # it, the program ends): which arc, and which error.
+    errors = {}
+    if draw(st.integers(0, 7)) == 5:  # not 0: the generator's favourite
+        errors[draw(st.integers(0, count - 1))] = draw(st.integers(0, 3))
+    for k in range(count):
+        if not uniform:
+            radius_format = draw(st.integers(0, 3)) == 0
+            helical = draw(st.integers(0, 2)) == 0
+            with_f = draw(st.integers(0, 5)) == 0
+        r = draw(
+            st.sampled_from(
+                [0.002, 0.5, 3.0, 12.5, 250.0, 20000.0]
+                if not uniform
+                else [2.0, 7.5, 40.0]
+            )
+        )
+        phi = draw(st.sampled_from([0.0, 90.0, 180.0, 270.0, 30.0, 135.0, 200.5]))
+        offset = [
+            float(_text(r * math.cos(math.radians(phi)), places)),
+            float(_text(r * math.sin(math.radians(phi)), places)),
+        ]
+        centre = [start[0] + offset[0], start[1] + offset[1]]
+        radius = math.hypot(*offset)
+        sweep = draw(st.sampled_from([0.0, 90.0, 180.0, 45.0, 270.0, 123.4, -60.0]))
+        if radius_format and sweep == 0.0:
+            sweep = 90.0
+        angle = math.atan2(-offset[1], -offset[0]) + math.radians(sweep)
+        end = [
+            centre[0] + radius * math.cos(angle),
+            centre[1] + radius * math.sin(angle),
+        ]
+        end = [float(_text(v, places)) for v in end] if sweep else list(start)
+        error = errors[k] if k in errors else 99
+        if error == 0:  # the end off the circle: beyond the spiral tolerance
+            end[0] += draw(st.sampled_from([0.05, 0.0282, 0.0283, 3.0]))
+        words = number(k + 1)
+        clockwise = draw(st.booleans()) if not uniform else k % 2 == 0
+        if uniform or k == 0 or draw(st.integers(0, 3)):
+            words.append(
+                ("G2" if clockwise else "G3")
+                if uniform or draw(st.booleans())
+                else ("G02" if clockwise else "G03")
+            )
+        if uniform or sweep or draw(st.booleans()) or radius_format:
+            words += [a + _text(v, places) for a, v in zip(axes, end)]
+        if helical:
+            words.append(third + _text(draw(st.floats(-50, 50)), places))
+        if radius_format:
+            if error == 1:  # ends where it starts
+                words = (
+                    words[: len(words) - 2 - helical]
+                    + [a + _text(v, places) for a, v in zip(axes, start)]
+                    + words[len(words) - helical :]
+                )
+            sign = "-" if draw(st.booleans()) else ""
+            words.append("R" + sign + _text(radius + 10.0**-places, places))
+        else:
+            given = centre if absolute else offset
+            for letter, value in zip(centre_letters, given):
+                if value == 0.0 and not (absolute or uniform) and draw(st.booleans()):
+                    continue  # a missing offset is 0
+                if absolute and error == 2:
+                    continue  # a G90.1 centre needs both words
+                words.append(letter + _text(value, places))
+        if with_f:
+            words.append(
+                "F"
+                + draw(
+                    st.sampled_from(
+                        ["500", "1200.5", "75.25", "0"]
+                        if error == 3
+                        else ["500", "1200.5", "75.25"]
+                    )
+                )
+            )
+        if not uniform and draw(st.integers(0, 15)) == 0:
+            words.append("P" + draw(st.sampled_from(["2", "3"])))
+        lines.append(" ".join(words))
+        if not (error == 0 and radius_format):
+            start = end if not (radius_format and error == 1) else start
+    if absolute:
+        lines.append("G91.1")
+    return lines
 
 
 INTERRUPTIONS = [
@@ -186,11 +324,41 @@ def cam_programs(draw) -> str:
                 plane = lines[-1] if lines[-1] in PLANES else plane
             elif draw(st.integers(0, 12)) == 0:
                 lines.extend(draw(same_shape_rows(numbered, len(lines) + 1, places)))
+            elif draw(st.integers(0, 10)) == 0:
+                lines.extend(draw(arc_chain(plane, numbered, len(lines) + 1, places)))
             else:
                 after_arc = bool(lines) and ARC.search(lines[-1]) is not None
                 row = move_row(numbered, len(lines) + 1, plane, after_arc, places)
                 lines.append(draw(row))
         if draw(st.booleans()):
+            lines.append(draw(st.sampled_from(INTERRUPTIONS)))
+            plane = lines[-1] if lines[-1] in PLANES else plane
+    lines.append("M2")
+    return "\n".join(lines) + "\n"
+
+
+@st.composite
+def arc_programs(draw) -> str:
+    """Units, a plane and a feed rate, then chains of arcs (`arc_chain`) with
+    straight moves, plane changes and the odd interruption between them."""
+    plane = draw(st.sampled_from(list(PLANES)))
+    units = draw(st.sampled_from(["G21", "G21", "G20"]))
+    lines = ["%s %s F%s" % (units, plane, draw(st.sampled_from(["300", "1200.5"])))]
+    numbered = draw(st.booleans())
+    places = draw(st.sampled_from([3, 4, 4, 6]))
+    for _ in range(draw(st.integers(1, 4))):
+        lines.extend(draw(arc_chain(plane, numbered, len(lines) + 1, places)))
+        choice = draw(st.integers(0, 3))
+        if choice == 0:
+            plane = draw(st.sampled_from(list(PLANES)))
+            lines.append(plane)
+        elif choice == 1:
+            lines.append("G1 " + PLANES[plane][2] + draw(numbers(places)))
+            for _ in range(draw(st.integers(1, 10))):
+                lines.append(
+                    draw(move_row(numbered, len(lines) + 1, plane, True, places))
+                )
+        elif choice == 2:
             lines.append(draw(st.sampled_from(INTERRUPTIONS)))
             plane = lines[-1] if lines[-1] in PLANES else plane
     lines.append("M2")

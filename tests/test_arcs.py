@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 import rs274 as harness
-from runtime import arcs
+from runtime import arc_rows, arcs, ops
 from runtime.errors import GCodeError
 
 hypothesis = pytest.importorskip("hypothesis")
@@ -312,3 +312,19 @@ def test_random_arcs_match_rs274(case):
         assert len(feeds) == 1
         # Drop the axis end point and a, b, c: not arcs.py's business.
         assert ", ".join(feeds[0].split(", ")[:5]) == expected_args
+
+
+@given(
+    st.one_of(
+        st.floats(-math.pi, math.pi),
+        st.floats(-1e-18, 1e-18),
+        st.sampled_from([math.pi, -math.pi, math.pi / 2, -math.pi / 2, 0.0, -0.0]),
+        st.integers(-200, 200).map(lambda k: math.pi / 2 + k * 2.0**-52),
+        st.integers(-200, 200).map(lambda k: -math.pi / 2 + k * 2.0**-52),
+    ),
+    st.sampled_from([1, -1]),
+)
+def test_fast_half_pi_sum_is_the_exact_one(x, sign):
+    """runtime.arc_rows adds M_PI_2l with scaled integers: the same double
+    as the exact fractions of runtime.ops, near the cancellations too."""
+    assert arc_rows.plus_half_pi_l(x, sign) == ops.plus_half_pi(x, sign)

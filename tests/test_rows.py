@@ -10,13 +10,18 @@ and values as one written as the G-code was.
 
 from __future__ import annotations
 
+import io
+
 import pytest
 from hypothesis import given, settings
 
 import cam_strategies
 from ngc2py import codegen, rowtable
 from ngc2py.compiler import compile_text
-from runtime.canon import RecordingCanon
+from runtime.arc_rows import ArcRows
+from runtime.canon import RecordingCanon, TraceCanon
+from runtime.errors import GCodeError
+from runtime.machine import Machine
 from test_differential import PROFILE, check_same
 
 FOUR_PLACES = (
@@ -41,12 +46,62 @@ def test_cam_programs_converted(text):
     check_same(text, "convert")
 
 
-def _calls(code: str) -> list:
+@pytest.mark.rs274
+@settings(PROFILE, max_examples=PROFILE.max_examples * 2)
+@given(cam_strategies.arc_programs())
+def test_arc_programs_run(text):
+    check_same(text, "inprocess")
+
+
+@pytest.mark.rs274
+@PROFILE
+@given(cam_strategies.arc_programs())
+def test_arc_programs_converted(text):
+    check_same(text, "convert")
+
+
+def _calls(code: str, error: bool = False):
     namespace: dict = {"__name__": "cam"}
     exec(compile(code, "cam.py", "exec"), namespace)
     canon = RecordingCanon()
-    namespace["run"](canon)
-    return canon.calls
+    try:
+        namespace["run"](canon)
+    except GCodeError as raised:
+        if not error:
+            raise
+        return canon.calls, canon.numbers, str(raised)
+    return (canon.calls, canon.numbers, None) if error else canon.calls
+
+
+def _trace(code: str):
+    """The trace text (runtime/arc_rows.py writes batches of it itself)."""
+    namespace: dict = {"__name__": "cam"}
+    exec(compile(code, "cam.py", "exec"), namespace)
+    out = io.StringIO()
+    try:
+        namespace["run"](TraceCanon(out))
+    except GCodeError as raised:
+        return out.getvalue(), str(raised)
+    return out.getvalue(), None
+
+
+def _without_arc_fast_paths(monkeypatch) -> None:
+    """Every arc through Machine.block, as rs274's pipeline runs it."""
+    monkeypatch.setattr(ArcRows, "run", lambda self, cells, at, end: at)
+    monkeypatch.setattr(Machine, "plain_arc", lambda self, *args: False)
+
+
+@settings(PROFILE, max_examples=PROFILE.max_examples * 3)
+@given(cam_strategies.arc_programs())
+def test_arc_fast_paths_give_a_canon_the_general_paths_calls(text):
+    """Any canon (here one that records) gets from the arc fast paths
+    (runtime/arc_rows.py, Machine.plain_arc) the calls, values, N numbers
+    and error the general path gives it, and a trace the same text."""
+    code = compile_text(text, "arcs.ngc")
+    fast = _calls(code, error=True), _trace(code)
+    with pytest.MonkeyPatch.context() as patch:
+        _without_arc_fast_paths(patch)
+        assert (_calls(code, error=True), _trace(code)) == fast
 
 
 def test_values_with_four_decimals_are_written_as_printed():

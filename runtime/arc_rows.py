@@ -1,0 +1,536 @@
+"""Arcs in the machine's plain state: the geometry inlined, the checks made
+once per shape, the state kept in local variables for a run of rows.
+
+An arc block in the plain state (see :mod:`runtime.fastpath`) needs, from
+rs274's pipeline, only:
+
+* the checks that depend on which words the block has (R or I J K, the
+  centre letters of the plane, an end point for R): the same for every row
+  of a shape, so :func:`arc_recipe` makes them once per shape and plane;
+* a feed rate that is not zero (feed per minute is part of "plain");
+* the centre, by exactly the floating-point operations of rs274's
+  ``arc_data_ijk`` / ``arc_data_r`` in the same order (runtime/arcs.py is
+  the reference; the helpers here must give the same doubles);
+* the radius checks of the centre format. Their radii are not printed, so
+  they are taken with ``math.hypot``, which may differ from the C library's
+  ``hypot`` in the last bit: an arc is accepted here only when the checks
+  pass with a margin far beyond that bit, and anything closer goes to the
+  general path, which decides with the C library's rounding.
+
+Anything else -- an error, a spiral near its tolerance, a modal motion that
+is not an arc, a plane of U V W -- makes these functions step aside, having
+done nothing, so ``Machine.block`` runs the line and raises rs274's errors
+in rs274's order.
+"""
+
+from __future__ import annotations
+
+from itertools import repeat, takewhile
+from math import asin, atan2, cos, hypot, sin
+from operator import add, sub
+
+from runtime import arcs
+from runtime.canon import TraceCanon
+from runtime.codes import G0, G1, G2, G3
+from runtime.errors import GCodeError
+from runtime.ops import c_hypot, plus_half_pi
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import List, Optional, Tuple
+
+    Recipe = Tuple[Tuple[Tuple[int, int], ...], int, int, int]
+
+#: plane -> indexes, in the 9-axis point, of its first and second axis and
+#: of the third (the helix axis).
+PLANE_AXES = {"XY": (0, 1, 2), "XZ": (2, 0, 1), "YZ": (1, 2, 0)}
+
+_AXES = "xyzabc"
+
+#: Relative slack of the radius checks: math.hypot and the C library's hypot
+#: differ by a few units in the last place at most (1e-16 relative).
+_MARGIN = 1e-14
+_BELOW = 1 - _MARGIN
+
+#: rs274's 1 - TINY: a chord this close to the diameter is a semicircle.
+_SEMICIRCLE = 1 - arcs._SEMICIRCLE_SLACK
+
+#: Rows of arcs in a row, at least, for the batch form; at most per batch.
+_BATCH = 8
+_MOST = 4096
+
+#: The trace's rotation column for G2 and G3 (one turn: no P word here).
+_ROTATION = {G2: "-1", G3: "1"}
+
+
+def arc_recipe(letters, plane: str, absolute: bool) -> Optional[Recipe]:
+    """What an arc with the words ``letters`` (lower case, no N) needs in
+    ``plane`` with G90.1 (``absolute``) or G91.1: ``(slots, r_at, first_at,
+    second_at)``, the (value index, axis index) pairs of its axis words and
+    the value indexes of R and of the two centre words (-1: absent). None
+    when the words alone make the block an error (the general path says
+    which)."""
+    if plane not in PLANE_AXES:
+        return None
+    present = dict.fromkeys(letters, 0.0)
+    try:
+        arcs.check_arc_format(plane, present)
+        arcs.arc_center_words(plane, present, absolute)
+    except GCodeError:
+        return None
+    letters = list(letters)
+    slots = tuple((i, _AXES.index(x)) for i, x in enumerate(letters) if x in _AXES)
+
+    def where(letter: str) -> int:
+        return letters.index(letter) if letter in present else -1
+
+    if "r" in present:
+        return slots, where("r"), -1, -1
+    first, second = arcs._CENTER_LETTERS[plane]
+    return slots, -1, where(first), where(second)
+
+
+def centre_checks_pass(s1, s2, e1, e2, c1, c2, zero: float, spiral: float) -> bool:
+    """True when rs274's radius checks of a centre-format arc surely pass
+    (see the module docstring); False: let the general path decide."""
+    r1 = hypot(c1 - s1, c2 - s2)
+    r2 = hypot(c1 - e1, c2 - e2)
+    if r1 < r2:
+        small, big = r1, r2
+    else:
+        small, big = r2, r1
+    return small * _BELOW >= zero and (big - small) + big * _MARGIN <= spiral
+
+
+def radius_centre(
+    clockwise: bool, s1, s2, e1, e2, radius: float, zero: float
+) -> Optional[Tuple[float, float]]:
+    """The centre of an R-format arc (rs274's arc_data_r), or None for the
+    general path: the end point is the start point, R is too small or 0."""
+    if (e1 == s1 and e2 == s2) or radius == 0.0:
+        return None
+    abs_radius = abs(radius)
+    mid1 = (e1 + s1) / 2.0
+    mid2 = (e2 + s2) / 2.0
+    half = c_hypot(mid1 - e1, mid2 - e2)  # printed through the centre: exact
+    if half - abs_radius > zero:
+        return None
+    if half / abs_radius > _SEMICIRCLE:
+        half = abs_radius
+    # Centre to the right of the chord for a short clockwise arc (or a long
+    # counter-clockwise one), to the left otherwise.
+    theta = plus_half_pi_l(
+        atan2(e2 - s2, e1 - s1), -1 if clockwise == (radius > 0) else 1
+    )
+    offset = abs_radius * cos(asin(half / abs_radius))
+    return mid1 + offset * cos(theta), mid2 + offset * sin(theta)
+
+
+#: M_PI_2l (64-bit significand) times 2**128, and that scale.
+_HALF_PI_SCALED = 0xC90FDAA22168C235 << 65
+_SCALE = 2.0**128
+_UNSCALE = 2.0**-128
+#: M_PI_2l stored into a double.
+_HALF_PI = float(0xC90FDAA22168C235) * 2.0**-63
+
+
+def plus_half_pi_l(x: float, sign: int) -> float:
+    """:func:`runtime.ops.plus_half_pi` (``x + sign * M_PI_2l`` rounded to a
+    long double, then stored into a double) in integers scaled by 2**128,
+    about fifteen times faster than its exact fractions.
+
+    For 2**-66 <= |x| <= 4 (an angle from atan2) every double is a multiple
+    of 2**-118, so the scaled sum is an exact integer: rounding it to 64
+    significant bits (half to even) is the x87's addition, and ``float()``
+    of an integer rounds half to even, as the store does."""
+    if not 2.0**-66 <= abs(x) <= 4.0:
+        if x == 0.0:  # a chord along an axis
+            return _HALF_PI if sign > 0 else -_HALF_PI
+        return plus_half_pi(x, sign)
+    total = int(x * _SCALE) + (_HALF_PI_SCALED if sign > 0 else -_HALF_PI_SCALED)
+    negative = total < 0
+    if negative:
+        total = -total
+    extra = total.bit_length() - 64
+    if extra > 0:
+        kept = total >> extra
+        rest = total - (kept << extra)
+        half = 1 << (extra - 1)
+        if rest > half or (rest == half and kept & 1):
+            kept += 1
+        total = kept << extra
+    value = float(total) * _UNSCALE
+    return -value if negative else value
+
+
+class ArcRows:
+    """The loop over a run of arc rows of one table (runtime.rows): made
+    once per ``run_rows`` call, it keeps each shape's recipe per plane and
+    IJK mode."""
+
+    __slots__ = ("machine", "plans", "recipes", "printed", "groups", "straight")
+
+    def __init__(self, machine, plans, printed: bool = False) -> None:
+        self.machine = machine
+        self.plans = plans
+        #: (plane, absolute) -> {shape cell text: row recipe or None}
+        self.recipes: dict = {}
+        #: The table's values are written as the trace prints them
+        #: (runtime.printed_rows): the batch form copies their text.
+        self.printed = printed
+        #: shape cell text -> the shape cells of the same words with G2 or
+        #: G3 (their rows can share a batch), None for a modal motion.
+        self.groups: Optional[dict] = None
+        #: shape cell text -> (motion, has_n, f_at, width, slots) of the
+        #: plain straight moves (runtime.rows._Plan.slots).
+        self.straight = {
+            str(index): (plan.motion, plan.has_n, plan.f_at, plan.width, plan.slots)
+            for index, plan in enumerate(plans)
+            if plan.slots is not None
+        }
+
+    def _row_recipe(self, key: str, plane: str, absolute: bool):
+        plan = self.plans[int(key)]
+        if not plan.arc:
+            return None
+        recipe = arc_recipe(plan.letters, plane, absolute)
+        if recipe is None:
+            return None
+        letters = plan.letters
+        f_at = letters.index("f") if "f" in letters else -1
+        return (plan.motion, plan.has_n, f_at, plan.width) + recipe
+
+    def run(self, cells: List[str], at: int, end: int) -> int:
+        """Run the rows from ``cells[at]``, an arc, while they are plain
+        arcs the fast path can take or plain straight moves between them;
+        returns where it stopped (a row for the general path or for
+        runtime.printed_rows, or ``end``). The same calls as
+        ``Machine.plain_arc`` and ``Machine.plain_rows`` row by row, with
+        the machine's state in local variables."""
+        machine = self.machine
+        plane = machine.plane
+        if not machine._plain or plane not in PLANE_AXES:
+            return at
+        p1, p2, p3 = PLANE_AXES[plane]
+        absolute = machine.ijk_absolute
+        known = self.recipes.setdefault((plane, absolute), {})
+        key = cells[at + 1]
+        if key not in known:
+            known[key] = self._row_recipe(key, plane, absolute)
+        if known[key] is None:
+            return at
+        zero = arcs.radius_tolerance(machine.inches)
+        spiral = machine.spiral_tolerance()
+        canon = machine.canon
+        arc_feed, set_feed_rate = canon.arc_feed, canon.set_feed_rate
+        straight_feed = canon.straight_feed
+        straight_traverse = canon.straight_traverse
+        straight = self.straight
+        cur = machine.current
+        motion_mode, feed_rate = machine.motion_mode, machine.feed_rate
+        block_n = machine._block_n
+        feed_given = False
+        # The batch form writes trace text itself (as runtime.printed_rows
+        # does); other canons get every call, row by row.
+        batch_from = at if type(canon) is TraceCanon else end
+        groups = self.groups if self.groups is not None else self._groups()
+        row = at
+        try:
+            while at < end:
+                row = at
+                key = cells[at + 1]
+                recipe = known.get(key, False)
+                if recipe is False:
+                    recipe = known[key] = self._row_recipe(key, plane, absolute)
+                if recipe is None:
+                    # Between arcs, a plain straight move (a contour's
+                    # lines) is taken here too, as Machine.plain_rows takes
+                    # it, rather than leaving this loop for one row.
+                    line = straight.get(key)
+                    if line is None:
+                        break
+                    motion, has_n, f_at, width, slots = line
+                    stride = 2 + width
+                    if end - at >= stride * _BATCH and (
+                        cells[at + 1 + stride * (_BATCH - 1)] == key
+                    ):
+                        break  # a stretch runtime.printed_rows writes at once
+                    if motion is None:
+                        motion = motion_mode
+                    start = at + 2
+                    if has_n:
+                        n = cells[start]
+                        start += 1
+                    else:
+                        n = None
+                    f = None if f_at < 0 else float(cells[start + f_at])
+                    if motion == G1:
+                        if (feed_rate if f is None else f) <= 0.0:
+                            break
+                    elif motion != G0 or (f is not None and f < 0.0):
+                        break
+                    if n != block_n:
+                        canon.set_block_number(n)
+                        block_n = n
+                    if f is not None:
+                        feed_rate = f
+                        feed_given = True
+                        set_feed_rate(f)
+                    point = cur[:]
+                    for i, axis in slots:
+                        point[axis] = float(cells[start + i])
+                    if motion == G1:
+                        straight_feed(*point)
+                    else:
+                        straight_traverse(*point)
+                    cur = point
+                    motion_mode = motion
+                    at += stride
+                    continue
+                motion, has_n, f_at, width, slots, r_at, i1, i2 = recipe
+                if (
+                    at >= batch_from
+                    # the quick test: the eighth row from here is an arc
+                    # of these words too (_batch checks all of them)
+                    and end - at >= (2 + width) * _BATCH
+                    and cells[at + 1 + (2 + width) * (_BATCH - 1)]
+                    in groups.get(key, ())
+                ):
+                    done = self._batch(
+                        cells, at, end, recipe, cur, feed_rate, absolute, zero, spiral
+                    )
+                    if type(done) is int:
+                        # Not here: row by row past this stretch (its rows
+                        # are not scanned again and again).
+                        batch_from = at + (2 + width) * max(done, _BATCH)
+                    else:
+                        rows, cur, rate, motion_mode, n = done
+                        at += rows * (2 + width)
+                        row = at - 2 - width
+                        if rate is not None:
+                            feed_rate, feed_given = rate, True
+                        block_n = n
+                        continue
+                if motion is None:
+                    motion = motion_mode
+                    if motion != G2 and motion != G3:
+                        break
+                start = at + 2
+                if has_n:
+                    n = cells[start]
+                    start += 1
+                else:
+                    n = None
+                if f_at >= 0:
+                    f = float(cells[start + f_at])
+                    if f <= 0.0:  # negative, or an arc without feed: errors
+                        break
+                else:
+                    f = None
+                    if feed_rate == 0.0:
+                        break
+                point = cur[:]
+                for i, axis in slots:
+                    point[axis] = float(cells[start + i])
+                s1, s2, e1, e2 = cur[p1], cur[p2], point[p1], point[p2]
+                if r_at < 0:
+                    v1 = float(cells[start + i1]) if i1 >= 0 else 0.0
+                    v2 = float(cells[start + i2]) if i2 >= 0 else 0.0
+                    if absolute:
+                        c1, c2 = v1, v2
+                    else:
+                        c1, c2 = s1 + v1, s2 + v2
+                    # centre_checks_pass, inlined
+                    r1 = hypot(c1 - s1, c2 - s2)
+                    r2 = hypot(c1 - e1, c2 - e2)
+                    if r1 < r2:
+                        r1, r2 = r2, r1
+                    if not (r2 * _BELOW >= zero and (r1 - r2) + r1 * _MARGIN <= spiral):
+                        break
+                else:
+                    centre = radius_centre(
+                        motion == G2, s1, s2, e1, e2, float(cells[start + r_at]), zero
+                    )
+                    if centre is None:
+                        break
+                    c1, c2 = centre
+                if n != block_n:
+                    canon.set_block_number(n)
+                    block_n = n
+                if f is not None:
+                    feed_rate = f
+                    feed_given = True
+                    set_feed_rate(f)
+                arc_feed(
+                    e1,
+                    e2,
+                    c1,
+                    c2,
+                    -1 if motion == G2 else 1,
+                    point[p3],
+                    *point[3:],
+                )
+                cur = point
+                motion_mode = motion
+                at += 2 + width
+        finally:
+            machine.line = int(cells[row])
+            if cur is not machine.current:
+                machine.current = machine.world.position = cur
+                machine._params.position = cur
+                machine.motion_mode = motion_mode
+            if feed_given:
+                machine.feed_rate = machine.world.feed_rate = feed_rate
+            machine._block_n = block_n
+        return at
+
+    def _groups(self) -> dict:
+        by_words: dict = {}
+        for index, plan in enumerate(self.plans):
+            if plan.arc and plan.motion is not None:
+                # The same words and N or none: the same width.
+                words = (plan.letters, plan.has_n)
+                by_words.setdefault(words, set()).add(str(index))
+        self.groups = {
+            shape: frozenset(shapes) for shapes in by_words.values() for shape in shapes
+        }
+        return self.groups
+
+    def _batch(self, cells, at, end, recipe, cur, feed_rate, absolute, zero, spiral):
+        """The trace of the run of arc rows of the shape of the
+        row at ``at`` (or the same words with the other of G2/G3), made in
+        one go and written: ``(rows, end point, last F or None, last motion,
+        last N)``. Having done nothing, the number of rows of the stretch
+        (< _BATCH: too few) where any row is one the row loop would not take (a zero or
+        negative F, radii not surely within the tolerances, an R arc
+        the general path must decide).
+
+        Rows of one width sit ``width + 2`` cells apart, so each word is
+        one slice of ``cells``; each start point is the previous row's
+        end point. Every step is a ``map`` over whole columns, with the
+        same floating-point operations as the row loop."""
+        _, has_n, f_at, width, slots, r_at, i1, i2 = recipe
+        group = self.groups.get(cells[at + 1])
+        if group is None:
+            return 0
+        stride = width + 2
+        shapes = cells[at + 1 : min(end, at + 1 + stride * _MOST) : stride]
+        rows = len(list(takewhile(group.__contains__, shapes)))
+        if rows < _BATCH:
+            return rows
+        del shapes[rows:]
+        stop = at + rows * stride
+        values = at + 2 + has_n
+        texts = [cells[values + i : stop : stride] for i in range(width - has_n)]
+        named = {axis: i for i, axis in slots}
+        p1, p2, p3 = PLANE_AXES[self.machine.plane]
+
+        def floats(axis: int) -> List[float]:
+            i = named.get(axis)
+            return [cur[axis]] * rows if i is None else list(map(float, texts[i]))
+
+        e1, e2 = floats(p1), floats(p2)
+        s1, s2 = [cur[p1]] + e1[:-1], [cur[p2]] + e2[:-1]
+        if r_at >= 0:
+            clockwise = {k: self.plans[int(k)].motion == G2 for k in group}
+            centres = list(
+                map(
+                    radius_centre,
+                    map(clockwise.__getitem__, shapes),
+                    s1,
+                    s2,
+                    e1,
+                    e2,
+                    map(float, texts[r_at]),
+                    repeat(zero, rows),
+                )
+            )
+            if None in centres:
+                return rows
+            c1, c2 = map(list, zip(*centres))
+        else:
+            v1 = [0.0] * rows if i1 < 0 else list(map(float, texts[i1]))
+            v2 = [0.0] * rows if i2 < 0 else list(map(float, texts[i2]))
+            if absolute:
+                c1, c2 = v1, v2
+            else:
+                c1, c2 = list(map(add, s1, v1)), list(map(add, s2, v2))
+            r1 = list(map(hypot, map(sub, c1, s1), map(sub, c2, s2)))
+            r2 = list(map(hypot, map(sub, c1, e1), map(sub, c2, e2)))
+            big = max(max(r1), max(r2))
+            if not (
+                min(min(r1), min(r2)) * _BELOW >= zero
+                and max(map(abs, map(sub, r1, r2))) + big * _MARGIN <= spiral
+            ):
+                return rows
+        rate = None
+        if f_at >= 0:
+            rates = list(map(float, texts[f_at]))
+            if min(rates) <= 0.0:
+                return rows
+            rate = rates[-1]
+        elif feed_rate == 0.0:
+            return rows
+        # The line pattern: each end coordinate a column (its text when the
+        # table is written as printed) or, when no row names it, constant.
+        parts, columns = [], []
+        for axis, known in (
+            (p1, e1),
+            (p2, e2),
+            (-1, c1),
+            (-2, c2),
+            (-3, None),
+            (p3, None),
+            (3, None),
+            (4, None),
+            (5, None),
+        ):
+            if axis == -3:
+                parts.append("%s")
+                rotation = {k: _ROTATION[self.plans[int(k)].motion] for k in group}
+                columns.append(list(map(rotation.__getitem__, shapes)))
+            elif axis < 0:
+                parts.append("%.4f")
+                columns.append(known)
+            elif axis not in named:
+                parts.append("%.4f" % cur[axis])
+            elif self.printed:
+                parts.append("%s")
+                columns.append(texts[named[axis]])
+            else:
+                parts.append("%.4f")
+                columns.append(known if known is not None else floats(axis))
+        canon = self.machine.canon
+        count = canon._count
+        if has_n:
+            column = "N%-6s"
+            numbers = cells[at + 2 : stop : stride]
+        else:
+            column = "N..... "
+        move = "%%5d %sARC_FEED(%s)\n" % (column, ", ".join(parts))
+        if f_at >= 0:
+            fmt = (
+                "%%5d %sSET_FEED_RATE(%s)\n"
+                % (column, "%s" if self.printed else "%.4f")
+                + move
+            )
+            parts = [range(count + 1, count + 2 * rows, 2)]
+            parts += [numbers] if has_n else []
+            parts.append(texts[f_at] if self.printed else rates)
+            parts.append(range(count + 2, count + 2 * rows + 1, 2))
+            count += 2 * rows
+        else:
+            fmt = move
+            parts = [range(count + 1, count + rows + 1)]
+            count += rows
+        parts += [numbers] if has_n else []
+        canon._write("".join(map(fmt.__mod__, zip(*parts, *columns))))
+        canon._count = count
+        if count >= canon._drain_at:  # TraceCanon's own batching
+            canon._drain()
+        n = numbers[-1] if has_n else None
+        canon._column = "N..... " if n is None else "N%-6s" % n
+        point = cur[:]
+        for i, axis in slots:
+            point[axis] = float(texts[i][-1])
+        return rows, point, rate, self.plans[int(shapes[-1])].motion, n
