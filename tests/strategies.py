@@ -865,7 +865,8 @@ class LanguageWriter:
         self.loops: List[tuple] = []
         # labels of constructs already closed in this body: (label, kind)
         self.closed: List[tuple] = []
-        self.open_ifs: List[str] = []  # labels of the ifs around this point
+        # the ifs around this point: (label, depth of their arms' lines)
+        self.open_ifs: List[tuple] = []
         self.counters: List[str] = []  # loop counters visible here
         self.sub: str = ""  # name of the subroutine being written
         self.subs: List[str] = []  # callable subroutines
@@ -961,7 +962,7 @@ def closer_words(w: LanguageWriter) -> str:
 def lang_if(w: LanguageWriter) -> None:
     label = w.label()
     w.emit(f"o{label} if {w.condition()}", slash_ok=False)
-    w.open_ifs.append(label)
+    w.open_ifs.append((label, w.depth + 1))
     arms = 1 + w.draw(st.integers(0, 2))
     for arm in range(arms):
         if arm:
@@ -978,9 +979,12 @@ def lang_if(w: LanguageWriter) -> None:
 def lang_loop(w: LanguageWriter) -> None:
     kind = w.pick(["while", "do", "repeat"])
     label = w.label()
-    if kind == "do" and w.open_ifs and w.chance(12):
-        # the label of an if around it: a false condition lands on the do
-        label = w.pick(w.open_ifs)
+    arm_of = [name for name, depth in w.open_ifs if depth == w.depth]
+    if kind == "do" and arm_of and w.chance(12):
+        # the label of the if whose arm it is in: a skip lands on the do.
+        # (A do deeper inside another construct of that arm is a known gap:
+        # test_language_generators.test_a_skip_lands_on_a_do_inside_a_nested_if.)
+        label = arm_of[0]
     w.next_counter += 1
     counter = f"k{w.next_counter}"
     count = w.draw(st.integers(0, 3))
