@@ -101,13 +101,17 @@ def test_save_in_a_missing_folder_does_nothing(tmp_path):
     assert report.getvalue() == "" and not path.parent.exists()
 
 
-@pytest.mark.rs274
 def test_missing_file_report_matches_rs274(tmp_path):
-    (tmp_path / "rs274").mkdir()
-    _, err = _rs274(tmp_path / "rs274", "M2\n")
+    # rs274's report, as golden/record.py recorded it for a missing -v file.
+    # (Run live from here, rs274 printed nothing in two full-suite runs on
+    # 2 cores while it prints the report alone and in 40 parallel runs: not
+    # explained yet, so the recorded reference is used.)
+    recorded = (
+        Path(__file__).parent.parent / "golden" / "params" / "var_file_missing.err"
+    )
     report = io.StringIO()
     save_parameter_file(str(tmp_path / "a.var"), {}, stderr=report)
-    assert report.getvalue() == err + "\n"
+    assert report.getvalue() == recorded.read_text()
 
 
 # --------------------------------------------------------------------------
