@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import os
 import shutil
+import stat
 import subprocess
 import sys
 from pathlib import Path
@@ -44,11 +45,45 @@ DEFAULT_TIMEOUT = float(os.environ.get("NGC2PY_TEST_TIMEOUT", "60"))
 
 
 def rs274_path() -> Optional[str]:
-    """The rs274 executable, or None when LinuxCNC is not installed."""
+    """The rs274 executable, or None when LinuxCNC is not installed.
+
+    Raises RuntimeError when this machine would make rs274's answers depend
+    on chance (see :func:`null_device_problem`).
+    """
     override = os.environ.get("RS274")
     if override:
-        return override if shutil.which(override) else None
-    return shutil.which("rs274")
+        exe = shutil.which(override)
+    else:
+        exe = shutil.which("rs274")
+    if exe is not None:
+        problem = null_device_problem()
+        if problem:
+            raise RuntimeError(problem)
+    return exe
+
+
+def null_device_problem() -> Optional[str]:
+    """Why rs274 cannot be trusted as the reference here, or None.
+
+    When its parameter file does not exist yet (a missing ``-v`` file, or the
+    default ``rs274ngc.var`` in a fresh folder), rs274 reads /dev/null in its
+    place. Some container images ship /dev/null as a regular file holding
+    whatever some process last wrote to it: rs274 then reads that text as
+    parameters, and may silently skip saving them (no "link (updating
+    variable file)" report), so a differential test would fail at random.
+    """
+    try:
+        mode = os.stat(os.devnull).st_mode
+    except OSError as exc:
+        return f"{os.devnull}: {exc.strerror}"
+    if stat.S_ISCHR(mode):
+        return None
+    return (
+        f"{os.devnull} is not the null device on this machine (it is a regular file):"
+        " rs274 reads it as its parameter file when that file does not exist yet, so"
+        " its reports would depend on what was last written there. As root:"
+        f" rm -f {os.devnull} && mknod -m 666 {os.devnull} c 1 3 (.ci/run does this)"
+    )
 
 
 class Scratch(golden.Scratch):

@@ -101,17 +101,33 @@ def test_save_in_a_missing_folder_does_nothing(tmp_path):
     assert report.getvalue() == "" and not path.parent.exists()
 
 
+@pytest.mark.rs274
 def test_missing_file_report_matches_rs274(tmp_path):
-    # rs274's report, as golden/record.py recorded it for a missing -v file.
-    # (Run live from here, rs274 printed nothing in two full-suite runs on
-    # 2 cores while it prints the report alone and in 40 parallel runs: not
-    # explained yet, so the recorded reference is used.)
-    recorded = (
-        Path(__file__).parent.parent / "golden" / "params" / "var_file_missing.err"
-    )
+    # rs274 reads /dev/null in place of the missing file: harness.rs274_path()
+    # refuses machines where that is not the null device (it made this
+    # comparison fail at random).
+    (tmp_path / "rs274").mkdir()
+    _, err = _rs274(tmp_path / "rs274", "M2\n")
     report = io.StringIO()
     save_parameter_file(str(tmp_path / "a.var"), {}, stderr=report)
-    assert report.getvalue() == recorded.read_text()
+    assert report.getvalue() == err + "\n"
+
+
+def test_rs274_is_refused_where_dev_null_is_a_regular_file(tmp_path, monkeypatch):
+    fake = tmp_path / "null"
+    fake.write_text("5220 1\n5161 3\n")  # what a reader of that file would see
+    monkeypatch.setattr(harness.os, "devnull", str(fake))
+    problem = harness.null_device_problem()
+    assert problem and str(fake) in problem and "mknod" in problem
+    if harness.shutil.which("rs274"):
+        monkeypatch.delenv("RS274", raising=False)
+        with pytest.raises(RuntimeError, match="not the null device"):
+            harness.rs274_path()
+
+
+def test_a_character_device_is_accepted_as_the_null_device(monkeypatch):
+    monkeypatch.setattr(harness.os, "devnull", "/dev/zero")
+    assert harness.null_device_problem() is None
 
 
 # --------------------------------------------------------------------------
