@@ -1,8 +1,10 @@
-"""The one thing pyproject.toml cannot say: runtime's optional C extension.
+"""The one thing pyproject.toml cannot say: runtime's optional C extensions.
 
 ``runtime._libm_trig`` computes SIN/COS/TAN as rs274 does, ten times faster
-than the ctypes path of runtime/x87.py. It is optional: without a C compiler
-and Python's headers the build skips it and the runtime uses ctypes.
+than the ctypes path of runtime/x87.py. ``runtime._fast_format`` makes trace
+lines (``template % args``) without Python's general float formatting. Both
+are optional: without a C compiler and Python's headers the build skips them
+and the runtime runs its pure-Python equivalents, with identical results.
 """
 
 from setuptools import Extension, setup
@@ -14,6 +16,15 @@ setup(
             ["runtime/_libm_trig.c"],
             libraries=["m"],
             optional=True,
-        )
+        ),
+        Extension(
+            "runtime._fast_format",
+            ["runtime/_fast_format.c"],
+            libraries=["m"],
+            # p = x * 10000 must be rounded on its own: _fast_format.c takes
+            # its exact error with fma().
+            extra_compile_args=["-ffp-contract=off"],
+            optional=True,
+        ),
     ]
 )

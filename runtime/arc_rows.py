@@ -30,7 +30,7 @@ from math import asin, atan2, cos, hypot, sin
 from operator import add, sub
 
 from runtime import arcs
-from runtime.canon import TraceCanon
+from runtime.canon import TraceCanon, trace_format
 from runtime.codes import G0, G1, G2, G3
 from runtime.errors import GCodeError
 from runtime.ops import c_hypot, plus_half_pi
@@ -377,7 +377,7 @@ class ArcRows:
             machine.line = int(cells[row])
             if cur is not machine.current:
                 machine.current = machine.world.position = cur
-                machine._params.position = cur
+                machine.params.position = cur
                 machine.motion_mode = motion_mode
             if feed_given:
                 machine.feed_rate = machine.world.feed_rate = feed_rate
@@ -524,7 +524,7 @@ class ArcRows:
             parts = [range(count + 1, count + rows + 1)]
             count += rows
         parts += [numbers] if has_n else []
-        canon._write("".join(map(fmt.__mod__, zip(*parts, *columns))))
+        canon._write("".join(map(trace_format, repeat(fmt), zip(*parts, *columns))))
         canon._count = count
         if count >= canon._drain_at:  # TraceCanon's own batching
             canon._drain()

@@ -231,6 +231,12 @@ def _no_arguments(call: str):
     return emit
 
 
+try:
+    # template % args, about three times faster for trace lines (setup.py)
+    from runtime._fast_format import percent as trace_format
+except ImportError:  # not built (no C compiler): the very same strings
+    trace_format = str.__mod__
+
 _TRAVERSE = "%5d %sSTRAIGHT_TRAVERSE(%.4f, %.4f, %.4f, %s)\n"
 _FEED = "%5d %sSTRAIGHT_FEED(%.4f, %.4f, %.4f, %s)\n"
 _ABC = "%.4f, %.4f, %.4f"
@@ -242,7 +248,87 @@ _FEED_RATE = "%5d %sSET_FEED_RATE(%.4f)\n"
 BUFFERED_LINES = 1024
 
 
-class TraceCanon(Canon):
+class PythonTraceLines:
+    """TraceCanon's commonest calls, in Python: its base where the C
+    extension ``runtime._fast_format`` was not built (whose ``TraceLines``
+    does the same in C, held to these by tests/test_fast_format.py).
+
+    The state is TraceCanon's (its ``__init__`` sets it): ``_count``,
+    ``_column``, ``_pending``/``_write``, ``_drain_at``, ``_a``/``_b``/``_c``
+    and ``_abc``.
+    """
+
+    # One %-format each (f-strings with format specs are slower), the line
+    # number folded in.
+    def straight_traverse(self, x, y, z, a, b, c, u, v, w):
+        self._count += 1
+        if a is not self._a or b is not self._b or c is not self._c:
+            self._a, self._b, self._c = a, b, c
+            self._abc = trace_format(_ABC, (a, b, c))
+        self._write(
+            trace_format(_TRAVERSE, (self._count, self._column, x, y, z, self._abc))
+        )
+        if self._count >= self._drain_at:
+            self._drain()
+
+    def straight_feed(self, x, y, z, a, b, c, u, v, w):
+        self._count += 1
+        if a is not self._a or b is not self._b or c is not self._c:
+            self._a, self._b, self._c = a, b, c
+            self._abc = trace_format(_ABC, (a, b, c))
+        self._write(
+            trace_format(_FEED, (self._count, self._column, x, y, z, self._abc))
+        )
+        if self._count >= self._drain_at:
+            self._drain()
+
+    def arc_feed(
+        self,
+        first_end,
+        second_end,
+        first_axis,
+        second_axis,
+        rotation,
+        axis_end,
+        a,
+        b,
+        c,
+        u,
+        v,
+        w,
+    ):
+        self._count += 1
+        line = (
+            self._count,
+            self._column,
+            first_end,
+            second_end,
+            first_axis,
+            second_axis,
+            rotation,
+            axis_end,
+            a,
+            b,
+            c,
+        )
+        self._write(trace_format(_ARC, line))
+        if self._count >= self._drain_at:
+            self._drain()
+
+    def set_feed_rate(self, rate):
+        self._count += 1
+        self._write(trace_format(_FEED_RATE, (self._count, self._column, rate)))
+        if self._count >= self._drain_at:
+            self._drain()
+
+
+try:
+    from runtime._fast_format import TraceLines as _TraceLines
+except ImportError:  # not built: the Python versions
+    _TraceLines = PythonTraceLines
+
+
+class TraceCanon(_TraceLines, Canon):
     """Prints calls exactly as ``rs274 -g`` does.
 
     Each line is ``%5d`` sequence number, a space, the N column and the call:
@@ -311,61 +397,6 @@ class TraceCanon(Canon):
     def set_traverse_rate(self, rate):
         self._emit(f"SET_TRAVERSE_RATE({rate:.4f})")
 
-    # The moves are most of every trace: one %-format each (f-strings with
-    # format specs are slower), the line number folded in.
-    def straight_traverse(self, x, y, z, a, b, c, u, v, w):
-        self._count += 1
-        if a is not self._a or b is not self._b or c is not self._c:
-            self._a, self._b, self._c = a, b, c
-            self._abc = _ABC % (a, b, c)
-        self._write(_TRAVERSE % (self._count, self._column, x, y, z, self._abc))
-        if self._count >= self._drain_at:
-            self._drain()
-
-    def straight_feed(self, x, y, z, a, b, c, u, v, w):
-        self._count += 1
-        if a is not self._a or b is not self._b or c is not self._c:
-            self._a, self._b, self._c = a, b, c
-            self._abc = _ABC % (a, b, c)
-        self._write(_FEED % (self._count, self._column, x, y, z, self._abc))
-        if self._count >= self._drain_at:
-            self._drain()
-
-    def arc_feed(
-        self,
-        first_end,
-        second_end,
-        first_axis,
-        second_axis,
-        rotation,
-        axis_end,
-        a,
-        b,
-        c,
-        u,
-        v,
-        w,
-    ):
-        self._count += 1
-        self._write(
-            _ARC
-            % (
-                self._count,
-                self._column,
-                first_end,
-                second_end,
-                first_axis,
-                second_axis,
-                rotation,
-                axis_end,
-                a,
-                b,
-                c,
-            )
-        )
-        if self._count >= self._drain_at:
-            self._drain()
-
     def straight_probe(self, x, y, z, a, b, c, u, v, w, probe_type):
         self._emit(f"STRAIGHT_PROBE({_axes6(x, y, z, a, b, c)})")
 
@@ -381,12 +412,6 @@ class TraceCanon(Canon):
     # --- machining attributes -----------------------------------------
     def set_feed_mode(self, spindle, mode):
         self._emit(f"SET_FEED_MODE({spindle}, {mode})")
-
-    def set_feed_rate(self, rate):
-        self._count += 1
-        self._write(_FEED_RATE % (self._count, self._column, rate))
-        if self._count >= self._drain_at:
-            self._drain()
 
     def set_feed_reference(self, workpiece):
         self._emit(

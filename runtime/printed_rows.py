@@ -24,12 +24,13 @@ whole run is written at the end, in one piece, before anything else can be.
 
 from __future__ import annotations
 
-from itertools import takewhile
+from itertools import repeat, takewhile
 
 TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
     from typing import List
 
+from runtime.canon import trace_format
 from runtime.codes import G0, G1
 
 _FEED = "%5d %sSTRAIGHT_FEED(%s, %s, %s, %s, %s, %s)\n"
@@ -129,7 +130,7 @@ def printed_rows(machine, by_index, cells: List[str], at: int, end: int, plans) 
             for axis in range(_PRINTED_AXES):
                 if texts[axis] is not entry[axis]:  # a row named it
                     point[axis] = float(texts[axis])
-            machine.current = machine.world.position = machine._params.position = point
+            machine.current = machine.world.position = machine.params.position = point
             machine.motion_mode = motion_mode
             if feed_rate != machine.feed_rate:  # as plain_rows: see runtime.world
                 machine.feed_rate = machine.world.feed_rate = feed_rate
@@ -199,5 +200,5 @@ def _batch(cells, at, end, printed, motion, feed_rate, texts, count):
         parts = [range(count + 1, count + rows + 1)]
         parts += [cells[at + 2 : stop : stride]] if has_n else []
         count += rows
-    text = "".join(map(fmt.__mod__, zip(*parts, *columns)))
+    text = "".join(map(trace_format, repeat(fmt), zip(*parts, *columns)))
     return text, rows, count, last_f

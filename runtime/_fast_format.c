@@ -1,0 +1,505 @@
+/*
+ * percent(template, args): the same string as Python's `template % args`,
+ * for the few conversions trace lines use, made faster.
+ *
+ * A trace line is mostly "%.4f" numbers. Python formats each through its
+ * general float-to-string machinery (about 150 ns a number); for an ordinary
+ * number this finds the same digits in a few nanoseconds: the value times
+ * 10000 as an exact sum of two doubles (fma), rounded once to the nearest
+ * integer, ties to even -- which is what printf and Python both do with the
+ * exact binary value.
+ *
+ * Conversions: %s (a str), %d (an int), both with a width and '-', %.4f (a
+ * float) and %%. Anything else, and any argument that is not of the expected
+ * type, hands the whole call to PyUnicode_Format, so the answer is always
+ * exactly Python's.
+ * Numbers that are not finite or are 1e11 or more in size are formatted by
+ * Python's own routine.
+ *
+ * Optional, like runtime._libm_trig: runtime/canon.py uses str.__mod__
+ * where this was not built.
+ */
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+#include <math.h>
+#include <string.h>
+
+typedef struct {
+    char *data;
+    Py_ssize_t size, capacity;
+    char inline_data[256];
+} buffer;
+
+static int reserve(buffer *b, Py_ssize_t more) {
+    if (b->size + more <= b->capacity) {
+        return 0;
+    }
+    Py_ssize_t capacity = (b->size + more) * 2;
+    char *data;
+    if (b->data == b->inline_data) {
+        data = PyMem_Malloc(capacity);
+        if (data) {
+            memcpy(data, b->data, b->size);
+        }
+    } else {
+        data = PyMem_Realloc(b->data, capacity);
+    }
+    if (!data) {
+        PyErr_NoMemory();
+        return -1;
+    }
+    b->data = data;
+    b->capacity = capacity;
+    return 0;
+}
+
+static int append(buffer *b, const char *text, Py_ssize_t length) {
+    if (reserve(b, length) < 0) {
+        return -1;
+    }
+    memcpy(b->data + b->size, text, length);
+    b->size += length;
+    return 0;
+}
+
+/* Digits of v (v >= 0) into the end of out; returns how many. */
+static int digits_of(unsigned long long v, char *out_end) {
+    int count = 0;
+    do {
+        *--out_end = (char) ('0' + v % 10);
+        v /= 10;
+        count++;
+    } while (v);
+    return count;
+}
+
+/* "%.4f" of x into b: 1 done, 0 not an ordinary number (caller falls back),
+ * -1 error. */
+static int four_decimals(buffer *b, double x) {
+    if (!(fabs(x) < 1e11)) {  /* also nan */
+        return 0;
+    }
+    /* x * 10000 == p + e exactly (|p| < 2**50, so e is exact too) */
+    double p = x * 10000.0;
+    double e = fma(x, 10000.0, -p);
+    double n = nearbyint(p);  /* round half to even: the default mode */
+    double d = p - n;         /* exact: p and n are multiples of ulp(p) <= 0.5 */
+    /* The exact value is n + d + e with |e| <= ulp(p) / 2. Unless d is a
+     * half, |d| + |e| < 0.5 and n is the answer. At d == +-0.5 nearbyint
+     * chose the even neighbour; e says whether the exact value was past it. */
+    if (d == 0.5 && e > 0.0) {
+        n += 1.0;
+    } else if (d == -0.5 && e < 0.0) {
+        n -= 1.0;
+    }
+    unsigned long long v = (unsigned long long) fabs(n);
+    char text[48];
+    char *end = text + sizeof(text);
+    char *start = end - 4;
+    unsigned long long fraction = v % 10000;
+    for (int k = 3; k >= 0; k--) {
+        start[k] = (char) ('0' + fraction % 10);
+        fraction /= 10;
+    }
+    *--start = '.';
+    start -= digits_of(v / 10000, start);
+    if (signbit(x)) {  /* printf and Python print -0.0000 too */
+        *--start = '-';
+    }
+    return append(b, start, end - start) < 0 ? -1 : 1;
+}
+
+static int python_float(buffer *b, double x) {
+    char *text = PyOS_double_to_string(x, 'f', 4, 0, NULL);
+    if (!text) {
+        return -1;
+    }
+    int result = append(b, text, (Py_ssize_t) strlen(text));
+    PyMem_Free(text);
+    return result;
+}
+
+/* 1 done, 0 fall back to PyUnicode_Format, -1 error. */
+static int render(buffer *b, const char *t, Py_ssize_t length, PyObject *args) {
+    Py_ssize_t count = PyTuple_GET_SIZE(args), used = 0;
+    const char *end = t + length;
+    while (t < end) {
+        const char *percent = memchr(t, '%', end - t);
+        if (!percent) {
+            if (append(b, t, end - t) < 0) {
+                return -1;
+            }
+            break;
+        }
+        if (append(b, t, percent - t) < 0) {
+            return -1;
+        }
+        t = percent + 1;
+        if (t >= end) {
+            return 0;
+        }
+        if (*t == '%') {
+            if (append(b, "%", 1) < 0) {
+                return -1;
+            }
+            t++;
+            continue;
+        }
+        /* %[-][width][.precision]conversion */
+        int left = 0, width = 0, precision = -1;
+        if (t < end && *t == '-') {
+            left = 1;
+            t++;
+        }
+        if (t < end && *t == '0') {
+            return 0;  /* zero padding */
+        }
+        while (t < end && *t >= '0' && *t <= '9' && width < 1000) {
+            width = width * 10 + (*t++ - '0');
+        }
+        if (t < end && *t == '.') {
+            precision = 0;
+            t++;
+            while (t < end && *t >= '0' && *t <= '9' && precision < 1000) {
+                precision = precision * 10 + (*t++ - '0');
+            }
+        }
+        if (t >= end || used >= count) {
+            return 0;
+        }
+        char conversion = *t++;
+        PyObject *arg = PyTuple_GET_ITEM(args, used++);
+        Py_ssize_t before = b->size;
+        if (conversion == 's' && precision < 0) {
+            if (!PyUnicode_CheckExact(arg) || (width && !PyUnicode_IS_ASCII(arg))) {
+                return 0;  /* padding counts characters, not bytes */
+            }
+            Py_ssize_t size;
+            const char *text = PyUnicode_AsUTF8AndSize(arg, &size);
+            if (!text || append(b, text, size) < 0) {
+                return -1;
+            }
+        } else if (conversion == 'd' && precision < 0) {
+            if (!PyLong_CheckExact(arg)) {
+                return 0;
+            }
+            int overflow;
+            long long value = PyLong_AsLongLongAndOverflow(arg, &overflow);
+            if (overflow || (value == -1 && PyErr_Occurred())) {
+                PyErr_Clear();
+                return 0;
+            }
+            char text[32];
+            char *digits_end = text + sizeof(text);
+            unsigned long long magnitude =
+                value < 0 ? 0ULL - (unsigned long long) value : (unsigned long long) value;
+            int size = digits_of(magnitude, digits_end);
+            if (value < 0) {
+                digits_end[-++size] = '-';
+            }
+            if (append(b, digits_end - size, size) < 0) {
+                return -1;
+            }
+        } else if (conversion == 'f' && precision == 4 && !left && !width) {
+            if (!PyFloat_CheckExact(arg)) {
+                return 0;
+            }
+            double x = PyFloat_AS_DOUBLE(arg);
+            int done = four_decimals(b, x);
+            if (done == 0) {
+                done = python_float(b, x);
+            }
+            if (done < 0) {
+                return -1;
+            }
+        } else {
+            return 0;
+        }
+        Py_ssize_t size = b->size - before;
+        if (size < width) {  /* pad with spaces, on the right for '-' */
+            if (reserve(b, width - size) < 0) {
+                return -1;
+            }
+            char *at = b->data + before;
+            if (!left) {
+                memmove(at + (width - size), at, size);
+                memset(at, ' ', width - size);
+            } else {
+                memset(at + size, ' ', width - size);
+            }
+            b->size = before + width;
+        }
+    }
+    return used == count;
+}
+
+static PyObject *percent(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    if (nargs != 2 || !PyUnicode_CheckExact(args[0]) || !PyTuple_CheckExact(args[1])) {
+        PyErr_SetString(PyExc_TypeError, "percent(template: str, args: tuple)");
+        return NULL;
+    }
+    Py_ssize_t length;
+    const char *t = PyUnicode_AsUTF8AndSize(args[0], &length);
+    if (!t) {
+        return NULL;
+    }
+    buffer b;
+    b.data = b.inline_data;
+    b.size = 0;
+    b.capacity = sizeof(b.inline_data);
+    PyObject *result = NULL;
+    int done = render(&b, t, length, args[1]);
+    if (done > 0) {
+        result = PyUnicode_DecodeUTF8(b.data, b.size, NULL);
+    } else if (done == 0) {
+        result = PyUnicode_Format(args[0], args[1]);
+    }
+    if (b.data != b.inline_data) {
+        PyMem_Free(b.data);
+    }
+    return result;
+}
+
+
+/*
+ * TraceLines: runtime.canon.TraceCanon's base where this was built, with
+ * its three commonest calls in C. The state stays visible to TraceCanon's
+ * Python methods as attributes: _count, _drain_at, _column, _pending (the
+ * list of lines waiting), _a/_b/_c (the rotary axes last printed) and _abc
+ * (their text). Each call appends one line to _pending and calls
+ * self._drain() when _count reaches _drain_at; anything unusual about the
+ * arguments (not floats, not str) goes through PyUnicode_Format, as the
+ * Python versions (runtime.canon.PythonTraceLines) do.
+ */
+#include <structmember.h>
+
+typedef struct {
+    PyObject_HEAD
+    Py_ssize_t count, drain_at;
+    PyObject *column, *pending, *a, *b, *c, *abc;
+} TraceLines;
+
+static int trace_traverse(TraceLines *self, visitproc visit, void *arg) {
+    Py_VISIT(self->column);
+    Py_VISIT(self->pending);
+    Py_VISIT(self->a);
+    Py_VISIT(self->b);
+    Py_VISIT(self->c);
+    Py_VISIT(self->abc);
+    return 0;
+}
+
+static int trace_clear(TraceLines *self) {
+    Py_CLEAR(self->column);
+    Py_CLEAR(self->pending);
+    Py_CLEAR(self->a);
+    Py_CLEAR(self->b);
+    Py_CLEAR(self->c);
+    Py_CLEAR(self->abc);
+    return 0;
+}
+
+static void trace_dealloc(TraceLines *self) {
+    /* A static type: a subclass's dealloc (TraceCanon's) releases its own
+     * type after this. */
+    PyObject_GC_UnTrack(self);
+    trace_clear(self);
+    Py_TYPE(self)->tp_free((PyObject *) self);
+}
+
+/* template % args as a new str (the fast path, or Python's own). */
+static PyObject *formatted(const char *template, PyObject *args) {
+    buffer b;
+    b.data = b.inline_data;
+    b.size = 0;
+    b.capacity = sizeof(b.inline_data);
+    PyObject *result = NULL;
+    int done = render(&b, template, (Py_ssize_t) strlen(template), args);
+    if (done > 0) {
+        result = PyUnicode_DecodeUTF8(b.data, b.size, NULL);
+    } else if (done == 0) {
+        PyObject *text = PyUnicode_FromString(template);
+        if (text) {
+            result = PyUnicode_Format(text, args);
+            Py_DECREF(text);
+        }
+    }
+    if (b.data != b.inline_data) {
+        PyMem_Free(b.data);
+    }
+    return result;
+}
+
+/* Append the line, count it, drain when due. Steals `line`. */
+static PyObject *add_line(TraceLines *self, PyObject *line) {
+    if (!line) {
+        return NULL;
+    }
+    if (!self->pending || !PyList_Check(self->pending)) {
+        Py_DECREF(line);
+        PyErr_SetString(PyExc_TypeError, "TraceLines._pending must be a list");
+        return NULL;
+    }
+    int failed = PyList_Append(self->pending, line);
+    Py_DECREF(line);
+    if (failed) {
+        return NULL;
+    }
+    if (self->count >= self->drain_at) {
+        return PyObject_CallMethod((PyObject *) self, "_drain", NULL);
+    }
+    Py_RETURN_NONE;
+}
+
+static PyObject *column_of(TraceLines *self) {
+    return self->column ? self->column : Py_None;
+}
+
+static PyObject *straight(TraceLines *self, PyObject *const *args, Py_ssize_t nargs,
+                          const char *template) {
+    if (nargs != 9) {
+        PyErr_SetString(PyExc_TypeError, "a straight move takes the nine axes");
+        return NULL;
+    }
+    PyObject *a = args[3], *b = args[4], *c = args[5];
+    self->count++;
+    if (a != self->a || b != self->b || c != self->c || !self->abc) {
+        PyObject *abc_args = PyTuple_Pack(3, a, b, c);
+        if (!abc_args) {
+            return NULL;
+        }
+        PyObject *abc = formatted("%.4f, %.4f, %.4f", abc_args);
+        Py_DECREF(abc_args);
+        if (!abc) {
+            return NULL;
+        }
+        Py_INCREF(a);
+        Py_INCREF(b);
+        Py_INCREF(c);
+        Py_XSETREF(self->a, a);
+        Py_XSETREF(self->b, b);
+        Py_XSETREF(self->c, c);
+        Py_XSETREF(self->abc, abc);
+    }
+    PyObject *count = PyLong_FromSsize_t(self->count);
+    if (!count) {
+        return NULL;
+    }
+    PyObject *line_args = PyTuple_Pack(6, count, column_of(self), args[0], args[1], args[2],
+                                       self->abc);
+    Py_DECREF(count);
+    if (!line_args) {
+        return NULL;
+    }
+    PyObject *line = formatted(template, line_args);
+    Py_DECREF(line_args);
+    return add_line(self, line);
+}
+
+static PyObject *straight_feed(TraceLines *self, PyObject *const *args, Py_ssize_t nargs) {
+    return straight(self, args, nargs, "%5d %sSTRAIGHT_FEED(%.4f, %.4f, %.4f, %s)\n");
+}
+
+static PyObject *straight_traverse(TraceLines *self, PyObject *const *args, Py_ssize_t nargs) {
+    return straight(self, args, nargs, "%5d %sSTRAIGHT_TRAVERSE(%.4f, %.4f, %.4f, %s)\n");
+}
+
+static PyObject *arc_feed(TraceLines *self, PyObject *const *args, Py_ssize_t nargs) {
+    if (nargs != 12) {
+        PyErr_SetString(PyExc_TypeError, "arc_feed takes twelve arguments");
+        return NULL;
+    }
+    self->count++;
+    PyObject *count = PyLong_FromSsize_t(self->count);
+    if (!count) {
+        return NULL;
+    }
+    PyObject *line_args = PyTuple_Pack(11, count, column_of(self), args[0], args[1], args[2],
+                                       args[3], args[4], args[5], args[6], args[7], args[8]);
+    Py_DECREF(count);
+    if (!line_args) {
+        return NULL;
+    }
+    PyObject *line = formatted(
+        "%5d %sARC_FEED(%.4f, %.4f, %.4f, %.4f, %d, %.4f, %.4f, %.4f, %.4f)\n", line_args);
+    Py_DECREF(line_args);
+    return add_line(self, line);
+}
+
+static PyObject *set_feed_rate(TraceLines *self, PyObject *rate) {
+    self->count++;
+    PyObject *count = PyLong_FromSsize_t(self->count);
+    if (!count) {
+        return NULL;
+    }
+    PyObject *line_args = PyTuple_Pack(3, count, column_of(self), rate);
+    Py_DECREF(count);
+    if (!line_args) {
+        return NULL;
+    }
+    PyObject *line = formatted("%5d %sSET_FEED_RATE(%.4f)\n", line_args);
+    Py_DECREF(line_args);
+    return add_line(self, line);
+}
+
+static PyMethodDef trace_methods[] = {
+    {"straight_feed", (PyCFunction) (void (*)(void)) straight_feed, METH_FASTCALL, NULL},
+    {"straight_traverse", (PyCFunction) (void (*)(void)) straight_traverse, METH_FASTCALL, NULL},
+    {"arc_feed", (PyCFunction) (void (*)(void)) arc_feed, METH_FASTCALL, NULL},
+    {"set_feed_rate", (PyCFunction) set_feed_rate, METH_O, NULL},
+    {NULL, NULL, 0, NULL},
+};
+
+static PyMemberDef trace_members[] = {
+    {"_count", T_PYSSIZET, offsetof(TraceLines, count), 0, NULL},
+    {"_drain_at", T_PYSSIZET, offsetof(TraceLines, drain_at), 0, NULL},
+    {"_column", T_OBJECT, offsetof(TraceLines, column), 0, NULL},
+    {"_pending", T_OBJECT, offsetof(TraceLines, pending), 0, NULL},
+    {"_a", T_OBJECT, offsetof(TraceLines, a), 0, NULL},
+    {"_b", T_OBJECT, offsetof(TraceLines, b), 0, NULL},
+    {"_c", T_OBJECT, offsetof(TraceLines, c), 0, NULL},
+    {"_abc", T_OBJECT, offsetof(TraceLines, abc), 0, NULL},
+    {NULL, 0, 0, 0, NULL},
+};
+
+static PyTypeObject TraceLinesType = {
+    PyVarObject_HEAD_INIT(NULL, 0)
+    .tp_name = "runtime._fast_format.TraceLines",
+    .tp_basicsize = sizeof(TraceLines),
+    .tp_flags = Py_TPFLAGS_DEFAULT | Py_TPFLAGS_BASETYPE | Py_TPFLAGS_HAVE_GC,
+    .tp_doc = "TraceCanon's state and its commonest calls, in C.",
+    .tp_new = PyType_GenericNew,
+    .tp_dealloc = (destructor) trace_dealloc,
+    .tp_traverse = (traverseproc) trace_traverse,
+    .tp_clear = (inquiry) trace_clear,
+    .tp_methods = trace_methods,
+    .tp_members = trace_members,
+};
+
+static PyMethodDef methods[] = {
+    {"percent", (PyCFunction) (void (*)(void)) percent, METH_FASTCALL,
+     "percent(template, args): template % args, faster for %s, %d and %.4f."},
+    {NULL, NULL, 0, NULL},
+};
+
+static struct PyModuleDef module = {
+    PyModuleDef_HEAD_INIT, "_fast_format",
+    "Trace lines formatted as Python's % operator formats them, faster.", -1, methods,
+};
+
+PyMODINIT_FUNC PyInit__fast_format(void) {
+    if (PyType_Ready(&TraceLinesType) < 0) {
+        return NULL;
+    }
+    PyObject *m = PyModule_Create(&module);
+    if (!m) {
+        return NULL;
+    }
+    Py_INCREF(&TraceLinesType);
+    if (PyModule_AddObject(m, "TraceLines", (PyObject *) &TraceLinesType) < 0) {
+        Py_DECREF(&TraceLinesType);
+        Py_DECREF(m);
+        return NULL;
+    }
+    return m;
+}

@@ -1,0 +1,202 @@
+"""runtime._fast_format.percent must give exactly Python's ``template % args``.
+
+The extension is optional (setup.py builds it where a C compiler is found;
+CI does); where it is missing the runtime uses ``str.__mod__`` itself and
+these tests are skipped with that reason.
+"""
+
+from __future__ import annotations
+
+import math
+import struct
+
+import pytest
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
+
+try:
+    from runtime._fast_format import percent
+except ImportError:  # pragma: no cover - depends on the build
+    percent = None
+
+pytestmark = pytest.mark.skipif(
+    percent is None,
+    reason="runtime._fast_format not built here (no C compiler or headers)",
+)
+
+
+def same_as_python(template: str, args: tuple) -> None:
+    try:
+        expected = template % args
+    except Exception as exc:  # the same error, with the same words
+        with pytest.raises(type(exc)) as raised:
+            percent(template, args)
+        assert str(raised.value) == str(exc)
+    else:
+        assert percent(template, args) == expected
+
+
+def any_double(bits: int) -> float:
+    return struct.unpack("<d", struct.pack("<Q", bits))[0]
+
+
+@given(st.integers(min_value=0, max_value=2**64 - 1))
+@settings(max_examples=1500, deadline=None)
+def test_every_bit_pattern(bits):
+    same_as_python("%.4f", (any_double(bits),))
+
+
+@given(st.floats(allow_nan=True, allow_infinity=True))
+@settings(max_examples=1500, deadline=None)
+@example(0.03125)  # 312.5 ten-thousandths exactly: a tie, printed to even
+@example(-0.03125)
+@example(0.00005)  # just above or below a tie, as its binary value is
+@example(-0.0)
+@example(5e-324)
+@example(99999999999.99998)  # the largest magnitude the fast path takes
+@example(1e11)  # the first one it hands to Python
+def test_any_float(x):
+    same_as_python("%.4f", (x,))
+
+
+@given(
+    st.integers(min_value=-(10**12), max_value=10**12),
+    st.sampled_from([-2, -1, 0, 1, 2]),
+)
+@settings(max_examples=1500, deadline=None)
+def test_numbers_next_to_a_rounding_tie(k, steps):
+    # The hard cases: x * 10000 within an ulp of a half. math.nextafter walks
+    # a few representable numbers either side of the nearest double.
+    x = (k + 0.5) / 10000
+    for _ in range(abs(steps)):
+        x = math.nextafter(x, math.inf if steps > 0 else -math.inf)
+    same_as_python("%.4f", (x,))
+
+
+@given(st.integers(min_value=-(2**40), max_value=2**40), st.integers(0, 45))
+@settings(max_examples=1500, deadline=None)
+def test_dyadic_fractions(odd, shift):
+    # Values with few binary digits are where exact ties live.
+    same_as_python("%.4f", ((2 * odd + 1) / 2**shift,))
+
+
+_ARGUMENT = st.one_of(
+    st.floats(),
+    st.integers(min_value=-(2**70), max_value=2**70),
+    st.text(max_size=8),
+    st.booleans(),
+    st.none(),
+)
+_SPEC = st.sampled_from(
+    [
+        "%s",
+        "%d",
+        "%5d",
+        "%-5d",
+        "%.4f",
+        "%-6s",
+        "%6s",
+        "%%",
+        "%05d",
+        "%+.4f",
+        "%.3f",
+        "%10.4f",
+        "%r",
+        "%x",
+        "%",
+    ]
+)
+
+
+@given(
+    st.lists(st.tuples(st.text(max_size=4), _SPEC), max_size=6),
+    st.lists(_ARGUMENT, max_size=7),
+)
+@settings(max_examples=1500, deadline=None)
+def test_templates_and_arguments_of_any_kind(pieces, args):
+    template = "".join(text.replace("%", "") + spec for text, spec in pieces)
+    same_as_python(template, tuple(args))
+
+
+def test_a_trace_line():
+    line = "%5d %sSTRAIGHT_FEED(%.4f, %.4f, %.4f, %s)\n"
+    args = (123456, "N10    ", 1.23456789, -0.00004, 1e300, "0.0000, 0.0000, 0.0000")
+    assert percent(line, args) == line % args
+    assert percent(line, args).startswith(
+        "123456 N10    STRAIGHT_FEED(1.2346, -0.0000, 1"
+    )
+
+
+def test_lines_longer_than_the_inline_buffer():
+    template = "%s|" * 40 + "%.4f"
+    args = tuple("x" * k for k in range(40)) + (2.5,)
+    same_as_python(template, args)
+
+
+def test_bad_call():
+    with pytest.raises(TypeError):
+        percent("%s", ["not a tuple"])
+
+
+# --------------------------------------------------------------------------
+# TraceCanon's C calls against runtime.canon.PythonTraceLines
+# --------------------------------------------------------------------------
+
+_AXIS = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.sampled_from([0.0, -0.0, 1.5, 0.03125, 1e11, -2.5e-5]),
+    st.integers(min_value=-5, max_value=5),  # not a float: Python's % decides
+)
+_CALL = st.one_of(
+    st.tuples(st.just("straight_feed"), st.lists(_AXIS, min_size=9, max_size=9)),
+    st.tuples(st.just("straight_traverse"), st.lists(_AXIS, min_size=9, max_size=9)),
+    st.tuples(
+        st.just("arc_feed"),
+        st.tuples(
+            _AXIS, _AXIS, _AXIS, _AXIS, st.integers(-3, 3), _AXIS, _AXIS, _AXIS, _AXIS
+        ).map(lambda t: list(t) + [0.0, 0.0, 0.0]),
+    ),
+    st.tuples(st.just("set_feed_rate"), st.lists(_AXIS, min_size=1, max_size=1)),
+    st.tuples(
+        st.just("set_block_number"),
+        st.lists(st.sampled_from([None, "10", "7.5"]), min_size=1, max_size=1),
+    ),
+    st.tuples(st.just("same_rotary_axes"), st.lists(_AXIS, min_size=3, max_size=3)),
+)
+
+
+def _traces(calls, buffered):
+    import io
+
+    from runtime import canon
+
+    class Python(canon.PythonTraceLines, canon.TraceCanon):
+        pass
+
+    outputs = []
+    for cls in (canon.TraceCanon, Python):
+        out = io.StringIO()
+        trace = cls(out)
+        trace._drain_at = buffered
+        last = [0.0] * 9
+        for name, args in calls:
+            if name == "same_rotary_axes":  # a move passing the last A/B/C on
+                args = [*args, *last[3:]]
+                name = "straight_feed"
+            if name.startswith("straight"):
+                last = args
+            try:
+                getattr(trace, name)(*args)
+            except Exception as exc:  # the same error either way
+                out.write("! %s: %s\n" % (type(exc).__name__, exc))
+        trace.flush()
+        outputs.append(out.getvalue())
+    return outputs
+
+
+@pytest.mark.skipif(percent is None, reason="runtime._fast_format not built here")
+@given(st.lists(_CALL, max_size=40), st.integers(min_value=1, max_value=5))
+@settings(max_examples=400, deadline=None)
+def test_trace_lines_in_c_print_what_the_python_versions_print(calls, buffered):
+    c_text, python_text = _traces(calls, buffered)
+    assert c_text == python_text
