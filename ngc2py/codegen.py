@@ -52,7 +52,7 @@ from ngc2py.parser import RowLine
 from ngc2py.rowrun import RowRun
 from runtime import codes
 from runtime.errors import GCodeError
-from runtime.params import Params
+from runtime.params import MAX_PARAMETERS, POSITION_PARAMS, Params
 
 LINE_LENGTH = 88
 INDENT = "    "
@@ -187,9 +187,11 @@ class ExprWriter:
 
     def _numparam(self, e: nodes.NumParam) -> str:
         index = e.index
-        if isinstance(index, nodes.Num) and index.value == int(index.value):
+        if isinstance(index, nodes.Num) and plain_read_index(index.value):
             return "p[%d]" % int(index.value)
-        return "p[%s]" % self.expr(index)
+        # rs274's checks: rounding to an index, its range, the position
+        # parameters (held apart, unreadable under cutter compensation)
+        return "m.params[%s]" % self.expr(index)
 
     def _namedparam(self, e: nodes.NamedParam) -> str:
         store = "g" if e.is_global else "v"
@@ -687,7 +689,7 @@ class CodeGen:
             '%s"""%s (lines %d-%d)"""'
             % (INDENT, form % safe_doc(sub.name), sub.line.number, end)
         )
-        self.w.raw(INDENT + "p, g, v = m.params, m.globals, m.locals")
+        self.w.raw(INDENT + "p, g, v = m.params.values, m.globals, m.locals")
         body = sub.body
         if body and isinstance(body[-1], st.Return) and body[-1].value is None:
             body = body[:-1]  # falling off the end is the plain endsub
@@ -713,7 +715,7 @@ class CodeGen:
             self.w.depth = 1
             if len(chunks) == 1:
                 self.w.raw('%s"""The main program."""' % INDENT)
-            self.w.raw(INDENT + "p, g, v = m.params, m.globals, m.locals")
+            self.w.raw(INDENT + "p, g, v = m.params.values, m.globals, m.locals")
             if i == 0 and self.break_flag:
                 self.w.raw(
                     INDENT + "m.doing_break = False  # set by a while-loop break"
@@ -935,7 +937,7 @@ class CodeGen:
                 % (INDENT, first, last)
             )
             self.w.depth = 1
-            self.w.raw(INDENT + "p, g, v = m.params, m.globals, m.locals")
+            self.w.raw(INDENT + "p, g, v = m.params.values, m.globals, m.locals")
             self.statement(helper.stmt)
             self.w.depth = 0
         self.loops, self.frame, self.in_helper = [], 0, False
@@ -1385,13 +1387,11 @@ class CodeGen:
         if not isinstance(target, nodes.NumParam):
             return self.x.expr(target)
         index = target.index
-        if isinstance(index, nodes.Num):
-            if not valid_setting_index(index.value):
-                checks.append("p.setting_index(%s)" % number(index.value))
-            return self.x.expr(target)
+        if isinstance(index, nodes.Num) and plain_write_index(index.value):
+            return "p[%d]" % int(index.value)
         self.temp += 1
         temp = "i%d" % self.temp
-        checks.append("%s = p.setting_index(%s)" % (temp, self.x.expr(index)))
+        checks.append("%s = m.params.setting_index(%s)" % (temp, self.x.expr(index)))
         return "p[%s]" % temp
 
     def block_call(self, line: nodes.Line, words, values: List[str]) -> str:
@@ -1776,8 +1776,16 @@ def reads_name(items, name: str) -> bool:
     return False
 
 
-def valid_setting_index(n: float) -> bool:
-    """May ``#n = ...`` be set (rs274's reader checks this before the value)?"""
+def plain_read_index(n: float) -> bool:
+    """Is ``#n`` (a constant) read straight from ``p = m.params.values``?"""
+    return n == int(n) and 1 <= n < MAX_PARAMETERS and n not in POSITION_PARAMS
+
+
+def plain_write_index(n: float) -> bool:
+    """May ``#n = ...`` (a constant) be set straight into ``p``? Otherwise
+    the index goes through rs274's checks, before the value is evaluated."""
+    if n != int(n):
+        return False
     try:
         Params.setting_index(n)
     except GCodeError:

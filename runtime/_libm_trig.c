@@ -119,6 +119,21 @@ static PyObject *mod(PyObject *self, PyObject *const *args, Py_ssize_t count) {
     return PyFloat_FromDouble(result);
 }
 
+/* finite(x): x itself when it is a finite float (generated code wraps most
+ * brackets in it); anything else goes to runtime.ops.finite, which raises
+ * rs274's error (or answers for a type it accepts). */
+static PyObject *finite_or_raise(PyObject *self, PyObject *arg) {
+    if (PyFloat_CheckExact(arg) && isfinite(PyFloat_AS_DOUBLE(arg))) {
+        Py_INCREF(arg);
+        return arg;
+    }
+    if (nonfinite == NULL) {
+        PyErr_SetString(PyExc_ArithmeticError, "not a finite number");
+        return NULL;
+    }
+    return PyObject_CallOneArg(nonfinite, arg);
+}
+
 static PyMethodDef methods[] = {
     {"sin", sin_degrees, METH_O, "sinl((d * M_PIl) / 180.0) stored into a double"},
     {"cos", cos_degrees, METH_O, "cosl((d * M_PIl) / 180.0) stored into a double"},
@@ -128,6 +143,7 @@ static PyMethodDef methods[] = {
     {"checked_cos", checked_cos, METH_O, "COS[d]: the operand and the library checked"},
     {"checked_tan", checked_tan, METH_O, "TAN[d]: the operand and the library checked"},
     {"mod", (PyCFunction) (void (*)(void)) mod, METH_FASTCALL, "rs274's MOD"},
+    {"finite", finite_or_raise, METH_O, "x when it is a finite float, else runtime.ops.finite(x)"},
     {NULL, NULL, 0, NULL},
 };
 

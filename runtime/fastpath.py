@@ -125,7 +125,7 @@ class FastPathMixin:
             self.motion_mode = motion
             # One list shared as the current point, the canon model's
             # position and #5420-#5428: a general block copies it first.
-            self.current = self.world.position = self._params.position = end
+            self.current = self.world.position = self.params.position = end
             return
         self._general_move(line, given, (x, y, z, a, b, c, u, v, w), f, n)
 
@@ -210,7 +210,7 @@ class FastPathMixin:
             # length offsets, unit changes: runtime/world.py), and this loop
             # is entered before every general row too.
             if cur is not self.current:
-                self.current = self.world.position = self._params.position = cur
+                self.current = self.world.position = self.params.position = cur
                 self.motion_mode = motion_mode
             if feed_rate != self.feed_rate:
                 self.feed_rate = self.world.feed_rate = feed_rate
@@ -298,7 +298,7 @@ class FastPathMixin:
             e1, e2, c1, c2, -1 if motion == G2 else 1, end[p3], *end[3:]
         )
         # One list shared, as for a straight move (see move()).
-        self.current = self.world.position = self._params.position = end
+        self.current = self.world.position = self.params.position = end
         return True
 
     def _open_plain_block(

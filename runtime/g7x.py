@@ -22,7 +22,6 @@ offset that can no longer grow), :class:`G7xError` says so instead.
 
 from __future__ import annotations
 
-import copy
 import math
 
 TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
@@ -163,6 +162,8 @@ class Segment:
         self.finish = 0.0
 
     def dup(self) -> "Segment":
+        import copy  # here: only lathe cycles need it (start-up cost)
+
         return copy.copy(self)
 
     def monotonic(self) -> bool:

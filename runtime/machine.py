@@ -128,7 +128,7 @@ from runtime.fastpath import FastPathMixin
 from runtime.inifile import IniSettings, load_ini
 from runtime.mcodes import MCodesMixin, ProgramEnd, not_supported
 from runtime.modal_save import ModalSaveMixin
-from runtime.budget import DEFAULT_MAX_STEPS, StepBudgetMixin
+from runtime.budget import DEFAULT_MAX_STEPS, StepBudgetMixin, runaway_message
 from runtime.motion import (
     AXES,
     INVERSE_TIME,
@@ -243,6 +243,11 @@ class Machine(
         self.source = source
         self._set_budget(max_steps)
         self.settings = IniSettings() if ini is None else load_ini(ini)
+        #: M70/M73 states by call level (runtime.modal_save).
+        self._saved_contexts: Dict[int, object] = {}
+        #: Calls need no more than fresh locals: no #<n_args> to set and no
+        #: M70/M73 state to manage (then _enter_sub and _left_frame do).
+        self._plain_frames = not self.settings.oword_nargs
         # rs274 closes with one ON_RESET when it could read an INI file, two otherwise.
         ini_read = ini is not None and self.settings.opened
         self._closing_resets = 1 if ini_read else 2
@@ -256,9 +261,12 @@ class Machine(
         #: file's perror lines): kept here for a library caller, whose
         #: stderr stays untouched; the command line points it at stderr.
         self.messages: TextIO = io.StringIO()
-        self._params = Params(default_parameters())
-        self._globals = Globals(self)
-        self._locals = Locals()
+        # The parameter stores generated code binds to p (params.values), g
+        # and v: plain attributes, read at every function's start.
+        self.params = Params(default_parameters())
+        self.globals = Globals(self)
+        #: The named locals of the running call (another store in each call).
+        self.locals = Locals()
         self._subroutines: Dict[str, _Subroutine] = {}
         self.call_level = 0
         self._arg_count = 0  # of the call being made (OWORD_NARGS)
@@ -322,26 +330,14 @@ class Machine(
     # Parameter stores
     # ------------------------------------------------------------------
     @property
-    def params(self) -> Params:
-        return self._params
-
-    @property
     def cutter_comp(self) -> bool:
         """Whether cutter radius compensation is on. The parameters keep the
         flag, since it makes reading the current position an error."""
-        return self._params.cutter_comp
+        return self.params.cutter_comp
 
     @cutter_comp.setter
     def cutter_comp(self, on: bool) -> None:
-        self._params.cutter_comp = on
-
-    @property
-    def globals(self) -> Globals:
-        return self._globals
-
-    @property
-    def locals(self) -> Locals:
-        return self._locals
+        self.params.cutter_comp = on
 
     # ------------------------------------------------------------------
     # Running a program
@@ -386,7 +382,7 @@ class Machine(
     def _save_parameters(self) -> None:
         """rs274 rewrites the -v file when it exits, even after an error.
         What it says about a failed link or rename goes to ``messages``."""
-        values = self._params
+        values = self.params
         save_parameter_file(
             self.var_file,
             {n: values.get_internal(n) for n in range(1, MAX_PARAMETER)},
@@ -398,8 +394,8 @@ class Machine(
         canon = self.canon
         canon.use_length_units(False)
         if self.var_file is not None:
-            self._params = Params(initial_parameters(self.var_file, self.messages))
-        p = self._params
+            self.params = Params(initial_parameters(self.var_file, self.messages))
+        p = self.params
         if self.settings.disable_g92_persistence:
             for number in range(G92_ENABLED, G92_ENABLED + 10):
                 p.set_internal(number, 0.0)
@@ -520,22 +516,47 @@ class Machine(
 
     def call(self, fn: Callable, *args: float) -> None:
         """An O-word call: fresh #1-#30 and locals, restored afterwards."""
-        # Params.save_locals/set_call_args/restore_locals, inline: a loop of
-        # calls spends its time here.
-        values = self._params._values
+        # A loop of calls spends its time here, so the usual case is written
+        # out in one method: Params.save_locals/set_call_args/restore_locals,
+        # step() and _run_sub's frame, inline.
+        values = self.params.values
         saved = values[1:_CALL_ARGS_END]
         count = len(args)
         values[1:_CALL_ARGS_END] = (
             args + _NO_ARGS[count:] if count <= CALL_ARGS else args[:CALL_ARGS]
         )
-        self._arg_count = count
-        try:
-            result = self._run_sub(fn)
-        finally:
-            values[1:_CALL_ARGS_END] = saved
+        if self._plain_frames and self.call_level < MAX_CALL_LEVEL:
+            self.steps_left -= 1
+            caller_locals = self.locals
+            try:
+                if not self.steps_left:
+                    raise GCodeError(runaway_message(self.max_steps))
+                self.locals = Locals()
+                self.call_level += 1
+                self.value_returned = 0.0
+                try:
+                    result = fn(self)
+                finally:
+                    self.call_level -= 1
+                    self.locals = caller_locals
+                    if not self.call_level:
+                        self.returned_to_main = True  # see olabels.top_level_return
+            finally:
+                values[1:_CALL_ARGS_END] = saved
+            if self._saved_contexts:
+                self._left_frame(self.call_level + 1)  # M73's restore
+        else:
+            self._arg_count = count
+            try:
+                result = self._run_sub(fn)
+            finally:
+                values[1:_CALL_ARGS_END] = saved
         # A call that returns nothing resets _value too.
-        self.value = 0.0 if result is None else float(result)
-        self.value_returned = 0.0 if result is None else 1.0
+        if result is None:
+            self.value = self.value_returned = 0.0
+        else:
+            self.value = float(result)
+            self.value_returned = 1.0
 
     def m98(
         self, line: int, fn: Optional[Callable], *codes: int, **words: float
@@ -566,7 +587,7 @@ class Machine(
             # becomes the new frame's (emptied: the old locals are gone).
             caller_locals = self._enter_sub()
             caller_locals.__dict__.clear()
-            self._locals = caller_locals
+            self.locals = caller_locals
         for _ in range(times):
             fanuc_subs.run_fanuc(self, self._run_sub, fn)
         self.value = self.value_returned = 0.0
@@ -574,13 +595,10 @@ class Machine(
     def _run_sub(self, fn: Callable) -> Optional[float]:
         """Run subroutine ``fn`` one call level down, with fresh named locals."""
         self.step()
-        if (
-            self.call_level < MAX_CALL_LEVEL
-            and not self.settings.oword_nargs
-            and not self.__dict__.get("_saved_contexts")
-        ):  # _enter_sub's usual case, inline
-            caller_locals = self._locals
-            self._locals = Locals()
+        if self._plain_frames and self.call_level < MAX_CALL_LEVEL:
+            # _enter_sub's usual case, inline
+            caller_locals = self.locals
+            self.locals = Locals()
             self.call_level += 1
             self.value_returned = 0.0
         else:
@@ -589,10 +607,10 @@ class Machine(
             result = fn(self)
         finally:
             self.call_level -= 1
-            self._locals = caller_locals
+            self.locals = caller_locals
             if not self.call_level:
                 self.returned_to_main = True  # see olabels.top_level_return
-        if self.__dict__.get("_saved_contexts"):
+        if self._saved_contexts:
             self._left_frame(self.call_level + 1)  # M73's restore
         return result
 
@@ -600,12 +618,12 @@ class Machine(
         """Go one call level down, with fresh named locals; returns the caller's."""
         if self.call_level >= MAX_CALL_LEVEL:
             raise GCodeError("Too many subroutine levels")
-        caller_locals = self._locals
+        caller_locals = self.locals
         if self.settings.oword_nargs:  # M98 calls count no arguments
-            self._locals = ArgCountLocals(self._arg_count)
+            self.locals = ArgCountLocals(self._arg_count)
             self._arg_count = 0
         else:
-            self._locals = Locals()
+            self.locals = Locals()
         self.call_level += 1
         self._new_frame(self.call_level)
         self.value_returned = 0.0
@@ -667,7 +685,7 @@ class Machine(
 
     def _publish_position(self) -> None:
         """#5420-#5428: the current point, as rs274 keeps them after each block."""
-        self._params.position = tuple(self.current)
+        self.params.position = tuple(self.current)
 
     def _execute(self, block: Block, comment) -> None:
         """rs274's execute_block order."""

@@ -169,8 +169,8 @@ class MCodesMixin:
                 f"Cannot wait for {kind} input with cutter radius compensation on"
             )
         if p is not None:
-            self._params.set_internal(
-                INPUT_PARAM, 1.0 if self._params[INPUT_PARAM] else 0.0
+            self.params.set_internal(
+                INPUT_PARAM, 1.0 if self.params[INPUT_PARAM] else 0.0
             )
 
     def _coolant(self, code: int) -> None:
@@ -233,7 +233,7 @@ class MCodesMixin:
         cur = [c + o for c, o in zip(self.current, self.origin)]
         cur[0], cur[1] = rotate(cur[0], cur[1], self.rotation)
         self.origin_index = 1
-        self._params.set_internal(COORD_SYSTEM, 1.0)
+        self.params.set_internal(COORD_SYSTEM, 1.0)
         self._load_system(1)
         cur[0], cur[1] = rotate(cur[0], cur[1], -self.rotation)
         self.current = [c - o for c, o in zip(cur, self.origin)]

@@ -129,7 +129,7 @@ class ModalSaveMixin:
             G96 if self.css_mode else G97,
             G90_1 if self.ijk_absolute else G91_1,
             G7 if self.lathe_diameter else G8,
-            G92_3 if self._params[G92_ENABLED] else G92_2,
+            G92_3 if self.params[G92_ENABLED] else G92_2,
         )
         spindle = {"cw": 3, "ccw": 4}.get(self.spindle, 5)
         # rs274 means to encode both switches (M48-M51), but it tests the
@@ -156,10 +156,9 @@ class ModalSaveMixin:
 
     @property
     def _contexts(self) -> Dict[int, SavedContext]:
-        contexts = self.__dict__.get("_saved_contexts")
-        if contexts is None:
-            contexts = self.__dict__["_saved_contexts"] = {}
-        return contexts
+        # Once a state may be saved, calls take the general frame path.
+        self._plain_frames = False
+        return self._saved_contexts
 
     # ------------------------------------------------------------------
     # The M codes

@@ -549,7 +549,7 @@ def trig_backend() -> str:
 # The C extension's own entry points
 # --------------------------------------------------------------------------
 # Where setup.py built runtime._libm_trig, generated code calls its SIN, COS,
-# TAN and MOD directly: a Python wrapper around each would cost more than
+# TAN, MOD and finite() directly: a Python wrapper around each would cost more than
 # the computation. It checks operands with `finite` and, at the first call,
 # asks `_library_or_instead` whether the library may be used (the same
 # check `_choose_trig` makes; if not, the emulation's functions answer).
@@ -568,7 +568,7 @@ except ImportError:  # not built here: the Python functions above serve
     _extension = None
 #: The Python versions, which serve where the extension was not built (the
 #: tests hold the extension's to them).
-PYTHON_VERSIONS = {"sin": sin, "cos": cos, "tan": tan, "mod": mod}
+PYTHON_VERSIONS = {"sin": sin, "cos": cos, "tan": tan, "mod": mod, "finite": finite}
 if hasattr(_extension, "checked_sin"):
     _extension.configure(finite, _library_or_instead)
     sin, cos, tan = (
@@ -577,6 +577,8 @@ if hasattr(_extension, "checked_sin"):
         _extension.checked_tan,
     )
     mod = _extension.mod
+    if hasattr(_extension, "finite"):  # (an extension built before it had one)
+        finite = _extension.finite
 
 
 #: M_PIl / 180.0 as a compiler folds it: a long double ``(m, e)``.

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import keyword
 import math
+from operator import attrgetter
 
 TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
@@ -44,10 +45,16 @@ _FIRST_POSITION, _LAST_POSITION = POSITION_PARAMS[0], POSITION_PARAMS[-1]
 #: Parameters a program may read but not set.
 READ_ONLY_PARAMS = frozenset(range(5400, 5414)) | frozenset(POSITION_PARAMS)
 
-# Fast paths: integral in-range indices (int or float keys hash alike) that
-# need no further check. Anything else takes the slow, rs274-exact path.
-_PLAIN_READ = {n: n for n in range(1, MAX_PARAMETERS) if n not in POSITION_PARAMS}
-_PLAIN_WRITE = {n: n for n in range(1, MAX_PARAMETERS) if n not in READ_ONLY_PARAMS}
+
+
+def _plain_index(n: float) -> int:
+    """``n`` as an index when it is an integral number in range, else 0: the
+    common case, which needs none of rs274's rounding and checks."""
+    try:
+        index = int(n)
+    except (TypeError, ValueError, OverflowError):  # None, NaN, infinities
+        return 0
+    return index if index == n and 0 < index < MAX_PARAMETERS else 0
 
 
 def parameter_index(value: float) -> int:
@@ -85,30 +92,37 @@ class Params:
     change that sequence in place afterwards.
     """
 
-    __slots__ = ("_values", "cutter_comp", "position")
+    __slots__ = ("values", "cutter_comp", "position")
+
+    #: The list itself: ``values[n]`` is ``#n`` for every number but the
+    #: position parameters (those live in :attr:`position`). Generated code
+    #: reads constant, unchecked numbers from it directly (``p[1]`` with
+    #: ``p = m.params.values``): a Python ``__getitem__`` would cost ten
+    #: times more, and a subroutine's arguments are read that way.
+    values: List[float]
 
     def __init__(self, initial: Optional[Dict[int, float]] = None):
-        self._values: List[float] = [0.0] * MAX_PARAMETERS
+        self.values: List[float] = [0.0] * MAX_PARAMETERS
         for number, value in (initial or {}).items():
-            self._values[number] = float(value)
+            self.values[number] = float(value)
         self.cutter_comp = False
-        self.position: Sequence[float] = self._values[
+        self.position: Sequence[float] = self.values[
             _FIRST_POSITION : _LAST_POSITION + 1
         ]
 
     def __getitem__(self, n: float) -> float:
-        index = _PLAIN_READ.get(n)
-        if index is None:
+        index = _plain_index(n)
+        if not index or _FIRST_POSITION <= index <= _LAST_POSITION:
             index = self.reference_index(n)
             if _FIRST_POSITION <= index <= _LAST_POSITION:
                 return self.position[index - _FIRST_POSITION]
-        return self._values[index]
+        return self.values[index]
 
     def __setitem__(self, n: float, value: float) -> None:
-        index = _PLAIN_WRITE.get(n)
-        if index is None:
+        index = _plain_index(n)
+        if not index or index in READ_ONLY_PARAMS:
             index = self.setting_index(n)
-        self._values[index] = value
+        self.values[index] = value
 
     def reference_index(self, n: float) -> int:
         """The index of a read ``#n``, or rs274's error."""
@@ -131,24 +145,24 @@ class Params:
         """The interpreter's own read (``#0`` included, as DEBUG shows it): no checks."""
         if _FIRST_POSITION <= n <= _LAST_POSITION:
             return self.position[n - _FIRST_POSITION]
-        return self._values[n]
+        return self.values[n]
 
     def set_internal(self, n: int, value: float) -> None:
         """The interpreter's own write (offsets, tool data): no checks.
         (The position parameters are published through :attr:`position`.)"""
-        self._values[n] = value
+        self.values[n] = value
 
     def save_locals(self) -> List[float]:
         """``#1``-``#30``, to be given back to :meth:`restore_locals`."""
-        return self._values[1 : CALL_ARGS + 1]
+        return self.values[1 : CALL_ARGS + 1]
 
     def restore_locals(self, saved: List[float]) -> None:
-        self._values[1 : CALL_ARGS + 1] = saved
+        self.values[1 : CALL_ARGS + 1] = saved
 
     def set_call_args(self, args: Iterable[float]) -> None:
         """``#1``.. from the call's arguments; the rest of ``#1``-``#30`` become 0.0."""
         values = list(args)[:CALL_ARGS]
-        self._values[1 : CALL_ARGS + 1] = values + [0.0] * (CALL_ARGS - len(values))
+        self.values[1 : CALL_ARGS + 1] = values + [0.0] * (CALL_ARGS - len(values))
 
 
 # --------------------------------------------------------------------------
@@ -311,10 +325,8 @@ def _predefined_property(name: str, attribute: Optional[str]) -> property:
         def read(store: Globals) -> float:
             return store._machine_.predefined(name)
 
-    else:
-
-        def read(store: Globals) -> float:
-            return getattr(store._machine_, attribute)
+    else:  # in C: a property's getter is called on every read
+        read = attrgetter("_machine_." + attribute)
 
     def write(store: Globals, value: float) -> None:
         raise GCodeError("Cannot assign to read-only parameter #<%s>" % name)

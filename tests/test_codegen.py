@@ -228,7 +228,7 @@ def test_line_reads_declare_names_and_check_indices_in_order():
     code = compile_text("#<n> = [#<n> + 1]\n#[#1+1]=[#2*3] G0 X#1\nM2\n", "p.ngc")
     assert '    v.declare("n")\n    v.n = v.n + 1.0\n' in code
     assert (
-        "    i1 = p.setting_index(p[1] + 1.0)\n"
+        "    i1 = m.params.setting_index(p[1] + 1.0)\n"
         "    t2 = finite(p[2] * 3.0)\n"
         "    t3 = p[1]\n"
         "    p[i1] = t2\n"

@@ -424,3 +424,10 @@ def test_the_c_extension_mod_sin_cos_tan_are_the_python_ones():
         ):
             with pytest.raises(GCodeError, match=message):
                 fast(bad)
+    fast, python = ops.finite, ops.PYTHON_VERSIONS["finite"]
+    assert fast is not python
+    for x in special[:-3] + [3, -(2**80), True]:  # ints pass, as in Python
+        assert fast(x) is python(x) or fast(x) == python(x), x
+    for bad, message in ((inf, "infinity"), (-inf, "infinity"), (nan, "not a number")):
+        with pytest.raises(GCodeError, match=message):
+            fast(bad)

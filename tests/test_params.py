@@ -6,6 +6,7 @@ import copy
 
 import pytest
 
+import runtime.machine  # noqa: F401 - it makes Globals' predefined names read-only
 from runtime.errors import GCodeError
 from runtime.params import Globals, Locals, Params, attr_safe
 from test_ops import rs274_error, rs274_messages
