@@ -45,7 +45,7 @@ import zlib
 from dataclasses import dataclass, field
 from typing import Dict, Iterable, List, Optional, Sequence, Tuple
 
-from ngc2py import __version__, assigned, nodes, parser, rowtable
+from ngc2py import __version__, assigned, fastlocals, nodes, parser, rowtable
 from ngc2py.parser import DEFAULT_AXES
 from ngc2py import structure as st
 from ngc2py.parser import RowLine
@@ -61,6 +61,10 @@ CHUNK_STATEMENTS = 500  # statements per main chunk function
 # indentation levels): an if/loop starting deeper than this moves into a
 # helper function of its own (see CodeGen.nest).
 NEST_LIMIT = 8
+# Named locals become Python variables (ngc2py.fastlocals) only in functions
+# whose ifs and loops nest at most this deep: none of them needs a helper
+# (each nesting level indents at most twice).
+FAST_LOCALS_DEPTH = NEST_LIMIT // 2
 MIN_ROWS = 8  # shortest run of constant blocks kept as data
 ROWS_PER_TABLE = 20000  # rows of one table: bounds the memory of running one
 
@@ -161,6 +165,9 @@ class ExprWriter:
 
     def __init__(self) -> None:
         self.helpers: set = set()
+        #: Locals of the function being written that are Python variables
+        #: (ngc2py.fastlocals).
+        self.fast: frozenset = frozenset()
 
     def helper(self, name: str) -> str:
         self.helpers.add(name)
@@ -194,6 +201,8 @@ class ExprWriter:
         return "m.params[%s]" % self.expr(index)
 
     def _namedparam(self, e: nodes.NamedParam) -> str:
+        if e.name in self.fast:
+            return fastlocals.variable(e.name)
         store = "g" if e.is_global else "v"
         if attr_safe(e.name):
             return "%s.%s" % (store, e.name)
@@ -693,7 +702,9 @@ class CodeGen:
         body = sub.body
         if body and isinstance(body[-1], st.Return) and body[-1].value is None:
             body = body[:-1]  # falling off the end is the plain endsub
+        self.x.fast = fastlocals.fast_locals(body, FAST_LOCALS_DEPTH)
         self.block(body)
+        self.x.fast = frozenset()
         self.w.depth = 0
         self.write_helpers()
         self.w.file_index = 0
@@ -724,7 +735,10 @@ class CodeGen:
                 self.w.raw(
                     INDENT + "m.doing_continue = False  # set by a do-loop continue"
                 )
+            if len(chunks) == 1:  # chunks would share the variables
+                self.x.fast = fastlocals.fast_locals(chunk, FAST_LOCALS_DEPTH)
             self.block(chunk)
+            self.x.fast = frozenset()
             self.w.depth = 0
             self.write_helpers()
         if len(chunks) > 1:
@@ -893,6 +907,8 @@ class CodeGen:
         and a subroutine ``return`` returns ``("return", value)``; the call
         site then does the jump or return itself.
         """
+        if self.x.fast:  # fastlocals.fast_locals chose a too deep function
+            raise AssertionError("a nesting helper cannot see Python variables")
         self.helper_count += 1
         name = "nest_%d" % self.helper_count
         self.helpers.append(Helper(name, stmt, list(self.loops), self.w.file_index))
@@ -1371,6 +1387,7 @@ class CodeGen:
                 if (
                     isinstance(name, nodes.NamedParam)
                     and name.name not in declared
+                    and name.name not in self.x.fast  # certainly set: fastlocals
                     and reads_name(line.items[i:], name.name)
                 ):
                     # rs274 creates the name when it reads "#<n>=", so the

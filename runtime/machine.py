@@ -142,7 +142,14 @@ from runtime.probing import ProbingMixin
 from runtime.spindle_select import check_dollar
 from runtime.splines import SplinesMixin
 from runtime.offsets import COORD_SYSTEM, G92_ENABLED, OffsetsMixin
-from runtime.params import CALL_ARGS, ArgCountLocals, Globals, Locals, Params
+from runtime.params import (
+    CALL_ARGS,
+    ArgCountLocals,
+    Globals,
+    Locals,
+    Params,
+    unset_variable,
+)
 from runtime.tooltable import ToolTable, default_tool_table, load_tool_table
 from runtime.tools import ToolsMixin
 from runtime.varfile import default_parameters, initial_parameters, save_parameter_file
@@ -358,6 +365,8 @@ class Machine(
                 main(self)
             except ProgramEnd:
                 pass
+            except UnboundLocalError as error:
+                raise unset_variable(error) from None
             finally:
                 self.announce_block(None)
                 for _ in range(self._closing_resets):

@@ -46,7 +46,6 @@ _FIRST_POSITION, _LAST_POSITION = POSITION_PARAMS[0], POSITION_PARAMS[-1]
 READ_ONLY_PARAMS = frozenset(range(5400, 5414)) | frozenset(POSITION_PARAMS)
 
 
-
 def _plain_index(n: float) -> int:
     """``n`` as an index when it is an integral number in range, else 0: the
     common case, which needs none of rs274's rounding and checks."""
@@ -351,6 +350,19 @@ def _from_ini(store: "Globals", name: str) -> bool:
 
 #: Names ``store.name`` must not be used for: every attribute the classes have.
 _RESERVED = frozenset(dir(Globals)) | frozenset(dir(Locals)) | {"_machine_", "__dict__"}
+
+
+def unset_variable(error: UnboundLocalError) -> BaseException:
+    """rs274's error for a named local that generated code keeps in a Python
+    variable (``v_i`` for ``#<i>``, see ngc2py/fastlocals.py) read before it
+    was set, with the traceback that names the G-code line. The code
+    generator only does that where the name is certainly set first: this is
+    the safety net. Any other UnboundLocalError is left as it is."""
+    words = str(error).split("'")
+    if len(words) >= 2 and words[1].startswith("v_"):
+        named = GCodeError("Named parameter #<%s> not defined" % words[1][2:])
+        return named.with_traceback(error.__traceback__)
+    return error
 
 
 def attr_safe(name: str) -> bool:
