@@ -135,6 +135,29 @@ class SourceMap:
         lines = self._split[file]
         return lines[line - 1] if 0 < line <= len(lines) else ""
 
+    def first_line(self) -> str:
+        """The main file's first line that is not blank, stripped ("" if
+        none), found without unpacking a large file's whole text: every
+        program that ends asks (is it a ``%`` file?)."""
+        text = self._texts[0] if self._texts else ""
+        if isinstance(text, bytes) and 0 not in self._split:
+            import binascii
+            import zlib
+
+            head = text[: 1 << 12].replace(b"\n", b"")
+            head = head[: len(head) // 4 * 4]  # whole base64 groups
+            part = zlib.decompressobj().decompress(binascii.a2b_base64(head))
+            complete = part[: part.rfind(b"\n") + 1]  # whole lines only
+            for line in complete.decode("utf-8", "surrogateescape").split("\n"):
+                if line.strip():
+                    return line.strip()
+        last = self.end[0] if self.end else 0
+        for number in range(1, last + 1):
+            line = self.text(0, number).strip()
+            if line:
+                return line
+        return ""
+
     def opening_error(self) -> Optional[Tuple[str, Location]]:
         """(message, location) of the failure rs274 meets opening the main
         file, or None when it opens fine."""

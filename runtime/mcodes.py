@@ -275,8 +275,4 @@ class MCodesMixin:
         if source is None or source.end[1]:
             return False
         # The file is demarcated when its first non-blank line is "%".
-        for number in range(1, source.end[0] + 1):
-            text = source.text(0, number).strip()
-            if text:
-                return text == "%"
-        return False
+        return source.first_line() == "%"

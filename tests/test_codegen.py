@@ -296,7 +296,9 @@ def test_generated_code_runs_like_rs274(text, mode, tmp_path):
 
 
 def test_arcs_with_computed_words_call_machine_arc():
-    code = compile_text("G17 G1 X0 Y0 F100\nG2 X[1 + 1] Y0 I1 J0\nG3 X0 Y0 R5 F[50]\nG2 X1 P2 I1\nM2\n")
+    code = compile_text(
+        "G17 G1 X0 Y0 F100\nG2 X[1 + 1] Y0 I1 J0\nG3 X0 Y0 R5 F[50]\nG2 X1 P2 I1\nM2\n"
+    )
     assert "m.arc(2, G2, x=2.0, y=0.0, i=1.0, j=0.0)" in code
     assert "m.arc(3, G3, x=0.0, y=0.0, r=5.0, f=50.0)" in code
     assert "m.block(4, G2, x=1.0, p=2.0, i=1.0)" in code  # P (turns): the general path
@@ -304,9 +306,7 @@ def test_arcs_with_computed_words_call_machine_arc():
 
 @pytest.mark.rs274
 @pytest.mark.parametrize("where", ["row", "statement"])
-def test_a_large_files_text_is_packed_and_errors_still_show_their_line(
-    where, tmp_path
-):
+def test_a_large_files_text_is_packed_and_errors_still_show_their_line(where, tmp_path):
     """Above codegen.PACK_TEXT_OVER the G-code text goes into the source map
     compressed; an error must still print rs274's message and line text,
     wherever the failing line is (a data row or a statement)."""
@@ -324,3 +324,31 @@ def test_a_large_files_text_is_packed_and_errors_still_show_their_line(
     actual = harness.run_ngc2py(program, mode="convert")
     assert not harness.compare(expected, actual)
     assert bad in actual.stderr.decode()
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize("blank_lines", [0, 3, 3000])
+@pytest.mark.parametrize("closed", [False, True])
+def test_a_large_percent_file_without_its_closing_percent(
+    blank_lines, closed, tmp_path
+):
+    """A program end asks whether the main file opens with a % line (then a
+    missing closing % earns rs274's comment): for a packed text that is read
+    from the start of the packed bytes, or from the whole text when the
+    start is all blank lines (``blank_lines`` before the %)."""
+    rows = ["G0 X%d Y%d" % (k, k % 7) for k in range(8000)]
+    text = (
+        "\n" * blank_lines
+        + "%\n"
+        + "\n".join(rows)
+        + "\nM2\n"
+        + ("%\n" if closed else "")
+    )
+    code = compile_text(text, "big.ngc")
+    assert "_NGC_TEXT_0 = b" in code
+    program = tmp_path / "big.ngc"
+    program.write_text(text)
+    expected = harness.run_rs274(program)
+    actual = harness.run_ngc2py(program, mode="convert")
+    assert not harness.compare(expected, actual)
+    assert (b"percent sign missing" in actual.stdout) is not closed
