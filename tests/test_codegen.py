@@ -111,7 +111,7 @@ def test_module_shape_follows_the_contract():
     assert code.startswith('"""pocket.ngc, compiled by ngc2py')
     assert "def o_drill(m: Machine) -> None:" in code
     assert "    # 7: G1 X[#<i>*10] Y0 F100\n" in code
-    assert "while v.i < 3.0:" in code
+    assert "while v_i < 3.0:" in code  # a Python variable (ngc2py.fastlocals)
     assert "m.call(o_drill, 5.0)" in code
     assert code.rstrip().endswith("raise SystemExit(run_cli(main, __ngc__))")
     assert "def run(canon=None, **options):" in code
@@ -239,8 +239,8 @@ def test_line_reads_declare_names_and_check_indices_in_order():
 
 def test_plain_settings_stay_plain():
     code = compile_text("#<a>=1\n#2=[#<a>] #<b>=2\n#3=#2\nM2\n", "p.ngc")
-    assert "    v.a = 1.0\n" in code
-    assert "    p[2], v.b = v.a, 2.0\n" in code
+    assert "    v_a = 1.0\n" in code
+    assert "    p[2], v_b = v_a, 2.0\n" in code
     assert "    p[3] = p[2]\n" in code
     assert "declare" not in code and "setting_index" not in code
 
