@@ -15,31 +15,40 @@ concurrent reader never sees half a module. The directory is
 
 from __future__ import annotations
 
-import hashlib
-import json
 import os
-from pathlib import Path
-from typing import List, Optional, Tuple, Union
+
+# A cached `ngc2py run` does little but this module's work before the
+# program runs, so it stays off pathlib, typing, json and OpenSSL's hashlib
+# (together about 10 ms of imports): paths are strings, BLAKE2 is CPython's
+# own module, and an entry's probes are read as JSON only when there are any.
+try:
+    from _blake2 import blake2b as _hash
+except ImportError:  # not CPython
+    from hashlib import blake2b as _hash
 
 from ngc2py import __version__
 from ngc2py.compiler import compile_program
 
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import List, Optional, Tuple, Union
+
 ENV = "NGC2PY_CACHE"
 
 
-def cache_dir() -> Path:
+def cache_dir() -> str:
     """Where entries live: ``$NGC2PY_CACHE``, else the user's cache dir."""
     override = os.environ.get(ENV)
     if override:
-        return Path(override)
+        return override
     base = os.environ.get("XDG_CACHE_HOME") or os.path.join(
         os.path.expanduser("~"), ".cache"
     )
-    return Path(base) / "ngc2py"
+    return os.path.join(base, "ngc2py")
 
 
 def _digest(data: bytes) -> str:
-    return hashlib.sha256(data).hexdigest()
+    return _hash(data, digest_size=32).hexdigest()
 
 
 def _file_digest(path: str) -> Optional[str]:
@@ -57,10 +66,12 @@ def compiler_fingerprint() -> str:
     """The version plus a hash of the compiler's own sources, so a changed
     (even unreleased) compiler never reuses modules the old one wrote."""
     if not _FINGERPRINT:
-        package = Path(__file__).resolve().parent
-        digest = hashlib.sha256(__version__.encode())
-        for source in sorted(package.glob("*.py")):
-            digest.update(source.read_bytes())
+        package = os.path.dirname(os.path.realpath(__file__))
+        digest = _hash(__version__.encode(), digest_size=32)
+        for name in sorted(os.listdir(package)):
+            if name.endswith(".py"):
+                with open(os.path.join(package, name), "rb") as handle:
+                    digest.update(handle.read())
         _FINGERPRINT.append(digest.hexdigest())
     return _FINGERPRINT[0]
 
@@ -80,11 +91,11 @@ def cache_key(path: str, ini: Optional[str]) -> str:
     return _digest("\0".join(parts).encode("utf-8", "surrogateescape"))
 
 
-def _file_mode(target: Path) -> int:
+def _file_mode(target: str) -> int:
     """The mode ``target`` gets: the one it has, or a new file's (0666 less
     the umask), not the private 0600 of a temporary file."""
     try:
-        return target.stat().st_mode & 0o7777
+        return os.stat(target).st_mode & 0o7777
     except OSError:
         umask = os.umask(0)
         os.umask(umask)
@@ -94,12 +105,13 @@ def _file_mode(target: Path) -> int:
 def write_atomic(target, data: Union[str, bytes]) -> None:
     """Write ``data`` (text is UTF-8) to ``target`` so that readers see the
     old file or the new one, never half of one; the file keeps its mode."""
-    target = Path(target)
-    target.parent.mkdir(parents=True, exist_ok=True)
+    target = os.fspath(target)
+    folder = os.path.dirname(target) or "."
+    os.makedirs(folder, exist_ok=True)
     import tempfile  # here: a cached `ngc2py run` never writes
 
     fd, temp = tempfile.mkstemp(
-        dir=str(target.parent), prefix=".tmp-", suffix=target.suffix
+        dir=folder, prefix=".tmp-", suffix=os.path.splitext(target)[1]
     )
     try:
         with os.fdopen(fd, "wb") as handle:
@@ -118,7 +130,7 @@ def _probes_current(probes: List[Tuple[str, Optional[str]]]) -> bool:
     return all(_file_digest(path) == digest for path, digest in probes)
 
 
-def cached_module(path: str, ini: Optional[str] = None) -> Path:
+def cached_module(path: str, ini: Optional[str] = None) -> str:
     """The path of an up-to-date generated module for ``path``, compiling
     (and storing) it on a miss. Raises ``compiler.CompileError`` (an
     ``OpenError`` when ``path`` cannot be read)."""
@@ -129,14 +141,23 @@ def cached_module(path: str, ini: Optional[str] = None) -> Path:
     except OSError as error:
         raise open_failure(path, error) from None
     folder = cache_dir()
-    module = folder / ("m_%s.py" % key)
-    meta = folder / ("m_%s.json" % key)
+    module = os.path.join(folder, "m_%s.py" % key)
+    meta = os.path.join(folder, "m_%s.json" % key)
     try:
-        probes = [tuple(p) for p in json.loads(meta.read_text("utf-8"))]
-        if module.is_file() and _probes_current(probes):
+        with open(meta, encoding="utf-8") as handle:
+            text = handle.read()
+        if text == "[]":  # no external subroutine probed: the usual case
+            probes = []
+        else:
+            import json
+
+            probes = [tuple(p) for p in json.loads(text)]
+        if os.path.isfile(module) and _probes_current(probes):
             return module
     except (OSError, ValueError, TypeError):
         pass
+    import json
+
     compiled = compile_program(path, ini)
     probes = [(p, _file_digest(p) if found else None) for p, found in compiled.probes]
     write_atomic(module, compiled.text)

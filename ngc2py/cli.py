@@ -6,17 +6,19 @@ traceback never reaches the user.
 
 from __future__ import annotations
 
-import argparse
 import importlib.util
 import os
 import sys
-from pathlib import Path
-from typing import List, Optional
 
 from ngc2py import __version__
 from ngc2py.compiler import CompileError, OpenError, compile_file
 from runtime.budget import DEFAULT_MAX_STEPS
 from runtime.errors import SourceMap
+
+TYPE_CHECKING = False  # `ngc2py run` is timed against rs274: no typing import
+if TYPE_CHECKING:
+    import argparse
+    from typing import List, Optional
 
 DESCRIPTION = """\
 Compile LinuxCNC G-code (RS274/NGC, LinuxCNC 2.9) into a readable Python
@@ -38,6 +40,8 @@ README's "Exit status" section."""
 
 
 def build_parser(workflows: bool = True) -> argparse.ArgumentParser:
+    import argparse  # here: `ngc2py run PROG` is parsed without it (quick_run_args)
+
     parser = argparse.ArgumentParser(
         prog="ngc2py",
         description=DESCRIPTION,
@@ -108,7 +112,7 @@ def build_parser(workflows: bool = True) -> argparse.ArgumentParser:
 
 
 def default_output(program: str) -> str:
-    return str(Path(program).with_suffix(".py"))
+    return os.path.splitext(program)[0] + ".py"
 
 
 def same_file(a: str, b: str) -> bool:
@@ -139,11 +143,11 @@ def convert(args: argparse.Namespace) -> int:
     if output == "-":
         sys.stdout.write(text)
     else:
-        write_atomic(Path(output), text)
+        write_atomic(output, text)
     return 0
 
 
-def load_module(path: Path):
+def load_module(path: str):
     """Import a generated module from ``path`` under a private name."""
     spec = importlib.util.spec_from_file_location("ngc2py_program", str(path))
     module = importlib.util.module_from_spec(spec)
@@ -170,8 +174,9 @@ def load_text(text: str):
     import tempfile
 
     with tempfile.TemporaryDirectory() as folder:
-        path = Path(folder) / "program.py"
-        path.write_text(text, encoding="utf-8")
+        path = os.path.join(folder, "program.py")
+        with open(path, "w", encoding="utf-8") as handle:
+            handle.write(text)
         return load_module(path)
 
 
@@ -218,6 +223,54 @@ def run(args: argparse.Namespace) -> int:
             getattr(canon, "close", lambda: None)()
 
 
+#: ``ngc2py run``'s options, for :func:`quick_run_args`: those that take a
+#: value (attribute name), and flags.
+_RUN_VALUES = {
+    "-t": "tool_table",
+    "-v": "var_file",
+    "-i": "ini",
+    "-n": "continue_mode",
+    "--max-steps": "max_steps",
+}
+_RUN_FLAGS = {"-b": "block_delete", "-q": "quiet", "--quiet": "quiet"}
+
+
+def quick_run_args(argv: List[str]):
+    """``run PROG [options]`` parsed without argparse, whose import and
+    parser cost about 8 ms of every run (rs274 starts in 10): the plain
+    forms only -- each option spelled out, its value in the next argument,
+    one program name. Anything else (help, abbreviations, ``-``, ``--``,
+    joined flags, an option value starting with ``-``, a repeated program)
+    gives None, and argparse decides. tests/test_cli.py holds the answers to
+    argparse's."""
+    if len(argv) < 2 or argv[0] != "run":
+        return None
+    values = dict.fromkeys(_RUN_VALUES.values())
+    values.update(dict.fromkeys(_RUN_FLAGS.values(), False))
+    values.update(command="run", program=None)
+    at = 1
+    while at < len(argv):
+        arg = argv[at]
+        if arg in _RUN_VALUES:
+            if at + 1 == len(argv) or argv[at + 1].startswith("-"):
+                return None
+            values[_RUN_VALUES[arg]] = argv[at + 1]
+            at += 2
+        elif arg in _RUN_FLAGS:
+            values[_RUN_FLAGS[arg]] = True
+            at += 1
+        elif arg.startswith("-") or values["program"] is not None:
+            return None
+        else:
+            values["program"] = arg
+            at += 1
+    if values["program"] is None:
+        return None
+    from types import SimpleNamespace
+
+    return SimpleNamespace(**values)
+
+
 def _parser_for(argv: List[str]) -> argparse.ArgumentParser:
     """The parser, without the workflows' sub-commands when ``argv`` runs or
     converts a program: importing them would add to every ``ngc2py run``."""
@@ -229,8 +282,9 @@ def main(argv: Optional[List[str]] = None) -> int:
     """The command line; returns the exit status (never calls sys.exit), so
     it can be called in-process. Output goes to sys.stdout/sys.stderr as
     they are at call time."""
+    arguments = sys.argv[1:] if argv is None else argv
     try:
-        args = _parser_for(sys.argv[1:] if argv is None else argv).parse_args(argv)
+        args = quick_run_args(arguments) or _parser_for(arguments).parse_args(argv)
     except SystemExit as stop:  # argparse: --help, --version, or a usage error
         # A usage error exits 1, as rs274 does (argparse would say 2).
         return 0 if stop.code in (0, None) else 1

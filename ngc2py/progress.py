@@ -11,7 +11,10 @@ the trace canon instead (:class:`ProgressCanon`).
 from __future__ import annotations
 
 import sys
-from typing import IO, Optional
+
+TYPE_CHECKING = False  # the run path imports this: no typing
+if TYPE_CHECKING:
+    from typing import IO, Optional
 
 #: Moves between two updates of a run's bar: the bar must cost nothing
 #: measurable per move.

@@ -8,7 +8,10 @@ External subroutines are still looked for in the current directory.
 from __future__ import annotations
 
 import sys
-from typing import Optional
+
+TYPE_CHECKING = False  # the run path imports this: no typing
+if TYPE_CHECKING:
+    from typing import Optional
 
 STDIN = "-"
 NAME = "<stdin>"

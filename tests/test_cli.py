@@ -9,6 +9,8 @@ import sys
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as hs
 
 from ngc2py import cache, cli
 
@@ -116,7 +118,9 @@ def test_generated_module_reports_file_line_and_call_stack(tmp_path):
     # rs274's two lines (message, line text), a caret under the word whose
     # value failed, file:line:column, the O-call that led there
     # (columns of a failing expression need Python 3.11's code positions)
-    caret = ["   ^", "  at p.ngc:2:4"] if sys.version_info >= (3, 11) else ["  at p.ngc:2"]
+    caret = (
+        ["   ^", "  at p.ngc:2:4"] if sys.version_info >= (3, 11) else ["  at p.ngc:2"]
+    )
     assert proc.stderr.splitlines()[1:] == [
         "Attempt to divide by zero",
         "G0 X[1/#1]",
@@ -147,7 +151,7 @@ def test_cache_hits_and_invalidates_on_change(tmp_path, monkeypatch):
     assert cache.cached_module("p.ngc") == first
     (tmp_path / "ext.ngc").write_text("o<ext> sub\nG0 X1\no<ext> endsub\nM2\n")
     second = cache.cached_module("p.ngc")
-    assert second == first and "def o_ext" in second.read_text()
+    assert second == first and "def o_ext" in Path(second).read_text()
     source.write_text("o<ext> call\nG0 X2\nM2\n")
     assert cache.cached_module("p.ngc") != first
 
@@ -273,3 +277,70 @@ def test_ini_and_tool_table_complaints_are_printed_like_rs274s(tmp_path):
         "File: bad.tbl Unrecognized line skipped:\n    T1 P1 Z1 garbage\n    1 N....."
     )
     assert proc.stderr == "executing\nUnable to open inifile:none.ini:\n"
+
+
+_RUN_WORDS = [
+    "run",
+    "p.ngc",
+    "q.ngc",
+    "-t",
+    "-v",
+    "-i",
+    "-n",
+    "-b",
+    "-q",
+    "--quiet",
+    "--max-steps",
+    "--max-steps=3",
+    "--max",
+    "--quie",
+    "x.tbl",
+    "0",
+    "-1",
+    "-",
+    "--",
+    "-h",
+    "--help",
+    "--bogus",
+    "-bq",
+    "-tx.tbl",
+    "convert",
+    "-o",
+]
+
+
+@given(
+    hs.lists(hs.sampled_from(_RUN_WORDS), max_size=7).map(lambda words: ["run"] + words)
+    | hs.lists(hs.sampled_from(_RUN_WORDS), max_size=8)
+)
+@settings(max_examples=1500, deadline=None)
+def test_the_quick_run_parser_agrees_with_argparse(argv):
+    """cli.quick_run_args (no argparse on `ngc2py run`'s way) must give
+    argparse's answer whenever it gives one."""
+    import contextlib
+    import io
+
+    quick = cli.quick_run_args(argv)
+    if quick is None:
+        return
+    with (
+        contextlib.redirect_stderr(io.StringIO()),
+        contextlib.redirect_stdout(io.StringIO()),
+    ):
+        try:
+            full = cli._parser_for(argv).parse_args(argv)
+        except SystemExit:
+            pytest.fail("argparse refuses %r, the quick parser took it" % (argv,))
+    assert vars(quick) == vars(full)
+
+
+def test_the_quick_run_parser_takes_the_usual_forms():
+    args = cli.quick_run_args(["run", "p.ngc", "-t", "a.tbl", "-b", "-n", "0", "-q"])
+    assert (args.program, args.tool_table, args.block_delete, args.continue_mode) == (
+        "p.ngc",
+        "a.tbl",
+        True,
+        "0",
+    )
+    assert cli.quick_run_args(["run", "-h"]) is None
+    assert cli.quick_run_args(["run", "-"]) is None  # stdin: argparse's
