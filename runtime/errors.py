@@ -146,7 +146,7 @@ class SourceMap:
 
             head = text[: 1 << 12].replace(b"\n", b"")
             head = head[: len(head) // 4 * 4]  # whole base64 groups
-            part = zlib.decompressobj().decompress(binascii.a2b_base64(head))
+            part = zlib.decompressobj().decompress(binascii.a2b_base64(head), 1 << 16)
             complete = part[: part.rfind(b"\n") + 1]  # whole lines only
             for line in complete.decode("utf-8", "surrogateescape").split("\n"):
                 if line.strip():
