@@ -1388,7 +1388,7 @@ class CodeGen:
                     isinstance(name, nodes.NamedParam)
                     and name.name not in declared
                     and name.name not in self.x.fast  # certainly set: fastlocals
-                    and reads_name(line.items[i:], name.name)
+                    and nodes.reads_name(line.items[i:], name.name)
                 ):
                     # rs274 creates the name when it reads "#<n>=", so the
                     # rest of the line may read it.
@@ -1770,27 +1770,6 @@ class ItemRead:
     constant: bool
     target: Optional[str] = None
     checks: List[str] = field(default_factory=list)
-
-
-def subexpressions(e: nodes.Expr):
-    """``e`` and every expression inside it."""
-    yield e
-    for child in vars(e).values():
-        if isinstance(child, nodes.Expr):
-            yield from subexpressions(child)
-
-
-def reads_name(items, name: str) -> bool:
-    """Does reading ``items`` read (or test with EXISTS) the named parameter?"""
-    for item in items:
-        exprs = [item.value]
-        if isinstance(item, nodes.Assign) and isinstance(item.target, nodes.NumParam):
-            exprs.append(item.target.index)
-        for expr in exprs:
-            for e in subexpressions(expr):
-                if isinstance(e, (nodes.NamedParam, nodes.Exists)) and e.name == name:
-                    return True
-    return False
 
 
 def plain_read_index(n: float) -> bool:

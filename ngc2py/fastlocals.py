@@ -83,7 +83,7 @@ def fast_locals(body: List[st.Stmt], max_depth: int) -> FrozenSet[str]:
             or not attr_safe(name)
             or name in tainted
             or name not in _set_by(line)
-            or _reads(line, name)
+            or nodes.reads_name(line.items, name)
         ):
             continue
         # Every mention must come after the setting in its own statement
@@ -197,31 +197,11 @@ def _expressions(line: nodes.Line) -> Iterator[nodes.Expr]:
     yield from line.partial
 
 
-def _walk(e: nodes.Expr) -> Iterator[nodes.Expr]:
-    yield e
-    for child in vars(e).values():
-        if isinstance(child, nodes.Expr):
-            yield from _walk(child)
-
-
 def _names(line: nodes.Line) -> Iterator[str]:
     for expr in _expressions(line):
-        for e in _walk(expr):
+        for e in nodes.subexpressions(expr):
             if isinstance(e, (nodes.NamedParam, nodes.Exists)):
                 yield e.name
-
-
-def _reads(line: nodes.Line, name: str) -> bool:
-    """Does ``line`` read ``name`` (anywhere but as a setting's target)?"""
-    for item in line.items:
-        exprs = [item.value]
-        if isinstance(item, nodes.Assign) and isinstance(item.target, nodes.NumParam):
-            exprs.append(item.target.index)
-        for expr in exprs:
-            for e in _walk(expr):
-                if isinstance(e, (nodes.NamedParam, nodes.Exists)) and e.name == name:
-                    return True
-    return False
 
 
 def _settings_only(line: nodes.Line) -> bool:
@@ -249,7 +229,7 @@ def _exists_names(stmts: List[st.Stmt]) -> Set[str]:
         if line is None:
             continue
         for expr in _expressions(line):
-            for e in _walk(expr):
+            for e in nodes.subexpressions(expr):
                 if isinstance(e, nodes.Exists):
                     names.add(e.name)
     return names

@@ -386,6 +386,32 @@ class Line:
         )
 
 
+# --------------------------------------------------------------------------
+# Walking expressions
+# --------------------------------------------------------------------------
+
+
+def subexpressions(e: Expr):
+    """``e`` and every expression inside it."""
+    yield e
+    for child in vars(e).values():
+        if isinstance(child, Expr):
+            yield from subexpressions(child)
+
+
+def reads_name(items, name: str) -> bool:
+    """Does reading ``items`` read (or test with EXISTS) the named parameter?"""
+    for item in items:
+        exprs = [item.value]
+        if isinstance(item, Assign) and isinstance(item.target, NumParam):
+            exprs.append(item.target.index)
+        for expr in exprs:
+            for e in subexpressions(expr):
+                if isinstance(e, (NamedParam, Exists)) and e.name == name:
+                    return True
+    return False
+
+
 __all__ = [
     "Expr",
     "Num",
@@ -404,4 +430,6 @@ __all__ = [
     "UNARY_FUNCTIONS",
     "BINARY_OPERATORS",
     "OWORD_KEYWORDS",
+    "subexpressions",
+    "reads_name",
 ]

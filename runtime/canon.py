@@ -258,26 +258,21 @@ class PythonTraceLines:
     and ``_abc``.
     """
 
-    # One %-format each (f-strings with format specs are slower), the line
-    # number folded in.
     def straight_traverse(self, x, y, z, a, b, c, u, v, w):
-        self._count += 1
-        if a is not self._a or b is not self._b or c is not self._c:
-            self._a, self._b, self._c = a, b, c
-            self._abc = trace_format(_ABC, (a, b, c))
-        self._write(
-            trace_format(_TRAVERSE, (self._count, self._column, x, y, z, self._abc))
-        )
-        if self._count >= self._drain_at:
-            self._drain()
+        self._straight(_TRAVERSE, x, y, z, a, b, c)
 
     def straight_feed(self, x, y, z, a, b, c, u, v, w):
+        self._straight(_FEED, x, y, z, a, b, c)
+
+    def _straight(self, template, x, y, z, a, b, c):
+        # One %-format (f-strings with format specs are slower), the line
+        # number folded in; the A/B/C text reused while they are the same.
         self._count += 1
         if a is not self._a or b is not self._b or c is not self._c:
             self._a, self._b, self._c = a, b, c
             self._abc = trace_format(_ABC, (a, b, c))
         self._write(
-            trace_format(_FEED, (self._count, self._column, x, y, z, self._abc))
+            trace_format(template, (self._count, self._column, x, y, z, self._abc))
         )
         if self._count >= self._drain_at:
             self._drain()

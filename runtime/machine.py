@@ -604,14 +604,7 @@ class Machine(
     def _run_sub(self, fn: Callable) -> Optional[float]:
         """Run subroutine ``fn`` one call level down, with fresh named locals."""
         self.step()
-        if self._plain_frames and self.call_level < MAX_CALL_LEVEL:
-            # _enter_sub's usual case, inline
-            caller_locals = self.locals
-            self.locals = Locals()
-            self.call_level += 1
-            self.value_returned = 0.0
-        else:
-            caller_locals = self._enter_sub()
+        caller_locals = self._enter_sub()  # (`call` has the usual case inline)
         try:
             result = fn(self)
         finally:

@@ -193,8 +193,8 @@ class ModalSaveMixin:
     # ------------------------------------------------------------------
     def _new_frame(self, level: int) -> None:
         """A call frame starts with nothing saved."""
-        if self._contexts:
-            self._contexts.pop(level, None)
+        if self._saved_contexts:  # (not _contexts: reading is not saving)
+            self._saved_contexts.pop(level, None)
 
     def _left_frame(self, level: int) -> None:
         """After a subroutine at ``level`` returned: an M73 state comes back."""
