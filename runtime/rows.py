@@ -38,11 +38,15 @@ if TYPE_CHECKING:
     Shape = Tuple[Tuple[int, ...], Tuple[str, ...]]
 
 from runtime.arc_rows import ArcRows
-from runtime.canon import TraceCanon
+from runtime.canon import Canon, TraceCanon
 from runtime.codes import G0, G1, G2, G3
 from runtime.printed_rows import BATCH, MOST, printed_rows
 
 _AXES = "xyzabcuvw"
+#: The protocol's own straight moves, which do nothing: a canon that keeps
+#: them (NullCanon, one that only watches tool changes...) is not called
+#: for a batch of rows at all (straight_batch).
+_NO_OPS = (Canon.straight_feed, Canon.straight_traverse)
 _ARC_LETTERS = "xyzabcijkrf"
 
 
@@ -118,7 +122,9 @@ def straight_batch(call, cells: List[str], at: int, end: int, plan: "_Plan", cur
 
     In a run of one shape the axes it does not name keep their values, so
     the calls' arguments are columns of the table (float() of slices) and
-    constants, zipped and applied in C: the per-row cost is the call."""
+    constants, zipped and applied in C: the per-row cost is the call. A
+    canon whose straight moves are the protocol's no-ops (NullCanon) is not
+    called at all: only the last row's values are read, for the end point."""
     stride = plan.width + 2
     key = cells[at + 1]
     if cells[at + 1 : at + 1 + stride * BATCH : stride].count(key) != BATCH:
@@ -126,16 +132,19 @@ def straight_batch(call, cells: List[str], at: int, end: int, plan: "_Plan", cur
     shapes = cells[at + 1 : min(end, at + 1 + stride * MOST) : stride]
     rows = len(list(takewhile(key.__eq__, shapes)))
     stop = at + rows * stride
-    arguments = [repeat(value) for value in cur]
-    for i, axis in plan.slots:
-        arguments[axis] = map(float, cells[at + 2 + i : stop : stride])
     done = 0
     error = None
-    try:
-        for done, _ in enumerate(starmap(call, zip(*arguments)), 1):
-            pass
-    except Exception as failed:  # noqa: BLE001 - handed back, raised by the caller
-        error = failed
+    if getattr(call, "__func__", None) in _NO_OPS:
+        done = rows  # the canon ignores these calls: only the end point counts
+    else:
+        arguments = [repeat(value) for value in cur]
+        for i, axis in plan.slots:
+            arguments[axis] = map(float, cells[at + 2 + i : stop : stride])
+        try:
+            for done, _ in enumerate(starmap(call, zip(*arguments)), 1):
+                pass
+        except Exception as failed:  # noqa: BLE001 - handed back, raised by the caller
+            error = failed
     if not done:
         return 0, None, error
     point = list(cur)

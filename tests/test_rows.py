@@ -19,7 +19,7 @@ import cam_strategies
 from ngc2py import codegen, rowtable
 from ngc2py.compiler import compile_text
 from runtime.arc_rows import ArcRows
-from runtime.canon import RecordingCanon, TraceCanon
+from runtime.canon import Canon, RecordingCanon, TraceCanon
 from runtime.errors import GCodeError
 from runtime.machine import Machine
 from test_differential import PROFILE, check_same
@@ -247,3 +247,39 @@ def test_a_canon_failing_inside_a_batch_stops_where_row_by_row_stops(
     single = _FailingCanon(fail_at)
     assert _run_recorded(code, single) == outcome
     assert batched.calls == single.calls
+
+
+class _MovesIgnored(RecordingCanon):
+    """Records every call but the straight moves, which it leaves to the
+    protocol's no-ops (as NullCanon does): batches are not called at all."""
+
+    straight_feed = Canon.straight_feed
+    straight_traverse = Canon.straight_traverse
+
+
+@PROFILE
+@given(cam_strategies.cam_programs())
+def test_a_canon_that_ignores_straight_moves_ends_in_the_same_state(text):
+    """runtime.rows.straight_batch skips a batch's calls when the canon's
+    straight moves are Canon's no-ops: every other call, the error and the
+    state after the program must be those of a canon that gets them all."""
+    code = compile_text(text, "cam.ngc")
+    everything = RecordingCanon()
+    outcome = _run_recorded(code, everything)
+    ignoring = _MovesIgnored()
+    assert _run_recorded(code, ignoring) == outcome
+    moves = ("straight_feed", "straight_traverse")
+    assert ignoring.calls == [c for c in everything.calls if c[0] not in moves]
+
+
+def test_a_batch_for_a_canon_that_ignores_straight_moves_makes_no_calls(monkeypatch):
+    text = "G21 G90 F500\nG1 X0\n" + "".join("X%d.5 Y%d\n" % (k, -k) for k in range(30))
+    code = compile_text(text + "M2\n", "cam.ngc")
+    expected = _run_recorded(code, RecordingCanon())
+
+    def no_calls(*args):
+        raise AssertionError("the batch called the canon")
+
+    monkeypatch.setattr("runtime.rows.starmap", no_calls)
+    assert _run_recorded(code, _MovesIgnored()) == expected
+    assert expected[2][:2] == [29.5, -29.0]
