@@ -134,6 +134,82 @@ static PyObject *finite_or_raise(PyObject *self, PyObject *arg) {
     return PyObject_CallOneArg(nonfinite, arg);
 }
 
+/* floats(strs): [float(s) for s in strs], for a list of str (a column of a
+ * data table); anything else raises as float() would. */
+static PyObject *floats(PyObject *self, PyObject *arg) {
+    PyObject *items = PySequence_Fast(arg, "floats() takes a sequence");
+    if (items == NULL) {
+        return NULL;
+    }
+    Py_ssize_t count = PySequence_Fast_GET_SIZE(items);
+    PyObject *result = PyList_New(count);
+    if (result == NULL) {
+        Py_DECREF(items);
+        return NULL;
+    }
+    PyObject **item = PySequence_Fast_ITEMS(items);
+    for (Py_ssize_t i = 0; i < count; i++) {
+        PyObject *value = PyFloat_FromString(item[i]);
+        if (value == NULL) {
+            Py_DECREF(items);
+            Py_DECREF(result);
+            return NULL;
+        }
+        PyList_SET_ITEM(result, i, value);
+    }
+    Py_DECREF(items);
+    return result;
+}
+
+/* radius_bounds(c1, c2, s1, s2, e1, e2): for the arcs of centres (c1, c2),
+ * starts (s1, s2) and ends (e1, e2), six lists of floats of one length, the
+ * smallest radius, the largest, and the largest difference between an arc's
+ * start and end radius -- hypot() of the C library, as rs274 takes them --
+ * or None when a value is not a finite float (the caller then leaves the
+ * arcs to the general path). */
+static PyObject *radius_bounds(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    if (nargs != 6) {
+        PyErr_SetString(PyExc_TypeError, "radius_bounds() takes six lists");
+        return NULL;
+    }
+    Py_ssize_t count = -1;
+    for (int k = 0; k < 6; k++) {
+        if (!PyList_CheckExact(args[k])) {
+            PyErr_SetString(PyExc_TypeError, "radius_bounds() takes six lists");
+            return NULL;
+        }
+        if (count < 0) {
+            count = PyList_GET_SIZE(args[k]);
+        } else if (PyList_GET_SIZE(args[k]) != count) {
+            PyErr_SetString(PyExc_ValueError, "radius_bounds(): lists of one length");
+            return NULL;
+        }
+    }
+    if (count <= 0) {
+        Py_RETURN_NONE;
+    }
+    double smallest = HUGE_VAL, largest = 0.0, difference = 0.0;
+    for (Py_ssize_t i = 0; i < count; i++) {
+        double v[6];
+        for (int k = 0; k < 6; k++) {
+            PyObject *item = PyList_GET_ITEM(args[k], i);
+            if (!PyFloat_CheckExact(item)) {
+                Py_RETURN_NONE;
+            }
+            v[k] = PyFloat_AS_DOUBLE(item);
+        }
+        double r1 = hypot(v[0] - v[2], v[1] - v[3]);
+        double r2 = hypot(v[0] - v[4], v[1] - v[5]);
+        if (!isfinite(r1) || !isfinite(r2)) {
+            Py_RETURN_NONE;
+        }
+        smallest = fmin(smallest, fmin(r1, r2));
+        largest = fmax(largest, fmax(r1, r2));
+        difference = fmax(difference, fabs(r1 - r2));
+    }
+    return Py_BuildValue("(ddd)", smallest, largest, difference);
+}
+
 static PyMethodDef methods[] = {
     {"sin", sin_degrees, METH_O, "sinl((d * M_PIl) / 180.0) stored into a double"},
     {"cos", cos_degrees, METH_O, "cosl((d * M_PIl) / 180.0) stored into a double"},
@@ -144,6 +220,9 @@ static PyMethodDef methods[] = {
     {"checked_tan", checked_tan, METH_O, "TAN[d]: the operand and the library checked"},
     {"mod", (PyCFunction) (void (*)(void)) mod, METH_FASTCALL, "rs274's MOD"},
     {"finite", finite_or_raise, METH_O, "x when it is a finite float, else runtime.ops.finite(x)"},
+    {"floats", floats, METH_O, "[float(s) for s in strs]"},
+    {"radius_bounds", (PyCFunction) (void (*)(void)) radius_bounds, METH_FASTCALL,
+     "(smallest radius, largest, largest start-end difference) of arcs, or None"},
     {NULL, NULL, 0, NULL},
 };
 

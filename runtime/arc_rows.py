@@ -35,6 +35,32 @@ from runtime.codes import G0, G1, G2, G3
 from runtime.errors import GCodeError
 from runtime.ops import c_hypot, plus_half_pi
 
+
+def python_column_floats(texts: List[str]) -> List[float]:
+    """The floats of a column of table cells."""
+    return list(map(float, texts))
+
+
+def python_radius_bounds(c1, c2, s1, s2, e1, e2) -> Optional[Tuple[float, ...]]:
+    """The smallest and largest radius of arcs of centres (c1, c2) from
+    (s1, s2) to (e1, e2), and the largest difference between an arc's start
+    and end radius."""
+    r1 = list(map(hypot, map(sub, c1, s1), map(sub, c2, s2)))
+    r2 = list(map(hypot, map(sub, c1, e1), map(sub, c2, e2)))
+    return (
+        min(min(r1), min(r2)),
+        max(max(r1), max(r2)),
+        max(map(abs, map(sub, r1, r2))),
+    )
+
+
+try:  # the same in C, without a map per step (None: a value not finite)
+    from runtime._libm_trig import floats as column_floats
+    from runtime._libm_trig import radius_bounds
+except ImportError:  # not built
+    column_floats, radius_bounds = python_column_floats, python_radius_bounds
+
+
 TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
     from typing import List, Optional, Tuple
@@ -427,7 +453,7 @@ class ArcRows:
 
         def floats(axis: int) -> List[float]:
             i = named.get(axis)
-            return [cur[axis]] * rows if i is None else list(map(float, texts[i]))
+            return [cur[axis]] * rows if i is None else column_floats(texts[i])
 
         e1, e2 = floats(p1), floats(p2)
         s1, s2 = [cur[p1]] + e1[:-1], [cur[p2]] + e2[:-1]
@@ -449,19 +475,17 @@ class ArcRows:
                 return rows
             c1, c2 = map(list, zip(*centres))
         else:
-            v1 = [0.0] * rows if i1 < 0 else list(map(float, texts[i1]))
-            v2 = [0.0] * rows if i2 < 0 else list(map(float, texts[i2]))
+            v1 = [0.0] * rows if i1 < 0 else column_floats(texts[i1])
+            v2 = [0.0] * rows if i2 < 0 else column_floats(texts[i2])
             if absolute:
                 c1, c2 = v1, v2
             else:
                 c1, c2 = list(map(add, s1, v1)), list(map(add, s2, v2))
-            r1 = list(map(hypot, map(sub, c1, s1), map(sub, c2, s2)))
-            r2 = list(map(hypot, map(sub, c1, e1), map(sub, c2, e2)))
-            big = max(max(r1), max(r2))
-            if not (
-                min(min(r1), min(r2)) * _BELOW >= zero
-                and max(map(abs, map(sub, r1, r2))) + big * _MARGIN <= spiral
-            ):
+            bounds = radius_bounds(c1, c2, s1, s2, e1, e2)
+            if bounds is None:
+                return rows
+            small, big, difference = bounds
+            if not (small * _BELOW >= zero and difference + big * _MARGIN <= spiral):
                 return rows
         rate = None
         if f_at >= 0:

@@ -431,3 +431,28 @@ def test_the_c_extension_mod_sin_cos_tan_are_the_python_ones():
     for bad, message in ((inf, "infinity"), (-inf, "infinity"), (nan, "not a number")):
         with pytest.raises(GCodeError, match=message):
             fast(bad)
+
+
+def test_the_c_extension_column_helpers_are_the_python_ones():
+    """runtime.arc_rows takes floats() and radius_bounds() from the extension
+    where it was built: the same floats, and bounds that differ at most in
+    the last bits hypot may round differently (arc_rows keeps a margin of
+    1e-14 for that)."""
+    from runtime import arc_rows
+
+    if arc_rows.radius_bounds is arc_rows.python_radius_bounds:
+        pytest.skip("runtime._libm_trig not built here: the Python versions run")
+    rng = random.Random(5)
+    texts = ["%.*f" % (rng.randint(0, 6), rng.uniform(-1e4, 1e4)) for _ in range(3000)]
+    texts += ["1e308", "-0.0", "7", " 2.5 ", "1_0"]
+    assert arc_rows.column_floats(texts) == arc_rows.python_column_floats(texts)
+    with pytest.raises(ValueError):
+        arc_rows.column_floats(["1.0", "x"])
+    for size in (1, 2, 50, 4096):
+        columns = [[rng.uniform(-100, 100) for _ in range(size)] for _ in range(6)]
+        got = arc_rows.radius_bounds(*columns)
+        want = arc_rows.python_radius_bounds(*columns)
+        assert got == pytest.approx(want, rel=1e-15, abs=1e-12)
+    inf_column = [[1.0, math.inf]] + [[0.0, 0.0]] * 5
+    assert arc_rows.radius_bounds(*inf_column) is None
+    assert arc_rows.radius_bounds(*[[1]] * 6) is None  # not floats
