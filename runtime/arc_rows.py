@@ -30,7 +30,7 @@ from math import asin, atan2, cos, hypot, sin
 from operator import add, sub
 
 from runtime import arcs
-from runtime.canon import TraceCanon, trace_format
+from runtime.canon import TraceCanon, trace_rows
 from runtime.codes import G0, G1, G2, G3
 from runtime.errors import GCodeError
 from runtime.ops import c_hypot, plus_half_pi
@@ -548,7 +548,7 @@ class ArcRows:
             parts = [range(count + 1, count + rows + 1)]
             count += rows
         parts += [numbers] if has_n else []
-        canon._write("".join(map(trace_format, repeat(fmt), zip(*parts, *columns))))
+        canon._write(trace_rows(fmt, [*parts, *columns]))
         canon._count = count
         if count >= canon._drain_at:  # TraceCanon's own batching
             canon._drain()

@@ -24,13 +24,13 @@ whole run is written at the end, in one piece, before anything else can be.
 
 from __future__ import annotations
 
-from itertools import repeat, takewhile
+from itertools import takewhile
 
 TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
     from typing import List
 
-from runtime.canon import trace_format
+from runtime.canon import trace_rows
 from runtime.codes import G0, G1
 
 _FEED = "%5d %sSTRAIGHT_FEED(%s, %s, %s, %s, %s, %s)\n"
@@ -200,5 +200,5 @@ def _batch(cells, at, end, printed, motion, feed_rate, texts, count):
         parts = [range(count + 1, count + rows + 1)]
         parts += [cells[at + 2 : stop : stride]] if has_n else []
         count += rows
-    text = "".join(map(trace_format, repeat(fmt), zip(*parts, *columns)))
+    text = trace_rows(fmt, [*parts, *columns])
     return text, rows, count, last_f

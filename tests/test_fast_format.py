@@ -200,3 +200,39 @@ def _traces(calls, buffered):
 def test_trace_lines_in_c_print_what_the_python_versions_print(calls, buffered):
     c_text, python_text = _traces(calls, buffered)
     assert c_text == python_text
+
+
+@pytest.mark.skipif(percent is None, reason="runtime._fast_format not built here")
+@given(
+    st.lists(st.tuples(st.text(max_size=3), _SPEC), max_size=4),
+    st.lists(st.lists(_ARGUMENT, max_size=6), max_size=5),
+)
+@settings(max_examples=1000, deadline=None)
+def test_rows_of_lines_are_pythons_join(pieces, columns):
+    from runtime._fast_format import percent_rows
+
+    template = "".join(text.replace("%", "") + spec for text, spec in pieces)
+    try:
+        expected = "".join(template % row for row in zip(*columns))
+    except Exception as exc:
+        with pytest.raises(type(exc)):
+            percent_rows(template, columns)
+    else:
+        assert percent_rows(template, columns) == expected
+
+
+@pytest.mark.skipif(percent is None, reason="runtime._fast_format not built here")
+def test_rows_of_trace_lines():
+    from runtime._fast_format import percent_rows
+
+    template = "%5d N%-6sARC_FEED(%s, %.4f, %s)\n"
+    columns = [
+        range(7, 5007),
+        ["10", "2"] * 2500,
+        ["1.5000"] * 5000,
+        [0.1 * k for k in range(5000)],
+        ["-1", "1"] * 2500,
+    ]
+    assert percent_rows(template, columns) == "".join(
+        template % row for row in zip(*columns)
+    )
