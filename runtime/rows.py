@@ -37,7 +37,7 @@ if TYPE_CHECKING:
 
     Shape = Tuple[Tuple[int, ...], Tuple[str, ...]]
 
-from runtime.arc_rows import ArcRows
+from runtime.arc_rows import ArcRows, column_floats
 from runtime.canon import Canon, TraceCanon
 from runtime.codes import G0, G1, G2, G3
 from runtime.printed_rows import BATCH, MOST, printed_rows
@@ -139,7 +139,7 @@ def straight_batch(call, cells: List[str], at: int, end: int, plan: "_Plan", cur
     else:
         arguments = [repeat(value) for value in cur]
         for i, axis in plan.slots:
-            arguments[axis] = map(float, cells[at + 2 + i : stop : stride])
+            arguments[axis] = column_floats(cells[at + 2 + i : stop : stride])
         try:
             for done, _ in enumerate(starmap(call, zip(*arguments)), 1):
                 pass

@@ -444,8 +444,18 @@ def test_the_c_extension_column_helpers_are_the_python_ones():
         pytest.skip("runtime._libm_trig not built here: the Python versions run")
     rng = random.Random(5)
     texts = ["%.*f" % (rng.randint(0, 6), rng.uniform(-1e4, 1e4)) for _ in range(3000)]
-    texts += ["1e308", "-0.0", "7", " 2.5 ", "1_0"]
-    assert arc_rows.column_floats(texts) == arc_rows.python_column_floats(texts)
+    for _ in range(20000):  # up to 15 digits, up to 15 of them decimals
+        digits = str(rng.randrange(10 ** rng.randint(1, 15)))
+        cut = rng.randint(0, len(digits))
+        texts.append(rng.choice("-+ ").strip() + digits[:cut] + "." + digits[cut:])
+    texts += ["1e308", "-0.0", "-0", "7", "1.", ".5", " 2.5 ", "1_0", "9007199254740993"]
+    texts += ["0.1234567890123456", "1234567890123456", "inf", "-nan"]
+    got = arc_rows.column_floats(texts)
+    want = arc_rows.python_column_floats(texts)
+    assert [(x, math.copysign(1, x)) for x in got if x == x] == [
+        (x, math.copysign(1, x)) for x in want if x == x
+    ]
+    assert sum(x != x for x in got) == sum(x != x for x in want) == 1
     with pytest.raises(ValueError):
         arc_rows.column_floats(["1.0", "x"])
     for size in (1, 2, 50, 4096):
