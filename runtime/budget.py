@@ -18,6 +18,8 @@ TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
     from typing import Iterator
 
+from itertools import repeat
+
 from runtime.errors import GCodeError
 
 #: Loop iterations plus calls allowed by default: far more than real
@@ -38,14 +40,19 @@ class StepBudgetMixin:
 
     def _set_budget(self, max_steps: int) -> None:
         self.max_steps = max_steps
-        # Counting down from -1 never reaches 0: no limit.
-        self.steps_left = max_steps if max_steps > 0 else -1
+        # step() is the next() of an iterator over the steps allowed: a call
+        # into C, where a Python method cost a tenth of a simple loop. When
+        # it runs out, its StopIteration becomes the runaway error
+        # (Machine.run, runaway(); a generator must convert it itself).
+        self.step = (
+            iter(range(max_steps - 1)).__next__
+            if max_steps > 0
+            else repeat(None).__next__  # no limit
+        )
 
-    def step(self) -> None:
-        """One loop iteration or call; generated loops call this first."""
-        self.steps_left -= 1
-        if not self.steps_left:
-            raise GCodeError(runaway_message(self.max_steps))
+    def runaway(self) -> GCodeError:
+        """The error for a spent budget (what step()'s StopIteration means)."""
+        return GCodeError(runaway_message(self.max_steps))
 
     def repeat(self, n: float) -> Iterator[int]:
         """``o.. repeat [n]``: n rounded to the nearest integer times (none
@@ -53,7 +60,10 @@ class StepBudgetMixin:
         from runtime.blockcheck import round_to_int
 
         for index in range(round_to_int(n)):
-            self.step()
+            try:
+                self.step()  # (one loop iteration: generated loops call it)
+            except StopIteration:
+                raise self.runaway() from None
             yield index
 
 

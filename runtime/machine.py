@@ -128,7 +128,7 @@ from runtime.fastpath import FastPathMixin
 from runtime.inifile import IniSettings, load_ini
 from runtime.mcodes import MCodesMixin, ProgramEnd, not_supported
 from runtime.modal_save import ModalSaveMixin
-from runtime.budget import DEFAULT_MAX_STEPS, StepBudgetMixin, runaway_message
+from runtime.budget import DEFAULT_MAX_STEPS, StepBudgetMixin
 from runtime.motion import (
     AXES,
     INVERSE_TIME,
@@ -367,6 +367,10 @@ class Machine(
                 pass
             except UnboundLocalError as error:
                 raise unset_variable(error) from None
+            except StopIteration as spent:  # the step budget (runtime.budget)
+                if self.max_steps <= 0:
+                    raise
+                raise self.runaway().with_traceback(spent.__traceback__) from None
             finally:
                 self.announce_block(None)
                 for _ in range(self._closing_resets):
@@ -535,11 +539,9 @@ class Machine(
             args + _NO_ARGS[count:] if count <= CALL_ARGS else args[:CALL_ARGS]
         )
         if self._plain_frames and self.call_level < MAX_CALL_LEVEL:
-            self.steps_left -= 1
             caller_locals = self.locals
             try:
-                if not self.steps_left:
-                    raise GCodeError(runaway_message(self.max_steps))
+                self.step()
                 self.locals = Locals()
                 self.call_level += 1
                 self.value_returned = 0.0

@@ -106,8 +106,9 @@ def test_endless_loop_stops_with_an_error_naming_the_loop(tmp_path):
         ("o1 repeat [100000000]\no1 endrepeat\nM2\n", {1}),
         # A loop of calls: the loop or the call spends the last step.
         ("o<s> sub\no<s> endsub\no2 while [1]\no<s> call\no2 endwhile\nM2\n", {3, 4}),
+        ("M98 P100 L100000000\nM2\nO100\nM99\n", {1}),
     ],
-    ids=["do-while", "repeat", "calls"],
+    ids=["do-while", "repeat", "calls", "m98"],
 )
 def test_every_kind_of_step_is_counted(program, lines, tmp_path):
     module = compiled(program, tmp_path)
@@ -127,6 +128,13 @@ def test_a_long_but_finite_program_is_not_stopped_by_the_default(tmp_path):
     Machine(canon, source=module.__ngc__).run(module.main)
     assert ("program_end", ()) in canon.calls
     assert DEFAULT_MAX_STEPS >= 1_000_000
+
+
+def test_an_endless_loop_stops_in_continue_mode_too(tmp_path):
+    # -n 0 goes on after errors; the spent budget still stops the program.
+    proc = ngc2py_run(tmp_path, ENDLESS, "-n", "0", "--max-steps", "100")
+    assert proc.returncode == 1 and runaway_message(100) in proc.stderr
+    assert proc.stdout.endswith("ON_RESET()\n")
 
 
 def test_zero_means_no_limit():
