@@ -1474,6 +1474,15 @@ class CodeGen:
         ):
             return None
         args = ["%d" % line.number]
+        if (
+            call == "m.move"
+            and motion in (codes.G0, codes.G1)
+            and line.n_text is None
+            and all(word.letter in "xyz" for word in words if word.letter != "g")
+        ):
+            # Machine.feed / Machine.rapid: the commonest move, lighter
+            call = "m.feed" if motion == codes.G1 else "m.rapid"
+            return "%s(%s)" % (call, ", ".join(args + kwargs))
         if motion is not None:
             name = code_name(motion)
             self.codes.add(name)

@@ -232,7 +232,7 @@ def test_line_reads_declare_names_and_check_indices_in_order():
         "    t2 = finite(p[2] * 3.0)\n"
         "    t3 = p[1]\n"
         "    p[i1] = t2\n"
-        "    m.move(2, G0, x=t3)\n"
+        "    m.rapid(2, x=t3)\n"
     ) in code
     assert_black_stable(code)
 
@@ -352,3 +352,28 @@ def test_a_large_percent_file_without_its_closing_percent(
     actual = harness.run_ngc2py(program, mode="convert")
     assert not harness.compare(expected, actual)
     assert (b"percent sign missing" in actual.stdout) is not closed
+
+
+#: Modes in which Machine.feed/rapid must step aside to the general path
+#: (not plain: runtime.fastpath) or fail as rs274 does.
+_FEED_CASES = [
+    "G21 F100\n#<i>=1\nG1 X#<i> Y2\nG0 Z[#<i>+1]\nM2\n",
+    "G21 G91 F100\n#<i>=1\nG1 X#<i> Y2\nG0 Z[#<i>]\nG1 X#<i>\nM2\n",  # incremental
+    "G21\n#<i>=1\nG1 X#<i>\nM2\n",  # no feed rate: rs274's error
+    "G21 G93\n#<i>=1\nG1 X#<i> F10\nG1 Y#<i>\nM2\n",  # inverse time: F on each line
+    "G21 F100 T1 M6 G43\n#<i>=1\nG41 D1\nG1 X#<i> Y5\nG1 X[#<i>+4]\nG40\nG0 Z#<i>\nM2\n",
+    "G21 F100\n#<i>=1\nG8 G1 X#<i>\nG7 G1 X#<i>\nG0 Z#<i>\nM2\n",  # diameter mode
+    "G21 F100\nG81 X1 Y1 Z-1 R1\n#<i>=2\nG0 Z#<i>\nG1 X#<i>\nM2\n",  # ends a cycle
+]
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize("text", _FEED_CASES)
+def test_feed_and_rapid_calls_step_aside_like_move(text, tmp_path):
+    code = compile_text(text, "t.ngc")
+    assert "m.feed(" in code or "m.rapid(" in code
+    program = tmp_path / "t.ngc"
+    (tmp_path / "t.tbl").write_text("T1 P1 D2 Z1\n")
+    expected = harness.run_rs274(program, ["-t", "t.tbl"], text=text)
+    actual = harness.run_ngc2py(program, ["-t", "t.tbl"], text=text, mode="convert")
+    assert harness.compare(expected, actual) == []
