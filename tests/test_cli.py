@@ -220,8 +220,13 @@ def test_an_escaping_python_exception_names_the_g_code_line(monkeypatch):
     def broken(self, line, *args, **words):
         raise ValueError("boom")
 
-    # a general block, and a plain move (the fast path)
-    for method, program in (("block", "G17 G0 X1\nM2\n"), ("move", "G0 X1\nM2\n")):
+    # a general block, and plain moves (the fast paths)
+    for method, program in (
+        ("block", "G17 G0 X1\nM2\n"),
+        ("move", "G0 X1 F10\nM2\n"),
+        ("rapid", "G0 X1\nM2\n"),
+        ("feed", "G1 X1\nM2\n"),
+    ):
         with monkeypatch.context() as patch:
             patch.setattr(Machine, method, broken)
             ns = generated_namespace(program)
