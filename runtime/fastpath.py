@@ -44,6 +44,55 @@ _AXIS_LETTERS = "xyzabcuvw"
 _ARC_RECIPES: dict = {}
 
 
+def _xyz_move(motion: int):
+    """``Machine.feed`` (G1) or ``Machine.rapid`` (G0): a line of that motion
+    with X, Y and/or Z alone, ``move(line, motion, x=.., ..)`` made lighter."""
+
+    def xyz_move(
+        self,
+        line: int,
+        x: Optional[float] = None,
+        y: Optional[float] = None,
+        z: Optional[float] = None,
+    ) -> None:
+        if self._plain and (motion == G0 or self.feed_rate > 0.0):
+            cur = self.current
+            end = [
+                cur[0] if x is None else x,
+                cur[1] if y is None else y,
+                cur[2] if z is None else z,
+                cur[3],
+                cur[4],
+                cur[5],
+                cur[6],
+                cur[7],
+                cur[8],
+            ]
+            self.line = line
+            canon = self.canon
+            if self._block_n is not None:
+                canon.set_block_number(None)
+                self._block_n = None
+            if motion == G1:
+                canon.straight_feed(*end)
+            else:
+                canon.straight_traverse(*end)
+            self.motion_mode = motion
+            self.current = self.world.position = self.params.position = end
+            return
+        self.move(line, motion, x=x, y=y, z=z)
+
+    xyz_move.__name__ = xyz_move.__qualname__ = "feed" if motion == G1 else "rapid"
+    xyz_move.__doc__ = (
+        "``G%d`` with X, Y and/or Z only: ``move(line, G%d, x=.., ..)``."
+        % (
+            motion // 10,
+            motion // 10,
+        )
+    )
+    return xyz_move
+
+
 class FastPathMixin:
     """``Machine.move``: the straight-move fast path (part of Machine)."""
 
@@ -130,69 +179,11 @@ class FastPathMixin:
         self._general_move(line, given, (x, y, z, a, b, c, u, v, w), f, n)
 
     # The commonest lines of a loop, G1 or G0 with X, Y and/or Z alone (no F,
-    # no N), have calls of their own: the same as move()'s plain branch with
-    # the motion, F and N known, about a quarter less work a line.
-    def feed(
-        self,
-        line: int,
-        x: Optional[float] = None,
-        y: Optional[float] = None,
-        z: Optional[float] = None,
-    ) -> None:
-        """``G1`` with X, Y and/or Z only: ``move(line, G1, x=.., ..)``."""
-        if self._plain and self.feed_rate > 0.0:
-            cur = self.current
-            end = [
-                cur[0] if x is None else x,
-                cur[1] if y is None else y,
-                cur[2] if z is None else z,
-                cur[3],
-                cur[4],
-                cur[5],
-                cur[6],
-                cur[7],
-                cur[8],
-            ]
-            self.line = line
-            if self._block_n is not None:
-                self.canon.set_block_number(None)
-                self._block_n = None
-            self.canon.straight_feed(*end)
-            self.motion_mode = G1
-            self.current = self.world.position = self.params.position = end
-            return
-        self.move(line, G1, x=x, y=y, z=z)
-
-    def rapid(
-        self,
-        line: int,
-        x: Optional[float] = None,
-        y: Optional[float] = None,
-        z: Optional[float] = None,
-    ) -> None:
-        """``G0`` with X, Y and/or Z only: ``move(line, G0, x=.., ..)``."""
-        if self._plain:
-            cur = self.current
-            end = [
-                cur[0] if x is None else x,
-                cur[1] if y is None else y,
-                cur[2] if z is None else z,
-                cur[3],
-                cur[4],
-                cur[5],
-                cur[6],
-                cur[7],
-                cur[8],
-            ]
-            self.line = line
-            if self._block_n is not None:
-                self.canon.set_block_number(None)
-                self._block_n = None
-            self.canon.straight_traverse(*end)
-            self.motion_mode = G0
-            self.current = self.world.position = self.params.position = end
-            return
-        self.move(line, G0, x=x, y=y, z=z)
+    # no N), have calls of their own (made by _xyz_move below): the same as
+    # move()'s plain branch with the motion, F and N known, about a quarter
+    # less work a line.
+    feed = _xyz_move(G1)
+    rapid = _xyz_move(G0)
 
     def plain_rows(self, cells: List[str], at: int, end: int, plans) -> int:
         """Run data rows (runtime.rows) from ``cells[at]`` while they are
