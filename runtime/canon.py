@@ -23,6 +23,8 @@ executing a line.
 
 from __future__ import annotations
 
+from itertools import starmap
+
 TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
     from typing import IO, List, Optional, Tuple
@@ -66,6 +68,46 @@ class Canon:
         w,
     ): ...
     def straight_probe(self, x, y, z, a, b, c, u, v, w, probe_type): ...
+
+    # --- batches of moves (the fast path's protocol) ----------------------
+    # A run of moves with nothing else between them (no feed rate, N number,
+    # plane or offset change) reaches a canon as one call whose arguments are
+    # columns: ``lines[k]`` is move k's G-code line and ``x[k]`` .. ``w[k]``
+    # (or the arc_feed arguments' k-th entries) its values. Every column is a
+    # list of floats of len(lines) (an axis the moves leave alone is one
+    # value repeated); ``lines`` is a list or a range of ints. The defaults
+    # make one ordinary call per move, in order, so a canon that defines only
+    # straight_feed & co. sees exactly the calls it always saw; a back end
+    # that wants speed (statistics, toolpaths, previews) overrides these and
+    # takes whole columns at once. Both are called in program order with
+    # every other canon call, so state a canon keeps stays in step.
+    def straight_moves(self, feed: bool, lines, x, y, z, a, b, c, u, v, w):
+        """Straight moves, all feeds (``feed``) or all traverses."""
+        call = self.straight_feed if feed else self.straight_traverse
+        for _ in starmap(call, zip(x, y, z, a, b, c, u, v, w)):
+            pass
+
+    def arc_moves(
+        self,
+        lines,
+        first_end,
+        second_end,
+        first_axis,
+        second_axis,
+        rotation,
+        axis_end,
+        a,
+        b,
+        c,
+        u,
+        v,
+        w,
+    ):
+        """Arcs, each as arc_feed's arguments (``rotation``: ints)."""
+        columns = (first_end, second_end, first_axis, second_axis, rotation)
+        for _ in starmap(self.arc_feed, zip(*columns, axis_end, a, b, c, u, v, w)):
+            pass
+
     def rigid_tap(self, x, y, z, scale): ...
     def nurbs_feed(self, control_points, order): ...
     def dwell(self, seconds): ...
@@ -158,6 +200,10 @@ class NullCanon(Canon):
     """Accepts every call and does nothing."""
 
 
+#: The batch methods: not calls of their own but runs of the calls above.
+BATCHES = ("straight_moves", "arc_moves")
+
+
 def _call_names() -> Tuple[str, ...]:
     """The canonical call methods of the protocol (everything but bookkeeping)."""
     return tuple(
@@ -165,7 +211,7 @@ def _call_names() -> Tuple[str, ...]:
         for name, value in vars(Canon).items()
         if callable(value)
         and not name.startswith("_")
-        and name not in ("set_block_number", "flush")
+        and name not in ("set_block_number", "flush") + BATCHES
     )
 
 
