@@ -50,6 +50,8 @@ WORKLOADS = {
     "loop_200k": (workloads.loop, 200_000, True),
     "calls_100k": (workloads.calls, 100_000, False),
     "drill_5k": (workloads.drilling, 5_000, False),
+    "cam_arcs_100k": (workloads.cam_arcs, 100_000, True),
+    "cycles_20k": (workloads.drill_cycles, 20_000, True),
     "pocket_40": (workloads.pocket, 40, False),
     # Last: generating it grows this process, and a child's peak memory (as
     # the kernel reports it) starts from the parent it was forked from.

@@ -5,6 +5,7 @@ Deterministic: the same size gives the same program, so runs compare.
 
 from __future__ import annotations
 
+import math
 import random
 
 
@@ -31,6 +32,83 @@ def arcs(count: int) -> str:
         code = "G3" if k % 2 == 0 else "G2"
         lines.append(f"{code} X10 Y0 I-10 J0 Z{-(k % 10) / 10:.1f}")
     lines.append("M2")
+    return "\n".join(lines) + "\n"
+
+
+def cam_arcs(count: int) -> str:
+    """CAM-style contouring: arcs whose centres, radii and sweeps vary from
+    row to row, in IJ and R form, some helical, between straight moves, with
+    a feed change now and then (what a CAM post writes for a 2.5D profile)."""
+    rng = random.Random(count)
+    lines = ["(CAM arcs, varying geometry)", "G21 G90 G17 G94", "G0 X0 Y0 Z5", "G1 Z-1 F700"]
+    x = y = 0.0
+    z = -1.0
+    for k in range(count):
+        if k % 400 == 399:
+            lines.append("G1 X%.4f Y%.4f F%d" % (x, y, rng.choice((500, 700, 900))))
+            continue
+        radius = rng.uniform(0.5, 40.0)
+        start = rng.uniform(-3.14159, 3.14159)
+        sweep = rng.uniform(0.2, 2.8)
+        ccw = rng.random() < 0.5
+        cx, cy = x - radius * math.cos(start), y - radius * math.sin(start)
+        end = start + (sweep if ccw else -sweep)
+        ex, ey = cx + radius * math.cos(end), cy + radius * math.sin(end)
+        code = "G3" if ccw else "G2"
+        helix = ""
+        if k % 7 == 3:
+            z = -rng.uniform(0.2, 3.0)
+            helix = " Z%.4f" % z
+        if k % 3 == 0:
+            # R form: the short way round, so |sweep| stays below 180 degrees
+            lines.append("%s X%.4f Y%.4f R%.4f%s" % (code, ex, ey, radius, helix))
+        else:
+            lines.append("%s X%.4f Y%.4f I%.4f J%.4f%s" % (
+                code, ex, ey, cx - x, cy - y, helix))
+        x, y = round(ex, 4), round(ey, 4)
+        if k % 5 == 4:
+            x, y = x + rng.uniform(-2, 2), y + rng.uniform(-2, 2)
+            lines.append("G1 X%.4f Y%.4f" % (x, y))
+            x, y = round(x, 4), round(y, 4)
+    lines += ["G0 Z5", "M2"]
+    return "\n".join(lines) + "\n"
+
+
+def drill_cycles(holes: int) -> str:
+    """Canned cycles as a CAM post writes them: every drilling cycle (G81,
+    G82, G83, G73, G84, G85, G86, G88, G89) with R, Q, P and sometimes L,
+    G98 and G99 retracts, and rows of holes as bare X Y lines."""
+    rng = random.Random(holes)
+    lines = ["(canned cycles)", "G21 G90 G17 G94", "G0 Z20", "M3 S1200", "F250"]
+    cycles = ("G81", "G82 P0.2", "G83 Q1.2", "G73 Q0.8", "G84 P0.1", "G85", "G86 P0.3",
+              "G88 P0.1", "G89 P0.2")
+    k = 0
+    group = 0
+    while k < holes:
+        cycle = cycles[group % len(cycles)]
+        retract = "G98" if group % 2 else "G99"
+        depth = -rng.uniform(2, 12)
+        clear = rng.uniform(1, 4)
+        x, y = rng.uniform(0, 200), rng.uniform(0, 150)
+        repeat = " L%d" % rng.randint(2, 4) if group % 11 == 5 else ""
+        if cycle.startswith("G84"):
+            lines.append("M3 S%d" % rng.choice((300, 400, 500)))
+        if group % 11 == 5:
+            lines.append("G91")
+            lines.append("%s %s X5 Y0 Z%.3f R%.3f%s" % (retract, cycle, depth, clear, repeat))
+            lines.append("G90")
+        else:
+            lines.append("%s %s X%.3f Y%.3f Z%.3f R%.3f" % (retract, cycle, x, y, depth, clear))
+        k += 1
+        for _ in range(rng.randint(10, 40)):
+            if k >= holes:
+                break
+            x += rng.choice((5.0, 7.5, 10.0))
+            lines.append("X%.3f Y%.3f" % (x, y + rng.uniform(-0.5, 0.5)))
+            k += 1
+        lines.append("G80")
+        group += 1
+    lines += ["M5", "G0 Z20", "M2"]
     return "\n".join(lines) + "\n"
 
 
