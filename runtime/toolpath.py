@@ -46,11 +46,6 @@ PLANE_AXES = {"XY": (0, 1, 2), "XZ": (2, 0, 1), "YZ": (1, 2, 0)}
 TAU = 2.0 * math.pi
 #: An arc whose end is this close (mm) to its start is a full circle.
 FULL_CIRCLE_CHORD = 1e-9
-#: An arc whose radius changes by more than this fraction is bounded by
-#: sampling (SPIRAL_SAMPLES_PER_TURN, at most MAX_SPIRAL_SAMPLES points).
-SPIRAL_TOLERANCE = 1e-6
-SPIRAL_SAMPLES_PER_TURN = 4096
-MAX_SPIRAL_SAMPLES = 100_000
 
 Point = Tuple[float, ...]
 
@@ -98,30 +93,73 @@ class Arc:
         return points
 
     def extreme_points(self) -> List[Point]:
-        """The start, the end, and the points where the arc crosses a
-        quarter-turn angle (0, 90, 180, 270 degrees): together they bound it
-        (a spiral, whose radius changes, is sampled instead)."""
+        """The start, the end, and the points where the arc is furthest out
+        along its plane's axes: together they bound it, exactly.
+
+        The plane's two coordinates are r(θ)·cos θ and r(θ)·sin θ about the
+        centre, the radius r changing linearly with the angle θ (a spiral
+        when the start and end radii differ; a circle when not). Their
+        derivatives are R·cos(θ + φ) and R·sin(θ + φ), with R = √(k² + r²),
+        k = dr/dθ and φ = atan2(r, k), so both are stationary exactly where
+        h(θ) = θ + φ(θ) is a multiple of a quarter turn. h rises with slope
+        1 + k²/(k² + r²), between 1 and 2: each multiple is met once, and
+        the root is found by a safeguarded Newton iteration. In one
+        direction (say +X: h = π/2 modulo 2π) the radius is largest at the
+        first or the last such root, since r is monotonic, so two roots per
+        direction are enough whatever the number of turns: O(1) per arc.
+        The other axes move linearly, so their extremes are the ends."""
         points = [self.start, self.end]
-        if self.sweep == 0.0:
+        sweep = self.sweep
+        if sweep == 0.0:
             return points
-        if abs(self.r1 - self.r0) > SPIRAL_TOLERANCE * max(self.r0, self.r1, 1.0):
-            # A spiral (the canon's start is not on the circle, e.g. after a
-            # canned cycle in the XZ or YZ plane): its extremes are not at
-            # the quarter turns, so sample it finely.
-            turns = abs(self.sweep) / TAU
-            count = min(
-                MAX_SPIRAL_SAMPLES, max(8, int(turns * SPIRAL_SAMPLES_PER_TURN))
-            )
-            return points + [self.point(i / count) for i in range(1, count)]
+        theta0, r0 = self.theta0, self.r0
+        k = (self.r1 - r0) / sweep  # dr/dθ
+
+        def h(theta: float) -> float:
+            return theta + math.atan2(r0 + k * (theta - theta0), k)
+
+        def slope(theta: float) -> float:
+            r = r0 + k * (theta - theta0)
+            return 1.0 + k * k / (k * k + r * r) if k else 1.0
+
+        low, high = sorted((theta0, theta0 + sweep))
+        h_low, h_high = h(low), h(high)
         quarter = math.pi / 2
-        low, high = sorted((self.theta0, self.theta0 + self.sweep))
-        k = math.ceil(low / quarter)
-        # Every crossing counts (the radius may change from turn to turn),
-        # but a runaway turn count must not make this unbounded.
-        while k * quarter < high and len(points) < 4096:
-            points.append(self.point((k * quarter - self.theta0) / self.sweep))
-            k += 1
+        first, last = math.ceil(h_low / quarter), math.floor(h_high / quarter)
+        if last < first:
+            return points
+        wanted = set()
+        for direction in range(4):  # the four multiples modulo a full turn
+            m = first + (direction - first) % 4
+            if m <= last:
+                wanted.add(m)
+                wanted.add(m + (last - m) // 4 * 4)
+        for m in sorted(wanted):
+            theta = _solve_increasing(h, slope, m * quarter, low, high)
+            points.append(self.point((theta - theta0) / sweep))
         return points
+
+
+def _solve_increasing(h, slope, target: float, low: float, high: float) -> float:
+    """The θ in [low, high] where the increasing function ``h`` (its
+    derivative ``slope``, between 1 and 2) equals ``target``: Newton steps kept inside a
+    shrinking bracket (bisection when a step leaves it)."""
+    theta = min(max(target - (h(low) - low), low), high)
+    for _ in range(60):
+        value = h(theta) - target
+        if value == 0.0:
+            return theta
+        if value > 0.0:
+            high = theta
+        else:
+            low = theta
+        guess = theta - value / slope(theta)
+        if not low < guess < high:
+            guess = 0.5 * (low + high)
+        if abs(guess - theta) <= 1e-15 * max(1.0, abs(theta)):
+            return guess
+        theta = guess
+    return theta
 
 
 def make_arc(

@@ -1,0 +1,77 @@
+"""Arc extents are exact and O(1): against a dense sampling of the same arc.
+
+runtime.toolpath.Arc.extreme_points finds where an arc or spiral is furthest
+out along its plane's axes by a formula (no sampling); these tests draw
+arcs of every kind (both directions, many turns, helices, spirals whose
+radius grows or shrinks, tiny and huge radii) and hold the bounding box of
+those points to the box of thousands of points along the arc.
+"""
+
+import math
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from runtime.toolpath import PLANE_AXES, make_arc
+
+finite = st.floats(min_value=-1e3, max_value=1e3, allow_nan=False)
+
+
+def box(points, axes):
+    return [(min(p[a] for p in points), max(p[a] for p in points)) for a in axes]
+
+
+def dense(arc, per_turn=20000):
+    count = max(2000, int(abs(arc.sweep) / (2 * math.pi) * per_turn))
+    return [arc.point(i / count) for i in range(count + 1)]
+
+
+@st.composite
+def arcs(draw):
+    plane = draw(st.sampled_from(sorted(PLANE_AXES)))
+    axes = PLANE_AXES[plane]
+    f, s, n = axes
+    scale = draw(st.sampled_from((1e-3, 1.0, 50.0, 5000.0)))
+    cf, cs = draw(finite), draw(finite)
+    r0 = draw(st.floats(0.01, 1.0)) * scale
+    r1 = r0 * draw(st.sampled_from((1.0, 1.0 + 1e-9, 1.0001, 1.2, 3.0, 0.3, 0.01)))
+    a0 = draw(st.floats(-math.pi, math.pi))
+    a1 = draw(st.floats(-math.pi, math.pi))
+    start, end = [0.0] * 9, [0.0] * 9
+    start[f], start[s] = cf + r0 * math.cos(a0), cs + r0 * math.sin(a0)
+    end[f], end[s] = cf + r1 * math.cos(a1), cs + r1 * math.sin(a1)
+    start[n], end[n] = draw(finite), draw(finite)
+    rotation = draw(st.sampled_from((1, -1, 2, -2, 5, -7)))
+    return make_arc(tuple(start), tuple(end), axes, (cf, cs), rotation)
+
+
+@settings(max_examples=300, deadline=None)
+@given(arcs())
+def test_extents_bound_the_arc_and_are_reached(arc):
+    exact = box(arc.extreme_points(), range(9))
+    sampled = box(dense(arc), range(9))
+    size = max(arc.r0, arc.r1, 1e-9)
+    for (lo, hi), (slo, shi) in zip(exact, sampled):
+        # Every sampled point lies inside the exact box ...
+        assert lo <= slo + 1e-9 * size and shi <= hi + 1e-9 * size
+        # ... and the exact box is no bigger than the arc: sampling 20k
+        # points a turn misses at most r * (1 - cos(pi / 20000)).
+        slack = size * 2e-8 + 1e-9 * max(abs(lo), abs(hi), 1.0)
+        assert slo - lo <= slack and hi - shi <= slack
+
+
+def test_a_quarter_arc_crosses_one_quadrant_point():
+    arc = make_arc((1.0, 0.0) + (0.0,) * 7, (0.0, 1.0) + (0.0,) * 7, (0, 1, 2), (0.0, 0.0), 1)
+    assert box(arc.extreme_points(), (0, 1)) == [(0.0, 1.0), (0.0, 1.0)]
+    arc = make_arc((1.0, -0.5) + (0.0,) * 7, (1.0, 0.5) + (0.0,) * 7, (0, 1, 2), (0.0, 0.0), 1)
+    xs = [p[0] for p in arc.extreme_points()]
+    assert max(xs) == math.hypot(1.0, 0.5)
+
+
+def test_many_turns_cost_no_more_points():
+    one = make_arc((1.0,) + (0.0,) * 8, (2.0,) + (0.0,) * 8, (0, 1, 2), (0.0, 0.0), 1)
+    many = make_arc((1.0,) + (0.0,) * 8, (2.0,) + (0.0,) * 8, (0, 1, 2), (0.0, 0.0), 100000)
+    assert len(many.extreme_points()) <= 2 + 8
+    assert len(one.extreme_points()) <= 2 + 8
+    # the spiral grows from radius 1 to 2: the last turn reaches about -2 in X
+    assert min(p[0] for p in many.extreme_points()) < -1.99999
