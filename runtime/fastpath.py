@@ -222,7 +222,9 @@ class FastPathMixin:
                         canon.set_block_number(None)
                         block_n = None
                     call = feed if motion == G1 else traverse
-                    rows, point, error = straight_batch(call, cells, at, end, plan, cur)
+                    rows, point, error = straight_batch(
+                        call, cells, at, end, plan, cur, motion == G1
+                    )
                     if rows:
                         at += rows * (plan.width + 2)
                         cur, motion_mode = point, motion

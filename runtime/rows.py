@@ -47,6 +47,7 @@ _AXES = "xyzabcuvw"
 #: them (NullCanon, one that only watches tool changes...) is not called
 #: for a batch of rows at all (straight_batch).
 _NO_OPS = (Canon.straight_feed, Canon.straight_traverse)
+_STRAIGHT_MOVES = Canon.straight_moves
 _ARC_LETTERS = "xyzabcijkrf"
 
 
@@ -113,10 +114,12 @@ class _Plan:
             )
 
 
-def straight_batch(call, cells: List[str], at: int, end: int, plan: "_Plan", cur):
-    """Make the canon call ``call`` (straight_feed or straight_traverse) for
-    the consecutive rows of ``plan``'s shape from ``cells[at]``, which set
-    only axes: ``(rows done, the point after the last, None)``, or
+def straight_batch(
+    call, cells: List[str], at: int, end: int, plan: "_Plan", cur, feed: bool = True
+):
+    """Make the canon call ``call`` (straight_feed or straight_traverse, as
+    ``feed`` says) for the consecutive rows of ``plan``'s shape from
+    ``cells[at]``, which set only axes: ``(rows done, the point after the last, None)``, or
     ``(rows done, ..., the exception)`` when a call raised (the next row's
     failed), or ``(0, None, None)`` for fewer than ``BATCH`` such rows.
 
@@ -124,7 +127,9 @@ def straight_batch(call, cells: List[str], at: int, end: int, plan: "_Plan", cur
     the calls' arguments are columns of the table (float() of slices) and
     constants, zipped and applied in C: the per-row cost is the call. A
     canon whose straight moves are the protocol's no-ops (NullCanon) is not
-    called at all: only the last row's values are read, for the end point."""
+    called at all: only the last row's values are read, for the end point;
+    one that overrides ``Canon.straight_moves`` gets the columns in one
+    call."""
     stride = plan.width + 2
     key = cells[at + 1]
     if cells[at + 1 : at + 1 + stride * BATCH : stride].count(key) != BATCH:
@@ -134,8 +139,22 @@ def straight_batch(call, cells: List[str], at: int, end: int, plan: "_Plan", cur
     stop = at + rows * stride
     done = 0
     error = None
-    if getattr(call, "__func__", None) in _NO_OPS:
+    function = getattr(call, "__func__", None)
+    canon = getattr(call, "__self__", None)
+    if function in _NO_OPS:
         done = rows  # the canon ignores these calls: only the end point counts
+    elif type(canon).straight_moves is not _STRAIGHT_MOVES:
+        # A canon that takes whole columns (statistics, toolpaths, previews):
+        # one call for the run; an error it raises names the run's first row.
+        columns = [[value] * rows for value in cur]
+        for i, axis in plan.slots:
+            columns[axis] = column_floats(cells[at + 2 + i : stop : stride])
+        lines = list(map(int, cells[at:stop:stride]))
+        try:
+            canon.straight_moves(feed, lines, *columns)
+            done = rows
+        except Exception as failed:  # noqa: BLE001 - handed back, raised by the caller
+            error = failed
     else:
         arguments = [repeat(value) for value in cur]
         for i, axis in plan.slots:

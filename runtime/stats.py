@@ -31,10 +31,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import reduce
+from operator import add
 from typing import Dict, Optional
 
 from runtime.toolpath import (
     AXIS_NAMES,
+    LINEAR,
     MM_PER_INCH,
     Arc,
     Extents,
@@ -69,6 +72,21 @@ def move_time(length: float, rate_per_minute: float, acceleration: float) -> flo
     if length >= ramp:
         return length / speed + speed / acceleration
     return 2.0 * math.sqrt(length / acceleration)
+
+
+def move_times(lengths, rate_per_minute: float, acceleration: float):
+    """:func:`move_time` of each of ``lengths`` (all positive), with the
+    same arithmetic, as one list comprehension."""
+    speed = rate_per_minute / 60.0
+    if not acceleration or math.isinf(acceleration):
+        return [length / speed for length in lengths]
+    ramp = speed * speed / acceleration
+    tail = speed / acceleration
+    sqrt = math.sqrt
+    return [
+        length / speed + tail if length >= ramp else 2.0 * sqrt(length / acceleration)
+        for length in lengths
+    ]
 
 
 class StatsCanon(ToolpathCanon):
@@ -123,6 +141,46 @@ class StatsCanon(ToolpathCanon):
             # Rotary axes alone: degrees at the same numeric rate.
             length = max(abs(end[i] - start[i]) for i in (3, 4, 5))
         self._time(length, rate)
+
+    def straight_moves(self, feed, lines, x, y, z, a, b, c, u, v, w):
+        """A run of straight moves, a column at a time: the same counts,
+        lengths, extents and times as one :meth:`line` a move (lengths by
+        ``math.dist``, times added in order), with the loops in C."""
+        if type(self).line is not StatsCanon.line:  # a subclass watches moves
+            return super().straight_moves(feed, lines, x, y, z, a, b, c, u, v, w)
+        count = len(lines)
+        if not count:
+            return
+        if self.first_units is None:
+            self.first_units = self.inches
+        columns = [x, y, z, a, b, c, u, v, w]
+        if self.inches:
+            for i in LINEAR:
+                columns[i] = [value * MM_PER_INCH for value in columns[i]]
+        x, y, z = columns[:3]
+        start = self.position
+        ends = list(zip(x, y, z))
+        starts = [(start[0], start[1], start[2])] + ends[:-1]
+        lengths = list(map(math.dist, starts, ends))
+        kind = "feed" if feed else "rapid"
+        self.counts[kind] += count
+        self.lengths[kind] = reduce(add, lengths, self.lengths[kind])
+        self.extents.add_columns(columns)
+        if 0.0 in lengths:  # rotary axes alone: degrees at the same rate
+            previous = start
+            for k, point in enumerate(zip(*columns)):
+                if lengths[k] == 0.0:
+                    lengths[k] = max(abs(point[i] - previous[i]) for i in (3, 4, 5))
+                previous = point
+        self.position = tuple(column[-1] for column in columns)
+        rate = self._feed_per_minute() if feed else self.model.rapid_rate
+        moving = [length for length in lengths if length != 0.0]
+        if rate <= 0.0:
+            self.untimed_moves += len(moving)
+            return
+        self.motion_time = reduce(
+            add, move_times(moving, rate, self.model.acceleration), self.motion_time
+        )
 
     def arc(self, arc: Arc) -> None:
         for point in arc.extreme_points():

@@ -187,8 +187,9 @@ def make_arc(
 
 
 def distance(a: Sequence[float], b: Sequence[float]) -> float:
-    """Straight-line distance between two points over X, Y and Z."""
-    return math.sqrt((b[0] - a[0]) ** 2 + (b[1] - a[1]) ** 2 + (b[2] - a[2]) ** 2)
+    """Straight-line distance between two points over X, Y and Z (the same
+    rounding as a batch's ``math.dist`` of the XYZ triples)."""
+    return math.dist((a[0], a[1], a[2]), (b[0], b[1], b[2]))
 
 
 class ToolpathCanon(Canon):
@@ -360,6 +361,21 @@ class Extents:
             self._rest = rest
             self._rest_low = list(map(min, self._rest_low, rest))
             self._rest_high = list(map(max, self._rest_high, rest))
+
+    def add_columns(self, columns: Sequence[Sequence[float]]) -> None:
+        """Every point of nine columns (x .. w, of equal length) at once."""
+        box = self._xyz
+        for i, column in enumerate(columns[:3]):
+            low, high = min(column), max(column)
+            if low < box[2 * i]:
+                box[2 * i] = low
+            if high > box[2 * i + 1]:
+                box[2 * i + 1] = high
+        self._rest = tuple(column[-1] for column in columns[3:])
+        lows = [min(column) for column in columns[3:]]
+        highs = [max(column) for column in columns[3:]]
+        self._rest_low = list(map(min, self._rest_low, lows))
+        self._rest_high = list(map(max, self._rest_high, highs))
 
     @property
     def low(self) -> List[float]:

@@ -24,6 +24,7 @@ from typing import Optional
 import pytest
 from hypothesis import given, reject, settings
 
+import cam_strategies
 import rs274 as harness
 import strategies
 from test_differential import PROFILE
@@ -31,6 +32,7 @@ from trace_path import TracePath, trace_of_gcode_calls
 
 from ngc2py import cli
 from runtime import continue_mode
+from runtime.canon import Canon
 from runtime.errors import GCodeError
 from runtime.machine import Machine
 from runtime.main import parse_options, start
@@ -371,3 +373,44 @@ def test_command_help_and_bad_option():
     assert rc == 0 and "cycle time model" in out and "exit status" in out
     rc, _, err = main(["stats", "x.ngc", "--accel", "fast"])
     assert rc == 1 and "fast" in err
+
+
+class _OneCallAMove(StatsCanon):
+    """StatsCanon without its batch method: one straight_feed a move."""
+
+    straight_moves = Canon.straight_moves
+
+
+def _report_of(canon_type, text: str) -> dict:
+    with scratch_run(Path("p.ngc"), text):
+        canon = canon_type()
+        module = cli.load_program("p.ngc", None)
+        try:
+            start(Machine(canon, source=module.__ngc__), module.main)
+        except GCodeError:
+            pass
+        return canon.report()
+
+
+@settings(max_examples=40, deadline=None)
+@given(cam_strategies.cam_programs())
+def test_straight_moves_in_columns_give_the_per_move_report(text):
+    """The batch path (StatsCanon.straight_moves: lengths by math.dist,
+    times added in order) reports what one call a move reports, bit for bit."""
+    for units in ("G21", "G20"):
+        program = units + "\n" + text
+        assert _report_of(StatsCanon, program) == _report_of(_OneCallAMove, program)
+
+
+def test_long_runs_of_moves_reach_stats_in_columns():
+    calls = []
+
+    class Watching(StatsCanon):
+        def straight_moves(self, *args):
+            calls.append(len(args[1]))
+            return super().straight_moves(*args)
+
+    rows = "".join("X%d.5 Y%d A%d\n" % (k % 7, k % 5, k % 3) for k in range(60))
+    text = "G20 G90\nG1 F100\n" + rows + "G0 X0 Y0\nM2\n"
+    assert _report_of(Watching, text) == _report_of(_OneCallAMove, text)
+    assert calls and sum(calls) >= 50
