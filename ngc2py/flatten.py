@@ -107,7 +107,12 @@ CODE_PARAMETERS = range(5161, 5391)
 UNKNOWN = float("nan")
 #: The calls that move the tool.
 MOTION_CALLS = {
-    "straight_traverse", "straight_feed", "straight_probe", "arc_feed", "rigid_tap", "nurbs_feed",
+    "straight_traverse",
+    "straight_feed",
+    "straight_probe",
+    "arc_feed",
+    "rigid_tap",
+    "nurbs_feed",
 }
 #: rs274's smallest arc radius (inch; times 25.4 in mm).
 RADIUS_TOLERANCE_INCH = 0.00005
@@ -280,7 +285,9 @@ class FlattenCanon(Canon):
                 # inside START/STOP_SPEED_FEED_SYNCH (G33, G76 passes)
                 text = self._move("G33", args, pos) + " K" + number(self._pitch)
             elif name in ("straight_traverse", "straight_feed"):
-                text = self._move("G0" if name == "straight_traverse" else "G1", args, pos)
+                text = self._move(
+                    "G0" if name == "straight_traverse" else "G1", args, pos
+                )
             elif name == "start_speed_feed_synch":
                 # each G33/G33.1 line makes its own START/STOP pair
                 self._pitch, text = args[1], None
@@ -289,22 +296,33 @@ class FlattenCanon(Canon):
             elif name == "rigid_tap":
                 x, y, z, scale = args
                 text = "G33.1 X%s Y%s Z%s K%s" % (
-                    number(x), number(y), number(z), number(self._pitch or 0.0)
+                    number(x),
+                    number(y),
+                    number(z),
+                    number(self._pitch or 0.0),
                 )
                 if scale != 1:
                     text += " I" + number(scale)
                 pos[:] = [UNKNOWN] * 6  # the tool comes back where it was
-            elif name == "turn_probe_on" and following[:2] == ["straight_probe", "turn_probe_off"]:
+            elif name == "turn_probe_on" and following[:2] == [
+                "straight_probe",
+                "turn_probe_off",
+            ]:
                 probe = calls[i + 1][1]
                 text = self._move("G38.%d" % (2 + probe[9]), probe[:6], pos)
                 pos[:] = [UNKNOWN] * 6  # it stops where the probe trips
                 used = 3
             elif name == "nurbs_feed":
                 text = self._nurbs(*args)
-                pos[:] = [UNKNOWN] * 6  # see runtime/splines.py: rs274 reads past its list
+                pos[:] = [
+                    UNKNOWN
+                ] * 6  # see runtime/splines.py: rs274 reads past its list
             elif name == "set_tool_table_entry":
                 text = self._tool_entry(args)
-                if following[:1] == ["set_tool_table_entry"] and calls[i + 1][1][0] == 0:
+                if (
+                    following[:1] == ["set_tool_table_entry"]
+                    and calls[i + 1][1][0] == 0
+                ):
                     used = 2  # the loaded tool's copy: the G10 L1 makes it too
             elif name == "arc_feed":
                 first = not any(c[0] in MOTION_CALLS for c in calls[:i])
@@ -317,7 +335,11 @@ class FlattenCanon(Canon):
                 stored = self._stored.get(self._system)
                 offsets = stored[0] if stored else (0.0,) * 6
                 text = self._g10(self._system, offsets, args[0])
-            elif name == "comment" and args[0] in FEED_MODE_COMMENTS and nxt == "set_feed_mode":
+            elif (
+                name == "comment"
+                and args[0] in FEED_MODE_COMMENTS
+                and nxt == "set_feed_mode"
+            ):
                 text = FEED_MODE_COMMENTS[args[0]]
                 # G94's own SET_FEED_RATE(0) is made again by the written G94;
                 # any other rate (a G93 move's, queued behind cutter
@@ -337,7 +359,10 @@ class FlattenCanon(Canon):
                 # M6 makes everything up to CHANGE_TOOL (spindle stop, the
                 # ini's tool-change moves) itself
                 text, used = "M6", 2 + following.index("change_tool")
-            elif name in ("mist_off", "disable_feed_override", "enable_feed_override") and nxt:
+            elif (
+                name in ("mist_off", "disable_feed_override", "enable_feed_override")
+                and nxt
+            ):
                 pair = {
                     ("mist_off", "flood_off"): "M9",
                     ("enable_feed_override", "enable_speed_override"): "M48",
@@ -367,7 +392,11 @@ class FlattenCanon(Canon):
                 # G96: the mode's value is D (1e30 when not given); rs274
                 # wants its S on the same line, wherever the call came
                 text = "G96" + (" D" + number(args[1]) if args[1] < 1e29 else "")
-                speed = following.index("set_spindle_speed") if "set_spindle_speed" in following else None
+                speed = (
+                    following.index("set_spindle_speed")
+                    if "set_spindle_speed" in following
+                    else None
+                )
                 if speed is not None and "set_spindle_mode" not in following[:speed]:
                     text += " S" + number(calls[i + 1 + speed][1][1])
                     taken.add(i + 1 + speed)
@@ -375,7 +404,9 @@ class FlattenCanon(Canon):
                 text, used = "M60", 2
             else:
                 text = self._single(name, args)
-            if not same_units and any(c[0] in MOVES_ORIGIN for c in calls[i : i + used]):
+            if not same_units and any(
+                c[0] in MOVES_ORIGIN for c in calls[i : i + used]
+            ):
                 pos[:] = [UNKNOWN] * 6
             if text is not None:
                 if pending_f is not None:
@@ -479,7 +510,11 @@ class FlattenCanon(Canon):
         words.append(second_letter + number(centre[1]))
         if abs(rotation) != 1:
             words.append("P%d" % abs(rotation))
-        pos[index[first]], pos[index[second]], pos[index[axis]] = first_end, second_end, axis_end
+        pos[index[first]], pos[index[second]], pos[index[axis]] = (
+            first_end,
+            second_end,
+            axis_end,
+        )
         pos[3:6] = list(args[6:9])
         return code + " " + " ".join(words)
 
@@ -493,7 +528,9 @@ class FlattenCanon(Canon):
             lines.append("G5.2 P%s L%d" % (number(first_weight), order))
         else:
             x, y, w = rest[0]
-            lines.append("G5.2 X%s Y%s P%s L%d" % (number(x), number(y), number(w), order))
+            lines.append(
+                "G5.2 X%s Y%s P%s L%d" % (number(x), number(y), number(w), order)
+            )
             rest = rest[1:]
         lines += ["X%s Y%s P%s" % (number(x), number(y), number(w)) for x, y, w in rest]
         lines.append("G5.3")
@@ -509,7 +546,12 @@ class FlattenCanon(Canon):
         radius = machine._user_to_program([diameter / 2.0])[0]
         words = " ".join(l + number(v) for l, v in zip(AXES6, values[:6]))
         return "G10 L1 P%d %s R%s I%s J%s Q%d" % (
-            tool, words, number(radius), number(front), number(back), orientation
+            tool,
+            words,
+            number(radius),
+            number(front),
+            number(back),
+            orientation,
         )
 
     def _tool_length_offset(self, offset: List[float]) -> str:
@@ -563,7 +605,9 @@ class FlattenCanon(Canon):
             return SYSTEM_CODES[index - 1], 3
         rotation = after[0][1][0] if names[:1] == ["set_xy_rotation"] else 0.0
         self._system = index
-        return self._g10(index, offsets, rotation), 2 if names[:1] == ["set_xy_rotation"] else 1
+        return self._g10(index, offsets, rotation), (
+            2 if names[:1] == ["set_xy_rotation"] else 1
+        )
 
     def _single(self, name: str, args: tuple) -> Optional[str]:
         """The G-code for one call on its own."""
@@ -640,7 +684,11 @@ class FlattenCanon(Canon):
             return "M67 E%d Q%s" % (args[0], number(args[1]))
         if name == "set_aux_output_value":
             return "M68 E%d Q%s" % (args[0], number(args[1]))
-        if name in ("set_feed_reference", "set_traverse_rate", "set_naivecam_tolerance"):
+        if name in (
+            "set_feed_reference",
+            "set_traverse_rate",
+            "set_naivecam_tolerance",
+        ):
             return None
         raise FlattenError(
             "flatten: the program makes a %s call, which flatten cannot write as G-code yet"
@@ -732,7 +780,11 @@ def flatten(
         canon.machine = machine
         if continue_mode is not None:
             continuing.enable(
-                machine, continue_mode, lambda e: report(e, sys.stderr), sys.stdin, sys.stderr
+                machine,
+                continue_mode,
+                lambda e: report(e, sys.stderr),
+                sys.stdin,
+                sys.stderr,
             )
         with catcher:
             start(machine, main)
@@ -746,7 +798,9 @@ def flatten(
         main, source_map = None, unopened(program, error)
     canon = FlattenCanon(program)
     catcher = _PrintCatcher(canon)
-    options = dict(tool_table=tool_table, var_file=None, ini=ini, block_delete=block_delete)
+    options = dict(
+        tool_table=tool_table, var_file=None, ini=ini, block_delete=block_delete
+    )
     if var_file is not None and os.path.isfile(var_file):
         # read it, but never rewrite the user's file: flatten runs nothing
         import shutil
@@ -758,11 +812,15 @@ def flatten(
     else:
         run(Machine(canon, source=source_map, **options))
     header = ["flattened by ngc2py from %s" % program]
-    given = " ".join(
-        flag + " " + value
-        for flag, value in (("-t", tool_table), ("-v", var_file), ("-i", ini))
-        if value
-    ) + (" -b" if block_delete else "") + (" -n %d" % continue_mode if continue_mode is not None else "")
+    given = (
+        " ".join(
+            flag + " " + value
+            for flag, value in (("-t", tool_table), ("-v", var_file), ("-i", ini))
+            if value
+        )
+        + (" -b" if block_delete else "")
+        + (" -n %d" % continue_mode if continue_mode is not None else "")
+    )
     if given.strip():
         header.append("run it with the same options: %s" % given.strip())
     return canon.text(header)
@@ -785,17 +843,31 @@ def register(commands) -> None:
         description=HELP,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    parser.add_argument("program", metavar="PROG.ngc", help="the G-code file ('-': stdin)")
     parser.add_argument(
-        "-o", "--output", metavar="FLAT.ngc", default="-",
+        "program", metavar="PROG.ngc", help="the G-code file ('-': stdin)"
+    )
+    parser.add_argument(
+        "-o",
+        "--output",
+        metavar="FLAT.ngc",
+        default="-",
         help="where to write it (default and '-': standard output); written atomically",
     )
     parser.add_argument("-t", dest="tool_table", metavar="TBL", help="tool table file")
-    parser.add_argument("-v", dest="var_file", metavar="VAR", help="parameter (.var) file (read, not rewritten)")
-    parser.add_argument("-i", dest="ini", metavar="INI", help="ini file")
-    parser.add_argument("-b", dest="block_delete", action="store_true", help="block delete on")
     parser.add_argument(
-        "-n", dest="continue_mode", metavar="0|1|2",
+        "-v",
+        dest="var_file",
+        metavar="VAR",
+        help="parameter (.var) file (read, not rewritten)",
+    )
+    parser.add_argument("-i", dest="ini", metavar="INI", help="ini file")
+    parser.add_argument(
+        "-b", dest="block_delete", action="store_true", help="block delete on"
+    )
+    parser.add_argument(
+        "-n",
+        dest="continue_mode",
+        metavar="0|1|2",
         help="after an error: 0 report it and go on (the flat program holds what "
         "the other lines made), 1 rs274's MDI prompt, 2 stop (default), as rs274's -n",
     )
@@ -814,7 +886,11 @@ def main(args) -> int:
     try:
         with spinner("flattening " + args.program, args.quiet):
             text = flatten(
-                args.program, args.tool_table, args.var_file, args.ini, args.block_delete,
+                args.program,
+                args.tool_table,
+                args.var_file,
+                args.ini,
+                args.block_delete,
                 None if args.continue_mode is None else _atoi(args.continue_mode),
             )
     except GCodeError as error:
