@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import argparse
 import math
+from array import array
 import os
 import sys
 from decimal import Decimal
@@ -134,6 +135,17 @@ def number(value: float) -> str:
     return text
 
 
+def _numbers(values: Sequence[float]) -> List[str]:
+    """:func:`number` of each of ``values``: repr without its ``.0`` for
+    the integral ones, which is what number() writes below 1e15."""
+    texts = list(map(repr, values))
+    if any("e" in text or "n" in text for text in texts) or (
+        max(map(abs, values)) >= 1e15
+    ):
+        return list(map(number, values))
+    return [text[:-2] if text.endswith(".0") else text for text in texts]
+
+
 def same(a: float, b: float) -> bool:
     """Equal, and with the same sign when zero (rs274 prints -0.0000)."""
     return a == b and math.copysign(1.0, a) == math.copysign(1.0, b)
@@ -185,7 +197,11 @@ class FlattenCanon(Canon):
         self._inches = False
         self._plane = "XY"
         self._ijk_absolute = False
-        self._params = None
+        self._params: Optional[List[float]] = None
+        self._params_bytes = b""
+        #: a batch of moves was written since the last block: parameters
+        #: set after it are written before the next block
+        self._after_batch = False
         #: the pitch while spindle and feed are synchronized (G33, G76)
         self._pitch: Optional[float] = None
         #: the last tool length offset written (program units)
@@ -197,6 +213,9 @@ class FlattenCanon(Canon):
     # --- bookkeeping ---------------------------------------------------
     def set_block_number(self, n) -> None:
         self._flush()
+        if self._after_batch:
+            self._after_batch = False
+            self.lines.extend(self._parameter_changes())
         if self.started and self._params is None:
             # what the program starts with: parameters, and the start point
             # (the same for the flat program, run with the same options)
@@ -248,6 +267,44 @@ class FlattenCanon(Canon):
 
     def close(self) -> None:
         self._flush()
+
+    def straight_moves(self, feed, lines, x, y, z, a, b, c, u, v, w):
+        """A run of plain moves, each a block of its own (runtime.rows'
+        batches: no N, no F, nothing else on the line), written a column at
+        a time: the axis words that change, as :meth:`_move` writes them."""
+        if self._pitch is not None or not self.started or self.ended:
+            return super().straight_moves(feed, lines, x, y, z, a, b, c, u, v, w)
+        self._flush()
+        count = len(lines)
+        pos = self._pos
+        rows = [[] for _ in range(count)]
+        for k, column in enumerate((x, y, z, a, b, c)):
+            previous = [pos[k]] + column[:-1]
+            changed = [i for i in range(count) if not same(column[i], previous[i])]
+            if changed:
+                texts = _numbers([column[i] for i in changed])
+                letter = AXES6[k]
+                for i, text in zip(changed, texts):
+                    rows[i].append(letter + text)
+            pos[k] = column[-1]
+        for i in range(count):
+            if not rows[i]:  # a move to where it is: still one axis word
+                rows[i].append("X" + number(x[i]))
+        frames = g_code_frames_of_stack()
+        file = frames[-1].file if frames else self.main_file
+        callers = " <- ".join("%s:%d" % (f.file, f.line) for f in reversed(frames[:-1]))
+        tail = " <- " + callers if callers else ""
+        code = "G1 " if feed else "G0 "
+        out = self.lines
+        for line, words in zip(lines, rows):
+            text = code + " ".join(words)
+            comment = "  ; %s:%d%s" % (file, line, tail)
+            if len(text + comment) > MAX_LINE:
+                out.append(comment.strip())
+                out.append(text)
+            else:
+                out.append(text + comment)
+        self._after_batch = True
 
     # --- writing -------------------------------------------------------
     def _flush(self) -> None:
@@ -432,17 +489,28 @@ class FlattenCanon(Canon):
     def _parameter_changes(self) -> List[str]:
         """Assignments for the parameters G-codes read (G28/G30 homes, G92
         and coordinate-system offsets) that changed since the last look:
-        they have no canonical call, but later codes read them."""
-        params = self.machine.params
+        they have no canonical call, but later codes read them.
+
+        Called after every block, so the common case (nothing changed) is
+        one comparison of the range's bytes with the last look's (bytes, so
+        that -0.0 against 0.0 and NaNs count as changes, as :func:`same`
+        has them); only a changed range is compared number by number."""
+        values = self.machine.params.values
+        first, stop = CODE_PARAMETERS.start, CODE_PARAMETERS.stop
+        look = array("d", values[first:stop]).tobytes()
         if self._params is None:
-            self._params = {n: params[n] for n in CODE_PARAMETERS}
+            self._params = list(values[first:stop])
+            self._params_bytes = look
             return []
+        if look == self._params_bytes:
+            return []
+        self._params_bytes = look
         changes = []
-        for n in CODE_PARAMETERS:
-            value = params[n]
-            if not same(value, self._params[n]):
-                self._params[n] = value
-                changes.append("#%d = %s" % (n, number(value)))
+        known = self._params
+        for k, value in enumerate(values[first:stop]):
+            if not same(value, known[k]):
+                known[k] = value
+                changes.append("#%d = %s" % (first + k, number(value)))
         return changes
 
     def _move(self, code: str, args: Sequence[float], pos: List[float]) -> str:
@@ -747,14 +815,57 @@ class _PrintCatcher:
 
 
 def _flatten_machine():
-    """A Machine whose every block takes the general path: the fast path
-    (runtime/fastpath.py) announces only changes of N, and flatten needs
-    each block's start to group its calls."""
+    """A Machine whose blocks take the general path, one by one: the fast
+    path (runtime/fastpath.py) announces only changes of N, and flatten
+    needs each block's start to group its calls. The exception is a whole
+    batch of plain rows (runtime.rows.straight_batch: moves and nothing
+    else, one a block), which FlattenCanon.straight_moves writes itself."""
+    from runtime.codes import G0, G1
     from runtime.machine import Machine
+    from runtime.rows import BATCH, straight_batch
 
     class FlattenMachine(Machine):
+        _batchable = False
+
         def refresh_plain(self) -> None:
-            self._plain = False
+            Machine.refresh_plain(self)
+            self._batchable, self._plain = self._plain, False
+
+        def plain_rows(self, cells, at, end, plans) -> int:
+            if not self._batchable or self._block_n is not None:
+                return at
+            canon = self.canon
+            cur, motion_mode = self.current, self.motion_mode
+            row = at
+            try:
+                while at < end:
+                    row = at
+                    plan = plans[int(cells[at + 1])]
+                    motion = motion_mode if plan.motion is None else plan.motion
+                    if not (
+                        plan.batch
+                        and end - at >= (plan.width + 2) * BATCH
+                        and (motion == G0 or (motion == G1 and self.feed_rate > 0.0))
+                    ):
+                        break
+                    call = (
+                        canon.straight_feed if motion == G1 else canon.straight_traverse
+                    )
+                    rows, point, error = straight_batch(
+                        call, cells, at, end, plan, cur, motion == G1
+                    )
+                    if error is not None:
+                        raise error
+                    if not rows:
+                        break
+                    at += rows * (plan.width + 2)
+                    cur, motion_mode = point, motion
+            finally:
+                self.line = int(cells[row])
+                if cur is not self.current:
+                    self.current = self.world.position = self.params.position = cur
+                    self.motion_mode = motion_mode
+            return at
 
     return FlattenMachine
 

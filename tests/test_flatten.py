@@ -19,7 +19,9 @@ from pathlib import Path
 
 import pytest
 from hypothesis import HealthCheck, given, reject, settings
+from hypothesis import strategies as st
 
+import cam_strategies
 import rs274 as harness
 import strategies
 from ngc2py import cli
@@ -153,6 +155,61 @@ def test_flat_generated_program_makes_the_same_moves(text):
     assert motion(calls(flat_run.stdout)) == motion(calls(original.stdout)), (
         text + "\n----\n" + flat + harness.stdout_diff(original.stdout, flat_run.stdout)
     )
+
+
+@st.composite
+def cam_programs_with_parameters(draw):
+    """CAM tables (runtime.rows' batches of plain moves, which flatten
+    writes a column at a time) with settings of the parameters G-codes read
+    between them, and G28/G30/G92 that read them."""
+    text = draw(cam_strategies.cam_programs())
+    lines = text.splitlines()
+    for _ in range(draw(st.integers(0, 3))):
+        at = draw(st.integers(0, len(lines) - 1))
+        number = draw(st.sampled_from((5161, 5162, 5163, 5181, 5211, 5221, 5222)))
+        value = draw(st.sampled_from(("0", "-0", "1.5", "-2.25", "10")))
+        after = draw(st.sampled_from(("G28", "G30", "G92 X1", "G55", "G0 X1")))
+        lines[at:at] = ["#%d = %s" % (number, value), after]
+    return "\n".join(lines) + "\n"
+
+
+@pytest.mark.rs274
+@settings(
+    max_examples=25,
+    deadline=None,
+    derandomize=True,
+    database=None,
+    suppress_health_check=list(HealthCheck),
+)
+@given(cam_programs_with_parameters())
+def test_flat_cam_program_makes_the_same_moves(text):
+    program = harness.REPO / "tests" / "_generated" / "cam.ngc"
+    expected = harness.run_rs274(program, text=text, timeout=20)
+    if expected.rc != 0:
+        reject()
+    try:
+        original, flat_run, flat = flatten_and_run(program, [], text=text)
+    except Refused:
+        reject()
+    assert flat_run.returncode == 0, harness.first_error_line(flat_run.stderr) + "\n" + flat
+    assert motion(calls(flat_run.stdout)) == motion(calls(original.stdout)), (
+        text + "\n----\n" + flat + harness.stdout_diff(original.stdout, flat_run.stdout)
+    )
+
+
+def test_a_batch_of_moves_is_written_as_one_block_a_move(tmp_path):
+    rows = "".join("X%d.25 Y%d\n" % (k, k % 3) for k in range(40))
+    text = "G21 G90\nG1 Z-1 F100\n" + rows + "#5161 = 7\nG28\nM2\n"
+    rc, flat, err = run_flatten(tmp_path, text)
+    assert rc == 0, err
+    moves = [line for line in flat.splitlines() if line.startswith("G1 X")]
+    assert len(moves) == 40
+    assert moves[1].startswith("G1 X1.25 Y1  ; ") and moves[1].endswith("p.ngc:4")
+    assert moves[3].startswith("G1 X3.25 Y0  ; ")
+    body = flat.splitlines()
+    # G28's moves (written as G0, line 44) read the home set after the batch
+    g28 = next(i for i, text in enumerate(body) if text.endswith("p.ngc:44"))
+    assert body.index("#5161 = 7") < g28
 
 
 # --- the text itself ---------------------------------------------------------
