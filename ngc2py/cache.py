@@ -1,10 +1,11 @@
 """On-disk cache of generated modules (Mako's idea: regenerate on change).
 
 An entry is keyed by a hash of the source bytes, the compiler (version and
-a hash of its sources), the
-options that change the output (the ini file's path and content, the
-current directory, which is where rs274 looks for external subroutines) and
-the file name (it appears in messages). Next to the module a small JSON file
+a hash of its sources), the options that change the output (the ini file's
+path and content, and the folders it makes rs274 look in for external
+subroutines) and the file name (it appears in messages). Not by the current
+directory: subroutine files found there are named relative to it, so a
+copy of a folder (a golden check's scratch copy) hits the same entry. Next to the module a small JSON file
 records the external-subroutine paths that were probed; a hit is only used
 if each still exists (or not) with the same content hash.
 
@@ -27,7 +28,7 @@ except ImportError:  # not CPython
     from hashlib import blake2b as _hash
 
 from ngc2py import __version__
-from ngc2py.compiler import compile_program
+from ngc2py.compiler import compile_program, subroutine_dirs
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:
@@ -84,9 +85,11 @@ def cache_key(path: str, ini: Optional[str]) -> str:
         compiler_fingerprint(),
         _digest(source),
         path,
-        os.getcwd(),
         ini or "",
         (_file_digest(ini) or "") if ini else "",
+        # where subroutine files are looked for (relative ones: in the
+        # current directory, whichever it is; the probes say what was found)
+        "\1".join(subroutine_dirs(ini)) if ini else "",
     ]
     return _digest("\0".join(parts).encode("utf-8", "surrogateescape"))
 
@@ -128,6 +131,16 @@ def write_atomic(target, data: Union[str, bytes]) -> None:
 
 def _probes_current(probes: List[Tuple[str, Optional[str]]]) -> bool:
     return all(_file_digest(path) == digest for path, digest in probes)
+
+
+def module_probes(module: str) -> List[Tuple[str, Optional[str]]]:
+    """The external-subroutine paths probed when ``module`` (a path
+    :func:`cached_module` returned) was compiled, each with the digest of
+    the file found there (None: no file)."""
+    import json
+
+    with open(module[: -len(".py")] + ".json", encoding="utf-8") as handle:
+        return [tuple(p) for p in json.loads(handle.read())]
 
 
 def cached_module(path: str, ini: Optional[str] = None) -> str:

@@ -70,14 +70,20 @@ class Compiled:
 
 def subroutine_dirs(ini: Optional[str]) -> List[str]:
     """Where rs274 looks for ``<name>.ngc``, in its order: the program
-    prefix (the ini's [DISPLAY]PROGRAM_PREFIX, else the current directory),
-    then the ini's [RS274NGC]SUBROUTINE_PATH directories."""
+    prefix (the ini's [DISPLAY]PROGRAM_PREFIX, else the current directory,
+    written "" so that paths found there stay relative to it), then the
+    ini's [RS274NGC]SUBROUTINE_PATH directories.
+
+    Relative, not the current directory's absolute path: a module compiled
+    in one copy of a folder is then the same module in every copy (the
+    compile cache serves golden checks' scratch copies), and its error
+    reports name a subroutine file as the user would, ``probe.ngc``."""
     if not ini:
-        return [os.getcwd()]
+        return [""]
     from runtime.inifile import load_ini
 
     settings = load_ini(ini)
-    return [settings.program_prefix or os.getcwd(), *settings.subroutine_path]
+    return [settings.program_prefix or "", *settings.subroutine_path]
 
 
 def _parse(path: str):

@@ -16,11 +16,14 @@ reference: "what my program does today"); ``ngc2py golden check`` runs the
 program again and compares. This project records its corpus from LinuxCNC's
 ``rs274`` instead (``golden/record.py``) and compares with the same code.
 
-Every run happens in a scratch copy of the program's folder with a private
-``HOME`` and compile cache, and the program named by its relative name, so
+Every run happens in a scratch folder with a private ``HOME``, holding
+copies of the files the run can read (:func:`run_inputs`; the whole folder
+where that cannot be told), and the program named by its relative name, so
 that a ``-v`` parameter file rs274 rewrites, a ``(LOGOPEN,...)`` or a
 parallel run cannot touch the user's files, and messages that echo the file
-name do not depend on where the folder lives.
+name do not depend on where the folder lives. Runs share the caller's
+compile cache: its entries do not depend on the folder, so a library is
+compiled once, not once per check.
 """
 
 from __future__ import annotations
@@ -255,14 +258,28 @@ def find_programs(targets: Iterable[Union[str, Path]], recorded_only: bool) -> L
 class Scratch:
     """A temporary copy of a program's folder, a private HOME and cache."""
 
-    def __init__(self, program: Path, text: Optional[str] = None):
+    def __init__(
+        self,
+        program: Path,
+        text: Optional[str] = None,
+        inputs: Optional[Sequence[str]] = None,
+    ):
+        """``inputs``: the only files of the folder the run needs (names
+        relative to it); None copies the whole folder (up to
+        MAX_COPY_BYTES)."""
         self.tmp = Path(tempfile.mkdtemp(prefix="ngc2py-golden-"))
         self.home = self.tmp / "home"
         self.home.mkdir()
         self.cache = self.tmp / "cache"
         self.work = self.tmp / "work"
         source = program.parent
-        if text is None and source.is_dir() and _folder_size(source) <= MAX_COPY_BYTES:
+        if inputs is not None:
+            self.work.mkdir()
+            for name in inputs:
+                target = self.work / name
+                target.parent.mkdir(parents=True, exist_ok=True)
+                shutil.copy2(source / name, target)
+        elif text is None and source.is_dir() and _folder_size(source) <= MAX_COPY_BYTES:
             shutil.copytree(
                 source,
                 self.work,
@@ -284,6 +301,44 @@ class Scratch:
 
     def __exit__(self, *exc) -> None:
         shutil.rmtree(self.tmp, ignore_errors=True)
+
+
+def run_inputs(program: Path, args: Sequence[str]) -> Optional[List[str]]:
+    """The files of ``program``'s folder a run of it can read, found without
+    copying the folder: the program, the ``-t``/``-v`` files, and the
+    external subroutine files its compiled module was made from (the
+    compile cache's probes; compiling here, in the folder, is what the run
+    in the scratch copy then finds in the cache). None where that cannot be
+    told (an ini file, which can name more files; a path outside the
+    folder; a compile error): the caller copies the whole folder."""
+    from ngc2py.cache import cached_module, module_probes
+
+    folder = program.parent
+    names = [program.name]
+    words = list(args)
+    for flag, value in zip(words, words[1:] + [""]):
+        if flag == "-i":
+            return None
+        if flag in ("-t", "-v"):
+            if os.path.isabs(value) or ".." in Path(value).parts:
+                return None
+            if (folder / value).is_file():
+                names.append(value)
+    saved = os.getcwd()
+    try:
+        os.chdir(folder)
+        probes = module_probes(cached_module(program.name, None))
+    except Exception:  # noqa: BLE001 - any doubt: copy the folder
+        return None
+    finally:
+        os.chdir(saved)
+    for path, digest in probes:
+        if digest is None:
+            continue
+        if os.path.isabs(path) or ".." in Path(path).parts:
+            return None
+        names.append(path)
+    return list(dict.fromkeys(names))
 
 
 def _folder_size(folder: Path) -> int:
@@ -316,9 +371,23 @@ def run(
     Not thread-safe: it changes the working directory while it runs.
     """
     from ngc2py import cli
+    from ngc2py.cache import cache_dir
 
     program = Path(program)
-    with Scratch(program, text) as scratch:
+    saved_environ = dict(os.environ)
+    # The caller's compile cache, not the scratch copy's: entries are keyed
+    # by content and options, not by folder (ngc2py/cache.py), so checking
+    # a library again compiles nothing that has not changed.
+    cache = cache_dir()
+    inputs = None
+    if text is None:
+        os.environ["NGC2PY_CACHE"] = cache  # the same entries as the run's
+        try:
+            inputs = run_inputs(program, args)
+        finally:
+            os.environ.clear()
+            os.environ.update(saved_environ)
+    with Scratch(program, text, inputs) as scratch:
         out, err = io.BytesIO(), io.BytesIO()
         new_out = io.TextIOWrapper(out, encoding="utf-8", write_through=True)
         new_err = io.TextIOWrapper(err, encoding="utf-8", write_through=True)
@@ -330,7 +399,7 @@ def run(
 
         old_handler = signal.signal(signal.SIGALRM, on_alarm) if alarm else None
         os.environ["HOME"] = str(scratch.home)
-        os.environ["NGC2PY_CACHE"] = str(scratch.cache)
+        os.environ["NGC2PY_CACHE"] = cache
         os.environ.pop("INI_FILE_NAME", None)
         os.chdir(scratch.work)
         sys.stdout, sys.stderr = new_out, new_err
