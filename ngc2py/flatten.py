@@ -818,54 +818,13 @@ def _flatten_machine():
     """A Machine whose blocks take the general path, one by one: the fast
     path (runtime/fastpath.py) announces only changes of N, and flatten
     needs each block's start to group its calls. The exception is a whole
-    batch of plain rows (runtime.rows.straight_batch: moves and nothing
-    else, one a block), which FlattenCanon.straight_moves writes itself."""
-    from runtime.codes import G0, G1
+    batch of plain rows (runtime.rows.BatchesOnly), which
+    FlattenCanon.straight_moves writes itself."""
     from runtime.machine import Machine
-    from runtime.rows import BATCH, straight_batch
+    from runtime.rows import BatchesOnly
 
-    class FlattenMachine(Machine):
-        _batchable = False
-
-        def refresh_plain(self) -> None:
-            Machine.refresh_plain(self)
-            self._batchable, self._plain = self._plain, False
-
-        def plain_rows(self, cells, at, end, plans) -> int:
-            if not self._batchable or self._block_n is not None:
-                return at
-            canon = self.canon
-            cur, motion_mode = self.current, self.motion_mode
-            row = at
-            try:
-                while at < end:
-                    row = at
-                    plan = plans[int(cells[at + 1])]
-                    motion = motion_mode if plan.motion is None else plan.motion
-                    if not (
-                        plan.batch
-                        and end - at >= (plan.width + 2) * BATCH
-                        and (motion == G0 or (motion == G1 and self.feed_rate > 0.0))
-                    ):
-                        break
-                    call = (
-                        canon.straight_feed if motion == G1 else canon.straight_traverse
-                    )
-                    rows, point, error = straight_batch(
-                        call, cells, at, end, plan, cur, motion == G1
-                    )
-                    if error is not None:
-                        raise error
-                    if not rows:
-                        break
-                    at += rows * (plan.width + 2)
-                    cur, motion_mode = point, motion
-            finally:
-                self.line = int(cells[row])
-                if cur is not self.current:
-                    self.current = self.world.position = self.params.position = cur
-                    self.motion_mode = motion_mode
-            return at
+    class FlattenMachine(BatchesOnly, Machine):
+        pass
 
     return FlattenMachine
 

@@ -61,11 +61,12 @@ from typing import Any, List, Optional, Sequence, Tuple
 from runtime.arcs import INVERSE_TIME, UNITS_PER_MINUTE, UNITS_PER_REVOLUTION
 from runtime.blockcheck import M_USER
 from runtime.canon import Canon
-from runtime.codes import M_OFFSET, g_code, m_code
+from runtime.codes import G0, G1, M_OFFSET, g_code, m_code
 from runtime.errors import GCodeError, g_code_frames, g_code_frames_of_stack, locate
 from runtime.machine import Machine
 from runtime.mcodes import ProgramEnd
 from runtime.nurbs import preview_points
+from runtime.rows import BatchesOnly
 
 INTERP_OK = 0
 INTERP_EXIT = 1
@@ -213,6 +214,44 @@ class PreviewCanon(Canon):
         self._pos = (x, y, z, a, b, c, u, v, w)
         self._motion("straight_feed", *self._pose(x, y, z, a, b, c, u, v, w))
 
+    def straight_moves(self, feed, lines, x, y, z, a, b, c, u, v, w):
+        """A batch of plain rows (runtime.rows.BatchesOnly: one move a line,
+        nothing else on it): each line announced with the modes the line
+        before left, then its move, as :meth:`new_line` and
+        :meth:`straight_feed` would, with the modes worked out once."""
+        machine = self.machine
+        if self.motion_line is not None or not isinstance(machine, PreviewMachine):
+            return super().straight_moves(feed, lines, x, y, z, a, b, c, u, v, w)
+        target = self.target
+        call = target.straight_feed if feed else target.straight_traverse
+        next_line = target.next_line
+        self._pos = tuple(column[-1] for column in (x, y, z, a, b, c, u, v, w))
+        if not machine.inches:
+            k = MM_PER_INCH
+            x, y, z, u, v, w = (
+                [value / k for value in column] for column in (x, y, z, u, v, w)
+            )
+        # Every row leaves the same modes, but for its line number.
+        saved, machine.motion_mode = machine.motion_mode, G1 if feed else G0
+        gcodes, mcodes, settings = machine._active((), 0)
+        machine.motion_mode = saved
+        gcodes, mcodes, settings = gcodes[1:], mcodes[1:], settings[1:]
+        before = machine.active
+        skipped = self.skipped
+        for line, point in zip(lines, zip(x, y, z, a, b, c, u, v, w)):
+            sequence = line - skipped if line > skipped else line
+            if sequence != self.last_sequence:
+                now = time.monotonic()
+                if now - self._checked > ABORT_INTERVAL:
+                    self._checked = now
+                    if target.check_abort():
+                        raise KeyboardInterrupt("Load aborted")
+                self.last_sequence = sequence
+                next_line(LineCode((sequence,) + before[0][1:], before[1], before[2]))
+            call(*point)
+            before = ((line,) + gcodes, (line,) + mcodes, (float(line),) + settings)
+        machine.active = before
+
     def straight_probe(self, x, y, z, a, b, c, u, v, w, probe_type):
         self._pos = (x, y, z, a, b, c, u, v, w)
         self._motion("straight_probe", *self._pose(x, y, z, a, b, c, u, v, w))
@@ -286,10 +325,14 @@ class PreviewCanon(Canon):
         self._call("user_defined_function", number, p, q)
 
 
-class PreviewMachine(Machine):
+class PreviewMachine(BatchesOnly, Machine):
     """The machine as the gcode module's interpreter sees it: it starts in
     inches, asks the canon about block delete line by line, and records
-    the modal state the way ``active_g_codes``/``active_m_codes`` do."""
+    the modal state the way ``active_g_codes``/``active_m_codes`` do.
+
+    Blocks take the general path (block() records the modal state each line
+    is announced with), except whole batches of plain rows, which
+    PreviewCanon.straight_moves announces and moves itself (BatchesOnly)."""
 
     def __init__(self, canon: PreviewCanon, **options) -> None:
         super().__init__(canon, **options)
@@ -387,11 +430,6 @@ class PreviewMachine(Machine):
 
     def _g7x_arc(self, ccw, centre, end) -> None:
         self._g7x_moves(super()._g7x_arc, ccw, centre, end)
-
-    def refresh_plain(self) -> None:
-        # No fast path: it runs data rows without announcing each line and
-        # skips block(), where the line code's modal state is recorded.
-        self._plain = False
 
     @property
     def block_delete(self) -> bool:

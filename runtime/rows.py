@@ -224,3 +224,53 @@ def run_rows(
     except Exception as error:
         error.ngc_row_line = machine.line
         raise
+
+
+class BatchesOnly:
+    """For a Machine whose canon must see every block begin (flatten groups
+    calls by block, the preview announces each line with the modes as of
+    the block before): blocks take the general path, except whole batches
+    of plain straight rows (:func:`straight_batch`: one move a block,
+    nothing else on the line), which reach the canon's ``straight_moves``
+    in one call and which it handles knowing exactly that."""
+
+    _batchable = False
+
+    def refresh_plain(self) -> None:
+        super().refresh_plain()
+        self._batchable, self._plain = self._plain, False
+
+    def plain_rows(self, cells: List[str], at: int, end: int, plans) -> int:
+        if not self._batchable or self._block_n is not None:
+            return at
+        canon = self.canon
+        cur, motion_mode = self.current, self.motion_mode
+        row = at
+        try:
+            while at < end:
+                row = at
+                plan = plans[int(cells[at + 1])]
+                motion = motion_mode if plan.motion is None else plan.motion
+                if not (
+                    plan.batch
+                    and end - at >= (plan.width + 2) * BATCH
+                    and (motion == G0 or (motion == G1 and self.feed_rate > 0.0))
+                ):
+                    break
+                feed = motion == G1
+                call = canon.straight_feed if feed else canon.straight_traverse
+                rows, point, error = straight_batch(
+                    call, cells, at, end, plan, cur, feed
+                )
+                if error is not None:
+                    raise error
+                if not rows:
+                    break
+                at += rows * (plan.width + 2)
+                cur, motion_mode = point, motion
+        finally:
+            self.line = int(cells[row])
+            if cur is not self.current:
+                self.current = self.world.position = self.params.position = cur
+                self.motion_mode = motion_mode
+        return at

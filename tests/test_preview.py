@@ -26,7 +26,9 @@ from typing import Optional
 
 import pytest
 from hypothesis import given, reject, settings
+from hypothesis import strategies as st
 
+import cam_strategies
 import rs274 as harness
 from gcode_answers import ANSWERS, QUESTIONS  # the canon's answers, shared
 import strategies
@@ -364,6 +366,16 @@ def test_linecode_fields():
 @given(strategies.valid_programs(feed_modes=True))
 def test_generated_programs_match_gcode_parse(text):
     _compare_generated(text)
+
+
+@needs_gcode
+@settings(PROFILE)
+@given(cam_strategies.cam_programs(), st.sampled_from(("G21", "G20", "")))
+def test_cam_tables_match_gcode_parse(text, units):
+    """CAM tables: their batches of plain rows reach the preview as one
+    straight_moves call each (runtime.rows.BatchesOnly); every next_line
+    and move must still be gcode.parse's."""
+    _compare_generated(units + "\n" + text)
 
 
 @needs_gcode
