@@ -236,21 +236,34 @@ class PreviewCanon(Canon):
         gcodes, mcodes, settings = machine._active((), 0)
         machine.motion_mode = saved
         gcodes, mcodes, settings = gcodes[1:], mcodes[1:], settings[1:]
-        before = machine.active
+        now = time.monotonic()  # asked once a batch: a batch takes milliseconds
+        if now - self._checked > ABORT_INTERVAL:
+            self._checked = now
+            if target.check_abort():
+                raise KeyboardInterrupt("Load aborted")
         skipped = self.skipped
-        for line, point in zip(lines, zip(x, y, z, a, b, c, u, v, w)):
-            sequence = line - skipped if line > skipped else line
-            if sequence != self.last_sequence:
-                now = time.monotonic()
-                if now - self._checked > ABORT_INTERVAL:
-                    self._checked = now
-                    if target.check_abort():
-                        raise KeyboardInterrupt("Load aborted")
-                self.last_sequence = sequence
-                next_line(LineCode((sequence,) + before[0][1:], before[1], before[2]))
+        numbers = [line - skipped if line > skipped else line for line in lines]
+        before = lines[:-1]
+        codes = list(
+            map(
+                LineCode,
+                [(number,) + gcodes for number in numbers[1:]],
+                [(line,) + mcodes for line in before],
+                [(float(line),) + settings for line in before],
+            )
+        )
+        points = zip(x, y, z, a, b, c, u, v, w)
+        if numbers[0] != self.last_sequence:
+            g, m, s = machine.active
+            codes.insert(0, LineCode((numbers[0],) + g[1:], m, s))
+        else:  # the first row's line was announced already
+            call(*next(points))
+        for code, point in zip(codes, points):
+            next_line(code)
             call(*point)
-            before = ((line,) + gcodes, (line,) + mcodes, (float(line),) + settings)
-        machine.active = before
+        self.last_sequence = numbers[-1]
+        last = lines[-1]
+        machine.active = ((last,) + gcodes, (last,) + mcodes, (float(last),) + settings)
 
     def straight_probe(self, x, y, z, a, b, c, u, v, w, probe_type):
         self._pos = (x, y, z, a, b, c, u, v, w)
