@@ -290,14 +290,47 @@ class FlattenCanon(Canon):
         for i in range(count):
             if not rows[i]:  # a move to where it is: still one axis word
                 rows[i].append("X" + number(x[i]))
+        code = "G1 " if feed else "G0 "
+        self._write_batch(lines, [code + " ".join(words) for words in rows])
+
+    def arc_moves(
+        self,
+        lines,
+        first_end,
+        second_end,
+        first_axis,
+        second_axis,
+        rotation,
+        axis_end,
+        a,
+        b,
+        c,
+        u,
+        v,
+        w,
+    ):
+        """A run of plain arcs, each a block of its own, written as
+        :meth:`_arc` writes one."""
+        columns = (first_end, second_end, first_axis, second_axis, rotation)
+        columns += (axis_end, a, b, c, u, v, w)
+        if self._pitch is not None or not self.started or self.ended:
+            return super().arc_moves(lines, *columns)
+        self._flush()
+        pos = self._pos
+        # Only the first arc can start away from the last move's end.
+        self._check_arc_start(self.machine.current, pos)
+        arc = self._arc
+        self._write_batch(lines, [arc(args, pos) for args in zip(*columns)])
+
+    def _write_batch(self, lines, texts: List[str]) -> None:
+        """A batch's blocks, each with its source comment (the batch's rows
+        share a file and a call stack)."""
         frames = g_code_frames_of_stack()
         file = frames[-1].file if frames else self.main_file
         callers = " <- ".join("%s:%d" % (f.file, f.line) for f in reversed(frames[:-1]))
         tail = " <- " + callers if callers else ""
-        code = "G1 " if feed else "G0 "
         out = self.lines
-        for line, words in zip(lines, rows):
-            text = code + " ".join(words)
+        for line, text in zip(lines, texts):
             comment = "  ; %s:%d%s" % (file, line, tail)
             if len(text + comment) > MAX_LINE:
                 out.append(comment.strip())

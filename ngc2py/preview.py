@@ -61,7 +61,7 @@ from typing import Any, List, Optional, Sequence, Tuple
 from runtime.arcs import INVERSE_TIME, UNITS_PER_MINUTE, UNITS_PER_REVOLUTION
 from runtime.blockcheck import M_USER
 from runtime.canon import Canon
-from runtime.codes import G0, G1, M_OFFSET, g_code, m_code
+from runtime.codes import G0, G1, G2, G3, M_OFFSET, g_code, m_code
 from runtime.errors import GCodeError, g_code_frames, g_code_frames_of_stack, locate
 from runtime.machine import Machine
 from runtime.mcodes import ProgramEnd
@@ -222,20 +222,81 @@ class PreviewCanon(Canon):
         machine = self.machine
         if self.motion_line is not None or not isinstance(machine, PreviewMachine):
             return super().straight_moves(feed, lines, x, y, z, a, b, c, u, v, w)
-        target = self.target
-        call = target.straight_feed if feed else target.straight_traverse
-        next_line = target.next_line
         self._pos = tuple(column[-1] for column in (x, y, z, a, b, c, u, v, w))
         if not machine.inches:
             k = MM_PER_INCH
             x, y, z, u, v, w = (
                 [value / k for value in column] for column in (x, y, z, u, v, w)
             )
-        # Every row leaves the same modes, but for its line number.
-        saved, machine.motion_mode = machine.motion_mode, G1 if feed else G0
-        gcodes, mcodes, settings = machine._active((), 0)
+        target = self.target
+        self._announce_batch(
+            lines,
+            [G1 if feed else G0] * len(lines),
+            target.straight_feed if feed else target.straight_traverse,
+            zip(x, y, z, a, b, c, u, v, w),
+        )
+
+    def arc_moves(
+        self,
+        lines,
+        first_end,
+        second_end,
+        first_axis,
+        second_axis,
+        rotation,
+        axis_end,
+        a,
+        b,
+        c,
+        u,
+        v,
+        w,
+    ):
+        """A batch of plain arc rows, announced line by line as
+        :meth:`straight_moves` does (G2 and G3 may alternate)."""
+        machine = self.machine
+        if self.motion_line is not None or not isinstance(machine, PreviewMachine):
+            return super().arc_moves(
+                lines,
+                first_end,
+                second_end,
+                first_axis,
+                second_axis,
+                rotation,
+                axis_end,
+                a,
+                b,
+                c,
+                u,
+                v,
+                w,
+            )
+        lengths = [first_end, second_end, first_axis, second_axis, axis_end, u, v, w]
+        if not machine.inches:
+            k = MM_PER_INCH
+            lengths = [[value / k for value in column] for column in lengths]
+        e1, e2, c1, c2, normal, u, v, w = lengths
+        self._announce_batch(
+            lines,
+            [G3 if turn > 0 else G2 for turn in rotation],
+            self.target.arc_feed,
+            zip(e1, e2, c1, c2, rotation, normal, a, b, c, u, v, w),
+        )
+
+    def _announce_batch(self, lines, motions, call, arguments) -> None:
+        """``call(*arguments[k])`` for each line of a batch, each line
+        announced first with the modes the line before left: those of
+        ``motions[k - 1]``, its motion mode, since nothing else changes."""
+        machine = self.machine
+        target = self.target
+        next_line = target.next_line
+        saved = machine.motion_mode
+        modes = {}
+        for motion in set(motions):
+            machine.motion_mode = motion
+            gcodes, mcodes, settings = machine._active((), 0)
+            modes[motion] = (gcodes[1:], mcodes[1:], settings[1:])
         machine.motion_mode = saved
-        gcodes, mcodes, settings = gcodes[1:], mcodes[1:], settings[1:]
         now = time.monotonic()  # asked once a batch: a batch takes milliseconds
         if now - self._checked > ABORT_INTERVAL:
             self._checked = now
@@ -243,26 +304,25 @@ class PreviewCanon(Canon):
                 raise KeyboardInterrupt("Load aborted")
         skipped = self.skipped
         numbers = [line - skipped if line > skipped else line for line in lines]
-        before = lines[:-1]
-        codes = list(
-            map(
-                LineCode,
-                [(number,) + gcodes for number in numbers[1:]],
-                [(line,) + mcodes for line in before],
-                [(float(line),) + settings for line in before],
+        codes = [
+            LineCode(
+                (number,) + modes[motion][0],
+                (line,) + modes[motion][1],
+                (float(line),) + modes[motion][2],
             )
-        )
-        points = zip(x, y, z, a, b, c, u, v, w)
+            for number, motion, line in zip(numbers[1:], motions, lines)
+        ]
         if numbers[0] != self.last_sequence:
             g, m, s = machine.active
             codes.insert(0, LineCode((numbers[0],) + g[1:], m, s))
         else:  # the first row's line was announced already
-            call(*next(points))
-        for code, point in zip(codes, points):
+            call(*next(arguments))
+        for code, values in zip(codes, arguments):
             next_line(code)
-            call(*point)
+            call(*values)
         self.last_sequence = numbers[-1]
         last = lines[-1]
+        gcodes, mcodes, settings = modes[motions[-1]]
         machine.active = ((last,) + gcodes, (last,) + mcodes, (float(last),) + settings)
 
     def straight_probe(self, x, y, z, a, b, c, u, v, w, probe_type):

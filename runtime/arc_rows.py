@@ -30,7 +30,7 @@ from math import asin, atan2, cos, hypot, sin
 from operator import add, sub
 
 from runtime import arcs
-from runtime.canon import TraceCanon, trace_rows
+from runtime.canon import Canon, TraceCanon, trace_rows
 from runtime.codes import G0, G1, G2, G3
 from runtime.errors import GCodeError
 from runtime.ops import c_hypot, plus_half_pi
@@ -235,7 +235,15 @@ class ArcRows:
         the machine's state in local variables."""
         machine = self.machine
         plane = machine.plane
-        if not machine._plain or plane not in PLANE_AXES:
+        if plane not in PLANE_AXES:
+            return at
+        if not machine._plain:
+            if (
+                getattr(machine, "_batchable", False)
+                and machine._block_n is None
+                and type(machine.canon).arc_moves is not Canon.arc_moves
+            ):
+                return self._batches_only(cells, at, end)
             return at
         p1, p2, p3 = PLANE_AXES[plane]
         absolute = machine.ijk_absolute
@@ -256,9 +264,9 @@ class ArcRows:
         motion_mode, feed_rate = machine.motion_mode, machine.feed_rate
         block_n = machine._block_n
         feed_given = False
-        # The batch form writes trace text itself (as runtime.printed_rows
-        # does); other canons get every call, row by row.
-        batch_from = at if type(canon) is TraceCanon else end
+        # Batches: trace text written at once (as runtime.printed_rows does),
+        # or one arc_moves call of columns for any other canon.
+        batch_from = at
         groups = self.groups if self.groups is not None else self._groups()
         row = at
         try:
@@ -316,6 +324,7 @@ class ArcRows:
                 motion, has_n, f_at, width, slots, r_at, i1, i2 = recipe
                 if (
                     at >= batch_from
+                    and (block_n is None or type(canon) is TraceCanon)
                     # the quick test: the eighth row from here is an arc
                     # of these words too (_batch checks all of them)
                     and end - at >= (2 + width) * _BATCH
@@ -410,6 +419,56 @@ class ArcRows:
             machine._block_n = block_n
         return at
 
+    def _batches_only(self, cells: List[str], at: int, end: int) -> int:
+        """For a machine of runtime.rows.BatchesOnly: whole batches of arc
+        rows (no N, no F) to the canon's ``arc_moves``, nothing row by row;
+        returns where it stopped."""
+        machine = self.machine
+        plane, absolute = machine.plane, machine.ijk_absolute
+        known = self.recipes.setdefault((plane, absolute), {})
+        groups = self.groups if self.groups is not None else self._groups()
+        zero = arcs.radius_tolerance(machine.inches)
+        spiral = machine.spiral_tolerance()
+        cur, motion_mode = machine.current, machine.motion_mode
+        row = at
+        try:
+            while at < end:
+                key = cells[at + 1]
+                recipe = known.get(key, False)
+                if recipe is False:
+                    recipe = known[key] = self._row_recipe(key, plane, absolute)
+                if recipe is None or recipe[0] is None:
+                    break  # a modal motion or not an arc: the general path
+                stride = 2 + recipe[3]
+                if not (
+                    end - at >= stride * _BATCH
+                    and cells[at + 1 + stride * (_BATCH - 1)] in groups.get(key, ())
+                ):
+                    break
+                done = self._batch(
+                    cells,
+                    at,
+                    end,
+                    recipe,
+                    cur,
+                    machine.feed_rate,
+                    absolute,
+                    zero,
+                    spiral,
+                )
+                if type(done) is int:
+                    break
+                rows, cur, _, motion_mode, _ = done
+                row = at + (rows - 1) * stride
+                at += rows * stride
+        finally:
+            machine.line = int(cells[row])
+            if cur is not machine.current:
+                machine.current = machine.world.position = cur
+                machine.params.position = cur
+                machine.motion_mode = motion_mode
+        return at
+
     def _groups(self) -> dict:
         by_words: dict = {}
         for index, plan in enumerate(self.plans):
@@ -487,6 +546,25 @@ class ArcRows:
             small, big, difference = bounds
             if not (small * _BELOW >= zero and difference + big * _MARGIN <= spiral):
                 return rows
+        canon = self.machine.canon
+        if type(canon) is not TraceCanon:
+            if has_n or f_at >= 0 or feed_rate == 0.0:  # row by row
+                return rows
+            return self._arc_moves(
+                canon,
+                cells,
+                at,
+                stop,
+                stride,
+                shapes,
+                texts,
+                named,
+                cur,
+                e1,
+                e2,
+                c1,
+                c2,
+            )
         rate = None
         if f_at >= 0:
             rates = list(map(float, texts[f_at]))
@@ -524,7 +602,6 @@ class ArcRows:
             else:
                 parts.append("%.4f")
                 columns.append(known if known is not None else floats(axis))
-        canon = self.machine.canon
         count = canon._count
         if has_n:
             column = "N%-6s"
@@ -558,3 +635,24 @@ class ArcRows:
         for i, axis in slots:
             point[axis] = float(texts[i][-1])
         return rows, point, rate, self.plans[int(shapes[-1])].motion, n
+
+    def _arc_moves(
+        self, canon, cells, at, stop, stride, shapes, texts, named, cur, e1, e2, c1, c2
+    ):
+        """The batch as one ``arc_moves`` call of columns (the canon's own,
+        or the protocol's one ``arc_feed`` a row): ``_batch``'s answer."""
+        rows = len(shapes)
+        p1, p2, p3 = PLANE_AXES[self.machine.plane]
+        motion = {k: self.plans[int(k)].motion for k in set(shapes)}
+        rotation = [-1 if motion[k] == G2 else 1 for k in shapes]
+        columns = []
+        for axis in (p3, 3, 4, 5, 6, 7, 8):
+            i = named.get(axis)
+            columns.append([cur[axis]] * rows if i is None else column_floats(texts[i]))
+        lines = list(map(int, cells[at:stop:stride]))
+        canon.arc_moves(lines, e1, e2, c1, c2, rotation, *columns)
+        point = cur[:]
+        point[p1], point[p2] = e1[-1], e2[-1]
+        for axis, column in zip((p3, 3, 4, 5, 6, 7, 8), columns):
+            point[axis] = column[-1]
+        return rows, point, None, motion[shapes[-1]], None

@@ -197,6 +197,31 @@ def test_flat_cam_program_makes_the_same_moves(text):
     )
 
 
+@pytest.mark.rs274
+@settings(
+    max_examples=25,
+    deadline=None,
+    derandomize=True,
+    database=None,
+    suppress_health_check=list(HealthCheck),
+)
+@given(cam_strategies.arc_programs())
+def test_flat_arc_program_makes_the_same_moves(text):
+    """Arc tables: runs of one layout reach flatten as one arc_moves call."""
+    program = harness.REPO / "tests" / "_generated" / "arcs.ngc"
+    expected = harness.run_rs274(program, text=text, timeout=20)
+    if expected.rc != 0:
+        reject()
+    try:
+        original, flat_run, flat = flatten_and_run(program, [], text=text)
+    except Refused:
+        reject()
+    assert flat_run.returncode == 0, harness.first_error_line(flat_run.stderr) + "\n" + flat
+    assert motion(calls(flat_run.stdout)) == motion(calls(original.stdout)), (
+        text + "\n----\n" + flat + harness.stdout_diff(original.stdout, flat_run.stdout)
+    )
+
+
 def test_a_batch_of_moves_is_written_as_one_block_a_move(tmp_path):
     rows = "".join("X%d.25 Y%d\n" % (k, k % 3) for k in range(40))
     text = "G21 G90\nG1 Z-1 F100\n" + rows + "#5161 = 7\nG28\nM2\n"

@@ -379,6 +379,16 @@ def test_cam_tables_match_gcode_parse(text, units):
 
 
 @needs_gcode
+@settings(PROFILE)
+@given(cam_strategies.arc_programs(), st.sampled_from(("G21", "G20", "")))
+def test_arc_tables_match_gcode_parse(text, units):
+    """Arc tables: runs of arc rows of one layout reach the preview as one
+    arc_moves call each (G2 and G3 mixed); every next_line, with the motion
+    mode the line before left, and every arc must still be gcode.parse's."""
+    _compare_generated(units + "\n" + text)
+
+
+@needs_gcode
 @settings(PROFILE, max_examples=max(10, PROFILE.max_examples // 2))
 @given(strategies.invalid_programs())
 def test_generated_broken_programs_match_gcode_parse(text):
