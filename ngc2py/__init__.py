@@ -15,3 +15,10 @@ def strerror(code):
     from ngc2py.preview import strerror as message
 
     return message(code)
+
+
+def toolpath(program, **options):
+    """A program's moves as NumPy arrays: see :mod:`ngc2py.moves`."""
+    from ngc2py.moves import toolpath as run
+
+    return run(program, **options)

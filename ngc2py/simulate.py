@@ -14,7 +14,7 @@ import os
 import sys
 import tempfile
 from contextlib import contextmanager
-from typing import Iterator, Optional, TextIO
+from typing import Callable, Iterator, Optional, TextIO
 
 from runtime.canon import Canon
 from runtime.errors import GCodeError, describe
@@ -59,10 +59,14 @@ def program_path(program: str) -> Iterator[str]:
 
 
 def run_program(
-    args: argparse.Namespace, canon: Canon, stderr: Optional[TextIO] = None
+    args: argparse.Namespace,
+    canon: Canon,
+    stderr: Optional[TextIO] = None,
+    on_machine: Optional[Callable] = None,
 ) -> int:
     """Run ``args.program`` against ``canon``; the exit status (0, or 1 after
-    an error was reported on ``stderr``)."""
+    an error was reported on ``stderr``). ``on_machine`` is given the
+    machine before the program runs (a canon that reads its line numbers)."""
     from ngc2py.cli import load_program, unopened
     from ngc2py.compiler import CompileError, OpenError
     from runtime.machine import Machine
@@ -86,6 +90,8 @@ def run_program(
                 source=source_map,
             )
             machine.messages = stderr
+            if on_machine is not None:
+                on_machine(machine)
             stderr.write(machine.tool_table_report)
             stderr.write(machine.settings.stderr_report)
             mode = getattr(args, "continue_mode", None)

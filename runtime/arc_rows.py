@@ -268,10 +268,14 @@ class ArcRows:
         # or one arc_moves call of columns for any other canon.
         batch_from = at
         groups = self.groups if self.groups is not None else self._groups()
+        # a canon that reads the line number in its calls (ngc2py.moves)
+        row_lines = canon.reads_lines
         row = at
         try:
             while at < end:
                 row = at
+                if row_lines:
+                    machine.line = int(cells[at])
                 key = cells[at + 1]
                 recipe = known.get(key, False)
                 if recipe is False:

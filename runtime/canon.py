@@ -38,6 +38,10 @@ class Canon:
     consumers (statistics, plotting) wants.
     """
 
+    #: True for a canon that reads ``machine.line`` while its calls are made:
+    #: the fast loops over data rows then keep it current row by row.
+    reads_lines = False
+
     def set_block_number(self, n: Optional[str]) -> None:
         """The N number (its digits as written) of the line now executing, or None."""
 

@@ -204,10 +204,14 @@ class FastPathMixin:
             self.feed_rate,
             self._block_n,
         )
+        # a canon that reads the line number in its calls (ngc2py.moves)
+        row_lines = canon.reads_lines
         row = at
         try:
             while at < end:
                 row = at
+                if row_lines:
+                    self.line = int(cells[at])
                 plan = plans[int(cells[at + 1])]
                 slots = plan.slots
                 if slots is None:

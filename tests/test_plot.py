@@ -10,15 +10,15 @@ import io
 import math
 from contextlib import redirect_stderr, redirect_stdout
 
+import numpy as np
 import pytest
 
 import rs274 as harness
 from test_stats import scratch_run
 
 from ngc2py import cli
-from ngc2py.plot import STYLES, PlotCanon, project
-from runtime.machine import Machine
-from runtime.main import start
+from ngc2py.plot import STYLES, arc_polyline, polyline, project
+from ngc2py.moves import ARC, FEED, RAPID, toolpath
 
 matplotlib = pytest.importorskip(
     "matplotlib", reason="matplotlib is a dependency of ngc2py plot"
@@ -27,14 +27,11 @@ matplotlib = pytest.importorskip(
 FLANGE = harness.REPO / "examples" / "flange.ngc"
 
 
-def plot_canon(tmp_path, text: str) -> PlotCanon:
+def toolpath_of(tmp_path, text: str):
     path = tmp_path / "prog.ngc"
     path.write_text(text)
     with scratch_run(path) as s:
-        module = cli.load_program(s.program.name, None)
-        canon = PlotCanon()
-        start(Machine(canon, source=module.__ngc__), module.main)
-    return canon
+        return toolpath(s.program.name)
 
 
 def main(argv):
@@ -44,12 +41,25 @@ def main(argv):
     return rc, out.getvalue(), err.getvalue()
 
 
+def _pieces(vertices):
+    """The NaN-separated runs of a polyline, as lists of (x, y, z)."""
+    runs, run = [], []
+    for point in vertices.tolist():
+        if any(math.isnan(v) for v in point):
+            runs.append(run)
+            run = []
+        else:
+            run.append(tuple(point))
+    return [r for r in runs + [run] if r]
+
+
 def test_arcs_are_drawn_as_arcs_in_their_plane(tmp_path):
-    canon = plot_canon(
+    path = toolpath_of(
         tmp_path,
         "G21 F100\nG0 X10 Y3\nG18 G2 X-10 Z0 I-10 K0\nG19 G3 Y3 Z0 J0 K2 P2\nM2\n",
     )
-    xz, yz = canon.paths["arc"]
+    arcs = np.flatnonzero(path.kind == ARC)
+    xz, yz = _pieces(arc_polyline(path, arcs, 0.001))
     assert len(xz) > 20 and len(yz) > 100  # sampled, not a chord
     for x, y, z in xz:
         assert y == pytest.approx(3.0)  # in the XZ plane
@@ -62,32 +72,49 @@ def test_arcs_are_drawn_as_arcs_in_their_plane(tmp_path):
         assert math.hypot(y - 3.0, z - 2.0) == pytest.approx(2.0)
 
 
+@pytest.mark.parametrize("radius", [0.5, 10.0, 2000.0])
+def test_arc_points_stay_within_the_resolution(tmp_path, radius):
+    path = toolpath_of(
+        tmp_path, "G21 F100\nG0 X%s Y0\nG3 X0 Y%s I-%s J0\nM2\n" % ((radius,) * 3)
+    )
+    resolution = radius / 1000.0
+    (arc,) = _pieces(arc_polyline(path, np.flatnonzero(path.kind == ARC), resolution))
+    assert arc[0] == pytest.approx((radius, 0, 0)) and arc[-1] == pytest.approx(
+        (0, radius, 0)
+    )
+    for (x0, y0, _), (x1, y1, _) in zip(arc, arc[1:]):
+        middle = math.hypot((x0 + x1) / 2, (y0 + y1) / 2)
+        assert radius - middle <= resolution * (1 + 1e-9)
+
+
 def test_rapids_and_feeds_are_kept_apart(tmp_path):
-    canon = plot_canon(tmp_path, "G0 X1\nG0 Y1\nG1 X2 F10\nG0 Z1\nM2\n")
-    assert canon.paths["rapid"] == [
+    path = toolpath_of(tmp_path, "G0 X1\nG0 Y1\nG1 X2 F10\nG0 Z1\nM2\n")
+    rapid = path.kind == RAPID
+    assert _pieces(polyline(path.start[rapid, :3], path.end[rapid, :3])) == [
         [(0, 0, 0), (1, 0, 0), (1, 1, 0)],
         [(2, 1, 0), (2, 1, 1)],
     ]
-    assert canon.paths["feed"] == [[(1, 1, 0), (2, 1, 0)]]
-    assert canon.moves == {"rapid": 3, "feed": 1, "arc": 0}
+    feed = path.kind == FEED
+    assert _pieces(polyline(path.start[feed, :3], path.end[feed, :3])) == [
+        [(1, 1, 0), (2, 1, 0)]
+    ]
 
 
 def test_inch_program_is_drawn_in_inches(tmp_path):
-    canon = plot_canon(tmp_path, "G20 G0 X1\nM2\n")
-    assert canon.first_units is True
-    assert canon.paths["rapid"][0][-1][0] == pytest.approx(
-        25.4
-    )  # kept in mm, drawn /25.4
+    path = toolpath_of(tmp_path, "G20 G0 X1\nM2\n")
+    assert path.units == "inch"
+    assert path.end[0, 0] == pytest.approx(25.4)  # kept in mm, drawn /25.4
 
 
 def test_views():
-    assert project([(1, 2, 3)], "xy") == [(1, 2)]
-    assert project([(1, 2, 3)], "xz") == [(1, 3)]
-    assert project([(1, 2, 3)], "yz") == [(2, 3)]
-    ((u, v),) = project([(1, 0, 0)], "iso")
-    assert u > 0 and v > 0  # X to the upper right, as --help says
-    ((u, v),) = project([(0, 1, 0)], "iso")
-    assert u < 0 and v > 0
+    point = np.array([[1.0, 2.0, 3.0]])
+    assert [list(c) for c in project(point, "xy")] == [[1], [2]]
+    assert [list(c) for c in project(point, "xz")] == [[1], [3]]
+    assert [list(c) for c in project(point, "yz")] == [[2], [3]]
+    u, v = project(np.array([[1.0, 0.0, 0.0]]), "iso")
+    assert u[0] > 0 and v[0] > 0  # X to the upper right, as --help says
+    u, v = project(np.array([[0.0, 1.0, 0.0]]), "iso")
+    assert u[0] < 0 and v[0] > 0
 
 
 def _colour(hex_colour):

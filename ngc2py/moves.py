@@ -1,0 +1,444 @@
+"""``ngc2py.toolpath()``: a program's moves as NumPy arrays, for people who
+simulate in Python (material removal, collision checks, cycle-time models,
+previews of their own).
+
+    >>> path = ngc2py.toolpath("part.ngc")
+    >>> path.end[path.kind == ngc2py.ARC]      # every arc's end, 9 axes, mm
+    >>> path.length.sum()                      # mm of travel
+
+One row per move, in program order, in millimetres (and degrees for A, B,
+C) whatever units the program uses, in program coordinates as
+``runtime.toolpath`` defines them (offsets taken off, as rs274's canon
+reports positions). The program runs on the compiled fast path: its moves
+reach :class:`Recorder` in batches of columns (``Canon.straight_moves`` /
+``arc_moves``) or one call each, and are kept in typed arrays of the
+standard library until the end, when they become NumPy arrays: no Python
+object per move survives the run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import io
+import math
+from array import array
+from itertools import repeat
+from typing import List, Optional, Tuple
+
+import numpy as np
+
+from runtime.toolpath import LINEAR, MM_PER_INCH, PLANE_AXES, Point, ToolpathCanon
+
+#: ``Toolpath.kind`` values.
+RAPID, FEED, ARC, PROBE = 0, 1, 2, 3
+KINDS = ("rapid", "feed", "arc", "probe")
+_KIND = {"rapid": RAPID, "feed": FEED, "probe": PROBE}
+_NINE = tuple(range(9))
+
+
+class ProgramError(Exception):
+    """The program stopped at a G-code error: ``str()`` is rs274's report
+    (message, file and line); :attr:`toolpath` holds the moves made before."""
+
+    def __init__(self, message: str, toolpath: "Toolpath") -> None:
+        super().__init__(message)
+        self.toolpath = toolpath
+
+
+class Recorder(ToolpathCanon):
+    """Keeps every move as a row of typed arrays (see :class:`Toolpath`).
+
+    The start of a move is the end of the one before, except where an
+    offset change shifted the position between them (``runtime.toolpath``):
+    only those starts are kept, as (row, point)."""
+
+    reads_lines = True
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.machine = None
+        self.kinds = array("b")
+        self.lines = array("l")
+        self.tools = array("l")
+        self.feeds = array("d")
+        self.ends = [array("d") for _ in _NINE]
+        self.centre = (array("d"), array("d"))
+        self.normal = array("b")
+        self.turns = array("l")
+        self.shifts: List[Tuple[int, Point]] = []
+        self._last: Optional[Point] = self.position
+        self._rate = 0.0  # mm/min (mm/rev under G95)
+        self._tool = 0
+        self._tool_known = False
+
+    # --- what each move carries ---------------------------------------
+    def set_feed_rate(self, rate):
+        self._rate = self.to_mm(rate)
+
+    def change_tool(self, slot):
+        self._tool_known = False
+
+    change_tool_number = change_tool
+
+    def _current_tool(self) -> int:
+        if not self._tool_known and self.machine is not None:
+            self._tool = int(self.machine.params[5400])
+            self._tool_known = True
+        return self._tool
+
+    def _line_number(self) -> int:
+        return self.machine.line if self.machine is not None else 0
+
+    def _begin(self, start: Point, rows: int) -> None:
+        if start is not self._last:
+            self.shifts.append((len(self.kinds), start))
+        if self.first_units is None:
+            self.first_units = self.inches
+
+    # --- one call a move ---------------------------------------------
+    def line(self, kind: str, start: Point, end: Point) -> None:
+        self._begin(start, 1)
+        self.kinds.append(_KIND[kind])
+        self.lines.append(self._line_number())
+        self.tools.append(self._current_tool())
+        self.feeds.append(math.nan if kind == "rapid" else self._rate)
+        for column, value in zip(self.ends, end):
+            column.append(value)
+        self.centre[0].append(math.nan)
+        self.centre[1].append(math.nan)
+        self.normal.append(-1)
+        self.turns.append(0)
+        self._last = end
+
+    def arc_feed(
+        self,
+        first_end,
+        second_end,
+        first_axis,
+        second_axis,
+        rotation,
+        axis_end,
+        a,
+        b,
+        c,
+        u,
+        v,
+        w,
+    ):
+        if self.plane not in PLANE_AXES:  # a UVW plane: a straight feed
+            return super().arc_feed(
+                first_end,
+                second_end,
+                first_axis,
+                second_axis,
+                rotation,
+                axis_end,
+                a,
+                b,
+                c,
+                u,
+                v,
+                w,
+            )
+        self.arc_moves(
+            [self._line_number()],
+            [first_end],
+            [second_end],
+            [first_axis],
+            [second_axis],
+            [rotation],
+            [axis_end],
+            [a],
+            [b],
+            [c],
+            [u],
+            [v],
+            [w],
+        )
+
+    # --- batches (runtime.rows, runtime.arc_rows) ---------------------
+    def straight_moves(self, feed, lines, x, y, z, a, b, c, u, v, w):
+        rows = len(lines)
+        if not rows:
+            return
+        self._begin(self.position, rows)
+        columns = [x, y, z, a, b, c, u, v, w]
+        if self.inches:
+            for i in LINEAR:
+                columns[i] = [value * MM_PER_INCH for value in columns[i]]
+        self._rows(FEED if feed else RAPID, lines, self._rate if feed else math.nan)
+        for target, column in zip(self.ends, columns):
+            target.extend(column)
+        self.centre[0].extend(repeat(math.nan, rows))
+        self.centre[1].extend(repeat(math.nan, rows))
+        self.normal.extend(repeat(-1, rows))
+        self.turns.extend(repeat(0, rows))
+        self.position = self._last = tuple(column[-1] for column in columns)
+
+    def arc_moves(
+        self,
+        lines,
+        first_end,
+        second_end,
+        first_axis,
+        second_axis,
+        rotation,
+        axis_end,
+        a,
+        b,
+        c,
+        u,
+        v,
+        w,
+    ):
+        rows = len(lines)
+        if not rows:
+            return
+        if self.plane not in PLANE_AXES:
+            return super().arc_moves(
+                lines,
+                first_end,
+                second_end,
+                first_axis,
+                second_axis,
+                rotation,
+                axis_end,
+                a,
+                b,
+                c,
+                u,
+                v,
+                w,
+            )
+        self._begin(self.position, rows)
+        first, second, normal = PLANE_AXES[self.plane]
+        lengths = [first_end, second_end, axis_end, first_axis, second_axis, u, v, w]
+        if self.inches:
+            lengths = [[value * MM_PER_INCH for value in column] for column in lengths]
+        e1, e2, en, c1, c2, u, v, w = lengths
+        columns = [None, None, None, a, b, c, u, v, w]
+        columns[first], columns[second], columns[normal] = e1, e2, en
+        self._rows(ARC, lines, self._rate)
+        for target, column in zip(self.ends, columns):
+            target.extend(column)
+        self.centre[0].extend(c1)
+        self.centre[1].extend(c2)
+        self.normal.extend(repeat(normal, rows))
+        self.turns.extend(rotation)
+        self.position = self._last = tuple(column[-1] for column in columns)
+
+    def _rows(self, kind: int, lines, rate: float) -> None:
+        rows = len(lines)
+        self.kinds.extend(repeat(kind, rows))
+        self.lines.extend(lines)
+        self.tools.extend(repeat(self._current_tool(), rows))
+        self.feeds.extend(repeat(rate, rows))
+
+    def toolpath(self) -> "Toolpath":
+        return Toolpath.from_recorder(self)
+
+
+class Toolpath:
+    """Every move of a program, one row each (``len(path)`` rows):
+
+    ``kind``      RAPID, FEED, ARC or PROBE (int8)
+    ``start``     (n, 9) the point the move starts from: X Y Z A B C U V W
+    ``end``       (n, 9) where it ends (mm; degrees for A B C)
+    ``centre``    (n, 2) an arc's centre in its plane's first and second axis
+                  (X Y for G17, Z X for G18, Y Z for G19); NaN for straight moves
+    ``normal``    the axis normal to an arc's plane (0 X, 1 Y, 2 Z; -1 straight)
+    ``turns``     an arc's turns as ARC_FEED gives them: > 0 counter-clockwise,
+                  < 0 clockwise, abs(turns) - 1 extra full turns; 0 straight
+    ``feed``      the feed rate in force (mm/min; mm/rev under G95); NaN for rapids
+    ``line``      the G-code line the move comes from (in the file running it)
+    ``tool``      the tool number in the spindle
+    ``units``     "inch" or "mm": the program's units at its first move
+    """
+
+    def __init__(
+        self, kind, start, end, centre, normal, turns, feed, line, tool, units
+    ):
+        self.kind = kind
+        self.start = start
+        self.end = end
+        self.centre = centre
+        self.normal = normal
+        self.turns = turns
+        self.feed = feed
+        self.line = line
+        self.tool = tool
+        self.units = units
+
+    @classmethod
+    def from_recorder(cls, recorder: Recorder) -> "Toolpath":
+        count = len(recorder.kinds)
+        end = np.empty((count, 9))
+        for i, column in enumerate(recorder.ends):
+            end[:, i] = np.frombuffer(column, dtype=np.float64, count=count)
+        start = np.empty_like(end)
+        start[1:] = end[:-1]
+        if count:
+            start[0] = 0.0
+        for row, point in recorder.shifts:
+            if row < count:
+                start[row] = point
+        centre = np.empty((count, 2))
+        centre[:, 0] = np.frombuffer(recorder.centre[0], dtype=np.float64, count=count)
+        centre[:, 1] = np.frombuffer(recorder.centre[1], dtype=np.float64, count=count)
+        return cls(
+            kind=np.array(recorder.kinds, dtype=np.int8),
+            start=start,
+            end=end,
+            centre=centre,
+            normal=np.array(recorder.normal, dtype=np.int8),
+            turns=np.array(recorder.turns, dtype=np.int32),
+            feed=np.frombuffer(recorder.feeds, dtype=np.float64, count=count).copy(),
+            line=np.array(recorder.lines, dtype=np.int64),
+            tool=np.array(recorder.tools, dtype=np.int64),
+            units="inch" if recorder.first_units else "mm",
+        )
+
+    def __len__(self) -> int:
+        return len(self.kind)
+
+    def __repr__(self) -> str:
+        counts = ", ".join(
+            "%d %s" % (int((self.kind == k).sum()), name)
+            for k, name in enumerate(KINDS)
+        )
+        return "<Toolpath of %d moves: %s>" % (len(self), counts)
+
+    # --- arc geometry, every arc at once ------------------------------
+    def arc_frame(self):
+        """For the arcs (``kind == ARC``): their row indexes, the plane's
+        first and second axis indexes per arc, the start angle, the signed
+        sweep (radians) and the start and end radius, as
+        ``runtime.toolpath.make_arc`` works them out for one arc."""
+        rows = np.flatnonzero(self.kind == ARC)
+        normal = self.normal[rows]
+        first = np.choose(normal, [1, 2, 0])
+        second = np.choose(normal, [2, 0, 1])
+        s1 = self.start[rows, first] - self.centre[rows, 0]
+        s2 = self.start[rows, second] - self.centre[rows, 1]
+        f1 = self.end[rows, first] - self.centre[rows, 0]
+        f2 = self.end[rows, second] - self.centre[rows, 1]
+        theta0 = np.arctan2(s2, s1)
+        theta1 = np.arctan2(f2, f1)
+        chord = np.hypot(
+            self.end[rows, first] - self.start[rows, first],
+            self.end[rows, second] - self.start[rows, second],
+        )
+        closed = chord < 1e-9
+        turns = self.turns[rows]
+        ccw = turns >= 0
+        tau = 2.0 * math.pi
+        sweep = np.where(
+            ccw, np.mod(theta1 - theta0, tau), -np.mod(theta0 - theta1, tau)
+        )
+        whole = closed | (sweep == 0.0)
+        sweep = np.where(whole, np.where(ccw, tau, -tau), sweep)
+        extra = np.maximum(np.abs(turns) - 1, 0)
+        sweep = sweep + np.where(ccw, tau, -tau) * extra
+        return rows, first, second, theta0, sweep, np.hypot(s1, s2), np.hypot(f1, f2)
+
+    @property
+    def length(self):
+        """Each move's path length (mm): straight moves over X, Y and Z;
+        arcs and helices as ``runtime.toolpath.Arc.length``."""
+        delta = self.end[:, :3] - self.start[:, :3]
+        length = np.sqrt((delta * delta).sum(axis=1))
+        rows, _, _, _, sweep, r0, r1 = self.arc_frame()
+        if len(rows):
+            normal = self.normal[rows]
+            rise = self.end[rows, normal] - self.start[rows, normal]
+            length[rows] = np.hypot(np.abs(sweep) * (r0 + r1) / 2.0, rise)
+        return length
+
+    def points(self, rows, resolution: float, most: Optional[int] = None):
+        """Points of X, Y and Z along the arcs ``rows`` (row indexes of
+        arcs), each arc from its start to its end through points no further
+        than ``resolution`` (mm) off the true curve, at least one every
+        quarter turn (and, if ``most`` is given, no more than ``most`` a
+        turn): ``(points (m, 3), owner (m,))``, ``owner`` giving each
+        point's row."""
+        every, first, second, theta0, sweep, r0, r1 = self.arc_frame()
+        rows = np.asarray(rows, dtype=np.int64)
+        where = np.searchsorted(every, rows)
+        first, second = first[where], second[where]
+        theta0, sweep, r0, r1 = theta0[where], sweep[where], r0[where], r1[where]
+        radius = np.maximum(np.maximum(r0, r1), 1e-12)
+        # a chord of angle a is r (1 - cos(a / 2)) off the arc at its middle
+        ratio = np.clip(1.0 - resolution / radius, -1.0, 1.0)
+        finest = 2.0 * math.pi / most if most else 1e-6
+        step = np.clip(2.0 * np.arccos(ratio), finest, math.pi / 2)
+        counts = np.maximum(np.ceil(np.abs(sweep) / step).astype(np.int64), 1)
+        local = np.repeat(np.arange(len(rows)), counts + 1)
+        offsets = np.concatenate(([0], np.cumsum(counts + 1)[:-1]))
+        t = (np.arange(len(local)) - offsets[local]) / counts[local]
+        start = self.start[rows, :3][local]
+        points = start + (self.end[rows, :3][local] - start) * t[:, None]
+        theta = theta0[local] + sweep[local] * t
+        r = r0[local] + (r1 - r0)[local] * t
+        centre = self.centre[rows][local]
+        index = np.arange(len(local))
+        points[index, first[local]] = centre[:, 0] + r * np.cos(theta)
+        points[index, second[local]] = centre[:, 1] + r * np.sin(theta)
+        return points, rows[local]
+
+
+def toolpath(
+    program: str,
+    *,
+    tool_table: Optional[str] = None,
+    var_file: Optional[str] = None,
+    ini: Optional[str] = None,
+    block_delete: bool = False,
+) -> Toolpath:
+    """Run ``program`` (a G-code file, compiled and cached as ``ngc2py run``
+    does, with rs274's options) and return its moves as a :class:`Toolpath`.
+    A G-code error raises :class:`ProgramError` (rs274's report; the moves
+    made before it on ``.toolpath``)."""
+    from ngc2py.simulate import EXIT_OK
+
+    recorder, status, report = record(
+        argparse.Namespace(
+            program=program,
+            tool_table=tool_table,
+            var_file=var_file,
+            ini=ini,
+            block_delete=block_delete,
+        )
+    )
+    if status != EXIT_OK:
+        raise ProgramError(report.strip(), recorder.toolpath())
+    return recorder.toolpath()
+
+
+def record(args: argparse.Namespace) -> Tuple[Recorder, int, str]:
+    """Run the program ``args`` names (as the workflow commands take them)
+    into a :class:`Recorder`: ``(recorder, exit status, what rs274 would
+    have written to stderr)``."""
+    from ngc2py.simulate import run_program
+
+    recorder = Recorder()
+    errors = io.StringIO()
+
+    def bind(machine) -> None:
+        recorder.machine = machine
+
+    status = run_program(args, recorder, errors, on_machine=bind)
+    return recorder, status, errors.getvalue()
+
+
+__all__ = [
+    "ARC",
+    "FEED",
+    "KINDS",
+    "PROBE",
+    "RAPID",
+    "ProgramError",
+    "Recorder",
+    "Toolpath",
+    "record",
+    "toolpath",
+]
