@@ -13,7 +13,8 @@ and radii vary, a trigonometry loop, canned cycles) it times, medians of
   new file (an empty compile cache: conversion included);
 * ``ngc2py stats`` and ``ngc2py flatten`` against ``rs274 -g`` (whole
   commands, wall time and peak memory);
-* ``ngc2py plot`` (a PNG) against ``rs274 -g``, on the CAM and arc files;
+* ``ngc2py plot`` (a PNG) against ``rs274 -g``, on the CAM, arc and drilling files;
+* ``ngc2py.toolpath(path)`` (the moves as NumPy arrays) against ``rs274 -g``;
 * a user's Canon subclass that counts straight_feed/arc_feed calls:
   microseconds per move on top of a do-nothing run.
 
@@ -110,6 +111,10 @@ print(min(times["NullCanon"]), min(times["Counting"]), canon.moves)
 """
 
 
+#: The toolpath API as a user calls it: the program's moves as NumPy arrays.
+TOOLPATH = "import sys, ngc2py; ngc2py.toolpath(sys.argv[1])"
+
+
 def timed(cmd, cwd, env, repeat, out=None):
     return [Run(cmd, cwd, env, out) for _ in range(repeat)]
 
@@ -196,8 +201,9 @@ def main(argv=None) -> int:
                 ("stats", [py, "-m", "ngc2py", "stats", src.name]),
                 ("flatten", [py, "-m", "ngc2py", "flatten", "-q", src.name, "-o", name + ".flat.ngc"]),
                 ("plot", [py, "-m", "ngc2py", "plot", src.name, "-o", name + ".png"]),
+                ("ngc2py.toolpath()", [py, "-c", TOOLPATH, src.name]),
             ):
-                if workflow == "plot" and name.startswith(("loop", "cycles")):
+                if workflow == "plot" and name.startswith("loop"):
                     continue
                 if workflow == "flatten" and name == "cam_1m":
                     continue
