@@ -293,26 +293,9 @@ class FlattenCanon(Canon):
         code = "G1 " if feed else "G0 "
         self._write_batch(lines, [code + " ".join(words) for words in rows])
 
-    def arc_moves(
-        self,
-        lines,
-        first_end,
-        second_end,
-        first_axis,
-        second_axis,
-        rotation,
-        axis_end,
-        a,
-        b,
-        c,
-        u,
-        v,
-        w,
-    ):
-        """A run of plain arcs, each a block of its own, written as
-        :meth:`_arc` writes one."""
-        columns = (first_end, second_end, first_axis, second_axis, rotation)
-        columns += (axis_end, a, b, c, u, v, w)
+    def arc_moves(self, lines, *columns):
+        """A run of plain arcs (arc_feed's arguments as columns), each a
+        block of its own, written as :meth:`_arc` writes one."""
         if self._pitch is not None or not self.started or self.ended:
             return super().arc_moves(lines, *columns)
         self._flush()

@@ -110,51 +110,10 @@ class Recorder(ToolpathCanon):
         self.turns.append(0)
         self._last = end
 
-    def arc_feed(
-        self,
-        first_end,
-        second_end,
-        first_axis,
-        second_axis,
-        rotation,
-        axis_end,
-        a,
-        b,
-        c,
-        u,
-        v,
-        w,
-    ):
+    def arc_feed(self, *args):
         if self.plane not in PLANE_AXES:  # a UVW plane: a straight feed
-            return super().arc_feed(
-                first_end,
-                second_end,
-                first_axis,
-                second_axis,
-                rotation,
-                axis_end,
-                a,
-                b,
-                c,
-                u,
-                v,
-                w,
-            )
-        self.arc_moves(
-            [self._line_number()],
-            [first_end],
-            [second_end],
-            [first_axis],
-            [second_axis],
-            [rotation],
-            [axis_end],
-            [a],
-            [b],
-            [c],
-            [u],
-            [v],
-            [w],
-        )
+            return super().arc_feed(*args)
+        self.arc_moves([self._line_number()], *([value] for value in args))
 
     # --- batches (runtime.rows, runtime.arc_rows) ---------------------
     def straight_moves(self, feed, lines, x, y, z, a, b, c, u, v, w):
@@ -175,41 +134,17 @@ class Recorder(ToolpathCanon):
         self.turns.extend(repeat(0, rows))
         self.position = self._last = tuple(column[-1] for column in columns)
 
-    def arc_moves(
-        self,
-        lines,
-        first_end,
-        second_end,
-        first_axis,
-        second_axis,
-        rotation,
-        axis_end,
-        a,
-        b,
-        c,
-        u,
-        v,
-        w,
-    ):
+    def arc_moves(self, lines, *columns):
+        """Arcs as ``Canon.arc_moves`` gives them (arc_feed's arguments as
+        columns: first_end, second_end, first_axis, second_axis, rotation,
+        axis_end, a, b, c, u, v, w)."""
         rows = len(lines)
         if not rows:
             return
         if self.plane not in PLANE_AXES:
-            return super().arc_moves(
-                lines,
-                first_end,
-                second_end,
-                first_axis,
-                second_axis,
-                rotation,
-                axis_end,
-                a,
-                b,
-                c,
-                u,
-                v,
-                w,
-            )
+            return super().arc_moves(lines, *columns)
+        first_end, second_end, first_axis, second_axis, rotation, axis_end = columns[:6]
+        a, b, c, u, v, w = columns[6:]
         self._begin(self.position, rows)
         first, second, normal = PLANE_AXES[self.plane]
         lengths = [first_end, second_end, axis_end, first_axis, second_axis, u, v, w]

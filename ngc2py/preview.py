@@ -236,41 +236,15 @@ class PreviewCanon(Canon):
             zip(x, y, z, a, b, c, u, v, w),
         )
 
-    def arc_moves(
-        self,
-        lines,
-        first_end,
-        second_end,
-        first_axis,
-        second_axis,
-        rotation,
-        axis_end,
-        a,
-        b,
-        c,
-        u,
-        v,
-        w,
-    ):
-        """A batch of plain arc rows, announced line by line as
-        :meth:`straight_moves` does (G2 and G3 may alternate)."""
+    def arc_moves(self, lines, *columns):
+        """A batch of plain arc rows (arc_feed's arguments as columns),
+        announced line by line as :meth:`straight_moves` does (G2 and G3
+        may alternate)."""
         machine = self.machine
         if self.motion_line is not None or not isinstance(machine, PreviewMachine):
-            return super().arc_moves(
-                lines,
-                first_end,
-                second_end,
-                first_axis,
-                second_axis,
-                rotation,
-                axis_end,
-                a,
-                b,
-                c,
-                u,
-                v,
-                w,
-            )
+            return super().arc_moves(lines, *columns)
+        first_end, second_end, first_axis, second_axis, rotation, axis_end = columns[:6]
+        a, b, c, u, v, w = columns[6:]
         lengths = [first_end, second_end, first_axis, second_axis, axis_end, u, v, w]
         if not machine.inches:
             k = MM_PER_INCH

@@ -56,7 +56,17 @@ def flatten_and_run(program: Path, args, text=None):
     with harness.Scratch(program, text) as s:
         env = s.env()
         done = subprocess.run(
-            [sys.executable, "-m", "ngc2py", "flatten", "-q", s.program.name, *args, "-o", "flat.ngc"],
+            [
+                sys.executable,
+                "-m",
+                "ngc2py",
+                "flatten",
+                "-q",
+                s.program.name,
+                *args,
+                "-o",
+                "flat.ngc",
+            ],
             cwd=s.work,
             env=env,
             capture_output=True,
@@ -69,10 +79,18 @@ def flatten_and_run(program: Path, args, text=None):
         flat = (s.work / "flat.ngc").read_text()
         exe = harness.rs274_path()
         original = subprocess.run(
-            [exe, "-g", *args, s.program.name], cwd=s.work, env=env, capture_output=True, timeout=60
+            [exe, "-g", *args, s.program.name],
+            cwd=s.work,
+            env=env,
+            capture_output=True,
+            timeout=60,
         )
         again = subprocess.run(
-            [exe, "-g", *args, "flat.ngc"], cwd=s.work, env=env, capture_output=True, timeout=60
+            [exe, "-g", *args, "flat.ngc"],
+            cwd=s.work,
+            env=env,
+            capture_output=True,
+            timeout=60,
         )
     return original, again, flat
 
@@ -87,6 +105,7 @@ RUNNABLE = [p for p in harness.golden_programs() if _ends_well(p)]
 
 def _name(program: Path) -> str:
     return str(program.relative_to(harness.GOLDEN))
+
 
 #: flatten's deliberate refusal (ngc2py/flatten.py, FlattenError)
 REFUSAL = re.compile(r"^flatten: (.+)$", re.M)
@@ -110,9 +129,13 @@ class Refused(Exception):
 @pytest.mark.parametrize(
     "program",
     [
-        pytest.param(p, marks=pytest.mark.xfail(reason=KNOWN_GAPS[_name(p)], strict=True))
-        if _name(p) in KNOWN_GAPS
-        else p
+        (
+            pytest.param(
+                p, marks=pytest.mark.xfail(reason=KNOWN_GAPS[_name(p)], strict=True)
+            )
+            if _name(p) in KNOWN_GAPS
+            else p
+        )
         for p in RUNNABLE
     ],
     ids=_name,
@@ -123,12 +146,16 @@ def test_flat_golden_program_makes_the_same_moves_in_rs274(program, rs274):
         original, flat_run, flat = flatten_and_run(program, args)
     except Refused as refusal:
         pytest.xfail(str(refusal))
-    assert flat_run.returncode == 0, harness.first_error_line(flat_run.stderr) + "\n" + flat
+    assert flat_run.returncode == 0, (
+        harness.first_error_line(flat_run.stderr) + "\n" + flat
+    )
     a, b = calls(original.stdout), calls(flat_run.stdout)
     assert motion(b) == motion(a), harness.stdout_diff(original.stdout, flat_run.stdout)
     # everything else differs at most by the named bookkeeping calls
     extra = [c[7:] for c in set(a) ^ set(b)]
-    assert set(extra) <= BOOKKEEPING | {c for c in extra if c.startswith("COMMENT(\"e")}, extra
+    assert set(extra) <= BOOKKEEPING | {
+        c for c in extra if c.startswith('COMMENT("e')
+    }, extra
 
 
 @pytest.mark.rs274
@@ -151,7 +178,29 @@ def test_flat_generated_program_makes_the_same_moves(text):
         # a call flatten deliberately refuses (probing, ...): the golden
         # programs' xfails name each one; the property holds for the rest
         reject()
-    assert flat_run.returncode == 0, harness.first_error_line(flat_run.stderr) + "\n" + flat
+    assert flat_run.returncode == 0, (
+        harness.first_error_line(flat_run.stderr) + "\n" + flat
+    )
+    assert motion(calls(flat_run.stdout)) == motion(calls(original.stdout)), (
+        text + "\n----\n" + flat + harness.stdout_diff(original.stdout, flat_run.stdout)
+    )
+
+
+def assert_flat_makes_the_same_moves(name: str, text: str) -> None:
+    """``text``, run by rs274 and flattened, makes the same moves flat
+    (programs rs274 does not run to their end, or flatten refuses, are
+    rejected)."""
+    program = harness.REPO / "tests" / "_generated" / name
+    expected = harness.run_rs274(program, text=text, timeout=20)
+    if expected.rc != 0:
+        reject()
+    try:
+        original, flat_run, flat = flatten_and_run(program, [], text=text)
+    except Refused:
+        reject()
+    assert flat_run.returncode == 0, (
+        harness.first_error_line(flat_run.stderr) + "\n" + flat
+    )
     assert motion(calls(flat_run.stdout)) == motion(calls(original.stdout)), (
         text + "\n----\n" + flat + harness.stdout_diff(original.stdout, flat_run.stdout)
     )
@@ -183,18 +232,7 @@ def cam_programs_with_parameters(draw):
 )
 @given(cam_programs_with_parameters())
 def test_flat_cam_program_makes_the_same_moves(text):
-    program = harness.REPO / "tests" / "_generated" / "cam.ngc"
-    expected = harness.run_rs274(program, text=text, timeout=20)
-    if expected.rc != 0:
-        reject()
-    try:
-        original, flat_run, flat = flatten_and_run(program, [], text=text)
-    except Refused:
-        reject()
-    assert flat_run.returncode == 0, harness.first_error_line(flat_run.stderr) + "\n" + flat
-    assert motion(calls(flat_run.stdout)) == motion(calls(original.stdout)), (
-        text + "\n----\n" + flat + harness.stdout_diff(original.stdout, flat_run.stdout)
-    )
+    assert_flat_makes_the_same_moves("cam.ngc", text)
 
 
 @pytest.mark.rs274
@@ -208,18 +246,7 @@ def test_flat_cam_program_makes_the_same_moves(text):
 @given(cam_strategies.arc_programs())
 def test_flat_arc_program_makes_the_same_moves(text):
     """Arc tables: runs of one layout reach flatten as one arc_moves call."""
-    program = harness.REPO / "tests" / "_generated" / "arcs.ngc"
-    expected = harness.run_rs274(program, text=text, timeout=20)
-    if expected.rc != 0:
-        reject()
-    try:
-        original, flat_run, flat = flatten_and_run(program, [], text=text)
-    except Refused:
-        reject()
-    assert flat_run.returncode == 0, harness.first_error_line(flat_run.stderr) + "\n" + flat
-    assert motion(calls(flat_run.stdout)) == motion(calls(original.stdout)), (
-        text + "\n----\n" + flat + harness.stdout_diff(original.stdout, flat_run.stdout)
-    )
+    assert_flat_makes_the_same_moves("arcs.ngc", text)
 
 
 def test_a_batch_of_moves_is_written_as_one_block_a_move(tmp_path):
@@ -295,17 +322,24 @@ def test_output_file_and_stdin(tmp_path):
     (tmp_path / "p.ngc").write_text("G0 X1 Y2\nM2\n")
     to_file = subprocess.run(
         [sys.executable, "-m", "ngc2py", "flatten", "p.ngc", "-o", "flat.ngc"],
-        cwd=tmp_path, capture_output=True, text=True,
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
         env=dict(__import__("os").environ, PYTHONPATH=str(harness.REPO)),
     )
     assert to_file.returncode == 0 and to_file.stdout == ""
     from_stdin = subprocess.run(
         [sys.executable, "-m", "ngc2py", "flatten", "-"],
-        cwd=tmp_path, capture_output=True, text=True, input="G0 X1 Y2\nM2\n",
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        input="G0 X1 Y2\nM2\n",
         env=dict(__import__("os").environ, PYTHONPATH=str(harness.REPO)),
     )
     assert from_stdin.returncode == 0
-    strip = lambda text: [l.split(";")[0] for l in text.splitlines() if not l.startswith(";")]
+    strip = lambda text: [
+        l.split(";")[0] for l in text.splitlines() if not l.startswith(";")
+    ]
     assert strip(from_stdin.stdout) == strip((tmp_path / "flat.ngc").read_text())
 
 
@@ -326,7 +360,8 @@ def test_what_no_plain_g_code_can_say_is_refused_by_name(tmp_path):
         tmp_path,
         "G20 F60 T1 M6\nG0 X0.0625 Y0.0625\nG41 G0 X0 Y0.0625\n"
         "G3 X0 Y0.0625 I0 J-0.0625 Z-0.01\nG40 G0 X1 Y1\nM2\n",
-        "-t", "p.tbl",
+        "-t",
+        "p.tbl",
     )
     assert rc == 1 and out == ""
     assert err.startswith("flatten: an arc of zero radius")
@@ -338,4 +373,6 @@ def test_what_no_plain_g_code_can_say_is_refused_by_name(tmp_path):
         "G19 G91 G3 Y5.656351 Z4.185480 J-3.809147 K11.062567\nM2\n",
     )
     assert rc == 1 and out == ""
-    assert err.startswith("flatten: an arc starts where rs274's interpreter left the tool")
+    assert err.startswith(
+        "flatten: an arc starts where rs274's interpreter left the tool"
+    )
