@@ -111,9 +111,31 @@ class Recorder(ToolpathCanon):
         self._last = end
 
     def arc_feed(self, *args):
-        if self.plane not in PLANE_AXES:  # a UVW plane: a straight feed
+        axes = PLANE_AXES.get(self.plane)
+        if axes is None:  # a UVW plane: a straight feed
             return super().arc_feed(*args)
-        self.arc_moves([self._line_number()], *([value] for value in args))
+        first_end, second_end, first_axis, second_axis, rotation, axis_end = args[:6]
+        start = self.position
+        self._begin(start, 1)
+        end = list(start[:3]) + list(self._point((0, 0, 0) + args[6:])[3:])
+        first, second, normal = axes
+        k = MM_PER_INCH if self.inches else 1.0
+        end[first], end[second], end[normal] = (
+            first_end * k,
+            second_end * k,
+            axis_end * k,
+        )
+        self.kinds.append(ARC)
+        self.lines.append(self._line_number())
+        self.tools.append(self._current_tool())
+        self.feeds.append(self._rate)
+        for column, value in zip(self.ends, end):
+            column.append(value)
+        self.centre[0].append(first_axis * k)
+        self.centre[1].append(second_axis * k)
+        self.normal.append(normal)
+        self.turns.append(rotation)
+        self.position = self._last = tuple(end)
 
     # --- batches (runtime.rows, runtime.arc_rows) ---------------------
     def straight_moves(self, feed, lines, x, y, z, a, b, c, u, v, w):
