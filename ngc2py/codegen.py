@@ -694,10 +694,13 @@ class CodeGen:
         self.w.raw("def %s(m: Machine) -> None:" % sub.fn)
         self.w.depth = 1
         form = "O%s, Fanuc style" if sub.fanuc else "o<%s> sub"
-        self.w.raw(
-            '%s"""%s (lines %d-%d)"""'
-            % (INDENT, form % safe_doc(sub.name), sub.line.number, end)
-        )
+        word = sub.line.oword
+        if sub.fanuc or word is not None and word.keyword == "sub":
+            doc = "%s (lines %d-%d)" % (form % safe_doc(sub.name), sub.line.number, end)
+        else:
+            # rs274 fails seeking the definition for a call (SeekFail, Fail)
+            doc = "o<%s> call: where seeking its sub line fails" % safe_doc(sub.name)
+        self.w.raw('%s"""%s"""' % (INDENT, doc))
         self.w.raw(INDENT + "p, g, v = m.params.values, m.globals, m.locals")
         body = sub.body
         if body and isinstance(body[-1], st.Return) and body[-1].value is None:
@@ -1006,6 +1009,16 @@ class CodeGen:
             call = call[:-1] + ", finish=True)"
         self.w.stmt(call, stmt.line)
 
+    def s_seekfail(self, stmt: st.SeekFail) -> None:
+        self.w.comment(stmt.line)
+        call = "m.seek_failed(%d, %s, %s, %d)" % (
+            stmt.line.number,
+            string(stmt.file),
+            string(stmt.name),
+            stmt.start,
+        )
+        self.w.stmt(call, stmt.line)
+
     def s_endoffile(self, stmt: st.EndOfFile) -> None:
         self.w.raw(INDENT * self.w.depth + "# end of file, no program end")
         self.w.stmt("m.end_of_file(%s, False)" % self.demarcated, stmt.line)
@@ -1027,6 +1040,17 @@ class CodeGen:
         self.w.comment(stmt.line)
         if stmt.sub is not None:
             head = ["m.call(%s" % stmt.sub.fn]  # definition already read
+        elif stmt.found is not None:
+            # the name as defined when the call runs, else what seeking finds
+            found = stmt.found
+            head = [
+                "m.call_found(%s, %s, %s"
+                % (
+                    string(stmt.name),
+                    found.fn,
+                    string(found.line.file or self.program.file),
+                )
+            ]
         elif isinstance(stmt.name, str):
             head = ["m.call_named(%s" % string(stmt.name)]
         else:
