@@ -168,6 +168,8 @@ class ExprWriter:
         #: Locals of the function being written that are Python variables
         #: (ngc2py.fastlocals).
         self.fast: frozenset = frozenset()
+        #: Reading a definition's own return values: unset names read 0.
+        self.defining = False
 
     def helper(self, name: str) -> str:
         self.helpers.add(name)
@@ -204,6 +206,8 @@ class ExprWriter:
         if e.name in self.fast:
             return fastlocals.variable(e.name)
         store = "g" if e.is_global else "v"
+        if self.defining:
+            return "%s.read_or_zero(%s)" % (store, string(e.name))
         if attr_safe(e.name):
             return "%s.%s" % (store, e.name)
         return "%s[%s]" % (store, string(e.name))
@@ -1026,14 +1030,34 @@ class CodeGen:
     def s_define(self, stmt: st.Define) -> None:
         sub = stmt.sub
         self.w.comment(sub.line)
-        if sub.define_error is not None:
-            err = sub.define_error
+        err = sub.define_error
+        if err is None:
+            self.w.stmt("m.define(%s, %s)" % (string(sub.name), sub.fn), sub.line)
+        for line in st.definition_values(sub):
+            if err is not None and line.number >= err.line.number:
+                break
+            self.definition_value(line)
+        if err is not None:
             call = fail_call(err.line.number, err.message)
             if err.finish:
                 call = call[:-1] + ", finish=True)"
             self.w.stmt(call, err.line)
-        else:
-            self.w.stmt("m.define(%s, %s)" % (string(sub.name), sub.fn), sub.line)
+
+    def definition_value(self, line: nodes.Line) -> None:
+        """Reading past the definition, rs274 reads the value of the sub's
+        own ``return``/``endsub`` lines into ``#<_value>`` (a name not
+        defined reads 0 there)."""
+        self.w.comment(line)
+        expr = line.oword.expr
+        if expr is None:
+            self.w.stmt("m.definition_value(%d)" % line.number, line)
+            return
+        self.x.defining = True
+        try:
+            value = self.x.expr(expr)
+        finally:
+            self.x.defining = False
+        self.w.stmt("m.definition_value(%d, %s)" % (line.number, value), line)
 
     def s_call(self, stmt: st.Call) -> None:
         args = [self.x.expr(a) for a in stmt.args]

@@ -968,6 +968,22 @@ def walk(stmts: List[Stmt], into_subs: bool = True) -> Iterator[Stmt]:
             pending.extend(iter(body) for body in reversed(children(stmt, into_subs)))
 
 
+def definition_values(sub: Sub) -> List[nodes.Line]:
+    """The lines whose value rs274 reads while it reads past the definition
+    of ``sub`` (interp_read.cc read_o: skipping to the sub's own label, it
+    evaluates the value of a ``return`` or ``endsub`` with that label, and
+    sets ``#<_value>``, or clears it when there is none): in text order."""
+    if sub.fanuc:
+        return []
+    found = []
+    for stmt in walk(sub.body):
+        if isinstance(stmt, Return) and stmt.line.oword is not None:
+            word = stmt.line.oword
+            if word.keyword in ("return", "endsub") and word.name == sub.name:
+                found.append(stmt.line)
+    return found
+
+
 def first_text_error(bodies: List[List[Stmt]]) -> Optional[nodes.Line]:
     """The first line in ``bodies`` (source order) that rs274 fails on even
     when only skipping over it (:func:`skip_error`)."""

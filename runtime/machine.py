@@ -511,6 +511,16 @@ class Machine(
             known = self._subroutines[name] = _Subroutine(self._read_ahead(name))
         return self.call(known.fn, *args)
 
+    def definition_value(self, line: int, value: Optional[float] = None) -> None:
+        """rs274 read the value of a ``return``/``endsub`` of the definition
+        it is reading past (none: it clears ``#<_value>``)."""
+        self.line = line
+        if value is None:
+            self.value = self.value_returned = 0.0
+        else:
+            self.value = value
+            self.value_returned = 1.0
+
     def call_found(self, name: str, fn: Callable, file: str, *args: float):
         """Call ``name``: what is defined by now, else ``fn``, which is what
         rs274 finds seeking it (in ``<name>.ngc`` or further on in the
