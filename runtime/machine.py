@@ -899,6 +899,11 @@ class Machine(
         # G4 and G53 are handled elsewhere (dwell first, G53 with the motion).
 
     def _g92_family(self, code: int) -> None:
+        if self.cutter_comp:
+            # rs274 (interp_convert.cc, convert_g) never checks what
+            # convert_g92_is_applied returns: under compensation the refusal
+            # is dropped, and G92.1/G92.2/G92.3 silently do nothing.
+            return
         if code == G92_3:
             self._g92_restore()
         else:
