@@ -168,6 +168,8 @@ class ExprWriter:
         #: Locals of the function being written that are Python variables
         #: (ngc2py.fastlocals).
         self.fast: frozenset = frozenset()
+        #: Reading a definition's own return values: unset names read 0.
+        self.defining = False
 
     def helper(self, name: str) -> str:
         self.helpers.add(name)
@@ -204,6 +206,8 @@ class ExprWriter:
         if e.name in self.fast:
             return fastlocals.variable(e.name)
         store = "g" if e.is_global else "v"
+        if self.defining:
+            return "%s.read_or_zero(%s)" % (store, string(e.name))
         if attr_safe(e.name):
             return "%s.%s" % (store, e.name)
         return "%s[%s]" % (store, string(e.name))
@@ -694,10 +698,13 @@ class CodeGen:
         self.w.raw("def %s(m: Machine) -> None:" % sub.fn)
         self.w.depth = 1
         form = "O%s, Fanuc style" if sub.fanuc else "o<%s> sub"
-        self.w.raw(
-            '%s"""%s (lines %d-%d)"""'
-            % (INDENT, form % safe_doc(sub.name), sub.line.number, end)
-        )
+        word = sub.line.oword
+        if sub.fanuc or word is not None and word.keyword == "sub":
+            doc = "%s (lines %d-%d)" % (form % safe_doc(sub.name), sub.line.number, end)
+        else:
+            # rs274 fails seeking the definition for a call (SeekFail, Fail)
+            doc = "o<%s> call: where seeking its sub line fails" % safe_doc(sub.name)
+        self.w.raw('%s"""%s"""' % (INDENT, doc))
         self.w.raw(INDENT + "p, g, v = m.params.values, m.globals, m.locals")
         body = sub.body
         if body and isinstance(body[-1], st.Return) and body[-1].value is None:
@@ -1006,6 +1013,16 @@ class CodeGen:
             call = call[:-1] + ", finish=True)"
         self.w.stmt(call, stmt.line)
 
+    def s_seekfail(self, stmt: st.SeekFail) -> None:
+        self.w.comment(stmt.line)
+        call = "m.seek_failed(%d, %s, %s, %d)" % (
+            stmt.line.number,
+            string(stmt.file),
+            string(stmt.name),
+            stmt.start,
+        )
+        self.w.stmt(call, stmt.line)
+
     def s_endoffile(self, stmt: st.EndOfFile) -> None:
         self.w.raw(INDENT * self.w.depth + "# end of file, no program end")
         self.w.stmt("m.end_of_file(%s, False)" % self.demarcated, stmt.line)
@@ -1013,20 +1030,51 @@ class CodeGen:
     def s_define(self, stmt: st.Define) -> None:
         sub = stmt.sub
         self.w.comment(sub.line)
-        if sub.define_error is not None:
-            err = sub.define_error
+        err = sub.define_error
+        if err is None:
+            self.w.stmt("m.define(%s, %s)" % (string(sub.name), sub.fn), sub.line)
+        for line in st.definition_values(sub):
+            if err is not None and line.number >= err.line.number:
+                break
+            self.definition_value(line)
+        if err is not None:
             call = fail_call(err.line.number, err.message)
             if err.finish:
                 call = call[:-1] + ", finish=True)"
             self.w.stmt(call, err.line)
-        else:
-            self.w.stmt("m.define(%s, %s)" % (string(sub.name), sub.fn), sub.line)
+
+    def definition_value(self, line: nodes.Line) -> None:
+        """Reading past the definition, rs274 reads the value of the sub's
+        own ``return``/``endsub`` lines into ``#<_value>`` (a name not
+        defined reads 0 there)."""
+        self.w.comment(line)
+        expr = line.oword.expr
+        if expr is None:
+            self.w.stmt("m.definition_value(%d)" % line.number, line)
+            return
+        self.x.defining = True
+        try:
+            value = self.x.expr(expr)
+        finally:
+            self.x.defining = False
+        self.w.stmt("m.definition_value(%d, %s)" % (line.number, value), line)
 
     def s_call(self, stmt: st.Call) -> None:
         args = [self.x.expr(a) for a in stmt.args]
         self.w.comment(stmt.line)
         if stmt.sub is not None:
             head = ["m.call(%s" % stmt.sub.fn]  # definition already read
+        elif stmt.found is not None:
+            # the name as defined when the call runs, else what seeking finds
+            found = stmt.found
+            head = [
+                "m.call_found(%s, %s, %s"
+                % (
+                    string(stmt.name),
+                    found.fn,
+                    string(found.line.file or self.program.file),
+                )
+            ]
         elif isinstance(stmt.name, str):
             head = ["m.call_named(%s" % string(stmt.name)]
         else:

@@ -101,43 +101,100 @@ def _program(parsed) -> st.Program:
     return st.build(parsed.file, list(parsed.lines), parsed.demarcated)
 
 
+class _SubFile:
+    """A subroutine file rs274 may open: its lines, read once."""
+
+    def __init__(self, path: str, parsed):
+        self.path = path
+        self.lines = list(parsed.lines)
+        self.demarcated = parsed.demarcated
+        last = None
+        for line in self.lines:
+            last = line
+        from ngc2py.rowrun import RowRun
+
+        if type(last) is RowRun:
+            last = last.final()
+        self.last = last
+        #: (line searched from, name) -> what a call runs
+        self.found: dict = {}
+
+    def seek(self, after: int, name: str) -> st.Sub:
+        from ngc2py import structure as st
+
+        key = (after, name)
+        if key not in self.found:
+            self.found[key] = st.seek_result(
+                self.path, self.lines, self.last, after, name, self.demarcated
+            )
+        return self.found[key]
+
+
 def _externals(program: st.Program, dirs: List[str]) -> List[Tuple[str, bool]]:
     """Find and compile the external subroutines ``program`` calls, and
-    those they call in turn; return the paths probed."""
+    those they call in turn; return the paths probed.
+
+    rs274 resolves ``o<name> call`` when it runs: a name already defined
+    (its ``sub`` line read, in any file) is called; otherwise it opens
+    ``<name>.ngc`` on the subroutine path and skips from its top to
+    ``o<name> sub``; without such a file it skips forward from the call in
+    the file it is reading. What the two searches find is worked out here,
+    per call site (``Call.found``); the machine keeps what is defined
+    (``Machine.call_found``). A subroutine found in a file runs from its
+    ``sub`` line to the first ``endsub`` or ``return`` it runs
+    (:func:`structure.entry_sub`), and defines the names it finds in turn.
+    """
     from ngc2py import structure as st
 
     probes: List[Tuple[str, bool]] = []
-    known = {sub.name for sub in program.subs}
-    pending = st.called_names(program)
-    while pending:
-        name = pending.pop(0)
-        if name in known:
-            continue
-        known.add(name)
-        sub = _find_external(name, dirs, probes)
-        if sub is not None:
+    files: dict = {}  # path -> _SubFile, or None when it cannot be read
+    by_file: dict = {}  # name -> what <name>.ngc gives (None: no such file)
+    pending: List[st.Sub] = []
+    seen: set = set()
+
+    def take(sub: st.Sub) -> st.Sub:
+        if id(sub) not in seen:
+            seen.add(id(sub))
             program.externals.append(sub)
-            pending.extend(st.called_names(st.Program(sub.line.file, sub.body, [])))
+            pending.append(sub)
+        return sub
+
+    def from_file(name: str) -> Optional[st.Sub]:
+        if name not in by_file:
+            by_file[name] = None
+            for folder in dirs:
+                path = os.path.join(folder, name + ".ngc")
+                found = os.path.isfile(path)
+                probes.append((path, found))
+                if not found:
+                    continue
+                if path not in files:
+                    try:
+                        files[path] = _SubFile(path, _parse(path))
+                    except CompileError:
+                        files[path] = None
+                if files[path] is not None:
+                    by_file[name] = take(files[path].seek(0, name))
+                break
+        return by_file[name]
+
+    main_found = {}
+    for name in st.called_names(program):
+        sub = from_file(name)
+        if sub is not None:
+            main_found[name] = sub
+    program.found = main_found
+    while pending:
+        sub = pending.pop(0)
+        here = files.get(sub.line.file)
+        for stmt in st.walk(sub.body):
+            if not isinstance(stmt, st.Call) or not isinstance(stmt.name, str):
+                continue
+            found = from_file(stmt.name)
+            if found is None and here is not None:
+                found = take(here.seek(stmt.line.number, stmt.name))
+            stmt.found = found
     return probes
-
-
-def _find_external(name: str, dirs: List[str], probes) -> Optional[st.Sub]:
-    """The subroutine ``name`` from the first ``name.ngc`` on ``dirs``."""
-    for folder in dirs:
-        path = os.path.join(folder, name + ".ngc")
-        found = os.path.isfile(path)
-        probes.append((path, found))
-        if not found:
-            continue
-        try:
-            program = _program(_parse(path))
-        except CompileError:
-            return None
-        for sub in program.subs:
-            if sub.name == name:
-                return sub
-        return None
-    return None
 
 
 def _compile(parsed, name: str, ini: Optional[str]) -> Compiled:

@@ -150,7 +150,11 @@ def _lines(stmts: List[st.Stmt]) -> Iterator[object]:
             yield None
             return
         if isinstance(stmt, st.Define):
-            continue  # the subroutine's own lines are another function
+            # the subroutine's own lines are another function, but the
+            # values of its own return lines are read here (definition_values)
+            for line in st.definition_values(stmt.sub):
+                yield from _line(line)
+            continue
         if isinstance(stmt, st.If):
             for branch in stmt.branches:
                 yield from _line(branch.line)

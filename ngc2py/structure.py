@@ -194,6 +194,24 @@ class Call:
     name: Union[str, nodes.Expr]
     args: Tuple[nodes.Expr, ...]
     sub: Optional[Sub] = None
+    #: Where rs274 finds the subroutine when the call runs while ``name``
+    #: is not defined yet: ``<name>.ngc`` on the subroutine path, else the
+    #: first ``o<name> sub`` after the call in this (subroutine) file, or
+    #: a :class:`SeekFail` body. Set for calls of external files' code and
+    #: for calls of the main file that find a file (see compiler.py).
+    found: Optional[Sub] = None
+
+
+@dataclass
+class SeekFail:
+    """rs274 skipped to the end of ``file`` (having read ``line`` last)
+    looking for ``o<name> sub``, from line ``start`` of it (0: it had just
+    opened the file)."""
+
+    line: nodes.Line
+    file: str
+    name: str
+    start: int
 
 
 @dataclass
@@ -234,6 +252,7 @@ Stmt = Union[
     FanucCall,
     Finish,
     EndOfFile,
+    SeekFail,
 ]
 
 
@@ -249,6 +268,8 @@ class Program:
     body: List[Stmt]
     subs: List[Sub]
     externals: List[Sub] = field(default_factory=list)
+    #: What a call of the main file finds in ``<name>.ngc`` (compiler.py)
+    found: Dict[str, Sub] = field(default_factory=dict)
     #: The last line rs274 reads before running off the end of the file
     #: (blank ones count: rs274 echoes it with the end-of-file error).
     last: Optional[nodes.Line] = None
@@ -270,6 +291,7 @@ DUPLICATE_LOOP = "%d: duplicate O-word label: '%s' - defined in line %d"
 NESTED_SUB = "Nested subroutine definition"
 EOF_NO_END = "File ended with no percent sign or program end"
 EOF_NO_PERCENT = "File ended with no percent sign"
+FANUC_NEEDS_M98 = "Fanuc 'O....' subroutine must be called with 'M98'"
 M99_IN_O_SUB = (
     "'O.... endsub' or 'O.... return' must follow 'O.... sub' subroutine definition"
 )
@@ -396,7 +418,10 @@ class _Builder:
             if message is not None:
                 sub.define_error = Fail(line, message)
         if sub is not None and word is not None and word.keyword == "fanuc_sub":
-            return  # a nested definition: the outer one fails (above)
+            # A nested definition: the outer one fails (above). Run inside
+            # an ``o.. call`` (a sub found by reading ahead), the line fails.
+            self.fail(line, FANUC_NEEDS_M98)
+            return
         if (
             word is not None
             and line.error == AFTER_OWORD
@@ -448,7 +473,9 @@ class _Builder:
                 self.body.append(TopReturn(line, "endsub", word.expr))
             return
         if word.name != sub.name:
-            # rs274 keeps skipping for the right endsub; nothing closes here.
+            # Reading the definition, rs274 keeps skipping for the right
+            # endsub: nothing closes here. Run in a call, any endsub returns.
+            self.body.append(Return(line, word.expr))
             return
         # Constructs left open inside the body end with it.
         while not isinstance(self.stack[-1].node, Sub):
@@ -874,14 +901,17 @@ def opening_error(
     return EOF_NO_PERCENT, last
 
 
-def build(file: str, lines: List[nodes.Line], demarcated: bool = False) -> Program:
+def build(
+    file: str, lines: List[nodes.Line], demarcated: bool = False, opened: bool = False
+) -> Program:
     """Pair the O-words of one file's ``lines`` into a :class:`Program`.
 
     A lone closing ``%`` line ends the program with :class:`Finish`; lines
-    after it are never read by rs274 and are dropped.
+    after it are never read by rs274 and are dropped. ``opened``: ``lines``
+    start after the opening ``%`` of a demarcated file.
     """
     builder = _Builder(file, demarcated)
-    seen_open = False
+    seen_open = opened
     last: Optional[nodes.Line] = None
     closing: Optional[nodes.Line] = None
     for line in lines:
@@ -938,6 +968,22 @@ def walk(stmts: List[Stmt], into_subs: bool = True) -> Iterator[Stmt]:
             pending.extend(iter(body) for body in reversed(children(stmt, into_subs)))
 
 
+def definition_values(sub: Sub) -> List[nodes.Line]:
+    """The lines whose value rs274 reads while it reads past the definition
+    of ``sub`` (interp_read.cc read_o: skipping to the sub's own label, it
+    evaluates the value of a ``return`` or ``endsub`` with that label, and
+    sets ``#<_value>``, or clears it when there is none): in text order."""
+    if sub.fanuc:
+        return []
+    found = []
+    for stmt in walk(sub.body):
+        if isinstance(stmt, Return) and stmt.line.oword is not None:
+            word = stmt.line.oword
+            if word.keyword in ("return", "endsub") and word.name == sub.name:
+                found.append(stmt.line)
+    return found
+
+
 def first_text_error(bodies: List[List[Stmt]]) -> Optional[nodes.Line]:
     """The first line in ``bodies`` (source order) that rs274 fails on even
     when only skipping over it (:func:`skip_error`)."""
@@ -962,18 +1008,18 @@ def resolve_calls(program: Program) -> None:
     """Bind each named call to a definition when that is safe to do statically.
 
     A definition at the top level of the main program binds calls on lines
-    after it (rs274 has read the ``sub`` line by then). An external
-    subroutine binds every call to a name this file does not define. Any
-    other call (a name defined later, or inside an ``if``) is resolved by
-    name at run time, which is what rs274 does.
+    after it (rs274 has read the ``sub`` line by then). A call of a name
+    that ``<name>.ngc`` defines goes through ``found`` (the machine calls
+    what is defined by then, else that file's). Any other call (a name
+    defined later, or inside an ``if``) is resolved by name at run time,
+    which is what rs274 does. Calls in external files' code were given
+    ``found`` by compiler.py.
     """
     top_level = {
         stmt.sub.name: stmt.sub
         for stmt in program.body
         if isinstance(stmt, Define) and stmt.sub.define_error is None
     }
-    defined_here = {sub.name for sub in program.subs}
-    external = {sub.name: sub for sub in program.externals}
     everywhere = list(walk(program.body))
     for sub in program.externals:
         everywhere.extend(walk(sub.body))
@@ -986,8 +1032,80 @@ def resolve_calls(program: Program) -> None:
             stmt.sub = fanuc.get(stmt.line.oword.name)
         if not isinstance(stmt, Call) or not isinstance(stmt.name, str):
             continue
+        if stmt.found is not None:
+            continue
         sub = top_level.get(stmt.name)
         if sub is not None and sub.line.number < stmt.line.number:
             stmt.sub = sub
-        elif stmt.name not in defined_here and stmt.name in external:
-            stmt.sub = external[stmt.name]
+        elif stmt.name in program.found:
+            stmt.found = program.found[stmt.name]
+
+
+# --------------------------------------------------------------------------
+# Finding a subroutine the way rs274 seeks it in a subroutine file
+# --------------------------------------------------------------------------
+
+
+def seek_sub(lines: list, after: int, name: str) -> Optional[Tuple[str, int]]:
+    """rs274 skipping forward through a file's ``lines`` from line number
+    ``after`` for ``o<name> sub`` (it has opened the file for the call, or
+    the call is on line ``after`` of it and the name is not known yet).
+
+    Returns ``("sub", i)`` for the definition at ``lines[i]``, ``("fanuc",
+    i)`` for a bare ``O<name>`` (which an ``o.. call`` cannot run),
+    ``("error", i)`` for a line rs274 fails on while merely skipping it
+    (:func:`skip_error`), or None at the end of the file. Every other line,
+    definitions of other names included, is passed over."""
+    for index, line in enumerate(lines):
+        if type(line) is RowRun or line.number <= after:
+            continue
+        if skip_error(line):
+            return "error", index
+        word = line.oword
+        if word is None or not isinstance(word.name, str) or word.name != name:
+            continue
+        if word.keyword == "sub":
+            return "sub", index
+        if word.keyword == "fanuc_sub":
+            return "fanuc", index
+    return None
+
+
+def entry_sub(file: str, lines: list, index: int, demarcated: bool = False) -> Sub:
+    """The subroutine whose ``sub`` line is ``lines[index]``, as a call
+    runs it once rs274 has found it there: from the next line on, until an
+    ``endsub`` or ``return`` (of any name) runs; ``sub`` lines on the way
+    do nothing. Running off the end of the file fails there."""
+    first = lines[index]
+    if first.error is not None:
+        # Skipping to this line, rs274 reads only its O-word.
+        first = nodes.Line(
+            first.number, first.text, first.file, oword=first.oword, n_text=first.n_text
+        )
+    program = build(file, [first] + list(lines[index + 1 :]), demarcated, True)
+    sub = program.subs[0]
+    if sub.end is None and program.last is not None:
+        closing = [s for s in program.body if isinstance(s, Finish)]
+        if not closing:
+            sub.body.append(Fail(program.last, eof_message(demarcated)))
+    sub.define_error = None
+    return sub
+
+
+def seek_result(
+    file: str, lines: list, last: Optional[nodes.Line], after: int, name: str,
+    demarcated: bool = False,
+) -> Sub:
+    """What a call of ``name`` runs when rs274 seeks it in ``file`` from
+    line ``after``: the subroutine found (:func:`entry_sub`), or a body
+    that fails as rs274 does on the way."""
+    found = seek_sub(lines, after, name)
+    if found is None:
+        where = last if last is not None else nodes.Line(0, "", file)
+        return Sub(where, name, [SeekFail(where, file, name, after)], end=where)
+    kind, index = found
+    line = lines[index]
+    if kind == "sub":
+        return entry_sub(file, lines, index, demarcated)
+    message = FANUC_NEEDS_M98 if kind == "fanuc" else line.error
+    return Sub(line, name, [Fail(line, message)], end=line)

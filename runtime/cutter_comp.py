@@ -294,6 +294,10 @@ class CutterCompMixin:
     # The queue
     # ------------------------------------------------------------------
     def _enqueue(self, move: _Move) -> None:
+        if move.kind is None:
+            # G33/G33.1 take the compensated path of a straight move, and
+            # rs274 refuses them where that would queue a move or corner
+            raise GCodeError("Bug code not g0 or g1")
         queue = self._cc.queue
         if not queue:
             self._cc.stale_front = move
@@ -405,10 +409,12 @@ class CutterCompMixin:
         if block.g.get(0) == G53 and self._cc.engaged:
             raise GCodeError("Cannot use g53 with cutter radius comp")
 
-    def _comp_straight(self, rapid: bool, end: List[float]) -> None:
+    def _comp_straight(self, rapid: Optional[bool], end: List[float]) -> None:
+        """A compensated straight move (``rapid`` None: G33 or G33.1, which
+        rs274 sends the same way until it would queue a move)."""
         st = self._cc
         plane = self.plane
-        kind = "traverse" if rapid else "feed"
+        kind = None if rapid is None else "traverse" if rapid else "feed"
         cx, cy, cz = to_plane(plane, *self.current[:3])
         px, py, pz = to_plane(plane, *end[:3])
         rest = end[3:]
@@ -484,7 +490,7 @@ class CutterCompMixin:
                 )
             else:
                 # No rapid arcs: a straight traverse to the same point.
-                corner = _Move("traverse", mid_x, mid_y, cz, rest)
+                corner = _Move(kind, mid_x, mid_y, cz, rest)
             self._enqueue(corner)
             self._dequeue()
             self._set_endpoint(mid_x, mid_y)
@@ -504,7 +510,9 @@ class CutterCompMixin:
         else:  # straight on, or a tangent arc -> line
             self._dequeue()
             self._set_endpoint(cx, cy)
-        self._enqueue(_Move(kind, end_x, end_y, pz, rest, px - opx, py - opy))
+        # (G33 and G33.1 get here as a feed: rs274 queues them as one)
+        move = _Move(kind or "feed", end_x, end_y, pz, rest, px - opx, py - opy)
+        self._enqueue(move)
         return end_x, end_y
 
     def _arc_to_line_corner(self, px, py, opx, opy):

@@ -30,6 +30,11 @@ class ThreadingMixin:
         self.motion_mode = motion
         end = self._find_ends(block)
         words = block.words
+        if motion != G76 and self._cc.engaged:
+            # rs274's convert_straight compensates G33 and G33.1 like G1,
+            # before their spindle checks (and fails: see _comp_straight)
+            self._comp_straight(None, end)
+            return
         if "dollar" in words and int(words["dollar"]) != 0:
             # $ (read as an int) must name one of rs274's spindles: it has one.
             if motion == G76:

@@ -511,6 +511,39 @@ class Machine(
             known = self._subroutines[name] = _Subroutine(self._read_ahead(name))
         return self.call(known.fn, *args)
 
+    def definition_value(self, line: int, value: Optional[float] = None) -> None:
+        """rs274 read the value of a ``return``/``endsub`` of the definition
+        it is reading past (none: it clears ``#<_value>``)."""
+        self.line = line
+        if value is None:
+            self.value = self.value_returned = 0.0
+        else:
+            self.value = value
+            self.value_returned = 1.0
+
+    def call_found(self, name: str, fn: Callable, file: str, *args: float):
+        """Call ``name``: what is defined by now, else ``fn``, which is what
+        rs274 finds seeking it (in ``<name>.ngc`` or further on in the
+        subroutine file of the call; ``file`` is where), now defined."""
+        known = self._subroutines.get(name)
+        if known is None:
+            known = self._subroutines[name] = _Subroutine(fn, file)
+        return self.call(known.fn, *args)
+
+    def seek_failed(self, line: int, file: str, name: str, start: int) -> None:
+        """rs274 read to the end of ``file`` (its last line ``line``)
+        seeking ``o<name> sub`` from line ``start``. It names a file found
+        on the SUBROUTINE_PATH by the directory's real path."""
+        import os
+
+        self.line = line
+        folder, base = os.path.split(file)
+        if any(os.path.join(d, base) == file for d in self.settings.subroutine_path):
+            file = os.path.join(os.path.realpath(folder), base)
+        raise GCodeError(
+            "EOF in file:%s seeking o-word: o<%s> from line: %d" % (file, name, start)
+        )
+
     def _read_ahead(self, name: str) -> Callable:
         """rs274 reads ahead in the main file for a sub not defined yet.
 
@@ -866,6 +899,11 @@ class Machine(
         # G4 and G53 are handled elsewhere (dwell first, G53 with the motion).
 
     def _g92_family(self, code: int) -> None:
+        if self.cutter_comp:
+            # rs274 (interp_convert.cc, convert_g) never checks what
+            # convert_g92_is_applied returns: under compensation the refusal
+            # is dropped, and G92.1/G92.2/G92.3 silently do nothing.
+            return
         if code == G92_3:
             self._g92_restore()
         else:

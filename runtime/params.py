@@ -223,6 +223,12 @@ class NamedStore:
         return 1.0 if name in self.__dict__ else 0.0
 
     @_Method
+    def read_or_zero(self, name: str) -> float:
+        """``#<name>`` read while rs274 reads a subroutine definition: a
+        name not defined reads 0 there instead of failing."""
+        return self[name] if self.exists(name) else 0.0
+
+    @_Method
     def declare(self, name: str) -> None:
         """A setting of ``name`` has been read: from now on it exists.
 

@@ -679,6 +679,12 @@ def define_sub(w: Writer, index: int) -> None:
         w.emit("M73")  # the caller's modes come back at the return
     for _ in range(w.draw(st.integers(1, 4))):
         stmt(w, nested=True)
+    if w.draw(st.integers(0, 3)) == 0:
+        # an early return with a value: rs274 reads it past the definition
+        guard = w.new_label()
+        w.emit(f"o{guard} if [{w.expr(1)} GT 0]")
+        w.emit(f"o{name} return [{w.expr(1)}]")
+        w.emit(f"o{guard} endif")
     w.depth -= 1
     if returns:
         w.emit(f"o{name} endsub [{w.expr(1)}]")
@@ -686,6 +692,8 @@ def define_sub(w: Writer, index: int) -> None:
         w.emit(f"o{name} endsub")
     w.scope = saved_scope
     w.subs.append((label if name.startswith("<") else name, nargs, returns))
+    if w.draw(st.booleans()):
+        w.emit("(DEBUG, definition left #<_value> #<_value_returned>)")
 
 
 @st.composite
@@ -1088,9 +1096,28 @@ def lang_sub(w: LanguageWriter, index: int) -> None:
     w.emit(f"o{name} sub", slash_ok=False)
     w.sub, w.closed, w.counters = name, [], []
     lang_body(w)
-    w.emit(f"o{name} endsub" + w.pick(["", " [2]"]), slash_ok=False)
+    if w.chance(3):
+        # read (and evaluated) as rs274 reads past the definition
+        w.emit(f"o{name} return" + w.pick(_DEFINITION_VALUES), slash_ok=False)
+    w.emit(f"o{name} endsub" + w.pick(_DEFINITION_VALUES), slash_ok=False)
     w.sub, w.closed = "", []
     w.subs.append(name)
+    if w.chance(2):
+        w.emit("(DEBUG, value #<_value> returned #<_value_returned>)")
+
+
+#: Values of a definition's endsub/return: rs274 reads them while it reads
+#: past the definition (a name not defined reads 0 there, not in a call).
+_DEFINITION_VALUES = [
+    "",
+    "",
+    " [2]",
+    " [#<_g> + 1]",
+    " [#1 * 2 + #<_value>]",
+    " [#<undefined> + 3]",
+    " [#<_g> / [#<_g> - 1]]",
+    " [SQRT[#<_value> + 4]]",
+]
 
 
 @st.composite
@@ -1195,8 +1222,43 @@ def _comp_extra(draw, axis: str, scale: float) -> str:
                 "G21" if scale == 1.0 else "G20",
                 "(debug, #<_ccomp> #<_x>)",
             ]
+            + _NON_MOTION
         )
     )
+
+
+#: Non-motion codes between compensated moves (LinuxCNC's G-code chapter):
+#: offsets of coordinate systems not in use, tool table edits, the G92
+#: family, digital and analog outputs, modal state, messages. Some are
+#: refused under compensation (G92, G52, G43, changing the active system):
+#: then both must fail alike.
+_NON_MOTION = [
+    "G10 L2 P2 X1 Y2",
+    "G10 L2 P3 R15",
+    "G10 L20 P4 X0 Y0",
+    "G10 L20 P5 Z[#<_z>]",
+    "G10 L1 P2 R0.01",
+    "G10 L10 P2 Z0",
+    "G92.1",
+    "G92.2",
+    "G92.3",
+    "M62 P1",
+    "M65 P1",
+    "M68 E0 Q2",
+    "M70",
+    "M72",
+    "(PRINT, at #<_x>)",
+    "(DEBUG, #<_value>)",
+    "G64 P0.01",
+    "G92 X0",
+    "G52 Y1",
+    "G43 H1",
+    "G10 L2 P0 X1",
+    "G49",
+    "T2",
+    "S500",
+    "G33 Y0 K1",
+]
 
 
 def _profile(draw, scale: float, n: int) -> list:
@@ -1262,19 +1324,31 @@ def compensated_programs(draw, tool_table: bool = False) -> str:
         f"G{20 if inch else 21} G{plane} G90 F{10 * scale:g}",
         f"G0 {words[0]}{out:.4f} {words[1]}{out:.4f}",
     ]
-    for _ in range(draw(st.integers(1, 2))):
+    subs = []
+    for index in range(draw(st.integers(1, 2))):
         points = _profile(draw, scale, draw(st.integers(3, 7)))
         lines.append(_comp_start(draw, plane, tool_table, scale))
         lines.append(_comp_edge(draw, (out, out), points[0], words, scale, axis))
         n = len(points)
+        edges = []
         for k in range(n):
             start, end = points[k], points[(k + 1) % n]
-            lines.append(_comp_edge(draw, start, end, words, scale, axis))
+            edges.append(_comp_edge(draw, start, end, words, scale, axis))
             if draw(st.integers(0, 3)) == 0:
-                lines.append(_comp_extra(draw, axis, scale))
+                edges.append(_comp_extra(draw, axis, scale))
+        if draw(st.booleans()):
+            lines.extend(edges)
+        else:
+            # the profile is a subroutine, called around it in a loop
+            name = f"<edge{index}>"
+            subs += [f"o{name} sub", *edges, f"o{name} endsub"]
+            lines.append(f"o{100 + index} repeat [{draw(st.integers(1, 3))}]")
+            lines.append(f"o{name} call")
+            lines.append(f"o{100 + index} endrepeat")
         exit_move = draw(st.sampled_from(["G0", "G1"]))
         lines.append(f"G40 {exit_move} {words[0]}{out:.4f} {words[1]}{out:.4f}")
     lines.append(draw(st.sampled_from(["M2", "M30"])))
+    lines = subs + lines
     text = "\n".join(lines).split("\n")
     return "\n".join(f"N{10 * (i + 1)} {line}" for i, line in enumerate(text)) + "\n"
 
@@ -1942,3 +2016,129 @@ def broken_whole_language_programs(draw) -> tuple:
     else:
         lines[k] = draw(mutated_line(lines[k]))
     return "\n".join(lines) + "\n", table
+
+
+# --------------------------------------------------------------------------
+# subroutine files holding several subroutines
+# --------------------------------------------------------------------------
+
+# From the O Codes chapter ("Calling Files", "Subroutines") and how probing
+# macros are written in practice: a file NAME.ngc found on the subroutine
+# path defines o<NAME> and, before or after it, helper subs it calls; a
+# helper may be numbered, may be written inside the main sub, may call
+# another helper further on, and may be called from outside once the file
+# has defined it. rs274 finds a sub it does not know yet by opening
+# NAME.ngc, else by reading forward from the call in the file it is
+# reading: calls before the helper's definition, helpers defined before
+# their caller and calls from the main program before the file was opened
+# all end in rs274's errors, which ngc2py must give the same way.
+
+
+def _file_sub_body(draw, args: int, calls: list) -> list:
+    """A few lines of a helper: moves from its arguments, a message, calls."""
+    body = []
+    for _ in range(draw(st.integers(1, 3))):
+        kind = draw(st.integers(0, 4))
+        arg = f"#{draw(st.integers(1, max(args, 1)))}"
+        if kind == 0:
+            body.append(f"G1 X[{arg} + {draw(st.integers(0, 9))}] F{draw(st.integers(10, 90))}")
+        elif kind == 1:
+            body.append(f"G0 Y[{arg} * 2] Z{draw(st.integers(0, 5))}")
+        elif kind == 2:
+            body.append(f"(DEBUG, in [{arg}] value #<_value>)")
+        elif kind == 3 and calls:
+            body.append(f"o{draw(st.sampled_from(calls))} call [{arg} + 1] [2]")
+        else:
+            body.append(f"#<_seen> = [#<_seen> + {arg}]")
+    return body
+
+
+@st.composite
+def subroutine_file_programs(draw) -> tuple:
+    """(files, args): ``files`` maps a path relative to the program's folder
+    to its text (``main.ngc`` is the program); ``args`` are rs274's options
+    (``-i subs.ini`` when a file lives on the SUBROUTINE_PATH)."""
+    files = {}
+    on_path = draw(st.booleans())
+    main_lines = ["G21 G90 G17", "#<_seen> = 0"]
+    outside_calls = []
+    for f in range(draw(st.integers(1, 2))):
+        fname = f"macro{f}"
+        helpers = []
+        for h in range(draw(st.integers(1, 3))):
+            if draw(st.booleans()):
+                helpers.append(f"<{fname}_h{h}>")
+            else:
+                helpers.append(f"{500 + 10 * f + h}")
+        order = draw(st.permutations(helpers + [f"<{fname}>"]))
+        called = []  # helpers the main sub calls (defined once it has run)
+        lines = [draw(st.sampled_from(["(a probing macro)", "; macro file", ""]))]
+        for pos, name in enumerate(order):
+            later = [n for n in order[pos + 1 :] if n != f"<{fname}>"]
+            earlier = [n for n in order[:pos] if n != f"<{fname}>"]
+            # mostly helpers defined further on (found by reading forward),
+            # sometimes one defined before its caller (rs274 fails)
+            callable_ = later + (earlier if draw(st.integers(0, 4)) == 0 else [])
+            lines.append(f"o{name} sub")
+            if name == f"<{fname}>":
+                body = _file_sub_body(draw, 2, [])
+                for callee in draw(st.lists(st.sampled_from(callable_), max_size=3)) if callable_ else []:
+                    called.append(callee)
+                    body.append(f"o{callee} call [#1 + 1] [#2]")
+                    body.append(f"(DEBUG, {callee} gave #<_value> #<_value_returned>)")
+                if draw(st.integers(0, 3)) == 0:
+                    # a numbered sub written inside the main sub: run in the
+                    # call, its sub line does nothing and its endsub returns
+                    inner = f"{700 + f}"
+                    body += [f"o{inner} sub", f"  G1 Z[#1 + 1] F20", f"o{inner} endsub [#1]"]
+                    body.append(f"o{inner} call [3]")
+                for line in body:
+                    lines.append("  " + line)
+                value = draw(st.sampled_from(["", " [#1 + #2]", " [#<_seen>]"]))
+                lines.append(f"o{name} endsub{value}")
+            else:
+                for line in _file_sub_body(draw, 2, callable_):
+                    lines.append("  " + line)
+                if draw(st.integers(0, 3)) == 0:
+                    lines.append(f"  o{name} return [#1 * 3]")
+                value = draw(st.sampled_from(["", " [#1]", " [#2 + 1]"]))
+                lines.append(f"o{name} endsub{value}")
+            if draw(st.integers(0, 2)) == 0:
+                lines.append("")
+        lines.append(draw(st.sampled_from(["M2", "M2", "(no end)"])))
+        path = f"subs/{fname}.ngc" if on_path else f"{fname}.ngc"
+        files[path] = "\n".join(lines) + "\n"
+        # the macro, then helpers called from outside: mostly ones the macro
+        # has defined by then
+        outside_calls.append(
+            [f"<{fname}>"]
+            + [n for n in helpers if draw(st.integers(0, 1 if n in called else 5)) == 0]
+        )
+    # the main program: its own sub with a value read past its definition,
+    # the macros called (in a loop, or not), helpers called from outside
+    if draw(st.booleans()):
+        main_lines += [
+            "o<local> sub",
+            "  G0 X#1",
+            f"o<local> endsub [{draw(st.sampled_from(['7', '#<_seen> + 1', '#<nope>']))}]",
+            "(DEBUG, after local #<_value> #<_value_returned>)",
+        ]
+    first = outside_calls[0][0]
+    if draw(st.booleans()):
+        main_lines += ["o10 repeat [2]", f"  o{first} call [1] [2]", "o10 endrepeat"]
+    else:
+        main_lines.append(f"o{first} call [1] [2]")
+    main_lines.append("(DEBUG, macro gave #<_value> #<_value_returned>)")
+    order = []
+    for group in draw(st.permutations(outside_calls)):
+        order += group[:1] + draw(st.permutations(group[1:]))
+    for name in order:
+        main_lines.append(f"o{name} call [{draw(st.integers(0, 9))}] [1]")
+        main_lines.append("(DEBUG, #<_value> #<_value_returned> #<_seen>)")
+    main_lines.append("M2")
+    files["main.ngc"] = "\n".join(main_lines) + "\n"
+    args = []
+    if on_path:
+        files["subs.ini"] = "[RS274NGC]\nSUBROUTINE_PATH = subs\n"
+        args = ["-i", "subs.ini"]
+    return files, args
