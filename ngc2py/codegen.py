@@ -46,6 +46,7 @@ from dataclasses import dataclass, field
 from typing import Dict, Iterable, List, Optional, Sequence, Tuple
 
 from ngc2py import __version__, assigned, fastlocals, nodes, parser, rowtable
+from ngc2py.wrap import split_call
 from ngc2py.parser import DEFAULT_AXES
 from ngc2py import structure as st
 from ngc2py.parser import RowLine
@@ -457,10 +458,15 @@ class ModuleWriter:
 def fit(code: str, indent: int) -> List[str]:
     """Black's layout of one over-long statement at ``indent`` columns.
 
-    A compound statement's header (``elif x:``) cannot be formatted alone:
-    it is given a ``pass`` body (and ``elif`` is written as ``if``, two
-    columns narrower) which is dropped again afterwards.
+    Calls, nearly all of them, are laid out by ``ngc2py.wrap`` (black's
+    rule, without black's cost); anything else by black itself. A compound
+    statement's header (``elif x:``) cannot be formatted alone: it is given
+    a ``pass`` body (and ``elif`` is written as ``if``, two columns
+    narrower) which is dropped again afterwards.
     """
+    lines = split_call(code, indent)
+    if lines is not None:
+        return lines
     import black
 
     header = code.endswith(":")
