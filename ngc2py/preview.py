@@ -394,6 +394,8 @@ class PreviewMachine(BatchesOnly, Machine):
         self._m98_passes = {}
         # Nothing written yet: the first line code is all zeros.
         self.active = ((0,) * 17, (0,) * 10, (0.0,) * 5)
+        #: (motion, feed rate, #5210) -> the state a plain move line leaves
+        self._line_states: dict = {}
 
     def _emit_probe(self, end, probe_type) -> None:
         # The module's canon (gcodemodule.cc) ends a probe move at its
@@ -485,6 +487,51 @@ class PreviewMachine(BatchesOnly, Machine):
     @block_delete.setter
     def block_delete(self, value) -> None:
         pass  # the canon answers instead
+
+    # Lines of a single straight move or arc (what a loop's body is made
+    # of) take the machine's fast paths when the modes are plain: their
+    # canon calls announce the line with the state the block before left,
+    # as the general path's do; the state this line leaves differs from
+    # it only in the motion mode, the feed rate and the line number, so
+    # it is worked out once per (motion, feed) until a general block runs.
+    def refresh_plain(self) -> None:
+        super().refresh_plain()
+        self._line_states = {}
+
+    def _plain_line(self, run, line, *args, **words) -> None:
+        if not self._batchable or self.reading_profile:
+            # the general path (a G7x profile's lines go to its reader)
+            return run(line, *args, **words)
+        before = self.active
+        self._plain = True
+        try:
+            run(line, *args, **words)
+        finally:
+            self._plain = False
+        if self.active is before:  # the fast path took it: no block wrote the state
+            key = (self.motion_mode, self.feed_rate, self.params.get_internal(5210))
+            state = self._line_states.get(key)
+            if state is None:
+                gcodes, mcodes, settings = self._active((), 0)
+                state = self._line_states[key] = (gcodes[1:], mcodes[1:], settings[1:])
+            gcodes, mcodes, settings = state
+            self.active = (
+                (line,) + gcodes,
+                (line,) + mcodes,
+                (float(line),) + settings,
+            )
+
+    def move(self, line, *args, **words) -> None:
+        self._plain_line(super().move, line, *args, **words)
+
+    def feed(self, line, *args, **words) -> None:
+        self._plain_line(super().feed, line, *args, **words)
+
+    def rapid(self, line, *args, **words) -> None:
+        self._plain_line(super().rapid, line, *args, **words)
+
+    def arc(self, line, *args, **words) -> None:
+        self._plain_line(super().arc, line, *args, **words)
 
     def block(self, line, *codes, n=None, comment=None, **words):
         try:

@@ -378,6 +378,26 @@ def test_cam_tables_match_gcode_parse(text, units):
     _compare_generated(units + "\n" + text)
 
 
+LOOP_BODIES = [
+    "G1 X[#<i> * 2] F[100 + #<i>]\nG0 Y[#<i>]",
+    "G1 X[#<i>] Y1 F200\nG1 Y2 F300\nX[#<i> + 1]",
+    "G2 X[#<i> + 2] Y0 I1 J0 F150\nG3 X[#<i> + 4] Y0 R1\nG1 Z[-#<i>]",
+    "G0 X[#<i>]\nG92 X0\nG1 Y[#<i>] F50\nG92.1\nG1 Y0",
+    "G1 X[#<i>] F[10 * [#<i> + 1]]\nM3 S[100 * #<i>]\nG1 Y[#<i>]",
+]
+
+
+@needs_gcode
+@pytest.mark.parametrize("body", LOOP_BODIES)
+@pytest.mark.parametrize("units", ["G21", "G20"])
+def test_loops_of_plain_lines_match_gcode_parse(body, units):
+    """A loop's plain move and arc lines take the fast paths in the preview
+    too: each line must still be announced with the modes (motion, feed,
+    speed, G92 flag) the line before left, as gcode.parse announces it."""
+    text = "%s G90 G17\n#<i> = 0\no1 while [#<i> LT 6]\n%s\n#<i> = [#<i> + 1]\no1 endwhile\nM2\n"
+    _compare_generated(text % (units, body))
+
+
 @needs_gcode
 @settings(PROFILE)
 @given(cam_strategies.arc_programs(), st.sampled_from(("G21", "G20", "")))
