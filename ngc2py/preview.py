@@ -494,6 +494,8 @@ class PreviewMachine(BatchesOnly, Machine):
     # as the general path's do; the state this line leaves differs from
     # it only in the motion mode, the feed rate and the line number, so
     # it is worked out once per (motion, feed) until a general block runs.
+    rows_by_move = True
+
     def refresh_plain(self) -> None:
         super().refresh_plain()
         self._line_states = {}

@@ -97,6 +97,8 @@ class FastPathMixin:
     """``Machine.move``: the straight-move fast path (part of Machine)."""
 
     _plain = False
+    #: See runtime.rows.BatchesOnly.
+    rows_by_move = False
     #: The N column last announced to the canon (avoids re-announcing it).
     _block_n: Optional[str] = None
 

@@ -202,6 +202,10 @@ def run_rows(
     arc_rows = ArcRows(machine, plans, as_printed).run
     if as_printed and type(machine.canon) is TraceCanon:
         fast = partial(printed_rows, machine, [plan.printed for plan in plans])
+    # A machine whose moves must each be a line of their own (the preview's)
+    # takes the rows the loops above leave as single lines, as the code
+    # generator's m.move and m.arc lines would be taken.
+    by_move = machine.rows_by_move
     try:
         while at < end:
             at = fast(cells, at, end, plans)
@@ -220,7 +224,12 @@ def run_rows(
                 n = cells[start]
                 start += 1
             words = dict(zip(plan.letters, map(float, cells[start:at])))
-            machine.block(line, *plan.codes, n=n, **words)
+            if by_move and plan.slots is not None:
+                machine.move(line, plan.motion, n=n, **words)
+            elif by_move and plan.arc and plan.motion is not None:
+                machine.arc(line, plan.motion, n=n, **words)
+            else:
+                machine.block(line, *plan.codes, n=n, **words)
     except Exception as error:
         error.ngc_row_line = machine.line
         raise
@@ -235,6 +244,10 @@ class BatchesOnly:
     in one call and which it handles knowing exactly that."""
 
     _batchable = False
+    #: run_rows hands rows the batches leave to move() and arc(), as lines of
+    #: the program would be, not to block(): for a machine whose own move()
+    #: keeps every line's announcement (the preview's).
+    rows_by_move = False
 
     def refresh_plain(self) -> None:
         super().refresh_plain()
