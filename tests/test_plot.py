@@ -17,7 +17,7 @@ import rs274 as harness
 from test_stats import scratch_run
 
 from ngc2py import cli
-from ngc2py.plot import STYLES, arc_polyline, polyline, project
+from ngc2py.drawing import STYLES, arc_polyline, polyline, project
 from ngc2py.moves import ARC, FEED, RAPID, toolpath
 
 matplotlib = pytest.importorskip(
