@@ -139,7 +139,10 @@ def string(text: str) -> str:
 
 
 def printable(text: str) -> str:
-    """``text`` made safe for a ``#`` comment: non-printables escaped."""
+    """``text`` made safe for a ``#`` comment: tabs as the spaces an editor
+    shows for them, other non-printables escaped."""
+    if "\t" in text:
+        text = text.expandtabs()
     return "".join(c if c.isprintable() else "\\x%02x" % ord(c) for c in text)
 
 

@@ -377,3 +377,17 @@ def test_feed_and_rapid_calls_step_aside_like_move(text, tmp_path):
     expected = harness.run_rs274(program, ["-t", "t.tbl"], text=text)
     actual = harness.run_ngc2py(program, ["-t", "t.tbl"], text=text, mode="convert")
     assert harness.compare(expected, actual) == []
+
+
+def test_tabs_in_the_source_comments_read_as_spaces(tmp_path):
+    """A G-code line's tabs show in its ``# n:`` comment as an editor shows
+    them, never as an escape; other control characters stay escaped."""
+    from ngc2py.compiler import compile_file
+
+    program = tmp_path / "tabs.ngc"
+    program.write_bytes(b"G21\tG90\n(a\tcomment\x07)\nG0\tX1\nM2\n")
+    text = compile_file(str(program))
+    assert "# 1: G21     G90" in text
+    assert "# 3: G0      X1" in text
+    assert "\\x09" not in text
+    assert "# 2: (a      comment\\x07)" in text
