@@ -523,6 +523,9 @@ class PreviewMachine(BatchesOnly, Machine):
                 (float(line),) + settings,
             )
 
+    def cycle_row(self, line, words) -> bool:
+        return False  # block() writes the state each line is announced with
+
     def move(self, line, *args, **words) -> None:
         self._plain_line(super().move, line, *args, **words)
 

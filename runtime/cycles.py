@@ -35,7 +35,20 @@ if TYPE_CHECKING:
     from typing import Dict, Optional, Tuple
 
 from runtime.blockcheck import Block
-from runtime.codes import G73, G74, G81, G82, G83, G84, G85, G86, G87, G88, G89
+from runtime.codes import (
+    G73,
+    G74,
+    G81,
+    G82,
+    G83,
+    G84,
+    G85,
+    G86,
+    G87,
+    G88,
+    G89,
+    check_word,
+)
 from runtime.errors import GCodeError
 from runtime.motion import AXES, INVERSE_TIME
 from runtime.ops import c_hypot
@@ -71,6 +84,12 @@ def _radians(degrees: float) -> float:
     return degrees * math.pi / 180.0
 
 
+#: The cycles a data row may run without the general path (cycle_row).
+_ROW_CYCLES = frozenset((G73, G74, G81, G82, G83, G84, G85, G86, G87, G88, G89))
+#: The words such a row may have; an axis (X, Y or Z) must be among them.
+ROW_CYCLE_LETTERS = frozenset("xyzrpqlf")
+
+
 class CyclesMixin:
     """Canned cycle execution (part of Machine)."""
 
@@ -84,6 +103,37 @@ class CyclesMixin:
     cycle_i = 0.0
     cycle_j = 0.0
     cycle_k = 0.0
+
+    def cycle_row(self, line: int, words) -> bool:
+        """A data row of X, Y, Z, R, P, Q, L or F words alone (an axis among
+        them) while a canned cycle is the modal motion: what ``block`` does
+        with it (announce, copy the point, set F, drill, publish), without
+        reading, enhancing and checking a line whose only possible outcome
+        is this cycle. False, having done nothing, where ``block`` must
+        decide (no cycle, G7 diameters, a tool change or probe pending, the
+        blocks of RETAIN_G43)."""
+        motion = self.motion_mode
+        if (
+            motion not in _ROW_CYCLES
+            or self.lathe_diameter
+            or self.toolchange_flag
+            or self.probe_flag
+            or "_execute" in self.__dict__
+        ):
+            return False
+        self.line = line
+        self.announce_block(None)
+        self.current = list(self.current)
+        for letter, value in words.items():
+            words[letter] = check_word(letter, value)
+        if "f" in words and self.feed_mode != INVERSE_TIME:
+            self._set_feed_rate(words["f"])
+        block = Block({}, {}, words)
+        block.motion = motion
+        self._cycle(motion, block)
+        self._publish_position()
+        self.refresh_plain()
+        return True
 
     def _end_cycle_series(self) -> None:
         """A motion that is not a cycle: the next cycle measures its initial level anew."""

@@ -40,6 +40,7 @@ if TYPE_CHECKING:
 from runtime.arc_rows import ArcRows, column_floats
 from runtime.canon import Canon, TraceCanon
 from runtime.codes import G0, G1, G2, G3
+from runtime.cycles import ROW_CYCLE_LETTERS
 from runtime.printed_rows import BATCH, MOST, printed_rows
 
 _AXES = "xyzabcuvw"
@@ -66,6 +67,7 @@ class _Plan:
         "printed",
         "batch",
         "arc",
+        "cycle",
     )
 
     def __init__(self, shape: Shape):
@@ -100,6 +102,14 @@ class _Plan:
             and (not codes or codes[0] in (G2, G3))
             and any(x in "xyzabc" for x in self.letters)
             and all(x in _ARC_LETTERS for x in self.letters)
+        )
+        #: Words a modal canned cycle may take a row of (Machine.cycle_row):
+        #: no code, no N, an axis among them.
+        self.cycle = (
+            not codes
+            and not self.has_n
+            and ROW_CYCLE_LETTERS.issuperset(self.letters)
+            and any(x in "xyz" for x in self.letters)
         )
         #: What runtime.printed_rows needs, in one tuple (None: not for it).
         self.printed = None
@@ -224,6 +234,8 @@ def run_rows(
                 n = cells[start]
                 start += 1
             words = dict(zip(plan.letters, map(float, cells[start:at])))
+            if plan.cycle and machine.cycle_row(line, words):
+                continue
             if by_move and plan.slots is not None:
                 machine.move(line, plan.motion, n=n, **words)
             elif by_move and plan.arc and plan.motion is not None:

@@ -15,8 +15,11 @@ import tempfile
 import time
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import rs274 as harness
+from test_differential import PROFILE, check_same
 
 #: Z starts at 1; Q is 1e-19, so 1 - Q == 1 in a double.
 PROGRAM = "G21 F100\nG0 Z5\nG{code} X1 Z-1 R1 Q[1/10000000000000000000]\nM2\n"
@@ -28,7 +31,10 @@ def test_tiny_peck_is_an_error_not_a_hang(code, tmp_path):
     program.write_text(PROGRAM.format(code=code))
     result = harness.run_ngc2py(program, mode="inprocess", timeout=60)
     assert result.rc == 1
-    assert result.err == f"Q value too small with g{code}: the pecks never reach the bottom"
+    assert (
+        result.err
+        == f"Q value too small with g{code}: the pecks never reach the bottom"
+    )
     # The first peck is made, then the error: the first feed to depth 1 is the last one.
     lines = result.stdout.decode().splitlines()
     assert sum("STRAIGHT_FEED(1.0000, 0.0000, 1.0000" in line for line in lines) == 1
@@ -65,3 +71,56 @@ def test_rs274_pecks_forever_there(tmp_path):
     with open(tmp_path / "out.txt", "rb") as out:
         head = out.read(2_000_000).decode("utf-8", "replace")
     assert head.count("STRAIGHT_FEED(1.0000, 0.0000, 1.0000") > 1000
+
+
+@st.composite
+def cycle_tables(draw) -> str:
+    """A canned cycle, then a table of rows of hole words alone (what
+    Machine.cycle_row takes from runtime.rows): X/Y/Z/R/P/Q/L/F in changing
+    layouts, G90 or G91, G98 or G99, in every plane, now and then a row
+    whose R falls below its Z (rs274's error, at that row)."""
+    plane, first, second, hole = draw(
+        st.sampled_from(
+            [("G17", "X", "Y", "Z"), ("G18", "Z", "X", "Y"), ("G19", "Y", "Z", "X")]
+        )
+    )
+    code = draw(st.sampled_from(["G81", "G82", "G83", "G73", "G85", "G86", "G89"]))
+    incremental = draw(st.integers(0, 3)) == 0
+    retract = draw(st.sampled_from(["G98", "G99"]))
+    r = draw(st.integers(0, 30)) / 10
+    bottom = (
+        -draw(st.integers(1, 30)) / 10
+        if incremental
+        else r - draw(st.integers(1, 30)) / 10
+    )
+    words = ["%s%.3f" % (hole, bottom), "R%.2f" % r]
+    if code in ("G82", "G86", "G89"):
+        words.append("P0.5")
+    if code in ("G73", "G83"):
+        words.append("Q%.2f" % (draw(st.integers(3, 20)) / 10))
+    lines = ["G21 G90 %s F300" % plane, "M3 S1000", "G0 %s5" % hole]
+    lines.append(" ".join(["G91" if incremental else "G90", retract, code] + words))
+    for k in range(draw(st.integers(8, 40))):
+        row = ["%s%.3f" % (first, draw(st.integers(-500, 500)) / 10)]
+        if draw(st.booleans()):
+            row.append("%s%.3f" % (second, draw(st.integers(-500, 500)) / 10))
+        extra = draw(st.integers(0, 12))
+        if extra == 1:
+            row.append("F%d" % draw(st.integers(50, 900)))
+        elif extra == 2 and incremental:
+            row.append("L%d" % draw(st.integers(1, 3)))
+        elif extra == 3:
+            row.append("R%.2f" % (r + 0.5))
+        elif extra == 4 and draw(st.integers(0, 3)) == 0:
+            row.append("R%.2f %s%.2f" % (r - 5, hole, r - 1))  # R below Z: an error
+        lines.append(" ".join(row))
+    lines += ["G80", "G90", "M2"]
+    return "\n".join(lines) + "\n"
+
+
+@PROFILE
+@given(cycle_tables())
+def test_tables_of_cycle_rows_match_rs274(text):
+    """Rows under a modal canned cycle take Machine.cycle_row: the same
+    trace, and the same error at the same row, as rs274."""
+    check_same(text, "run")
