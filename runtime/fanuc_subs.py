@@ -31,6 +31,12 @@ FANUC_END_M99 = "Fanuc 'O....' subroutine definition must end with 'M99'"
 _LINES = Pattern(r"\(lines (\d+)-\d+\)")
 
 
+def definition_line(fn: Callable) -> Optional[int]:
+    """The line of the main file where ``fn``'s definition starts."""
+    found = _LINES.search(fn.__doc__ or "")
+    return int(found.group(1)) if found is not None else None
+
+
 def _definition(source, fn: Callable) -> Optional[Location]:
     """Where ``fn``'s definition starts in the main file, as rs274 reports it."""
     found = _LINES.search(fn.__doc__ or "")

@@ -553,12 +553,24 @@ class Machine(
         if self.source is None:
             raise GCodeError(f"Failed to find sub 'O{name}' before EOF")
         fn = self.source.subs.get(name)
+        if fn is not None and not self._after_the_call(fn):
+            fn = None  # rs274 reads forward from the call: it never gets there
         if fn is None:
             if self.source.end[1]:
                 self.announce_block(None)
                 self.canon.finish()
             raise self.source.missing_sub(name, self.line)
         return fn
+
+    def _after_the_call(self, fn: Callable) -> bool:
+        """Is the definition of ``fn`` further on in the main file than the
+        call being made (made from the main file)? A definition before it
+        was passed unread (in an if not taken, a loop not entered)."""
+        line = fanuc_subs.definition_line(fn)
+        calls = g_code_frames_of_stack(self.line)
+        if line is None or not calls or calls[-1].file != self.source.files[0]:
+            return True
+        return line > calls[-1].line
 
     def call(self, fn: Callable, *args: float) -> None:
         """An O-word call: fresh #1-#30 and locals, restored afterwards."""
