@@ -64,6 +64,7 @@ def m98_target(machine, name: str, read_ahead: Callable[[str], Callable]) -> Cal
     source = machine.source
     fanuc = source.subs.get("O" + name) if source is not None else None
     if fanuc is not None:
+        machine._skip_to(fanuc)  # reading ahead to it, rs274 may fail first
         return fanuc
     known = machine._subroutines.get(name)
     osub = known.fn if known is not None else None
