@@ -649,7 +649,7 @@ class CodeGen:
         final.raw("")
         opening = self.opening_error(final)
         map_lines = source_map_lines(
-            final, self.sub_table(), self.end_of_main(), opening
+            final, self.sub_table(), self.end_of_main(), opening, self.unskippable(final)
         )
         for line in map_lines:
             final.raw(line)
@@ -677,6 +677,24 @@ class CodeGen:
             return "(%s, 0)" % string(message)
         w.texts[0][line.number] = line.text
         return "(%s, %d)" % (string(message), line.number)
+
+    def unskippable(self, w: ModuleWriter) -> Optional[Coll]:
+        """``{line: message}`` for the main file's lines rs274 fails on even
+        while it only skips over them (``structure.skip_error``): reading
+        ahead for a sub not defined yet stops there. None when there are
+        none. Their texts go into the source map for the report."""
+        pairs = []
+        for stmt in st.walk(self.program.body):
+            line = getattr(stmt, "line", None)
+            if (
+                isinstance(stmt, st.Block)
+                and type(line) is nodes.Line
+                and st.skip_error(line)
+                and (line.file or self.program.file) == self.program.file
+            ):
+                w.texts[0][line.number] = line.text
+                pairs.append("%d: %s" % (line.number, string(line.error or "")))
+        return Coll("unskippable={", pairs, "}") if pairs else None
 
     def sub_table(self) -> Coll:
         """``{"name": fn}`` for the main file's subroutines (for seeking);
@@ -1901,10 +1919,14 @@ def stmt_line(stmt: st.Stmt) -> Optional[nodes.Line]:
 
 
 def source_map_lines(
-    w: ModuleWriter, subs: Coll, end: Tuple[int, bool], opening: Optional[str]
+    w: ModuleWriter,
+    subs: Coll,
+    end: Tuple[int, bool],
+    opening: Optional[str],
+    unskippable: Optional[Coll] = None,
 ) -> List[str]:
-    """``__ngc__ = SourceMap(files, line map, texts, subs, end[, open error])``,
-    black's layout.
+    """``__ngc__ = SourceMap(files, line map, texts, subs, end[, open error]
+    [, unskippable=...])``, black's layout.
 
     Texts are one string per file, lines joined by newlines (only the lines
     the map refers to; others are empty), which compiles to one constant.
@@ -1929,7 +1951,8 @@ def source_map_lines(
             subs,
             Coll("(", ["%d" % end[0], str(end[1])], ")"),
         ]
-        + ([opening] if opening else []),
+        + ([opening] if opening else [])
+        + ([unskippable] if unskippable else []),
         ")",
     )
     return packed + call.layout(0)

@@ -82,8 +82,11 @@ class SourceMap:
         subs: Optional[dict] = None,
         end: Tuple[int, bool] = (0, False),
         open_error: Optional[Tuple[str, int]] = None,
+        unskippable: Optional[dict] = None,
     ):
         self.files = tuple(files)
+        #: main-file lines rs274 fails on even while skipping: line -> message
+        self.unskippable = unskippable or {}
         self.open_error = open_error
         self.subs = dict(subs or {})
         self.end = end

@@ -31,6 +31,12 @@ FANUC_END_M99 = "Fanuc 'O....' subroutine definition must end with 'M99'"
 _LINES = Pattern(r"\(lines (\d+)-\d+\)")
 
 
+def definition_line(fn: Callable) -> Optional[int]:
+    """The line of the main file where ``fn``'s definition starts."""
+    found = _LINES.search(fn.__doc__ or "")
+    return int(found.group(1)) if found is not None else None
+
+
 def _definition(source, fn: Callable) -> Optional[Location]:
     """Where ``fn``'s definition starts in the main file, as rs274 reports it."""
     found = _LINES.search(fn.__doc__ or "")
@@ -58,6 +64,7 @@ def m98_target(machine, name: str, read_ahead: Callable[[str], Callable]) -> Cal
     source = machine.source
     fanuc = source.subs.get("O" + name) if source is not None else None
     if fanuc is not None:
+        machine._skip_to(fanuc)  # reading ahead to it, rs274 may fail first
         return fanuc
     known = machine._subroutines.get(name)
     osub = known.fn if known is not None else None

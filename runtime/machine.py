@@ -553,12 +553,42 @@ class Machine(
         if self.source is None:
             raise GCodeError(f"Failed to find sub 'O{name}' before EOF")
         fn = self.source.subs.get(name)
+        if fn is not None and not self._after_the_call(fn):
+            fn = None  # rs274 reads forward from the call: it never gets there
+        self._skip_to(fn)
         if fn is None:
             if self.source.end[1]:
                 self.announce_block(None)
                 self.canon.finish()
             raise self.source.missing_sub(name, self.line)
         return fn
+
+    def _skip_to(self, fn: Optional[Callable]) -> None:
+        """Reading ahead from the call (in the main file) to where ``fn`` is
+        defined (None: to the end), rs274 fails at a line it cannot even
+        skip (an unclosed comment, an O-word it cannot read)."""
+        lines = self.source.unskippable
+        if not lines:
+            return
+        calls = g_code_frames_of_stack(self.line)
+        if not calls or calls[-1].file != self.source.files[0]:
+            return
+        start = calls[-1].line
+        end = fanuc_subs.definition_line(fn) if fn is not None else None
+        for line in sorted(lines):
+            if line > start and (end is None or line <= end):
+                text = self.source.text(0, line)
+                raise GCodeError(lines[line], Location(self.source.files[0], line, text))
+
+    def _after_the_call(self, fn: Callable) -> bool:
+        """Is the definition of ``fn`` further on in the main file than the
+        call being made (made from the main file)? A definition before it
+        was passed unread (in an if not taken, a loop not entered)."""
+        line = fanuc_subs.definition_line(fn)
+        calls = g_code_frames_of_stack(self.line)
+        if line is None or not calls or calls[-1].file != self.source.files[0]:
+            return True
+        return line > calls[-1].line
 
     def call(self, fn: Callable, *args: float) -> None:
         """An O-word call: fresh #1-#30 and locals, restored afterwards."""
@@ -623,6 +653,8 @@ class Machine(
         if fn is None:
             name = "%d" % to_integer(words["p"])
             fn = fanuc_subs.m98_target(self, name, self._read_ahead)
+        elif self.source is not None and self.source.unskippable:
+            self._skip_to(fn)  # reading ahead to it, rs274 may fail first
         times = words.get("l", 1)
         if times == 0:
             # rs274 enters the call but never runs or leaves it: the rest of

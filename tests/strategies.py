@@ -679,15 +679,18 @@ def define_sub(w: Writer, index: int) -> None:
         w.emit("M73")  # the caller's modes come back at the return
     for _ in range(w.draw(st.integers(1, 4))):
         stmt(w, nested=True)
+    # Values rs274 reads past the definition: no named local (undefined
+    # then; rs274 reads whatever its memory held for it).
+    defining = Scope(numbered=w.scope.numbered, named=[], args=nargs)
     if w.draw(st.integers(0, 3)) == 0:
-        # an early return with a value: rs274 reads it past the definition
+        # an early return with a value
         guard = w.new_label()
         w.emit(f"o{guard} if [{w.expr(1)} GT 0]")
-        w.emit(f"o{name} return [{w.expr(1)}]")
+        w.emit(f"o{name} return [{w.draw(expressions(defining, 1))}]")
         w.emit(f"o{guard} endif")
     w.depth -= 1
     if returns:
-        w.emit(f"o{name} endsub [{w.expr(1)}]")
+        w.emit(f"o{name} endsub [{w.draw(expressions(defining, 1))}]")
     else:
         w.emit(f"o{name} endsub")
     w.scope = saved_scope
@@ -1107,14 +1110,14 @@ def lang_sub(w: LanguageWriter, index: int) -> None:
 
 
 #: Values of a definition's endsub/return: rs274 reads them while it reads
-#: past the definition (a name not defined reads 0 there, not in a call).
+#: past the definition. (Not a name undefined then: rs274 does not fail on
+#: it there, but the value it reads is whatever its memory held.)
 _DEFINITION_VALUES = [
     "",
     "",
     " [2]",
     " [#<_g> + 1]",
     " [#1 * 2 + #<_value>]",
-    " [#<undefined> + 3]",
     " [#<_g> / [#<_g> - 1]]",
     " [SQRT[#<_value> + 4]]",
 ]
@@ -2120,7 +2123,7 @@ def subroutine_file_programs(draw) -> tuple:
         main_lines += [
             "o<local> sub",
             "  G0 X#1",
-            f"o<local> endsub [{draw(st.sampled_from(['7', '#<_seen> + 1', '#<nope>']))}]",
+            f"o<local> endsub [{draw(st.sampled_from(['7', '#<_seen> + 1', '#1 * 2']))}]",
             "(DEBUG, after local #<_value> #<_value_returned>)",
         ]
     first = outside_calls[0][0]
