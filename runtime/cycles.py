@@ -34,7 +34,7 @@ TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
     from typing import Dict, Optional, Tuple
 
-from runtime.blockcheck import Block
+from runtime.blockcheck import DRILL_CYCLES, Block
 from runtime.codes import (
     G73,
     G74,
@@ -84,8 +84,6 @@ def _radians(degrees: float) -> float:
     return degrees * math.pi / 180.0
 
 
-#: The cycles a data row may run without the general path (cycle_row).
-_ROW_CYCLES = frozenset((G73, G74, G81, G82, G83, G84, G85, G86, G87, G88, G89))
 #: The words such a row may have; an axis (X, Y or Z) must be among them.
 ROW_CYCLE_LETTERS = frozenset("xyzrpqlf")
 
@@ -114,7 +112,7 @@ class CyclesMixin:
         blocks of RETAIN_G43)."""
         motion = self.motion_mode
         if (
-            motion not in _ROW_CYCLES
+            motion not in DRILL_CYCLES
             or self.lathe_diameter
             or self.toolchange_flag
             or self.probe_flag

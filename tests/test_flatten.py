@@ -158,14 +158,19 @@ def test_flat_golden_program_makes_the_same_moves_in_rs274(program, rs274):
     }, extra
 
 
-@pytest.mark.rs274
-@settings(
+#: Generated programs flattened: few, the same ones every run (each runs
+#: rs274 twice).
+GENERATED = settings(
     max_examples=25,
     deadline=None,
     derandomize=True,
     database=None,
     suppress_health_check=list(HealthCheck),
 )
+
+
+@pytest.mark.rs274
+@GENERATED
 @given(strategies.valid_programs())
 def test_flat_generated_program_makes_the_same_moves(text):
     program = harness.REPO / "tests" / "_generated" / "prog.ngc"
@@ -223,26 +228,14 @@ def cam_programs_with_parameters(draw):
 
 
 @pytest.mark.rs274
-@settings(
-    max_examples=25,
-    deadline=None,
-    derandomize=True,
-    database=None,
-    suppress_health_check=list(HealthCheck),
-)
+@GENERATED
 @given(cam_programs_with_parameters())
 def test_flat_cam_program_makes_the_same_moves(text):
     assert_flat_makes_the_same_moves("cam.ngc", text)
 
 
 @pytest.mark.rs274
-@settings(
-    max_examples=25,
-    deadline=None,
-    derandomize=True,
-    database=None,
-    suppress_health_check=list(HealthCheck),
-)
+@GENERATED
 @given(cam_strategies.arc_programs())
 def test_flat_arc_program_makes_the_same_moves(text):
     """Arc tables: runs of one layout reach flatten as one arc_moves call."""
