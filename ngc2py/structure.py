@@ -411,7 +411,9 @@ class _Builder:
         word = line.oword
         if word is not None and self.stale_jumps:
             name = str(word.name)
-            self.stale_jumps = [j for j in self.stale_jumps if j[0].split("#")[-1] != name]
+            self.stale_jumps = [
+                j for j in self.stale_jumps if j[0].split("#")[-1] != name
+            ]
         sub = self.open_sub()
         if sub is not None and sub.define_error is None:
             message = define_error(line, sub.name)
@@ -711,6 +713,10 @@ class _Builder:
             if seen[0] in ("while", "do"):
                 # rs274 skips forward to the label: with no line carrying it
                 # later in the file, that is the end of the file (finish).
+                # Unless that opener never ran (an arm not taken): then rs274
+                # knows no such label, which only the run can tell.
+                if self._track(key, seen):
+                    self.body.append(LabelCheck(line, key, word.keyword))
                 self.fail(line, message)
                 self.stale_jumps.append((key, self.body[-1]))
                 return
@@ -795,15 +801,26 @@ class _Builder:
             self.labels[label] = (word.keyword, line.number, self.body, node)
             return
         key = self._key(label)
-        if key not in self.tracked:
-            self.tracked.add(key)
-            _, _, body, first = seen
-            index = next(i for i, stmt in enumerate(body) if stmt is first)
-            line1 = first.branches[0].line if isinstance(first, If) else first.line
-            body.insert(index, LabelCheck(line1, key, seen[0]))
-            if isinstance(first, Loop) and first.kind == "do" and first.end:
-                first.body.append(LabelCheck(first.end, key, "do-end"))
+        self._track(key, seen)
         self.body.insert(len(self.body) - 1, LabelCheck(line, key, word.keyword))
+
+    def _track(self, key: str, seen: tuple) -> bool:
+        """From now on, look ``key`` up at run time: the opener first seen
+        with it (``seen``) records it when it runs (runtime.olabels). False
+        when that opener is no longer a statement of its body (a construct
+        abandoned or replaced by a failure): nothing is tracked."""
+        if key in self.tracked:
+            return True
+        _, _, body, first = seen
+        index = next((i for i, stmt in enumerate(body) if stmt is first), None)
+        if index is None:
+            return False
+        self.tracked.add(key)
+        line1 = first.branches[0].line if isinstance(first, If) else first.line
+        body.insert(index, LabelCheck(line1, key, seen[0]))
+        if isinstance(first, Loop) and first.kind == "do" and first.end:
+            first.body.append(LabelCheck(first.end, key, "do-end"))
+        return True
 
     def _duplicate(self, line: nodes.Line, word: nodes.OWord, message: str) -> bool:
         """Fail (and return True) if an opener reuses the label of a
@@ -1093,7 +1110,11 @@ def entry_sub(file: str, lines: list, index: int, demarcated: bool = False) -> S
 
 
 def seek_result(
-    file: str, lines: list, last: Optional[nodes.Line], after: int, name: str,
+    file: str,
+    lines: list,
+    last: Optional[nodes.Line],
+    after: int,
+    name: str,
     demarcated: bool = False,
 ) -> Sub:
     """What a call of ``name`` runs when rs274 seeks it in ``file`` from
