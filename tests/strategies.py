@@ -388,7 +388,8 @@ def stmt_codes(w: Writer) -> None:
         w.emit(w.draw(st.sampled_from([
             f"T{tool} M6", f"T{tool} M6 G43", "G43", f"G43 H{tool}", f"G43.2 H{max(tool, 1)}",
             "G49", f"M61 Q{tool}", f"T{tool}", f"G43.1 Z{w.draw(numbers())}",
-            f"G43.2 Z{w.draw(numbers())}",
+            # (G43.2 with axis words fails in rs274 2.9: "Requested tool -1")
+            f"G43.1 X{w.draw(numbers())}",
         ])))
     elif kind == 1:
         letter = w.draw(st.sampled_from(["Z", "X", "Z", "R", "I", "J"]))

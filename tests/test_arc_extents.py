@@ -55,8 +55,11 @@ def test_extents_bound_the_arc_and_are_reached(arc):
         # Every sampled point lies inside the exact box ...
         assert lo <= slo + 1e-9 * size and shi <= hi + 1e-9 * size
         # ... and the exact box is no bigger than the arc: sampling 20k
-        # points a turn misses at most r * (1 - cos(pi / 20000)).
-        slack = size * 2e-8 + 1e-9 * max(abs(lo), abs(hi), 1.0)
+        # points a turn misses a peak by at most half its curvature times
+        # the half step squared, (r + 2|dr/dθ|) (pi / 20000)² / 2 (for a
+        # circle, r (1 - cos(pi / 20000))).
+        spiral = 2.0 * abs(arc.r1 - arc.r0) / abs(arc.sweep) if arc.sweep else 0.0
+        slack = (size + spiral) * 2e-8 + 1e-9 * max(abs(lo), abs(hi), 1.0)
         assert slo - lo <= slack and hi - shi <= slack
 
 
