@@ -831,16 +831,19 @@ class _PrintCatcher:
 
 
 def _flatten_machine():
-    """A Machine whose blocks take the general path, one by one: the fast
-    path (runtime/fastpath.py) announces only changes of N, and flatten
-    needs each block's start to group its calls. The exception is a whole
-    batch of plain rows (runtime.rows.BatchesOnly), which
-    FlattenCanon.straight_moves writes itself."""
+    """A Machine whose blocks each announce their start (FlattenCanon groups
+    calls by block; the fast path alone announces only changes of N): lines
+    of one plain move or arc announce it and take the fast path
+    (runtime.rows.BatchesOnly), whole batches of plain rows reach
+    FlattenCanon.straight_moves and arc_moves."""
     from runtime.machine import Machine
     from runtime.rows import BatchesOnly
 
     class FlattenMachine(BatchesOnly, Machine):
-        pass
+        def _line_begins(self, line, n):
+            # the block starts: FlattenCanon groups its calls from here
+            self.line = line
+            self.announce_block(n)
 
     return FlattenMachine
 

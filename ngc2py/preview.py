@@ -494,22 +494,14 @@ class PreviewMachine(BatchesOnly, Machine):
     # as the general path's do; the state this line leaves differs from
     # it only in the motion mode, the feed rate and the line number, so
     # it is worked out once per (motion, feed) until a general block runs.
-    rows_by_move = True
-
     def refresh_plain(self) -> None:
         super().refresh_plain()
         self._line_states = {}
 
-    def _plain_line(self, run, line, *args, **words) -> None:
-        if not self._batchable or self.reading_profile:
-            # the general path (a G7x profile's lines go to its reader)
-            return run(line, *args, **words)
-        before = self.active
-        self._plain = True
-        try:
-            run(line, *args, **words)
-        finally:
-            self._plain = False
+    def _line_begins(self, line, n):
+        return self.active
+
+    def _line_ended(self, line, before) -> None:
         if self.active is before:  # the fast path took it: no block wrote the state
             key = (self.motion_mode, self.feed_rate, self.params.get_internal(5210))
             state = self._line_states.get(key)
@@ -525,18 +517,6 @@ class PreviewMachine(BatchesOnly, Machine):
 
     def cycle_row(self, line, words) -> bool:
         return False  # block() writes the state each line is announced with
-
-    def move(self, line, *args, **words) -> None:
-        self._plain_line(super().move, line, *args, **words)
-
-    def feed(self, line, *args, **words) -> None:
-        self._plain_line(super().feed, line, *args, **words)
-
-    def rapid(self, line, *args, **words) -> None:
-        self._plain_line(super().rapid, line, *args, **words)
-
-    def arc(self, line, *args, **words) -> None:
-        self._plain_line(super().arc, line, *args, **words)
 
     def block(self, line, *codes, n=None, comment=None, **words):
         try:

@@ -257,13 +257,48 @@ class BatchesOnly:
 
     _batchable = False
     #: run_rows hands rows the batches leave to move() and arc(), as lines of
-    #: the program would be, not to block(): for a machine whose own move()
-    #: keeps every line's announcement (the preview's).
-    rows_by_move = False
+    #: the program would be, not to block(): see _single_line.
+    rows_by_move = True
 
     def refresh_plain(self) -> None:
         super().refresh_plain()
         self._batchable, self._plain = self._plain, False
+
+    # A line of a single plain move or arc (m.move, m.feed, m.rapid, m.arc,
+    # and the data rows run_rows hands them) takes the fast path while the
+    # modes are plain, between _line_begins and _line_ended, which a
+    # subclass defines to keep its canon's view of blocks (the preview's
+    # line codes, flatten's groups): the fast path makes the very calls of
+    # the general one.
+    def _single_line(self, run, line, *args, **words) -> None:
+        if not self._batchable or self.reading_profile:
+            # the general path (a G7x profile's lines go to its reader)
+            return run(line, *args, **words)
+        token = self._line_begins(line, words.get("n"))
+        self._plain = True
+        try:
+            run(line, *args, **words)
+        finally:
+            self._plain = False
+        self._line_ended(line, token)
+
+    def _line_begins(self, line: int, n: Optional[str]):
+        """A line is about to take the fast path; returns what _line_ended gets."""
+
+    def _line_ended(self, line: int, token) -> None:
+        """The line has run (by the fast path or, stepping aside, by block())."""
+
+    def move(self, line, *args, **words) -> None:
+        self._single_line(super().move, line, *args, **words)
+
+    def feed(self, line, *args, **words) -> None:
+        self._single_line(super().feed, line, *args, **words)
+
+    def rapid(self, line, *args, **words) -> None:
+        self._single_line(super().rapid, line, *args, **words)
+
+    def arc(self, line, *args, **words) -> None:
+        self._single_line(super().arc, line, *args, **words)
 
     def plain_rows(self, cells: List[str], at: int, end: int, plans) -> int:
         if not self._batchable or self._block_n is not None:
