@@ -108,14 +108,15 @@ class CyclesMixin:
         with it (announce, copy the point, set F, drill, publish), without
         reading, enhancing and checking a line whose only possible outcome
         is this cycle. False, having done nothing, where ``block`` must
-        decide (no cycle, G7 diameters, a tool change or probe pending, the
-        blocks of RETAIN_G43)."""
+        decide (no cycle, G7 diameters, a tool change or probe pending, a G7x
+        profile being read, the blocks of RETAIN_G43)."""
         motion = self.motion_mode
         if (
             motion not in DRILL_CYCLES
             or self.lathe_diameter
             or self.toolchange_flag
             or self.probe_flag
+            or self.reading_profile  # a G7x profile's lines go to its reader
             or "_execute" in self.__dict__
         ):
             return False
