@@ -18,7 +18,7 @@ from runtime.errors import SourceMap
 TYPE_CHECKING = False  # `ngc2py run` is timed against rs274: no typing import
 if TYPE_CHECKING:
     import argparse
-    from typing import List, Optional
+    from typing import List, Optional, Sequence
 
 DESCRIPTION = """\
 Compile LinuxCNC G-code (RS274/NGC, LinuxCNC 2.9) into a readable Python
@@ -39,7 +39,7 @@ bad usage); golden: 1 a program changed, 2 nothing to check. See the
 README's "Exit status" section."""
 
 
-def build_parser(workflows: bool = True) -> argparse.ArgumentParser:
+def build_parser(workflows: Sequence[str] = WORKFLOWS) -> argparse.ArgumentParser:
     import argparse  # here: `ngc2py run PROG` is parsed without it (quick_run_args)
 
     parser = argparse.ArgumentParser(
@@ -92,7 +92,7 @@ def build_parser(workflows: bool = True) -> argparse.ArgumentParser:
         "-b", dest="block_delete", action="store_true", help="turn block delete on"
     )
     run.add_argument("-q", "--quiet", action="store_true", help=QUIET_HELP)
-    for workflow in WORKFLOWS if workflows else ():
+    for workflow in workflows:
         importlib.import_module(workflow).register(commands)  # its sub-command
     run.add_argument(
         "-n",
@@ -272,10 +272,15 @@ def quick_run_args(argv: List[str]):
 
 
 def _parser_for(argv: List[str]) -> argparse.ArgumentParser:
-    """The parser, without the workflows' sub-commands when ``argv`` runs or
-    converts a program: importing them would add to every ``ngc2py run``."""
-    core = bool(argv) and argv[0] in ("run", "convert")
-    return build_parser(workflows=not core or bool({"-h", "--help"} & set(argv)))
+    """The parser, with only the sub-command ``argv`` names when it names
+    one: importing every workflow module would add to every ``ngc2py run``
+    or ``ngc2py stats`` (a few tens of milliseconds)."""
+    command = argv[0] if argv else ""
+    if command in ("run", "convert"):
+        helps = bool({"-h", "--help"} & set(argv))
+        return build_parser(WORKFLOWS if helps else ())
+    module = "ngc2py." + command
+    return build_parser((module,) if module in WORKFLOWS else WORKFLOWS)
 
 
 def main(argv: Optional[List[str]] = None) -> int:
