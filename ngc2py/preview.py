@@ -516,7 +516,15 @@ class PreviewMachine(BatchesOnly, Machine):
             )
 
     def cycle_row(self, line, words) -> bool:
-        return False  # block() writes the state each line is announced with
+        # A row of hole words is executed, never read past (an error in
+        # its cycle reports the row itself), and leaves the state block()
+        # would write for a line with no codes.
+        self.reading = False
+        done = super().cycle_row(line, words)
+        self.reading = True
+        if done:
+            self.active = self._active((), line)
+        return done
 
     def block(self, line, *codes, n=None, comment=None, **words):
         try:

@@ -29,6 +29,7 @@ from hypothesis import given, reject, settings
 from hypothesis import strategies as st
 
 import cam_strategies
+import test_cycles
 import rs274 as harness
 from gcode_answers import ANSWERS, QUESTIONS  # the canon's answers, shared
 import strategies
@@ -376,6 +377,15 @@ def test_cam_tables_match_gcode_parse(text, units):
     straight_moves call each (runtime.rows.BatchesOnly); every next_line
     and move must still be gcode.parse's."""
     _compare_generated(units + "\n" + text)
+
+
+@needs_gcode
+@settings(PROFILE)
+@given(test_cycles.cycle_tables())
+def test_cycle_tables_match_gcode_parse(text):
+    """Rows of hole words under a modal canned cycle (Machine.cycle_row):
+    every move, line code and error line must still be gcode.parse's."""
+    _compare_generated(text)
 
 
 LOOP_BODIES = [
