@@ -189,6 +189,16 @@ def plus_half_pi_l(x: float, sign: int) -> float:
     return -value if negative else value
 
 
+def _publish(machine, line: int, cur, motion_mode) -> None:
+    """What a run of rows leaves: the line of its last row and, if it
+    moved, the end point and the motion."""
+    machine.line = line
+    if cur is not machine.current:
+        machine.current = machine.world.position = cur
+        machine.params.position = cur
+        machine.motion_mode = motion_mode
+
+
 class ArcRows:
     """The loop over a run of arc rows of one table (runtime.rows): made
     once per ``run_rows`` call, it keeps each shape's recipe per plane and
@@ -413,11 +423,7 @@ class ArcRows:
                 motion_mode = motion
                 at += 2 + width
         finally:
-            machine.line = int(cells[row])
-            if cur is not machine.current:
-                machine.current = machine.world.position = cur
-                machine.params.position = cur
-                machine.motion_mode = motion_mode
+            _publish(machine, int(cells[row]), cur, motion_mode)
             if feed_given:
                 machine.feed_rate = machine.world.feed_rate = feed_rate
             machine._block_n = block_n
@@ -466,11 +472,7 @@ class ArcRows:
                 row = at + (rows - 1) * stride
                 at += rows * stride
         finally:
-            machine.line = int(cells[row])
-            if cur is not machine.current:
-                machine.current = machine.world.position = cur
-                machine.params.position = cur
-                machine.motion_mode = motion_mode
+            _publish(machine, int(cells[row]), cur, motion_mode)
         return at
 
     def _groups(self) -> dict:

@@ -173,22 +173,9 @@ GENERATED = settings(
 @GENERATED
 @given(strategies.valid_programs())
 def test_flat_generated_program_makes_the_same_moves(text):
-    program = harness.REPO / "tests" / "_generated" / "prog.ngc"
-    expected = harness.run_rs274(program, text=text, timeout=20)
-    if expected.rc != 0:
-        reject()  # flatten only writes programs that run to their end
-    try:
-        original, flat_run, flat = flatten_and_run(program, [], text=text)
-    except Refused:
-        # a call flatten deliberately refuses (probing, ...): the golden
-        # programs' xfails name each one; the property holds for the rest
-        reject()
-    assert flat_run.returncode == 0, (
-        harness.first_error_line(flat_run.stderr) + "\n" + flat
-    )
-    assert motion(calls(flat_run.stdout)) == motion(calls(original.stdout)), (
-        text + "\n----\n" + flat + harness.stdout_diff(original.stdout, flat_run.stdout)
-    )
+    # a program flatten deliberately refuses (probing, ...) is rejected: the
+    # golden programs' xfails name each refusal; the property holds for the rest
+    assert_flat_makes_the_same_moves("prog.ngc", text)
 
 
 def assert_flat_makes_the_same_moves(name: str, text: str) -> None:
