@@ -114,13 +114,19 @@ class Arc:
             return points
         theta0, r0 = self.theta0, self.r0
         k = (self.r1 - r0) / sweep  # dr/dθ
+        if not math.isfinite(k):
+            # A sweep too small for its change of radius to be divided by is
+            # a radial segment: its ends bound it.
+            return points
 
         def h(theta: float) -> float:
             return theta + math.atan2(r0 + k * (theta - theta0), k)
 
         def slope(theta: float) -> float:
-            r = r0 + k * (theta - theta0)
-            return 1.0 + k * k / (k * k + r * r) if k else 1.0
+            if not k:
+                return 1.0
+            ratio = (r0 + k * (theta - theta0)) / k  # k² would overflow first
+            return 1.0 + 1.0 / (1.0 + ratio * ratio)
 
         low, high = sorted((theta0, theta0 + sweep))
         h_low, h_high = h(low), h(high)

@@ -78,3 +78,13 @@ def test_many_turns_cost_no_more_points():
     assert len(one.extreme_points()) <= 2 + 8
     # the spiral grows from radius 1 to 2: the last turn reaches about -2 in X
     assert min(p[0] for p in many.extreme_points()) < -1.99999
+
+
+def test_a_sweep_too_small_to_divide_by_is_bounded_by_its_ends():
+    # Found by CI: the change of radius over a subnormal sweep overflows
+    # dr/dθ; such an arc is a radial segment between its ends.
+    start = (0.0005, 1.112536929256e-312) + (0.0,) * 7
+    end = (0.00015, 3.3376107878e-313) + (0.0,) * 7
+    arc = make_arc(start, end, (0, 1, 2), (0.0, 0.0), 1)
+    assert 0.0 < arc.sweep < 1e-300
+    assert box(arc.extreme_points(), range(9)) == box([start, end], range(9))
