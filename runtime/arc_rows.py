@@ -280,6 +280,22 @@ class ArcRows:
         groups = self.groups if self.groups is not None else self._groups()
         # a canon that reads the line number in its calls (ngc2py.moves)
         row_lines = canon.reads_lines
+        # A canon with its own arc_moves takes the arcs between its other
+        # calls as one batch of columns, whatever their words (the run
+        # below of one shape is only the trace's special case).
+        pending = (
+            []
+            if type(canon) is not TraceCanon
+            and type(canon).arc_moves is not Canon.arc_moves
+            else None
+        )
+        if pending is not None:
+            arc_moves = canon.arc_moves
+
+            def flush() -> None:
+                arc_moves(*map(list, zip(*pending)))
+                pending.clear()
+
         row = at
         try:
             while at < end:
@@ -317,6 +333,8 @@ class ArcRows:
                             break
                     elif motion != G0 or (f is not None and f < 0.0):
                         break
+                    if pending:
+                        flush()
                     if n != block_n:
                         canon.set_block_number(n)
                         block_n = n
@@ -345,6 +363,8 @@ class ArcRows:
                     and cells[at + 1 + (2 + width) * (_BATCH - 1)]
                     in groups.get(key, ())
                 ):
+                    if pending:
+                        flush()
                     done = self._batch(
                         cells, at, end, recipe, cur, feed_rate, absolute, zero, spiral
                     )
@@ -404,25 +424,38 @@ class ArcRows:
                         break
                     c1, c2 = centre
                 if n != block_n:
+                    if pending:
+                        flush()
                     canon.set_block_number(n)
                     block_n = n
                 if f is not None:
+                    if pending:
+                        flush()
                     feed_rate = f
                     feed_given = True
                     set_feed_rate(f)
-                arc_feed(
-                    e1,
-                    e2,
-                    c1,
-                    c2,
-                    -1 if motion == G2 else 1,
-                    point[p3],
-                    *point[3:],
-                )
+                if pending is not None:
+                    pending.append(
+                        (int(cells[at]), e1, e2, c1, c2, -1 if motion == G2 else 1)
+                        + (point[p3],)
+                        + tuple(point[3:])
+                    )
+                else:
+                    arc_feed(
+                        e1,
+                        e2,
+                        c1,
+                        c2,
+                        -1 if motion == G2 else 1,
+                        point[p3],
+                        *point[3:],
+                    )
                 cur = point
                 motion_mode = motion
                 at += 2 + width
         finally:
+            if pending:
+                flush()
             _publish(machine, int(cells[row]), cur, motion_mode)
             if feed_given:
                 machine.feed_rate = machine.world.feed_rate = feed_rate
