@@ -249,7 +249,7 @@ class ArcRows:
             return at
         if not machine._plain:
             if (
-                getattr(machine, "_batchable", False)
+                machine._batchable
                 and machine._block_n is None
                 and type(machine.canon).arc_moves is not Canon.arc_moves
             ):
