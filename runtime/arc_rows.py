@@ -199,6 +199,32 @@ def _publish(machine, line: int, cur, motion_mode) -> None:
         machine.motion_mode = motion_mode
 
 
+class _Pending:
+    """Arc rows held for one ``arc_moves`` call (a canon that defines it):
+    ``rows`` of arc_feed's arguments after the G-code line, from ``start``."""
+
+    __slots__ = ("machine", "arc_moves", "rows", "start")
+
+    @classmethod
+    def for_canon(cls, machine) -> "Optional[_Pending]":
+        canon = machine.canon
+        if type(canon) is TraceCanon or type(canon).arc_moves is Canon.arc_moves:
+            return None
+        pending = cls()
+        pending.machine, pending.arc_moves = machine, canon.arc_moves
+        pending.rows, pending.start = [], machine.current
+        return pending
+
+    def flush(self) -> None:
+        """The held rows to the canon, the machine at their start (the row
+        loop keeps its point in a local variable)."""
+        machine = self.machine
+        machine.current = machine.world.position = self.start
+        machine.params.position = self.start
+        self.arc_moves(*map(list, zip(*self.rows)))
+        self.rows.clear()
+
+
 class ArcRows:
     """The loop over a run of arc rows of one table (runtime.rows): made
     once per ``run_rows`` call, it keeps each shape's recipe per plane and
@@ -267,6 +293,7 @@ class ArcRows:
             return at
         zero = arcs.radius_tolerance(machine.inches)
         spiral = machine.spiral_tolerance()
+        geometry = (p1, p2, absolute, zero, spiral)
         canon = machine.canon
         arc_feed, set_feed_rate = canon.arc_feed, canon.set_feed_rate
         straight_feed = canon.straight_feed
@@ -283,26 +310,10 @@ class ArcRows:
         # a canon that reads the line number in its calls (ngc2py.moves)
         row_lines = canon.reads_lines
         # A canon with its own arc_moves takes the arcs between its other
-        # calls as one batch of columns, whatever their words (the run
-        # below of one shape is only the trace's special case).
-        pending = (
-            []
-            if type(canon) is not TraceCanon
-            and type(canon).arc_moves is not Canon.arc_moves
-            else None
-        )
-        if pending is not None:
-            arc_moves = canon.arc_moves
-            # where the batch starts: the machine's point as its canon
-            # calls are made (the row loop keeps the point in ``cur``)
-            batch_start = [cur]
-
-            def flush() -> None:
-                machine.current = machine.world.position = batch_start[0]
-                machine.params.position = batch_start[0]
-                arc_moves(*map(list, zip(*pending)))
-                pending.clear()
-
+        # calls as one batch of columns, whatever their words (the run of
+        # one shape that _batch takes is only the trace's special case).
+        pending = _Pending.for_canon(machine)
+        held = None if pending is None else pending.rows
         row = at
         try:
             while at < end:
@@ -320,28 +331,14 @@ class ArcRows:
                     line = straight.get(key)
                     if line is None or arcs_only:
                         break
-                    motion, has_n, f_at, width, slots = line
-                    stride = 2 + width
-                    if end - at >= stride * _BATCH and (
-                        cells[at + 1 + stride * (_BATCH - 1)] == key
-                    ):
-                        break  # a stretch runtime.printed_rows writes at once
-                    if motion is None:
-                        motion = motion_mode
-                    start = at + 2
-                    if has_n:
-                        n = cells[start]
-                        start += 1
-                    else:
-                        n = None
-                    f = None if f_at < 0 else float(cells[start + f_at])
-                    if motion == G1:
-                        if (feed_rate if f is None else f) <= 0.0:
-                            break
-                    elif motion != G0 or (f is not None and f < 0.0):
+                    move = self._straight_row(
+                        cells, at, end, key, line, motion_mode, feed_rate, cur
+                    )
+                    if move is None:
                         break
-                    if pending:
-                        flush()
+                    stride, motion, n, f, point = move
+                    if held:
+                        pending.flush()
                     if n != block_n:
                         canon.set_block_number(n)
                         block_n = n
@@ -349,9 +346,6 @@ class ArcRows:
                         feed_rate = f
                         feed_given = True
                         set_feed_rate(f)
-                    point = cur[:]
-                    for i, axis in slots:
-                        point[axis] = float(cells[start + i])
                     if motion == G1:
                         straight_feed(*point)
                     else:
@@ -372,8 +366,8 @@ class ArcRows:
                     and cells[at + 1 + (2 + width) * (_BATCH - 1)]
                     in groups.get(key, ())
                 ):
-                    if pending:
-                        flush()
+                    if held:
+                        pending.flush()
                     done = self._batch(
                         cells, at, end, recipe, cur, feed_rate, absolute, zero, spiral
                     )
@@ -393,68 +387,33 @@ class ArcRows:
                     motion = motion_mode
                     if motion != G2 and motion != G3:
                         break
-                start = at + 2
-                if has_n:
-                    n = cells[start]
-                    start += 1
-                else:
-                    n = None
-                if f_at >= 0:
-                    f = float(cells[start + f_at])
-                    if f <= 0.0:  # negative, or an arc without feed: errors
-                        break
-                else:
-                    f = None
-                    if feed_rate == 0.0:
-                        break
-                point = cur[:]
-                for i, axis in slots:
-                    point[axis] = float(cells[start + i])
-                s1, s2, e1, e2 = cur[p1], cur[p2], point[p1], point[p2]
-                if r_at < 0:
-                    v1 = float(cells[start + i1]) if i1 >= 0 else 0.0
-                    v2 = float(cells[start + i2]) if i2 >= 0 else 0.0
-                    if absolute:
-                        c1, c2 = v1, v2
-                    else:
-                        c1, c2 = s1 + v1, s2 + v2
-                    # centre_checks_pass, inlined
-                    r1 = hypot(c1 - s1, c2 - s2)
-                    r2 = hypot(c1 - e1, c2 - e2)
-                    if r1 < r2:
-                        r1, r2 = r2, r1
-                    if not (r2 * _BELOW >= zero and (r1 - r2) + r1 * _MARGIN <= spiral):
-                        break
-                else:
-                    centre = radius_centre(
-                        motion == G2, s1, s2, e1, e2, float(cells[start + r_at]), zero
-                    )
-                    if centre is None:
-                        break
-                    c1, c2 = centre
+                arc = self._arc_row(cells, at, recipe, motion, cur, feed_rate, geometry)
+                if arc is None:
+                    break
+                n, f, point, c1, c2 = arc
                 if n != block_n:
-                    if pending:
-                        flush()
+                    if held:
+                        pending.flush()
                     canon.set_block_number(n)
                     block_n = n
                 if f is not None:
-                    if pending:
-                        flush()
+                    if held:
+                        pending.flush()
                     feed_rate = f
                     feed_given = True
                     set_feed_rate(f)
-                if pending is not None:
-                    if not pending:
-                        batch_start[0] = cur
-                    pending.append(
-                        (int(cells[at]), e1, e2, c1, c2, -1 if motion == G2 else 1)
-                        + (point[p3],)
+                if held is not None:
+                    if not held:
+                        pending.start = cur
+                    held.append(
+                        (int(cells[at]), point[p1], point[p2], c1, c2)
+                        + (-1 if motion == G2 else 1, point[p3])
                         + tuple(point[3:])
                     )
                 else:
                     arc_feed(
-                        e1,
-                        e2,
+                        point[p1],
+                        point[p2],
                         c1,
                         c2,
                         -1 if motion == G2 else 1,
@@ -465,13 +424,92 @@ class ArcRows:
                 motion_mode = motion
                 at += 2 + width
         finally:
-            if pending:
-                flush()
+            if held:
+                pending.flush()
             _publish(machine, int(cells[row]), cur, motion_mode)
             if feed_given:
                 machine.feed_rate = machine.world.feed_rate = feed_rate
             machine._block_n = block_n
         return at
+
+    def _straight_row(self, cells, at, end, key, line, motion_mode, feed_rate, cur):
+        """The straight move of the row at ``at`` (its shape's ``line``
+        spec): (stride, motion, N, F or None, end point), or None where the
+        row loop must stop (a stretch printed_rows writes at once, a feed
+        of no rate, a motion no straight move)."""
+        motion, has_n, f_at, width, slots = line
+        stride = 2 + width
+        if end - at >= stride * _BATCH and (
+            cells[at + 1 + stride * (_BATCH - 1)] == key
+        ):
+            return None  # a stretch runtime.printed_rows writes at once
+        if motion is None:
+            motion = motion_mode
+        start = at + 2
+        if has_n:
+            n = cells[start]
+            start += 1
+        else:
+            n = None
+        f = None if f_at < 0 else float(cells[start + f_at])
+        if motion == G1:
+            if (feed_rate if f is None else f) <= 0.0:
+                return None
+        elif motion != G0 or (f is not None and f < 0.0):
+            return None
+        point = cur[:]
+        for i, axis in slots:
+            point[axis] = float(cells[start + i])
+        return stride, motion, n, f, point
+
+    @staticmethod
+    def _arc_row(cells, at, recipe, motion, cur, feed_rate, geometry):
+        """The arc of the row at ``at``: (N, F or None, end point, centre's
+        two coordinates), or None where the general path must decide (no
+        feed, a radius not surely within the tolerances, an R arc it
+        rejects). The same checks and floating-point steps as
+        Machine.plain_arc."""
+        _, has_n, f_at, _, slots, r_at, i1, i2 = recipe
+        p1, p2, absolute, zero, spiral = geometry
+        start = at + 2
+        if has_n:
+            n = cells[start]
+            start += 1
+        else:
+            n = None
+        if f_at >= 0:
+            f = float(cells[start + f_at])
+            if f <= 0.0:  # negative, or an arc without feed: errors
+                return None
+        else:
+            f = None
+            if feed_rate == 0.0:
+                return None
+        point = cur[:]
+        for i, axis in slots:
+            point[axis] = float(cells[start + i])
+        s1, s2, e1, e2 = cur[p1], cur[p2], point[p1], point[p2]
+        if r_at < 0:
+            v1 = float(cells[start + i1]) if i1 >= 0 else 0.0
+            v2 = float(cells[start + i2]) if i2 >= 0 else 0.0
+            if absolute:
+                c1, c2 = v1, v2
+            else:
+                c1, c2 = s1 + v1, s2 + v2
+            # centre_checks_pass, inlined
+            r1 = hypot(c1 - s1, c2 - s2)
+            r2 = hypot(c1 - e1, c2 - e2)
+            if r1 < r2:
+                r1, r2 = r2, r1
+            if not (r2 * _BELOW >= zero and (r1 - r2) + r1 * _MARGIN <= spiral):
+                return None
+            return n, f, point, c1, c2
+        centre = radius_centre(
+            motion == G2, s1, s2, e1, e2, float(cells[start + r_at]), zero
+        )
+        if centre is None:
+            return None
+        return (n, f, point) + centre
 
     def _groups(self) -> dict:
         by_words: dict = {}
@@ -569,6 +607,31 @@ class ArcRows:
                 c1,
                 c2,
             )
+        return self._trace_text(
+            canon,
+            cells,
+            at,
+            stop,
+            recipe,
+            shapes,
+            texts,
+            named,
+            cur,
+            feed_rate,
+            (e1, e2, c1, c2),
+        )
+
+    def _trace_text(
+        self, canon, cells, at, stop, recipe, shapes, texts, named, cur, feed_rate, ends
+    ):
+        """_batch's answer for the trace: the rows' lines made from one
+        pattern (the words each row gives as columns, the rest constant)
+        and written at once."""
+        _, has_n, f_at, width, slots, _, _, _ = recipe
+        rows, stride = len(shapes), width + 2
+        e1, e2, c1, c2 = ends
+        group = self.groups[cells[at + 1]]
+        p1, p2, p3 = PLANE_AXES[self.machine.plane]
         rate = None
         if f_at >= 0:
             rates = list(map(float, texts[f_at]))
@@ -605,7 +668,9 @@ class ArcRows:
                 columns.append(texts[named[axis]])
             else:
                 parts.append("%.4f")
-                columns.append(known if known is not None else floats(axis))
+                columns.append(
+                    known if known is not None else column_floats(texts[named[axis]])
+                )
         count = canon._count
         if has_n:
             column = "N%-6s"

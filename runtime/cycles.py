@@ -32,7 +32,7 @@ import math
 
 TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
-    from typing import Dict, Optional, Tuple
+    from typing import Dict, Tuple
 
 from runtime.blockcheck import DRILL_CYCLES, Block
 from runtime.codes import (
@@ -274,23 +274,20 @@ class CyclesMixin:
         the first moves), and return what drills one hole at (aa, bb)."""
         name = _code_name(motion)
         first = self.motion_mode != motion
-        move = self._cycle_move
+        drill = _Drill(self, motion, name, r, clear, bottom)
         if motion in _DWELL_CYCLES:
             p = words.get("p", _ABSENT)
             if first and p == _ABSENT:
                 raise GCodeError(f"Dwell time p word missing with {name.lower()}")
-            dwell = self.cycle_p if p == _ABSENT else p
-            self.cycle_p = dwell
+            drill.dwell = self.cycle_p = self.cycle_p if p == _ABSENT else p
         elif motion in _PECK_CYCLES:
             q = words.get("q", _ABSENT)
             if first and q == _ABSENT:
                 raise GCodeError(f"Q word missing with {name.lower()}")
-            delta = self.cycle_q if q == _ABSENT else q
-            self.cycle_q = delta
+            drill.delta = self.cycle_q = self.cycle_q if q == _ABSENT else q
         elif motion in (G74, G84):
             p = words.get("p", _ABSENT)
-            dwell = self.cycle_p if p == _ABSENT else p
-            self.cycle_p = dwell
+            drill.dwell = self.cycle_p = self.cycle_p if p == _ABSENT else p
         elif motion == G87:
             if first:
                 for letter in "ijk":
@@ -301,117 +298,9 @@ class CyclesMixin:
             self.cycle_k = words.get("k", self.cycle_k)
             offsets = (self.cycle_i, self.cycle_j, self.cycle_k)
             ia, ib, ic = _GEOMETRY[plane]
-            off_a, off_b, middle = offsets[ia], offsets[ib], offsets[ic]
-            if self.distance_incremental:
-                middle += bottom
-
-        canon = self.canon
-
-        def g81(aa, bb):
-            move(False, aa, bb, bottom)
-            move(True, aa, bb, clear)
-
-        def g82(aa, bb):
-            move(False, aa, bb, bottom)
-            canon.dwell(dwell)
-            move(True, aa, bb, clear)
-
-        def pecks(aa, bb):
-            if delta <= 0.0:
-                raise GCodeError("Negative or zero q value used")
-            back_off = PECK_CLEARANCE_INCH * (1.0 if self.inches else 25.4)
-            depth = r - delta
-            while depth > bottom:
-                move(False, aa, bb, depth)
-                if motion == G83:
-                    move(True, aa, bb, r)
-                move(True, aa, bb, depth + back_off)
-                if depth - delta == depth:
-                    # rs274 pecks at the same depth forever; say why instead.
-                    raise GCodeError(
-                        f"Q value too small with {name.lower()}:"
-                        " the pecks never reach the bottom"
-                    )
-                depth -= delta
-            move(False, aa, bb, bottom)
-            move(True, aa, bb, clear)
-
-        def tap(aa, bb):
-            self._check_tapping_spindle(motion)
-            # The override switches are the canon's, which follow M48-M51.
-            feed_override, speed_override = self.feed_override, self.speed_override
-            canon.disable_feed_override()
-            canon.disable_speed_override(0)
-            move(False, *_tapping_order(plane, aa, bb, bottom))
-            canon.stop_spindle_turning(0)
-            self._start_spindle(motion == G74)
-            canon.dwell(dwell)
-            move(False, *_tapping_order(plane, aa, bb, clear))
-            canon.stop_spindle_turning(0)
-            self._start_spindle(motion == G84)
-            if feed_override:
-                canon.enable_feed_override()
-            if speed_override:
-                canon.enable_speed_override(0)
-
-        def g85(aa, bb):
-            move(False, aa, bb, bottom)
-            move(False, aa, bb, r)
-            move(True, aa, bb, clear)
-
-        def g86(aa, bb):
-            clockwise = self._spindle_direction(name)
-            move(False, aa, bb, bottom)
-            canon.dwell(dwell)
-            canon.stop_spindle_turning(0)
-            move(True, aa, bb, clear)
-            self._start_spindle(clockwise)
-
-        def g87(aa, bb):
-            clockwise = self._spindle_direction(name)
-            direction = 2 if clockwise else 3  # rs274's CANON_DIRECTION values
-            out_a, out_b = aa + off_a, bb + off_b
-            move(True, out_a, out_b, r)
-            canon.stop_spindle_turning(0)
-            canon.orient_spindle(0, 0.0, direction)
-            move(True, out_a, out_b, bottom)
-            move(True, aa, bb, bottom)
-            self._start_spindle(clockwise)
-            move(False, aa, bb, middle)
-            move(False, aa, bb, bottom)
-            canon.stop_spindle_turning(0)
-            canon.orient_spindle(0, 0.0, direction)
-            move(True, out_a, out_b, bottom)
-            move(True, out_a, out_b, clear)
-            move(True, aa, bb, clear)
-            self._start_spindle(clockwise)
-
-        def g88(aa, bb):
-            clockwise = self._spindle_direction(name)
-            move(False, aa, bb, bottom)
-            canon.dwell(dwell)
-            canon.stop_spindle_turning(0)
-            canon.program_stop()  # the operator retracts by hand
-            self._start_spindle(clockwise)
-
-        def g89(aa, bb):
-            move(False, aa, bb, bottom)
-            canon.dwell(dwell)
-            move(False, aa, bb, clear)
-
-        return {
-            G73: pecks,
-            G74: tap,
-            G81: g81,
-            G82: g82,
-            G83: pecks,
-            G84: tap,
-            G85: g85,
-            G86: g86,
-            G87: g87,
-            G88: g88,
-            G89: g89,
-        }[motion]
+            middle = offsets[ic] + bottom if self.distance_incremental else offsets[ic]
+            drill.offsets = (offsets[ia], offsets[ib], middle)
+        return getattr(drill, _HOLES[motion])
 
     # ------------------------------------------------------------------
     # Spindle
@@ -438,6 +327,154 @@ class CyclesMixin:
             self.canon.start_spindle_clockwise(0)
         else:
             self.canon.start_spindle_counterclockwise(0)
+
+
+class _Drill:
+    """One cycle block's settled words and levels, and how each kind of
+    cycle drills one hole at (aa, bb) with them (rs274's convert_cycle_g8x
+    and company, which the hole's own moves follow)."""
+
+    __slots__ = (
+        "machine",
+        "move",
+        "canon",
+        "motion",
+        "name",
+        "r",
+        "clear",
+        "bottom",
+        "dwell",
+        "delta",
+        "offsets",
+    )
+
+    def __init__(self, machine, motion: int, name: str, r, clear, bottom) -> None:
+        self.machine = machine
+        self.move = machine._cycle_move
+        self.canon = machine.canon
+        self.motion, self.name = motion, name
+        self.r, self.clear, self.bottom = r, clear, bottom
+        self.dwell = self.delta = 0.0
+        self.offsets = (0.0, 0.0, 0.0)
+
+    def g81(self, aa, bb):
+        self.move(False, aa, bb, self.bottom)
+        self.move(True, aa, bb, self.clear)
+
+    def g82(self, aa, bb):
+        self.move(False, aa, bb, self.bottom)
+        self.canon.dwell(self.dwell)
+        self.move(True, aa, bb, self.clear)
+
+    def pecks(self, aa, bb):
+        """G73 and G83: down a peck at a time, backing off (G73) or out to
+        R (G83) between pecks."""
+        delta, bottom, r, move = self.delta, self.bottom, self.r, self.move
+        if delta <= 0.0:
+            raise GCodeError("Negative or zero q value used")
+        back_off = PECK_CLEARANCE_INCH * (1.0 if self.machine.inches else 25.4)
+        depth = r - delta
+        while depth > bottom:
+            move(False, aa, bb, depth)
+            if self.motion == G83:
+                move(True, aa, bb, r)
+            move(True, aa, bb, depth + back_off)
+            if depth - delta == depth:
+                # rs274 pecks at the same depth forever; say why instead.
+                raise GCodeError(
+                    f"Q value too small with {self.name.lower()}:"
+                    " the pecks never reach the bottom"
+                )
+            depth -= delta
+        move(False, aa, bb, bottom)
+        move(True, aa, bb, self.clear)
+
+    def tap(self, aa, bb):
+        """G84 (right hand) and G74 (left hand)."""
+        m, canon, motion = self.machine, self.canon, self.motion
+        plane = m.plane
+        m._check_tapping_spindle(motion)
+        # The override switches are the canon's, which follow M48-M51.
+        feed_override, speed_override = m.feed_override, m.speed_override
+        canon.disable_feed_override()
+        canon.disable_speed_override(0)
+        self.move(False, *_tapping_order(plane, aa, bb, self.bottom))
+        canon.stop_spindle_turning(0)
+        m._start_spindle(motion == G74)
+        canon.dwell(self.dwell)
+        self.move(False, *_tapping_order(plane, aa, bb, self.clear))
+        canon.stop_spindle_turning(0)
+        m._start_spindle(motion == G84)
+        if feed_override:
+            canon.enable_feed_override()
+        if speed_override:
+            canon.enable_speed_override(0)
+
+    def g85(self, aa, bb):
+        self.move(False, aa, bb, self.bottom)
+        self.move(False, aa, bb, self.r)
+        self.move(True, aa, bb, self.clear)
+
+    def g86(self, aa, bb):
+        clockwise = self.machine._spindle_direction(self.name)
+        self.move(False, aa, bb, self.bottom)
+        self.canon.dwell(self.dwell)
+        self.canon.stop_spindle_turning(0)
+        self.move(True, aa, bb, self.clear)
+        self.machine._start_spindle(clockwise)
+
+    def g87(self, aa, bb):
+        """Back boring: in beside the hole with the spindle oriented, over
+        to it, cut up to the middle level and back, out the same way."""
+        m, canon, move = self.machine, self.canon, self.move
+        bottom = self.bottom
+        clockwise = m._spindle_direction(self.name)
+        direction = 2 if clockwise else 3  # rs274's CANON_DIRECTION values
+        off_a, off_b, middle = self.offsets
+        out_a, out_b = aa + off_a, bb + off_b
+        move(True, out_a, out_b, self.r)
+        canon.stop_spindle_turning(0)
+        canon.orient_spindle(0, 0.0, direction)
+        move(True, out_a, out_b, bottom)
+        move(True, aa, bb, bottom)
+        m._start_spindle(clockwise)
+        move(False, aa, bb, middle)
+        move(False, aa, bb, bottom)
+        canon.stop_spindle_turning(0)
+        canon.orient_spindle(0, 0.0, direction)
+        move(True, out_a, out_b, bottom)
+        move(True, out_a, out_b, self.clear)
+        move(True, aa, bb, self.clear)
+        m._start_spindle(clockwise)
+
+    def g88(self, aa, bb):
+        clockwise = self.machine._spindle_direction(self.name)
+        self.move(False, aa, bb, self.bottom)
+        self.canon.dwell(self.dwell)
+        self.canon.stop_spindle_turning(0)
+        self.canon.program_stop()  # the operator retracts by hand
+        self.machine._start_spindle(clockwise)
+
+    def g89(self, aa, bb):
+        self.move(False, aa, bb, self.bottom)
+        self.canon.dwell(self.dwell)
+        self.move(False, aa, bb, self.clear)
+
+
+#: Which of _Drill's methods drills a hole of each cycle.
+_HOLES = {
+    G73: "pecks",
+    G74: "tap",
+    G81: "g81",
+    G82: "g82",
+    G83: "pecks",
+    G84: "tap",
+    G85: "g85",
+    G86: "g86",
+    G87: "g87",
+    G88: "g88",
+    G89: "g89",
+}
 
 
 def _tapping_order(plane: str, aa: float, bb: float, level: float):
