@@ -230,12 +230,22 @@ class ArcRows:
     once per ``run_rows`` call, it keeps each shape's recipe per plane and
     IJK mode."""
 
-    __slots__ = ("machine", "plans", "recipes", "printed", "groups", "straight")
+    __slots__ = (
+        "machine",
+        "plans",
+        "recipes",
+        "printed",
+        "groups",
+        "straight",
+        "pending",
+    )
 
     def __init__(self, machine, plans, printed: bool = False) -> None:
         self.machine = machine
         self.plans = plans
-        #: (plane, absolute) -> {shape cell text: row recipe or None}
+        #: (plane, absolute IJK, inches) -> ({shape cell text: row recipe
+        #: or None}, geometry: first and second axis, absolute IJK, radius
+        #: tolerance, spiral tolerance)
         self.recipes: dict = {}
         #: The table's values are written as the trace prints them
         #: (runtime.printed_rows): the batch form copies their text.
@@ -250,6 +260,9 @@ class ArcRows:
             for index, plan in enumerate(plans)
             if plan.slots is not None
         }
+        #: The arcs held for the canon's arc_moves (_Pending), None for a
+        #: canon without it, False until the first run asks.
+        self.pending = False
 
     def _row_recipe(self, key: str, plane: str, absolute: bool):
         plan = self.plans[int(key)]
@@ -283,17 +296,24 @@ class ArcRows:
             and type(machine.canon).arc_moves is not Canon.arc_moves
         ):
             return at
-        p1, p2, p3 = PLANE_AXES[plane]
         absolute = machine.ijk_absolute
-        known = self.recipes.setdefault((plane, absolute), {})
+        # per plane, IJK mode and units: the recipes and the geometry (a
+        # run of arcs between straight rows starts here again and again)
+        modes = (plane, absolute, machine.inches)
+        context = self.recipes.get(modes)
+        if context is None:
+            zero = arcs.radius_tolerance(machine.inches)
+            geometry = PLANE_AXES[plane][:2] + (absolute, zero)
+            geometry += (machine.spiral_tolerance(),)
+            context = self.recipes[modes] = ({}, geometry)
+        known, geometry = context
+        p1, p2, _, zero, spiral = geometry
+        p3 = PLANE_AXES[plane][2]
         key = cells[at + 1]
         if key not in known:
             known[key] = self._row_recipe(key, plane, absolute)
         if known[key] is None:
             return at
-        zero = arcs.radius_tolerance(machine.inches)
-        spiral = machine.spiral_tolerance()
-        geometry = (p1, p2, absolute, zero, spiral)
         canon = machine.canon
         arc_feed, set_feed_rate = canon.arc_feed, canon.set_feed_rate
         straight_feed = canon.straight_feed
@@ -312,7 +332,9 @@ class ArcRows:
         # A canon with its own arc_moves takes the arcs between its other
         # calls as one batch of columns, whatever their words (the run of
         # one shape that _batch takes is only the trace's special case).
-        pending = _Pending.for_canon(machine)
+        pending = self.pending
+        if pending is False:
+            pending = self.pending = _Pending.for_canon(machine)
         held = None if pending is None else pending.rows
         row = at
         try:
