@@ -189,6 +189,14 @@ def plus_half_pi_l(x: float, sign: int) -> float:
     return -value if negative else value
 
 
+def _row_number(cells: List[str], at: int, has_n: bool):
+    """The N of the row at ``at`` (None without one), and where its other
+    words begin."""
+    if has_n:
+        return cells[at + 2], at + 3
+    return None, at + 2
+
+
 def _publish(machine, line: int, cur, motion_mode) -> None:
     """What a run of rows leaves: the line of its last row and, if it
     moved, the end point and the motion."""
@@ -467,12 +475,7 @@ class ArcRows:
             return None  # a stretch runtime.printed_rows writes at once
         if motion is None:
             motion = motion_mode
-        start = at + 2
-        if has_n:
-            n = cells[start]
-            start += 1
-        else:
-            n = None
+        n, start = _row_number(cells, at, has_n)
         f = None if f_at < 0 else float(cells[start + f_at])
         if motion == G1:
             if (feed_rate if f is None else f) <= 0.0:
@@ -493,12 +496,7 @@ class ArcRows:
         Machine.plain_arc."""
         _, has_n, f_at, _, slots, r_at, i1, i2 = recipe
         p1, p2, absolute, zero, spiral = geometry
-        start = at + 2
-        if has_n:
-            n = cells[start]
-            start += 1
-        else:
-            n = None
+        n, start = _row_number(cells, at, has_n)
         if f_at >= 0:
             f = float(cells[start + f_at])
             if f <= 0.0:  # negative, or an arc without feed: errors
