@@ -120,7 +120,7 @@ from runtime.codes import (
     m_code,
     to_integer,
 )
-from runtime.comments import execute_comment
+from runtime.comments import CommentLines, execute_comment
 from runtime.cutter_comp import LEFT, RIGHT, CompState, CutterCompMixin
 from runtime.cycles import CyclesMixin
 from runtime.errors import GCodeError, Location, g_code_frames_of_stack
@@ -214,6 +214,7 @@ class Machine(
     ToolsMixin,
     ModalSaveMixin,
     StepBudgetMixin,
+    CommentLines,
 ):
     """rs274's interpreter state and block execution, printing through ``canon``."""
 
