@@ -1,34 +1,41 @@
-"""Named locals kept in Python variables: ``#<i>`` as ``v_i``.
+"""Named locals kept in Python variables: ``#<x_start>`` as ``x_start``.
 
 A G-code loop reads and sets its named locals several times an iteration;
 as attributes of the locals store (``v.i``) each costs about 25 ns more than
-a Python local variable, a tenth of a simple loop's time. Where it is safe,
-the code generator writes such a name as the local variable ``v_i`` of the
-generated function, and the store never holds it.
+a Python local variable, a tenth of a simple loop's time, and the code reads
+worse. Where it is safe, the code generator writes such a name as a local
+variable of the generated function (:func:`variable`: the name itself, or
+``v_`` and the name where Python or the generated code takes it), and the
+store never holds it.
 
 Safe means that nothing can tell the difference, which this pass decides for
 each generated function from its statements alone:
 
 * the function is one Python function: no part of it nested deep enough to
   become a helper function (``codegen.NEST_LIMIT``), and not a main program
-  split into chunks (the code generator asks only when it is not);
-* nothing reads the locals store by name while the program runs: no comment
-  that could expand a parameter (any comment text with ``#``, any embedded
-  Python), no ``EXISTS`` of the name, and no M98 call (whose ``L0`` form
-  hands the caller's store to the new call level);
-* the name is first mentioned, in the text, by a line that only sets
-  parameters and sets it without reading it, and every other mention comes
-  after that line in the same statement list (the function's body, an arm of
-  an if, a loop's body), or inside a statement after it there. Such a list
-  is entered at its start and run in order (ifs and loops nest, a break or
-  continue goes to a loop's start or end; an if whose skip lands inside an
-  arm, ``st.If.lands``, turns the pass off), so every mention runs after the
-  setting in the same pass: every read finds the name set (no "not defined"
-  error to raise), and no setting needs rs274's rule that reading
-  ``#<i> =`` creates the name (``v.declare``).
+  split into chunks (the code generator asks only when it is not), and no if
+  whose skip lands inside an arm (``st.If.lands``);
+* nothing reads the store by name while the program runs: no embedded
+  Python, no M98 call (whose ``L0`` form hands the caller's store to the new
+  call level); a name is kept in the store where an ``EXISTS`` asks for it
+  or where the comment of a line with words prints it (the block gets the
+  comment as text). A line of a comment alone hands the values of the
+  names it prints that are variables (``m.debug(5, "#<x>", x=x)``);
+* the function sets the name somewhere (a name it only reads is read from
+  the store, which fails as rs274 does);
+* where the name may be unset (ngc2py.assigned's reckoning of what is
+  certainly set before each line), nothing reads it with a meaning other
+  than failing: not the rest of a line that sets it (rs274 creates the name
+  as it reads ``#<i> =``, so that reads 0: ``v.declare``), not a comment
+  (which prints ``######``), not a definition's value read past it (0).
 
-Names the store must keep (globals, ``n_args``, and names ``v.name`` cannot
-spell) are never candidates.
+Any other read of a variable still unset raises ``UnboundLocalError``,
+which the runtime turns into the store's own error, "Named parameter #<i>
+not defined", with the same traceback (``runtime.params.unset_variable``:
+``Machine.run``, ``ngc2py.parse``, rs274's ``-n`` continuation).
+
+Names the store must keep (globals, ``n_args``, names Python would fold to
+another one: non-ASCII) are never candidates.
 """
 
 from __future__ import annotations
