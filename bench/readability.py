@@ -112,6 +112,9 @@ def report(name: str, results: List[Dict[str, object]], failed: int, worst: int)
         )
     print("tabs (\\t or \\x09) in modules: %d" % sum(r["tabs"] for r in results))
     print("not black-stable: %d" % sum(r["unstable"] for r in results))
+    for r in results:
+        if r["unstable"]:
+            print("  not black-stable: %s" % r["path"])
     for r in sorted(results, key=lambda r: -r["ratio"])[:worst]:
         print("  %.2f %s" % (r["ratio"], r["path"]))
     if worst:

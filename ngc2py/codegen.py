@@ -68,6 +68,9 @@ NEST_LIMIT = 8
 # (each nesting level indents at most twice).
 FAST_LOCALS_DEPTH = NEST_LIMIT // 2
 MIN_ROWS = 8  # shortest run of constant blocks kept as data
+#: A shorter run of codes alone (``G17``, ``G21``, ``G90``...: a macro's
+#: set-up, not CAM data) stays statements, which read better.
+MIN_VALUE_ROWS = 64
 #: What a function binds for its code: numbered parameters (the list), named
 #: globals, named locals (CodeGen.bind_stores binds only those it uses).
 STORES = {"p": "m.params.values", "g": "m.globals", "v": "m.locals"}
@@ -260,20 +263,28 @@ class ExprWriter:
 
     def _binary(self, e: nodes.Binary) -> str:
         if e.op in ("+", "-", "*"):
-            left = self._operand(e.left)
-            right = self._operand(e.right)
+            left = self._operand(e.left, outer=e.op)
+            right = self._operand(e.right, outer=e.op, right=True)
             return "%s %s %s" % (left, e.op, right)
         name = self.helper(BINARY_HELPERS[e.op])
         return "%s(%s, %s)" % (name, self.expr(e.left), self.expr(e.right))
 
-    def _operand(self, e: nodes.Expr, unary: bool = False) -> str:
-        """An operand of ``+ - *`` or unary minus: inner operators (and, for
-        unary minus, negative literals) get parentheses so Python groups
-        exactly as the parser did."""
+    def _operand(
+        self, e: nodes.Expr, unary: bool = False, outer: str = "", right: bool = False
+    ) -> str:
+        """An operand of ``+ - *`` (``outer``; ``right``: its right operand)
+        or unary minus: inner operators (and, for unary minus, negative
+        literals) get parentheses where Python would group otherwise than
+        the parser did (``a * b + c``, ``a - b + c``, ``a - (b + c)``,
+        ``a * (b * c)``: the same operations in the same order)."""
         text = self.expr(e)
         if isinstance(e, nodes.Bracket) and not may_overflow(e.inner):
             e = e.inner  # written bare: group by what is inside
         if isinstance(e, nodes.Binary) and e.op in ("+", "-", "*"):
+            tighter = e.op == "*" and outer in ("+", "-")
+            same_level = (e.op == "*") == (outer == "*")
+            if outer and (tighter or (same_level and not right)):
+                return text
             return "(%s)" % text
         if isinstance(e, nodes.Unary) and e.op == "neg":
             return "(%s)" % text
@@ -905,7 +916,8 @@ class CodeGen:
         """Emit a run of constant blocks (row runs and (line, row) pairs):
         as statements when short, else as data tables executed by
         ``runtime.rows.run_rows``."""
-        if sum(item.count if type(item) is RowRun else 1 for item in run) < MIN_ROWS:
+        total = sum(item.count if type(item) is RowRun else 1 for item in run)
+        if total < MIN_ROWS or (total < MIN_VALUE_ROWS and not row_values(run)):
             for item in run:
                 for line in item.lines() if type(item) is RowRun else [item[0]]:
                     self.line_block(line.full() if isinstance(line, RowLine) else line)
@@ -1701,6 +1713,18 @@ def constant_row(stmt: st.Stmt) -> Optional[Row]:
     return (tuple(codes_), tuple(letters)), " ".join(values)
 
 
+def row_values(run: List) -> bool:
+    """Does a row of ``run`` (row runs and (line, row) pairs) have a word
+    value (any word but G and M)?"""
+    for item in run:
+        if type(item) is RowRun:
+            if any(line.cells for line in item.lines()):
+                return True
+        elif item[1][1]:
+            return True
+    return False
+
+
 def tables(run: List) -> List[List]:
     """``run`` (row runs and (line, row) pairs) cut into tables of
     ROWS_PER_TABLE rows, a row run split where a table ends."""
@@ -1741,8 +1765,16 @@ def shapes_table(shapes: Dict[Shape, int]) -> List[str]:
     for shape, index in shapes.items():
         codes_ = Coll("(", [code_name(code) for code in shape[0]], ")")
         letters = Coll("(", [string(letter) for letter in shape[1]], ")")
-        lines.append("%s# %d: %s" % (INDENT, index, shape_text(shape)))
-        lines.extend(layout(Coll("(", [codes_, letters], ")"), 4, ","))
+        note = "# %d: %s" % (index, shape_text(shape))
+        item = layout(Coll("(", [codes_, letters], ")"), 4, ",")
+        # (a one-shape tuple has no magic trailing comma: black would join
+        # it into one line but for a comment line inside)
+        fits = len(item) == 1 and len(item[0]) + 2 + len(note) <= LINE_LENGTH
+        if fits and len(shapes) > 1:
+            lines.append("%s  %s" % (item[0], note))  # black keeps it there
+            continue
+        lines.append(INDENT + note)
+        lines.extend(item)
     lines.append(")")
     return lines
 

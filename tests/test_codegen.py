@@ -204,7 +204,7 @@ def test_big_cam_files_become_data_rows():
     assert "run_rows(m, SHAPES, ROWS_1, as_printed=True)" in code
     assert "run_rows(m, SHAPES, ROWS_2, as_printed=True)" in code  # after the comment
     # line 3 is "G1 X1.5 Y1 F1200": shape 1 (G1 X Y F) and its values as written
-    assert '    # 1: G1 X Y F\n    ((G1,), ("x", "y", "f")),' in code
+    assert '    ((G1,), ("x", "y", "f")),  # 1: G1 X Y F\n' in code
     # four decimals at most: written as the trace prints them (test_rows.py)
     assert '\nROWS_1 = """\n1 0\n2 1 0.5000 0.0000 1200.0000\n3 1 1.5000 1.0000' in code
     table = code.split('ROWS_1 = """')[1].split('"""')[0]
@@ -351,6 +351,20 @@ def test_a_macro_is_not_longer_than_its_g_code():
     assert code.count("\n") <= 1.5 * PROBE_MACRO.count("\n") + 6  # + the header
 
 
+def test_arithmetic_has_only_the_parentheses_python_needs():
+    text = "#<a>=1\n#<b>=2\nG0 X[2470*#<a>+#<b>] Y[#<a>-#<b>+1] Z[#<a>-[#<b>+1]]\nM2\n"
+    code = compile_text(text, "e.ngc")
+    assert "x=finite(2470.0 * a + b), y=finite(a - b + 1.0), z=finite(a - (b + 1.0))" in code
+
+
+def test_a_macros_set_up_codes_stay_statements():
+    text = "o<s> sub\n" + "".join("G%s\n" % g for g in "17 21 54 61 40 49 80 90".split())
+    code = compile_text(text + "o<s> endsub\nM2\n", "setup.ngc")
+    assert "    m.block(8, G80)\n" in code and "run_rows" not in code
+    code = compile_text("G21\n" + "G0 X1\n" * 8 + "M2\n", "moves.ngc")
+    assert "run_rows" in code  # moves: data rows from eight on
+
+
 def test_numbered_parameters_are_written_as_integers():
     code = code_of(compile_text("#<a> = #5420\n#<b> = #5061\n#5420 = 1\n#[5000] = 2\nM2\n", "n.ngc"))  # fmt: skip
     assert "    a = m.params[5420]\n" in code
@@ -416,6 +430,9 @@ RUNS = [
     "#<a> = 1 (a comment on a setting)\nN10 (print, n #<a>)\n( )\n()\nG0 X#<a> (print, #<a>)\nM2\n",
     "G21 (a)\n#5420 = 1\nM2\n",
     "G0 X1\n#<x> = #5420\nG41 D1\n#<y> = #5420\nM2\n",
+    # grouping: Python's precedence where it equals the parser's, else ()
+    "#<a>=3\n#<b>=0.1\nG0 X[#<a>*[#<b>*3]] Y[[#<a>*#<b>]*3] Z[#<a>-[#<b>-1]]\n"
+    "G0 X[#<a>-#<b>-1] Y[#<a>*#<b>+#<a>*#<b>*#<b>] Z[-[#<a>-#<b>]*#<b>]\nM2\n",
 ]
 
 
