@@ -7,6 +7,13 @@ through as many points as the picture can show (no point further than a
 fraction of a pixel off the curve). Every kind of move is one polyline of
 NumPy arrays, broken by NaN where the path jumps: no Python object per move
 or per point. matplotlib is imported only when a picture is drawn.
+
+A kind with more points than a picture can show line by line (dense CAM
+output: hundreds of thousands of strokes) is rasterised instead: Pillow
+(matplotlib's own image library) draws its polylines into a mask of the
+axes' pixels, shown as an image at the kind's place in the stack. Agg
+spends ~60 us on a long antialiased stroke; Pillow's plain lines cost a
+microsecond. Such a kind is drawn solid (the legend says so).
 """
 
 from __future__ import annotations
@@ -33,6 +40,10 @@ PIXEL_TOLERANCE = 0.25
 PIECE = 2000
 #: Beyond this many arc points, arcs are drawn coarser (memory stays bounded).
 MOST_ARC_POINTS = 8_000_000
+#: A kind of move with more polyline points than this is rasterised.
+RASTER_FROM = 50_000
+#: The stacking order of the kinds (arcs on top).
+ZORDER = {"rapid": 1, "feed": 2, "arc": 3}
 _COS30 = np.cos(np.radians(30.0))
 _SIN30 = 0.5
 
@@ -96,6 +107,76 @@ def bounds(path: Toolpath) -> Tuple[np.ndarray, np.ndarray]:
     return low, high
 
 
+def rasterise(flat: np.ndarray, limits, size, width: int) -> np.ndarray:
+    """The polyline ``flat`` ((m, 2), NaN rows between its runs) drawn
+    into a (height, width) boolean mask whose pixels cover ``limits``
+    ((x0, x1), (y0, y1)), its lines ``width`` pixels wide."""
+    from PIL import Image, ImageDraw
+
+    (x0, x1), (y0, y1) = limits
+    columns, rows = size
+    px = (flat[:, 0] - x0) * (columns / (x1 - x0))
+    py = (y1 - flat[:, 1]) * (rows / (y1 - y0))
+    gaps = np.flatnonzero(np.isnan(px[1:-1])) + 1
+    # A break between runs that meet (arc after arc) is no break.
+    meet = (px[gaps - 1] == px[gaps + 1]) & (py[gaps - 1] == py[gaps + 1])
+    if meet.any():
+        px, py = np.delete(px, gaps[meet]), np.delete(py, gaps[meet])
+    mask = Image.new("1", (columns, rows), 0)
+    pen = ImageDraw.Draw(mask)
+    breaks = np.flatnonzero(np.isnan(px))
+    # Pillow has no NaN breaks: one line call per run of the polyline.
+    ends = np.append(breaks, len(px))
+    starts = np.insert(breaks + 1, 0, 0)
+    points = np.column_stack((px, py))
+    for a, b in zip(starts.tolist(), ends.tolist()):
+        if b - a >= 2:
+            pen.line(points[a:b].ravel().tolist(), fill=1, width=1)
+        elif b - a == 1:
+            pen.point(points[a].tolist(), fill=1)
+    thin = np.asarray(mask, dtype=bool)
+    wide = thin.copy()
+    # Wider lines by shifting the one-pixel mask (Pillow's own wide lines
+    # draw a joint at every vertex: several times slower).
+    for shift in range(1, width):
+        step = (shift + 1) // 2 * (1 if shift % 2 else -1)
+        shifted_x = np.roll(thin, step, axis=1)
+        shifted_y = np.roll(thin, step, axis=0)
+        if step > 0:
+            shifted_x[:, :step] = False
+            shifted_y[:step, :] = False
+        else:
+            shifted_x[:, step:] = False
+            shifted_y[step:, :] = False
+        wide |= shifted_x | shifted_y
+    return wide
+
+
+def show_raster(axes, flat: np.ndarray, colour: str, width: float, zorder: int) -> None:
+    """Draw the polyline ``flat`` on ``axes`` as an image of its pixels."""
+    from matplotlib.colors import to_rgba
+
+    box = axes.get_window_extent()
+    size = (max(1, int(round(box.width))), max(1, int(round(box.height))))
+    limits = (axes.get_xlim(), axes.get_ylim())
+    pixels = max(1, int(round(width * axes.figure.dpi / 72.0)))
+    mask = rasterise(flat, limits, size, pixels)
+    image = np.zeros(mask.shape + (4,))
+    image[mask] = to_rgba(colour)
+    (x0, x1), (y0, y1) = limits
+    axes.set_autoscale_on(False)
+    axes.imshow(
+        image,
+        extent=(x0, x1, y0, y1),
+        origin="upper",
+        interpolation="nearest",
+        aspect="auto",
+        zorder=zorder,
+    )
+    axes.set_xlim(x0, x1)
+    axes.set_ylim(y0, y1)
+
+
 def axis_labels(view: str, units: str) -> Tuple[str, str]:
     if view == "iso":
         return (
@@ -131,6 +212,7 @@ def draw(path: Toolpath, view: str, title: str, out, fmt: str) -> None:
         pixels = max(FIGURE_SIZE) * DPI
         resolution = max(span, 1e-9) / pixels * PIXEL_TOLERANCE
     handles = []
+    dense = {}  # kind -> its (m, 2) polyline, rasterised once the axes are laid out
     low3 = np.full(3, np.inf)
     high3 = np.full(3, -np.inf)
     for kind, (label, colour, style, width) in STYLES.items():
@@ -146,18 +228,25 @@ def draw(path: Toolpath, view: str, title: str, out, fmt: str) -> None:
             high3 = np.fmax(high3, np.nanmax(vertices, axis=0))
             u, v = project(vertices, view)
             flat = np.column_stack((u, v))
-            # Pieces of a bounded size: Agg's memory for one path grows with
-            # its length (one path of a million points takes gigabytes).
-            pieces = [flat[i : i + PIECE + 1] for i in range(0, len(flat), PIECE)]
-            axes.add_collection(
-                LineCollection(
-                    pieces,
-                    colors=colour,
-                    linestyles=style,
-                    linewidths=width,
-                    zorder={"rapid": 1, "feed": 2, "arc": 3}[kind],
+            if len(flat) > RASTER_FROM:
+                style = "solid"
+                dense[kind] = flat
+                corners = (np.nanmin(flat, axis=0), np.nanmax(flat, axis=0))
+                axes.update_datalim(np.array(corners))
+            else:
+                # Pieces of a bounded size: Agg's memory for one path grows
+                # with its length (one path of a million points takes
+                # gigabytes).
+                pieces = [flat[i : i + PIECE + 1] for i in range(0, len(flat), PIECE)]
+                axes.add_collection(
+                    LineCollection(
+                        pieces,
+                        colors=colour,
+                        linestyles=style,
+                        linewidths=width,
+                        zorder=ZORDER[kind],
+                    )
                 )
-            )
             if kind == "feed":
                 # A plunge seen end-on (a drilled hole from the top) is a dot.
                 su, sv = project(path.start[chosen, :3] * scale, view)
@@ -199,8 +288,21 @@ def draw(path: Toolpath, view: str, title: str, out, fmt: str) -> None:
         )
     else:
         figure.text(0.5, 0.015, "no moves", ha="center", fontsize=8)
+    if dense:
+        axes.apply_aspect()  # the limits the picture will have
+        for kind, flat in dense.items():
+            _, colour, _, width = STYLES[kind]
+            show_raster(axes, flat, colour, width, ZORDER[kind])
     figure.savefig(out, format=fmt, bbox_inches="tight")
     pyplot.close(figure)
 
 
-__all__ = ["STYLES", "arc_polyline", "bounds", "draw", "polyline", "project"]
+__all__ = [
+    "STYLES",
+    "arc_polyline",
+    "bounds",
+    "draw",
+    "polyline",
+    "project",
+    "rasterise",
+]

@@ -43,6 +43,7 @@ from __future__ import annotations
 import argparse
 import math
 from array import array
+from operator import ne
 import os
 import sys
 from decimal import Decimal
@@ -146,6 +147,12 @@ def _numbers(values: Sequence[float]) -> List[str]:
     return [text[:-2] if text.endswith(".0") else text for text in texts]
 
 
+def _bits(values: Sequence[float]) -> memoryview:
+    """Each float's 64 bits as an integer: equal exactly where same() is
+    (the trace has no NaN)."""
+    return memoryview(array("d", values)).cast("B").cast("Q")
+
+
 def same(a: float, b: float) -> bool:
     """Equal, and with the same sign when zero (rs274 prints -0.0000)."""
     return a == b and math.copysign(1.0, a) == math.copysign(1.0, b)
@@ -191,6 +198,9 @@ class FlattenCanon(Canon):
         self.ended = False
         self.finished = False
         self._group: Optional[_Group] = None
+        #: _where's last walk of the stack, and the frame and line it was made at
+        self._frames_key = None
+        self._frames: list = []
         self._stored = {}  # coordinate system -> (offsets, rotation, inches)
         self._system = 1
         self._startup = (0.0,) * 6
@@ -228,8 +238,20 @@ class FlattenCanon(Canon):
             n, self._where(), list(machine.current[:6]), bool(machine.cutter_comp)
         )
 
+    def _generated_frames(self) -> list:
+        """g_code_frames_of_stack(): the same while the innermost generated
+        frame is alive and on the same line (a run of data rows, a loop's
+        line), so looked up once then, not walked again for every block."""
+        frame = sys._getframe(1)
+        while frame is not None and "__ngc__" not in frame.f_globals:
+            frame = frame.f_back
+        key = None if frame is None else (frame, frame.f_lineno)
+        if key is None or key != self._frames_key:
+            self._frames_key, self._frames = key, g_code_frames_of_stack()
+        return self._frames
+
     def _where(self) -> str:
-        frames = g_code_frames_of_stack()
+        frames = self._generated_frames()
         line = self.machine.line
         if frames and frames[-1].line == line:
             here = frames[-1]
@@ -280,7 +302,9 @@ class FlattenCanon(Canon):
         rows = [[] for _ in range(count)]
         for k, column in enumerate((x, y, z, a, b, c)):
             previous = [pos[k]] + column[:-1]
-            changed = [i for i in range(count) if not same(column[i], previous[i])]
+            # not same(): the bits differ (a zero's sign counts too)
+            moved = map(ne, _bits(column), _bits(previous))
+            changed = [i for i, differs in enumerate(moved) if differs]
             if changed:
                 texts = _numbers([column[i] for i in changed])
                 letter = AXES6[k]
@@ -308,14 +332,15 @@ class FlattenCanon(Canon):
     def _write_batch(self, lines, texts: List[str]) -> None:
         """A batch's blocks, each with its source comment (the batch's rows
         share a file and a call stack)."""
-        frames = g_code_frames_of_stack()
+        frames = self._generated_frames()
         file = frames[-1].file if frames else self.main_file
         callers = " <- ".join("%s:%d" % (f.file, f.line) for f in reversed(frames[:-1]))
         tail = " <- " + callers if callers else ""
         out = self.lines
+        where = "  ; %s:%%d%s" % (file.replace("%", "%%"), tail.replace("%", "%%"))
         for line, text in zip(lines, texts):
-            comment = "  ; %s:%d%s" % (file, line, tail)
-            if len(text + comment) > MAX_LINE:
+            comment = where % line
+            if len(text) + len(comment) > MAX_LINE:
                 out.append(comment.strip())
                 out.append(text)
             else:

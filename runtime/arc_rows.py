@@ -247,13 +247,15 @@ class ArcRows:
         plane = machine.plane
         if plane not in PLANE_AXES:
             return at
-        if not machine._plain:
-            if (
-                getattr(machine, "_batchable", False)
-                and machine._block_n is None
-                and type(machine.canon).arc_moves is not Canon.arc_moves
-            ):
-                return self._batches_only(cells, at, end)
+        # A BatchesOnly machine (runtime.rows) takes only runs of arc rows
+        # without N or F here, as one arc_moves batch each (the canon sees
+        # each of their lines begin); any other row goes back to run_rows.
+        arcs_only = not machine._plain
+        if arcs_only and not (
+            machine._batchable
+            and machine._block_n is None
+            and type(machine.canon).arc_moves is not Canon.arc_moves
+        ):
             return at
         p1, p2, p3 = PLANE_AXES[plane]
         absolute = machine.ijk_absolute
@@ -280,6 +282,27 @@ class ArcRows:
         groups = self.groups if self.groups is not None else self._groups()
         # a canon that reads the line number in its calls (ngc2py.moves)
         row_lines = canon.reads_lines
+        # A canon with its own arc_moves takes the arcs between its other
+        # calls as one batch of columns, whatever their words (the run
+        # below of one shape is only the trace's special case).
+        pending = (
+            []
+            if type(canon) is not TraceCanon
+            and type(canon).arc_moves is not Canon.arc_moves
+            else None
+        )
+        if pending is not None:
+            arc_moves = canon.arc_moves
+            # where the batch starts: the machine's point as its canon
+            # calls are made (the row loop keeps the point in ``cur``)
+            batch_start = [cur]
+
+            def flush() -> None:
+                machine.current = machine.world.position = batch_start[0]
+                machine.params.position = batch_start[0]
+                arc_moves(*map(list, zip(*pending)))
+                pending.clear()
+
         row = at
         try:
             while at < end:
@@ -295,7 +318,7 @@ class ArcRows:
                     # lines) is taken here too, as Machine.plain_rows takes
                     # it, rather than leaving this loop for one row.
                     line = straight.get(key)
-                    if line is None:
+                    if line is None or arcs_only:
                         break
                     motion, has_n, f_at, width, slots = line
                     stride = 2 + width
@@ -317,6 +340,8 @@ class ArcRows:
                             break
                     elif motion != G0 or (f is not None and f < 0.0):
                         break
+                    if pending:
+                        flush()
                     if n != block_n:
                         canon.set_block_number(n)
                         block_n = n
@@ -336,6 +361,8 @@ class ArcRows:
                     at += stride
                     continue
                 motion, has_n, f_at, width, slots, r_at, i1, i2 = recipe
+                if arcs_only and (has_n or f_at >= 0 or motion is None):
+                    break
                 if (
                     at >= batch_from
                     and (block_n is None or type(canon) is TraceCanon)
@@ -345,6 +372,8 @@ class ArcRows:
                     and cells[at + 1 + (2 + width) * (_BATCH - 1)]
                     in groups.get(key, ())
                 ):
+                    if pending:
+                        flush()
                     done = self._batch(
                         cells, at, end, recipe, cur, feed_rate, absolute, zero, spiral
                     )
@@ -404,75 +433,44 @@ class ArcRows:
                         break
                     c1, c2 = centre
                 if n != block_n:
+                    if pending:
+                        flush()
                     canon.set_block_number(n)
                     block_n = n
                 if f is not None:
+                    if pending:
+                        flush()
                     feed_rate = f
                     feed_given = True
                     set_feed_rate(f)
-                arc_feed(
-                    e1,
-                    e2,
-                    c1,
-                    c2,
-                    -1 if motion == G2 else 1,
-                    point[p3],
-                    *point[3:],
-                )
+                if pending is not None:
+                    if not pending:
+                        batch_start[0] = cur
+                    pending.append(
+                        (int(cells[at]), e1, e2, c1, c2, -1 if motion == G2 else 1)
+                        + (point[p3],)
+                        + tuple(point[3:])
+                    )
+                else:
+                    arc_feed(
+                        e1,
+                        e2,
+                        c1,
+                        c2,
+                        -1 if motion == G2 else 1,
+                        point[p3],
+                        *point[3:],
+                    )
                 cur = point
                 motion_mode = motion
                 at += 2 + width
         finally:
+            if pending:
+                flush()
             _publish(machine, int(cells[row]), cur, motion_mode)
             if feed_given:
                 machine.feed_rate = machine.world.feed_rate = feed_rate
             machine._block_n = block_n
-        return at
-
-    def _batches_only(self, cells: List[str], at: int, end: int) -> int:
-        """For a machine of runtime.rows.BatchesOnly: whole batches of arc
-        rows (no N, no F) to the canon's ``arc_moves``, nothing row by row;
-        returns where it stopped."""
-        machine = self.machine
-        plane, absolute = machine.plane, machine.ijk_absolute
-        known = self.recipes.setdefault((plane, absolute), {})
-        groups = self.groups if self.groups is not None else self._groups()
-        zero = arcs.radius_tolerance(machine.inches)
-        spiral = machine.spiral_tolerance()
-        cur, motion_mode = machine.current, machine.motion_mode
-        row = at
-        try:
-            while at < end:
-                key = cells[at + 1]
-                recipe = known.get(key, False)
-                if recipe is False:
-                    recipe = known[key] = self._row_recipe(key, plane, absolute)
-                if recipe is None or recipe[0] is None:
-                    break  # a modal motion or not an arc: the general path
-                stride = 2 + recipe[3]
-                if not (
-                    end - at >= stride * _BATCH
-                    and cells[at + 1 + stride * (_BATCH - 1)] in groups.get(key, ())
-                ):
-                    break
-                done = self._batch(
-                    cells,
-                    at,
-                    end,
-                    recipe,
-                    cur,
-                    machine.feed_rate,
-                    absolute,
-                    zero,
-                    spiral,
-                )
-                if type(done) is int:
-                    break
-                rows, cur, _, motion_mode, _ = done
-                row = at + (rows - 1) * stride
-                at += rows * stride
-        finally:
-            _publish(machine, int(cells[row]), cur, motion_mode)
         return at
 
     def _groups(self) -> dict:

@@ -107,7 +107,11 @@ class Canon:
         v,
         w,
     ):
-        """Arcs, each as arc_feed's arguments (``rotation``: ints)."""
+        """Arcs, each as arc_feed's arguments (``rotation``: ints), and the
+        G-code line of each in ``lines``. The fast loops give a canon that
+        defines its own ``arc_moves`` the arcs between its other calls as
+        one batch (``machine.line`` is then the batch's last line); by
+        default, one ``arc_feed`` an arc."""
         columns = (first_end, second_end, first_axis, second_axis, rotation)
         for _ in starmap(self.arc_feed, zip(*columns, axis_end, a, b, c, u, v, w)):
             pass

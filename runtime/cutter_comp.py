@@ -184,7 +184,7 @@ class CutterCompMixin:
                     raise GCodeError("Negative d word tool radius index used")
                 index = self._pocket_of(tool)
             entry = self._entry(index)
-            if index == 0 and getattr(self, "_spindle_before_change", None):
+            if index == 0 and self._spindle_before_change:
                 entry = self._spindle_before_change
             units = 25.4 if self.inches else 1.0
             radius = entry.diameter / self.user_units_per_mm / units / 2.0

@@ -91,17 +91,6 @@ ROW_CYCLE_LETTERS = frozenset("xyzrpqlf")
 class CyclesMixin:
     """Canned cycle execution (part of Machine)."""
 
-    # rs274's cycle memory (class defaults; a machine sets its own on use).
-    #: The hole-axis position before this series of cycles, or None.
-    cycle_initial_level: Optional[float] = None
-    cycle_depth = 0.0  # last hole-axis word (rs274's cycle_cc)
-    cycle_r = 0.0
-    cycle_p = 0.0
-    cycle_q = 0.0
-    cycle_i = 0.0
-    cycle_j = 0.0
-    cycle_k = 0.0
-
     def cycle_row(self, line: int, words) -> bool:
         """A data row of X, Y, Z, R, P, Q, L or F words alone (an axis among
         them) while a canned cycle is the modal motion: what ``block`` does

@@ -77,7 +77,7 @@ def m98_target(machine, name: str, read_ahead: Callable[[str], Callable]) -> Cal
 
 def run_fanuc(machine, run_sub: Callable, fn: Callable) -> None:
     """Run ``fn`` as a Fanuc call, so an endsub/return in it can tell."""
-    levels = machine.__dict__.setdefault("fanuc_levels", [])
+    levels = machine.fanuc_levels
     levels.append(machine.call_level + 1)
     try:
         run_sub(fn)
@@ -87,5 +87,5 @@ def run_fanuc(machine, run_sub: Callable, fn: Callable) -> None:
 
 def in_fanuc_call(machine) -> bool:
     """Is the innermost running call an M98 call?"""
-    levels = machine.__dict__.get("fanuc_levels")
+    levels = machine.fanuc_levels
     return bool(levels) and levels[-1] == machine.call_level

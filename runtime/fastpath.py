@@ -96,11 +96,8 @@ def _xyz_move(motion: int):
 class FastPathMixin:
     """``Machine.move``: the straight-move fast path (part of Machine)."""
 
-    _plain = False
-    #: See runtime.rows.BatchesOnly.
+    #: See runtime.rows.BatchesOnly (a property of the class, not state).
     rows_by_move = False
-    #: The N column last announced to the canon (avoids re-announcing it).
-    _block_n: Optional[str] = None
 
     def refresh_plain(self) -> None:
         """Recompute ``_plain`` from the modes (see the module docstring)."""

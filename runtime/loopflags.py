@@ -35,7 +35,7 @@ def repeat_with_stale_continue(machine, count: int) -> Iterator[int]:
     the count again each time the loop ends with the flag set."""
     while True:
         yield from range(count)
-        if not getattr(machine, "doing_continue", False):
+        if not machine.doing_continue:
             return
         machine.doing_continue = False
 
@@ -43,7 +43,7 @@ def repeat_with_stale_continue(machine, count: int) -> Iterator[int]:
 def repeat_keeping_count(machine, key: str, count: int) -> Iterator[int]:
     """``o.. repeat [n]`` that may be left early: the count left is kept
     under ``key`` (rs274's name of the label) for the next time."""
-    counts = machine.__dict__.setdefault("_repeat_counts", {})
+    counts = machine._repeat_counts
     while True:
         if counts.get(key, -1) == -1:
             counts[key] = count
@@ -52,6 +52,6 @@ def repeat_keeping_count(machine, key: str, count: int) -> Iterator[int]:
             yield counts[key]
             continue
         counts[key] = -1
-        if not getattr(machine, "doing_continue", False):
+        if not machine.doing_continue:
             return
         machine.doing_continue = False

@@ -128,6 +128,7 @@ from runtime.fastpath import FastPathMixin
 from runtime.inifile import IniSettings, load_ini
 from runtime.mcodes import MCodesMixin, ProgramEnd, not_supported
 from runtime.modal_save import ModalSaveMixin
+from runtime.state import MachineState
 from runtime.budget import DEFAULT_MAX_STEPS, StepBudgetMixin
 from runtime.motion import (
     AXES,
@@ -215,8 +216,10 @@ class Machine(
     ModalSaveMixin,
     StepBudgetMixin,
     CommentLines,
+    MachineState,
 ):
-    """rs274's interpreter state and block execution, printing through ``canon``."""
+    """rs274's interpreter and its block execution, printing through
+    ``canon``; its state is declared in runtime.state."""
 
     #: Predefined read-only named parameters (computed by :meth:`predefined`).
     PREDEFINED = frozenset(
@@ -251,8 +254,6 @@ class Machine(
         self.source = source
         self._set_budget(max_steps)
         self.settings = IniSettings() if ini is None else load_ini(ini)
-        #: M70/M73 states by call level (runtime.modal_save).
-        self._saved_contexts: Dict[int, object] = {}
         #: Calls need no more than fresh locals: no #<n_args> to set and no
         #: M70/M73 state to manage (then _enter_sub and _left_frame do).
         self._plain_frames = not self.settings.oword_nargs
@@ -261,7 +262,6 @@ class Machine(
         self._closing_resets = 1 if ini_read else 2
         #: #<_ini[...]> names read from the INI file (read-only globals).
         self.ini_globals = set()
-        self.line = 0
         #: rs274's user (machine) units per mm: its canon reports inches.
         self.user_units_per_mm = USER_UNITS_PER_MM
         self.var_file = var_file
@@ -275,11 +275,6 @@ class Machine(
         self.globals = Globals(self)
         #: The named locals of the running call (another store in each call).
         self.locals = Locals()
-        self._subroutines: Dict[str, _Subroutine] = {}
-        self.call_level = 0
-        self._arg_count = 0  # of the call being made (OWORD_NARGS)
-        self.value = 0.0
-        self.value_returned = 0.0
         table = (
             default_tool_table() if tool_table is None else load_tool_table(tool_table)
         )
@@ -290,49 +285,7 @@ class Machine(
             # Every block takes the general path (runtime.tools).
             self._execute = self._execute_retaining_g43
             self.refresh_plain = self._never_plain
-        self._reset_modes()
-
-    def _reset_modes(self) -> None:
-        """The interpreter's state at start-up (rs274's Interp::init)."""
-        self.motion_mode: Optional[int] = G80
-        self.plane = "XY"
-        self.inches = False
-        self.distance_incremental = False
-        self.ijk_absolute = False
-        self.feed_mode = UNITS_PER_MINUTE
-        self.feed_rate = 0.0
-        self.speed = 0.0
-        self.spindle = "stopped"
-        self.css_mode = False
-        self.mist = False
-        self.flood = False
-        self.feed_override = True
-        self.speed_override = True
-        self.adaptive_feed = False
-        self.feed_hold = True
-        # The stand-alone canon starts in G64 without tolerances.
-        self.control_mode = G64
-        self.path_tolerance = 0.0
-        self.naivecam_tolerance = 0.0
-        self.retract_r_plane = True
-        self.lathe_diameter = False
-        self.cutter_comp = False
-        self._cc = CompState()
-        # Before any T word M6 changes to pocket 0, yet #<_selected_pocket>
-        # reads -1; the canon reports slot 1 as the loaded one.
-        self.selected_pocket = 0
-        self.tool_selected = False
-        self.selected_tool = 0
-        self.current_pocket = 1
-        self.toolchange_flag = False
-        #: rs274 is reading a G7x profile (it reads U and W words then).
-        self.reading_profile = False
-        self.origin_index = 1
-        self.origin = [0.0] * 9
-        self.g92 = [0.0] * 9
-        self.rotation = 0.0
-        self.tool_offset = [0.0] * 9
-        self.current = [0.0] * 9
+        self._start_state()
 
     # ------------------------------------------------------------------
     # Parameter stores

@@ -42,7 +42,7 @@ def check_label(machine, key: str, kind: str, line: int, text: str) -> None:
     """An opener (or a do-loop's closing ``while``: ``kind`` ``do-end``)
     with a reused label is executed on ``line``; or a closing line with a
     reused label that fits no open construct (``kind`` is its keyword)."""
-    table = machine.__dict__.setdefault("_olabels", {})
+    table = machine._olabels
     seen = table.get(key)
     if kind == "endif" or kind in NO_MATCHING:
         # a closing line: it needs the label recorded by a fitting opener
@@ -83,7 +83,7 @@ def top_level_return(machine, line: int, keyword: str, text: str, value=None) ->
         machine.fail(line, fanuc_subs.FANUC_END_M99)
     machine.value = 0.0 if value is None else value
     machine.value_returned = 0.0 if value is None else 1.0
-    if not getattr(machine, "returned_to_main", False):
+    if not machine.returned_to_main:
         machine.fail(line, NOT_IN_SUB % (line, text))
     if keyword == "endsub":
         machine.fail(line, NOT_IN_SUB_DEFINITION)

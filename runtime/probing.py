@@ -39,10 +39,6 @@ _BACKOFF_MM, _BACKOFF_INCH = 0.254, 0.01
 class ProbingMixin:
     """G38.2-G38.5 (part of Machine)."""
 
-    #: A probe move was made: the next line starts by reading its results.
-    probe_flag = False
-    _probe_point: List[float] = [0.0] * 9
-
     def _probe(self, motion: int, block: Block) -> None:
         """convert_probe. G38.3 and G38.5 (bit 1 of the type: no error when
         the probe does not trip) may probe towards the current point."""

@@ -64,7 +64,7 @@ def run_py_comment(machine, code: str) -> None:
         tree = ast.parse(code)
     except (SyntaxError, ValueError, RecursionError, MemoryError):
         raise failed from None  # ValueError: a NUL byte in the code
-    namespace = machine.__dict__.setdefault("python_namespace", {})
+    namespace = machine.python_namespace
     try:
         for statement in tree.body:
             _statement(statement, namespace)

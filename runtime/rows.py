@@ -255,7 +255,6 @@ class BatchesOnly:
     nothing else on the line), which reach the canon's ``straight_moves``
     in one call and which it handles knowing exactly that."""
 
-    _batchable = False
     #: run_rows hands rows the batches leave to move() and arc(), as lines of
     #: the program would be, not to block(): see _single_line.
     rows_by_move = True

@@ -38,12 +38,6 @@ from runtime.errors import GCodeError
 class SplinesMixin:
     """G5, G5.1, G5.2 and G5.3 (part of Machine)."""
 
-    #: The control points collected so far (rs274 keeps one static list).
-    _nurbs_points: List[ControlPoint] = []
-    _nurbs_order = 3
-    #: G5's remembered I and J (rs274's cycle_i, cycle_j).
-    _spline_ij = (0.0, 0.0)
-
     def _spline(self, motion: int, block: Block) -> None:
         """convert_spline: G5 and G5.1."""
         words = block.words

@@ -39,11 +39,13 @@ from runtime.toolpath import (
     AXIS_NAMES,
     LINEAR,
     MM_PER_INCH,
+    PLANE_AXES,
     Arc,
     Extents,
     Point,
     ToolpathCanon,
     distance,
+    make_arc,
 )
 
 #: Default rapid rate, mm/min.
@@ -182,9 +184,41 @@ class StatsCanon(ToolpathCanon):
             add, move_times(moving, rate, self.model.acceleration), self.motion_time
         )
 
+    def arc_moves(self, lines, first_end, second_end, first_axis, second_axis, *rest):
+        """A batch of arcs (runtime.canon.Canon.arc_moves): the same
+        :meth:`arc` calls as ``arc_feed`` makes, without its per-call work."""
+        axes = PLANE_AXES.get(self.plane)
+        # Row by row: a subclass watching arcs, a UVW plane, inch conversions.
+        if type(self).arc is not StatsCanon.arc or axes is None or self.inches:
+            return super().arc_moves(
+                lines, first_end, second_end, first_axis, second_axis, *rest
+            )
+        if self.first_units is None:
+            self.first_units = False
+        f, s, n = axes
+        arc = self.arc
+        start = self.position
+        point = list(start)
+        for e1, e2, c1, c2, rotation, en, *other in zip(
+            first_end, second_end, first_axis, second_axis, *rest
+        ):
+            point[3:] = other
+            point[f], point[s], point[n] = e1, e2, en
+            end = tuple(point)
+            arc(make_arc(start, end, axes, (c1, c2), rotation))
+            start = end
+        self.position = start
+
     def arc(self, arc: Arc) -> None:
-        for point in arc.extreme_points():
-            self.extents.add(point)
+        extents = self.extents
+        if extents.encloses(arc.axes, arc.centre, max(arc.r0, arc.r1)):
+            # Its bulge is inside the box already (most arcs of a long
+            # program): its ends carry what the other axes add.
+            extents.add(arc.start)
+            extents.add(arc.end)
+        else:
+            for point in arc.extreme_points():
+                extents.add(point)
         length = arc.length
         self.counts["arc"] += 1
         self.lengths["arc"] += length

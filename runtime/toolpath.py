@@ -368,6 +368,21 @@ class Extents:
             self._rest_low = list(map(min, self._rest_low, rest))
             self._rest_high = list(map(max, self._rest_high, rest))
 
+    def encloses(self, axes: Tuple[int, int, int], centre, radius: float) -> bool:
+        """Whether the square of half-side ``radius`` about ``centre`` in the
+        plane of ``axes`` (an arc's, whose every point is that close to its
+        centre) lies within the extents so far: then only its ends can add
+        to them."""
+        box = self._xyz
+        f, s = axes[0] * 2, axes[1] * 2
+        cf, cs = centre
+        return (
+            box[f] <= cf - radius
+            and cf + radius <= box[f + 1]
+            and box[s] <= cs - radius
+            and cs + radius <= box[s + 1]
+        )
+
     def add_columns(self, columns: Sequence[Sequence[float]]) -> None:
         """Every point of nine columns (x .. w, of equal length) at once."""
         box = self._xyz

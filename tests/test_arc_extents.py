@@ -53,7 +53,9 @@ def test_extents_bound_the_arc_and_are_reached(arc):
     size = max(arc.r0, arc.r1, 1e-9)
     for (lo, hi), (slo, shi) in zip(exact, sampled):
         # Every sampled point lies inside the exact box ...
-        assert lo <= slo + 1e-9 * size and shi <= hi + 1e-9 * size
+        # (give or take the rounding of a coordinate's own size)
+        rounding = 1e-9 * size + 1e-12 * max(abs(lo), abs(hi), 1.0)
+        assert lo <= slo + rounding and shi <= hi + rounding
         # ... and the exact box is no bigger than the arc: sampling 20k
         # points a turn misses a peak by at most half its curvature times
         # the half step squared, (r + 2|dr/dθ|) (pi / 20000)² / 2 (for a
@@ -78,6 +80,19 @@ def test_many_turns_cost_no_more_points():
     assert len(one.extreme_points()) <= 2 + 8
     # the spiral grows from radius 1 to 2: the last turn reaches about -2 in X
     assert min(p[0] for p in many.extreme_points()) < -1.99999
+
+
+def test_a_far_normal_axis_is_bounded_within_its_rounding():
+    # Found by a run: a tiny arc whose Z travels a thousand millimetres
+    # (a sample's Z rounds a little past the end's).
+    arc = make_arc(
+        (6.25e-05, 0.0, 884.0) + (0.0,) * 6,
+        (3.376889411675873e-05, 5.2591936550493535e-05, -140.4879501394438) + (0.0,) * 6,
+        (0, 1, 2),
+        (0.0, 0.0),
+        1,
+    )
+    test_extents_bound_the_arc_and_are_reached.hypothesis.inner_test(arc)
 
 
 def test_a_sweep_too_small_to_divide_by_is_bounded_by_its_ends():

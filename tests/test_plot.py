@@ -188,3 +188,54 @@ def test_program_from_standard_input(tmp_path, monkeypatch):
         rc, _, err = main(["plot", "-", "-o", str(out)])
     assert rc == 0, err
     assert "standard input" in out.read_text()
+
+
+def _mask(png: bytes, colour: str, tolerance: float) -> np.ndarray:
+    import matplotlib.image
+
+    pixels = matplotlib.image.imread(io.BytesIO(png))[:, :, :3]
+    return (abs(pixels - _colour(colour)) < tolerance).all(axis=2)
+
+
+def _grown(mask: np.ndarray, by: int) -> np.ndarray:
+    grown = mask.copy()
+    for dy in range(-by, by + 1):
+        for dx in range(-by, by + 1):
+            grown |= np.roll(np.roll(mask, dy, axis=0), dx, axis=1)
+    return grown
+
+
+@pytest.mark.parametrize("view", ["xy", "iso"])
+def test_a_dense_path_is_rasterised_where_its_lines_would_be_drawn(
+    tmp_path, monkeypatch, view
+):
+    """The same path drawn as vectors and, past RASTER_FROM, as an image of
+    its pixels: the two pictures' feed and arc pixels coincide (within the
+    lines' width), so the raster sits at the right place, the right way up,
+    in every view."""
+    from ngc2py import drawing
+
+    text = ["G21 G90 G17 F500 G0 X0 Y0"]
+    for k in range(60):
+        text.append("G1 X%d Y%d Z-%d" % (k % 7 * 10, (k * 13) % 40, k % 3))
+        text.append("G2 X%d Y%d R30" % (k % 7 * 10 + 5, (k * 13) % 40))
+    text.append("M2")
+    path = toolpath_of(tmp_path, "\n".join(text) + "\n")
+    pictures = {}
+    for name, threshold in (("vector", 10**9), ("raster", 0)):
+        monkeypatch.setattr(drawing, "RASTER_FROM", threshold)
+        out = io.BytesIO()
+        drawing.draw(path, view, "dense", out, "png")
+        pictures[name] = out.getvalue()
+    for kind in ("feed", "arc"):
+        colour = STYLES[kind][1]
+        raster = _mask(pictures["raster"], colour, 0.02)
+        # the vector lines' cores, and with their antialiased edges
+        core = _mask(pictures["vector"], colour, 0.1)
+        inked = _mask(pictures["vector"], colour, 0.45)
+        assert raster.sum() > 500 and core.sum() > 500
+        assert raster.shape == core.shape
+        # every raster pixel lies on a drawn line, and every line's core
+        # within a pixel of the raster
+        assert (raster & _grown(inked, 1)).sum() >= 0.99 * raster.sum()
+        assert (core & _grown(raster, 1)).sum() >= 0.99 * core.sum()

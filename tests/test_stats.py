@@ -376,9 +376,16 @@ def test_command_help_and_bad_option():
 
 
 class _OneCallAMove(StatsCanon):
-    """StatsCanon without its batch method: one straight_feed a move."""
+    """StatsCanon without its batch methods (one straight_feed or arc_feed a
+    move) that finds every arc's extreme points, none passed over because
+    the extents already enclose it."""
 
     straight_moves = Canon.straight_moves
+    arc_moves = Canon.arc_moves
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.extents.encloses = lambda *args: False
 
 
 def _report_of(canon_type, text: str) -> dict:
@@ -397,6 +404,17 @@ def _report_of(canon_type, text: str) -> dict:
 def test_straight_moves_in_columns_give_the_per_move_report(text):
     """The batch path (StatsCanon.straight_moves: lengths by math.dist,
     times added in order) reports what one call a move reports, bit for bit."""
+    for units in ("G21", "G20"):
+        program = units + "\n" + text
+        assert _report_of(StatsCanon, program) == _report_of(_OneCallAMove, program)
+
+
+@settings(max_examples=60, deadline=None)
+@given(cam_strategies.arc_programs())
+def test_arcs_in_columns_give_the_per_move_report(text):
+    """Arcs reach StatsCanon in batches (StatsCanon.arc_moves) and most skip
+    their extreme points (inside the extents already): the same report as
+    one arc_feed an arc with every extreme point, bit for bit."""
     for units in ("G21", "G20"):
         program = units + "\n" + text
         assert _report_of(StatsCanon, program) == _report_of(_OneCallAMove, program)

@@ -34,14 +34,21 @@ class OneByOne(ToolpathCanon):
         super().__init__()
         self.machine = None
         self.moves = []
+        self.feeds = []
+        self.rate = 0.0
+
+    def set_feed_rate(self, rate):
+        self.rate = self.to_mm(rate)
 
     def line(self, kind, start, end):
         self.moves.append(
             (KIND[kind], start, end, None, self.machine.line, distance(start, end))
         )
+        self.feeds.append(math.nan if kind == "rapid" else self.rate)
 
     def arc(self, arc):
         self.moves.append((ARC, arc.start, arc.end, arc, self.machine.line, arc.length))
+        self.feeds.append(self.rate)
 
 
 def reference(program: str) -> OneByOne:
@@ -91,6 +98,8 @@ def compare(tmp_path, text: str) -> None:
         return
     assert path.kind.tolist() == [m[0] for m in moves]
     assert path.line.tolist() == [m[4] for m in moves]
+    # the rate in force at each move: a batch must not outrun an F word
+    assert np.array_equal(path.feed, np.array(expected.feeds), equal_nan=True)
     assert np.array_equal(path.start, np.array([m[1] for m in moves]))
     assert np.array_equal(path.end, np.array([m[2] for m in moves]))
     np.testing.assert_allclose(
