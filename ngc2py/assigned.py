@@ -52,7 +52,7 @@ def _flow(stmts: Iterable[st.Stmt], known: Known, before: Dict[int, Known]) -> K
             if type(stmt.line) in (RowLine, RowRun):
                 continue  # literal words only: no settings (and kept compact)
             before[id(stmt.line)] = known
-            known = known | _settings(stmt.line)
+            known = known | line_settings(stmt.line)
         elif isinstance(stmt, st.If):
             arms: List[Known] = [_flow(b.body, known, before) for b in stmt.branches]
             if stmt.orelse is not None:
@@ -65,7 +65,7 @@ def _flow(stmts: Iterable[st.Stmt], known: Known, before: Dict[int, Known]) -> K
     return known
 
 
-def _settings(line: nodes.Line) -> Known:
+def line_settings(line: nodes.Line) -> Known:
     """The named parameters a line of settings alone certainly sets."""
     if line.error or line.block_delete or not line.items:
         return frozenset()

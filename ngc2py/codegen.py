@@ -52,6 +52,7 @@ from ngc2py import structure as st
 from ngc2py.parser import RowLine
 from ngc2py.rowrun import RowRun
 from runtime import codes
+from runtime.comments import LINE_METHODS
 from runtime.errors import GCodeError
 from runtime.params import MAX_PARAMETERS, POSITION_PARAMS, Params
 
@@ -67,6 +68,16 @@ NEST_LIMIT = 8
 # (each nesting level indents at most twice).
 FAST_LOCALS_DEPTH = NEST_LIMIT // 2
 MIN_ROWS = 8  # shortest run of constant blocks kept as data
+#: A shorter run of codes alone (``G17``, ``G21``, ``G90``...: a macro's
+#: set-up, not CAM data) stays statements, which read better.
+MIN_VALUE_ROWS = 64
+#: What a function binds for its code: numbered parameters (the list), named
+#: globals, named locals (CodeGen.bind_stores binds only those it uses).
+STORES = {"p": "m.params.values", "g": "m.globals", "v": "m.locals"}
+STORES_LINE = "p, g, v = m.params.values, m.globals, m.locals"
+#: A use of a store in generated code (``p[1]``, ``g._x``, ``v["a b"]``);
+#: text of a string that looks like one only keeps the binding.
+STORE_USE = {name: re.compile(r"(?<![\w.])%s[.\[]" % name) for name in STORES}
 ROWS_PER_TABLE = 20000  # rows of one table: bounds the memory of running one
 
 BINARY_HELPERS = {
@@ -169,11 +180,14 @@ class ExprWriter:
 
     def __init__(self) -> None:
         self.helpers: set = set()
-        #: Locals of the function being written that are Python variables
-        #: (ngc2py.fastlocals).
-        self.fast: frozenset = frozenset()
+        #: Locals of the function being written that are Python variables,
+        #: and their variables (ngc2py.fastlocals).
+        self.fast: Dict[str, str] = {}
         #: Reading a definition's own return values: unset names read 0.
         self.defining = False
+        #: Locals the function being written never sets (fastlocals.never_set):
+        #: reading past a definition, they read 0.
+        self.never_set: frozenset = frozenset()
 
     def helper(self, name: str) -> str:
         self.helpers.add(name)
@@ -204,13 +218,21 @@ class ExprWriter:
             return "p[%d]" % int(index.value)
         # rs274's checks: rounding to an index, its range, the position
         # parameters (held apart, unreadable under cutter compensation)
-        return "m.params[%s]" % self.expr(index)
+        return "m.params[%s]" % self.index(index)
+
+    def index(self, e: nodes.Expr) -> str:
+        """A parameter number: a whole constant as an integer (``5420``)."""
+        if isinstance(e, nodes.Num) and float(e.value).is_integer() and abs(e.value) < 2**53:
+            return "%d" % int(e.value)
+        return self.expr(e)
 
     def _namedparam(self, e: nodes.NamedParam) -> str:
         if e.name in self.fast:
-            return fastlocals.variable(e.name)
+            return self.fast[e.name]
         store = "g" if e.is_global else "v"
         if self.defining:
+            if e.name in self.never_set:
+                return "0.0"  # the store never holds it
             return "%s.read_or_zero(%s)" % (store, string(e.name))
         if attr_safe(e.name):
             return "%s.%s" % (store, e.name)
@@ -241,20 +263,28 @@ class ExprWriter:
 
     def _binary(self, e: nodes.Binary) -> str:
         if e.op in ("+", "-", "*"):
-            left = self._operand(e.left)
-            right = self._operand(e.right)
+            left = self._operand(e.left, outer=e.op)
+            right = self._operand(e.right, outer=e.op, right=True)
             return "%s %s %s" % (left, e.op, right)
         name = self.helper(BINARY_HELPERS[e.op])
         return "%s(%s, %s)" % (name, self.expr(e.left), self.expr(e.right))
 
-    def _operand(self, e: nodes.Expr, unary: bool = False) -> str:
-        """An operand of ``+ - *`` or unary minus: inner operators (and, for
-        unary minus, negative literals) get parentheses so Python groups
-        exactly as the parser did."""
+    def _operand(
+        self, e: nodes.Expr, unary: bool = False, outer: str = "", right: bool = False
+    ) -> str:
+        """An operand of ``+ - *`` (``outer``; ``right``: its right operand)
+        or unary minus: inner operators (and, for unary minus, negative
+        literals) get parentheses where Python would group otherwise than
+        the parser did (``a * b + c``, ``a - b + c``, ``a - (b + c)``,
+        ``a * (b * c)``: the same operations in the same order)."""
         text = self.expr(e)
         if isinstance(e, nodes.Bracket) and not may_overflow(e.inner):
             e = e.inner  # written bare: group by what is inside
         if isinstance(e, nodes.Binary) and e.op in ("+", "-", "*"):
+            tighter = e.op == "*" and outer in ("+", "-")
+            same_level = (e.op == "*") == (outer == "*")
+            if outer and (tighter or (same_level and not right)):
+                return text
             return "(%s)" % text
         if isinstance(e, nodes.Unary) and e.op == "neg":
             return "(%s)" % text
@@ -573,7 +603,6 @@ class CodeGen:
         self.source_name = source_name
         self.opening = opening
         self.demarcated = opening is not None
-        self.uses_comments = False  # import runtime.comments
         files = [program.file] + [
             s.line.file or program.file for s in program.externals
         ]
@@ -631,8 +660,6 @@ class CodeGen:
             head.extend(import_lines("runtime.codes", names))
         if self.x.helpers:
             head.extend(import_lines("runtime.ops", sorted(self.x.helpers)))
-        if self.uses_comments:
-            head.append("from runtime.comments import Comment")
         if self.row_tables:
             head.append("from runtime.rows import run_rows")
         shift = len(head)
@@ -732,13 +759,15 @@ class CodeGen:
             # rs274 fails seeking the definition for a call (SeekFail, Fail)
             doc = "o<%s> call: where seeking its sub line fails" % safe_doc(sub.name)
         self.w.raw('%s"""%s"""' % (INDENT, doc))
-        self.w.raw(INDENT + "p, g, v = m.params.values, m.globals, m.locals")
+        stores = self.stores()
         body = sub.body
         if body and isinstance(body[-1], st.Return) and body[-1].value is None:
             body = body[:-1]  # falling off the end is the plain endsub
         self.x.fast = fastlocals.fast_locals(body, FAST_LOCALS_DEPTH)
+        self.x.never_set = fastlocals.never_set(body)
         self.block(body)
-        self.x.fast = frozenset()
+        self.x.fast, self.x.never_set = {}, frozenset()
+        self.bind_stores(stores)
         self.w.depth = 0
         self.write_helpers()
         self.w.file_index = 0
@@ -760,7 +789,7 @@ class CodeGen:
             self.w.depth = 1
             if len(chunks) == 1:
                 self.w.raw('%s"""The main program."""' % INDENT)
-            self.w.raw(INDENT + "p, g, v = m.params.values, m.globals, m.locals")
+            stores = self.stores()
             if i == 0 and self.break_flag:
                 self.w.raw(
                     INDENT + "m.doing_break = False  # set by a while-loop break"
@@ -771,8 +800,10 @@ class CodeGen:
                 )
             if len(chunks) == 1:  # chunks would share the variables
                 self.x.fast = fastlocals.fast_locals(chunk, FAST_LOCALS_DEPTH)
+                self.x.never_set = fastlocals.never_set(chunk)
             self.block(chunk)
-            self.x.fast = frozenset()
+            self.x.fast, self.x.never_set = {}, frozenset()
+            self.bind_stores(stores)
             self.w.depth = 0
             self.write_helpers()
         if len(chunks) > 1:
@@ -782,6 +813,33 @@ class CodeGen:
             self.w.raw('%s"""The main program, in chunks of bounded size."""' % INDENT)
             for name in names:
                 self.w.raw("%s%s(m)" % (INDENT, name))
+
+    def stores(self) -> int:
+        """A function's first statement binds the stores its code uses
+        (``p = m.params.values``): this places it (:meth:`bind_stores`
+        writes it once the code is written)."""
+        self.w.raw(INDENT + STORES_LINE)
+        return len(self.w.out) - 1
+
+    def bind_stores(self, at: int) -> None:
+        """``p, v = m.params.values, m.locals``: the stores the function's
+        code (from line ``at`` on) uses, or no line at all."""
+        code = "\n".join(self.w.out[at + 1 :])
+        used = [name for name in STORES if STORE_USE[name].search(code)]
+        if used:
+            self.w.out[at] = "%s%s = %s" % (
+                INDENT,
+                ", ".join(used),
+                ", ".join(STORES[name] for name in used),
+            )
+            return
+        del self.w.out[at]
+        entries = self.w.map.entries
+        for k in range(len(entries) - 1, -1, -1):
+            py, file, line = entries[k]
+            if py <= at + 1:
+                break
+            entries[k] = (py - 1, file, line)
 
     def last_line(self) -> Optional[nodes.Line]:
         for stmt in reversed(list(st.walk(self.program.body))):
@@ -858,7 +916,8 @@ class CodeGen:
         """Emit a run of constant blocks (row runs and (line, row) pairs):
         as statements when short, else as data tables executed by
         ``runtime.rows.run_rows``."""
-        if sum(item.count if type(item) is RowRun else 1 for item in run) < MIN_ROWS:
+        total = sum(item.count if type(item) is RowRun else 1 for item in run)
+        if total < MIN_ROWS or (total < MIN_VALUE_ROWS and not row_values(run)):
             for item in run:
                 for line in item.lines() if type(item) is RowRun else [item[0]]:
                     self.line_block(line.full() if isinstance(line, RowLine) else line)
@@ -987,8 +1046,9 @@ class CodeGen:
                 % (INDENT, first, last)
             )
             self.w.depth = 1
-            self.w.raw(INDENT + "p, g, v = m.params.values, m.globals, m.locals")
+            stores = self.stores()
             self.statement(helper.stmt)
+            self.bind_stores(stores)
             self.w.depth = 0
         self.loops, self.frame, self.in_helper = [], 0, False
 
@@ -1051,12 +1111,12 @@ class CodeGen:
         self.w.stmt(call, stmt.line)
 
     def s_endoffile(self, stmt: st.EndOfFile) -> None:
-        self.w.raw(INDENT * self.w.depth + "# end of file, no program end")
-        self.w.stmt("m.end_of_file(%s, False)" % self.demarcated, stmt.line)
+        self.w.stmt(
+            "m.end_of_file(%s, False)  # no program end" % self.demarcated, stmt.line
+        )
 
     def s_define(self, stmt: st.Define) -> None:
         sub = stmt.sub
-        self.w.comment(sub.line)
         err = sub.define_error
         if err is None:
             self.w.stmt("m.define(%s, %s)" % (string(sub.name), sub.fn), sub.line)
@@ -1074,7 +1134,6 @@ class CodeGen:
         """Reading past the definition, rs274 reads the value of the sub's
         own ``return``/``endsub`` lines into ``#<_value>`` (a name not
         defined reads 0 there)."""
-        self.w.comment(line)
         expr = line.oword.expr
         if expr is None:
             self.w.stmt("m.definition_value(%d)" % line.number, line)
@@ -1088,7 +1147,6 @@ class CodeGen:
 
     def s_call(self, stmt: st.Call) -> None:
         args = [self.x.expr(a) for a in stmt.args]
-        self.w.comment(stmt.line)
         if stmt.sub is not None:
             head = ["m.call(%s" % stmt.sub.fn]  # definition already read
         elif stmt.found is not None:
@@ -1115,7 +1173,6 @@ class CodeGen:
         """``M98``: the machine checks the words as a block, then calls the
         subroutine (``fn``, or the one named by P when None) L times."""
         line = stmt.line
-        self.w.comment(line)
         codes, words = [], []
         for w in line.words:
             value = self.x.expr(w.value)
@@ -1128,7 +1185,6 @@ class CodeGen:
         self.w.stmt("m.m98(%s)" % ", ".join(args), line)
 
     def s_return(self, stmt: st.Return) -> None:
-        self.w.comment(stmt.line)
         value = None if stmt.value is None else self.x.expr(stmt.value)
         if self.in_helper:
             self.w.stmt('return ("return", %s)' % value, stmt.line)
@@ -1138,11 +1194,9 @@ class CodeGen:
             self.w.stmt("return %s" % value, stmt.line)
 
     def s_finish(self, stmt: st.Finish) -> None:
-        self.w.comment(stmt.line)
         self.w.stmt("m.end_of_file(True, True)", stmt.line)
 
     def s_jump(self, stmt: st.Jump) -> None:
-        self.w.comment(stmt.line)
         if self.break_flag and (
             (stmt.kind == "break" and stmt.target.kind == "while")
             or (stmt.kind == "continue" and break_after(stmt))
@@ -1247,13 +1301,10 @@ class CodeGen:
         arms = stmt.branches + ([stmt.orelse] if stmt.orelse else [])
         for i, branch in enumerate(stmt.branches):
             keyword_ = "if" if i == 0 else "elif"
-            if i == 0:
-                self.w.comment(branch.line)
             test = self.x.condition(branch.line.oword.expr)
             self.w.stmt("%s %s:" % (keyword_, test), branch.line)
             self.nested(
                 branch,
-                first=i > 0,
                 then=self.skip_error([arm.body for arm in arms[i + 1 :]]),
                 later=stmt.branches[i + 1 :],
             )
@@ -1275,20 +1326,17 @@ class CodeGen:
                 return
         if stmt.orelse is not None:
             self.w.stmt("else:", stmt.orelse.line)
-            self.nested(stmt.orelse, first=True)
+            self.nested(stmt.orelse)
 
     def nested(
         self,
         branch: st.Branch,
-        first: bool,
         then: Optional[nodes.Line] = None,
         later: Sequence[st.Branch] = (),
     ) -> None:
         """An arm's body; ``then`` fails after it (rs274 skipping the
         arms after a taken one reads that line)."""
         self.w.depth += 1
-        if first:
-            self.w.comment(branch.line)
         self.block(branch.body)
         for arm in later:
             # rs274 still reads the condition of each later elseif (it
@@ -1316,7 +1364,6 @@ class CodeGen:
         self.w.stmt(fail_call(line.number, line.error), line)
 
     def s_loop(self, stmt: st.Loop) -> None:
-        self.w.comment(stmt.line)
         if stmt.flagged:
             self.w.stmt('%s = ""' % self.flag(stmt))
         word = stmt.line.oword
@@ -1344,7 +1391,6 @@ class CodeGen:
             # (the end of the file or of the subroutine), never looping.
             self.w.raw(self.indent() + "break")
         elif stmt.kind == "do":
-            self.w.comment(stmt.end)
             self.do_test(stmt)
         self.loops.pop()
         self.w.depth -= 1
@@ -1384,8 +1430,13 @@ class CodeGen:
     # -- ordinary lines ---------------------------------------------------
 
     def line_block(self, line: nodes.Line) -> None:
-        """One ordinary line: values read in order, settings, then the block."""
-        self.w.comment(line)
+        """One ordinary line: values read in order, settings, then the block.
+        The statements show the line (``m.block(7, G91, x=..)``, ``x = 1.0``,
+        ``m.comment(3, "text")``): only a line rs274 cannot read, written as
+        the values read before the error and ``m.fail``, gets its text above
+        it as a ``# n:`` comment."""
+        if line.error is not None:
+            self.w.comment(line)
         if line.block_delete:
             self.w.stmt("if not m.block_delete:", line)
             self.w.depth += 1
@@ -1429,7 +1480,9 @@ class CodeGen:
             targets = ", ".join(r.target for r in settings)
             sources = ", ".join(r.value for r in settings)
             self.w.stmt("%s = %s" % (targets, sources), line)
-        if line.words or line.comment is not None or line.n is not None or not settings:
+        if fastlocals.comment_line(line):
+            self.w.stmt(self.comment_call(line), line)
+        elif line.words or line.comment is not None or line.n is not None or not settings:
             words = [r for r in reads if r.target is None]
             self.w.stmt(
                 self.block_call(line, line.words, [r.value for r in words]), line
@@ -1483,7 +1536,7 @@ class CodeGen:
             return "p[%d]" % int(index.value)
         self.temp += 1
         temp = "i%d" % self.temp
-        checks.append("%s = m.params.setting_index(%s)" % (temp, self.x.expr(index)))
+        checks.append("%s = m.params.setting_index(%s)" % (temp, self.x.index(index)))
         return "p[%s]" % temp
 
     def block_call(self, line: nodes.Line, words, values: List[str]) -> str:
@@ -1577,9 +1630,31 @@ class CodeGen:
         return "m.%scode(%s)" % (word.letter, value)
 
     def comment_arg(self, comment: nodes.Comment) -> str:
-        """``Comment(kind, text)``; the runtime splits out the parameters."""
-        self.uses_comments = True
-        return "Comment(%s, %s)" % (string(comment.kind), string(comment.text))
+        """A block's comment: a plain one's text, else ``(kind, text)``; the
+        runtime splits out the parameters (runtime.comments)."""
+        if comment.kind == "plain":
+            return string(comment.text)
+        return "(%s, %s)" % (string(comment.kind), string(comment.text))
+
+    def comment_call(self, line: nodes.Line) -> str:
+        """A line of one comment alone: ``m.comment(3, "text")``,
+        ``m.debug(5, "x is #<x>", x=x)`` (runtime.comments.CommentLines).
+        The names the text expands that are Python variables here are
+        handed over by name; the runtime reads the others from the stores."""
+        comment = line.comment
+        args = ["%d" % line.number]
+        if comment.kind != "logclose":
+            args.append(string(comment.text))
+        given = [
+            (name, self.x.fast[name])
+            for name in fastlocals.comment_names(comment)
+            if name in self.x.fast
+        ]
+        odd = [(n, var) for n, var in given if not n.isidentifier() or keyword.iskeyword(n)]
+        args += ["%s=%s" % (n, var) for n, var in given if (n, var) not in odd]
+        if odd:  # names no keyword argument can spell: #<pass>, #<z-end>
+            args.append("**{%s}" % ", ".join("%s: %s" % (string(n), v) for n, v in odd))
+        return "m.%s(%s)" % (LINE_METHODS[comment.kind], ", ".join(args))
 
 
 # --------------------------------------------------------------------------
@@ -1638,6 +1713,18 @@ def constant_row(stmt: st.Stmt) -> Optional[Row]:
     return (tuple(codes_), tuple(letters)), " ".join(values)
 
 
+def row_values(run: List) -> bool:
+    """Does a row of ``run`` (row runs and (line, row) pairs) have a word
+    value (any word but G and M)?"""
+    for item in run:
+        if type(item) is RowRun:
+            if any(line.cells for line in item.lines()):
+                return True
+        elif item[1][1]:
+            return True
+    return False
+
+
 def tables(run: List) -> List[List]:
     """``run`` (row runs and (line, row) pairs) cut into tables of
     ROWS_PER_TABLE rows, a row run split where a table ends."""
@@ -1678,8 +1765,16 @@ def shapes_table(shapes: Dict[Shape, int]) -> List[str]:
     for shape, index in shapes.items():
         codes_ = Coll("(", [code_name(code) for code in shape[0]], ")")
         letters = Coll("(", [string(letter) for letter in shape[1]], ")")
-        lines.append("%s# %d: %s" % (INDENT, index, shape_text(shape)))
-        lines.extend(layout(Coll("(", [codes_, letters], ")"), 4, ","))
+        note = "# %d: %s" % (index, shape_text(shape))
+        item = layout(Coll("(", [codes_, letters], ")"), 4, ",")
+        # (a one-shape tuple has no magic trailing comma: black would join
+        # it into one line but for a comment line inside)
+        fits = len(item) == 1 and len(item[0]) + 2 + len(note) <= LINE_LENGTH
+        if fits and len(shapes) > 1:
+            lines.append("%s  %s" % (item[0], note))  # black keeps it there
+            continue
+        lines.append(INDENT + note)
+        lines.extend(item)
     lines.append(")")
     return lines
 

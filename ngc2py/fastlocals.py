@@ -1,49 +1,73 @@
-"""Named locals kept in Python variables: ``#<i>`` as ``v_i``.
+"""Named locals kept in Python variables: ``#<x_start>`` as ``x_start``.
 
 A G-code loop reads and sets its named locals several times an iteration;
 as attributes of the locals store (``v.i``) each costs about 25 ns more than
-a Python local variable, a tenth of a simple loop's time. Where it is safe,
-the code generator writes such a name as the local variable ``v_i`` of the
-generated function, and the store never holds it.
+a Python local variable, a tenth of a simple loop's time, and the code reads
+worse. Where it is safe, the code generator writes such a name as a local
+variable of the generated function (:func:`variable`: the name itself, or
+``v_`` and the name where Python or the generated code takes it), and the
+store never holds it.
 
 Safe means that nothing can tell the difference, which this pass decides for
 each generated function from its statements alone:
 
 * the function is one Python function: no part of it nested deep enough to
   become a helper function (``codegen.NEST_LIMIT``), and not a main program
-  split into chunks (the code generator asks only when it is not);
-* nothing reads the locals store by name while the program runs: no comment
-  that could expand a parameter (any comment text with ``#``, any embedded
-  Python), no ``EXISTS`` of the name, and no M98 call (whose ``L0`` form
-  hands the caller's store to the new call level);
-* the name is first mentioned, in the text, by a line that only sets
-  parameters and sets it without reading it, and every other mention comes
-  after that line in the same statement list (the function's body, an arm of
-  an if, a loop's body), or inside a statement after it there. Such a list
-  is entered at its start and run in order (ifs and loops nest, a break or
-  continue goes to a loop's start or end; an if whose skip lands inside an
-  arm, ``st.If.lands``, turns the pass off), so every mention runs after the
-  setting in the same pass: every read finds the name set (no "not defined"
-  error to raise), and no setting needs rs274's rule that reading
-  ``#<i> =`` creates the name (``v.declare``).
+  split into chunks (the code generator asks only when it is not), and no if
+  whose skip lands inside an arm (``st.If.lands``);
+* nothing reads the store by name while the program runs: no embedded
+  Python, no M98 call (whose ``L0`` form hands the caller's store to the new
+  call level); a name is kept in the store where an ``EXISTS`` asks for it
+  or where the comment of a line with words prints it (the block gets the
+  comment as text). A line of a comment alone hands the values of the
+  names it prints that are variables (``m.debug(5, "#<x>", x=x)``);
+* the function sets the name somewhere (a name it only reads is read from
+  the store, which fails as rs274 does);
+* where the name may be unset (ngc2py.assigned's reckoning of what is
+  certainly set before each line), nothing reads it with a meaning other
+  than failing: not the rest of a line that sets it (rs274 creates the name
+  as it reads ``#<i> =``, so that reads 0: ``v.declare``), not a comment
+  (which prints ``######``), not a definition's value read past it (0).
 
-Names the store must keep (globals, ``n_args``, and names ``v.name`` cannot
-spell) are never candidates.
+Any other read of a variable still unset raises ``UnboundLocalError``,
+which the runtime turns into the store's own error, "Named parameter #<i>
+not defined", with the same traceback (``runtime.params.unset_variable``:
+``Machine.run``, ``ngc2py.parse``, rs274's ``-n`` continuation).
+
+Names the store must keep (globals, ``n_args``, names Python would fold to
+another one: non-ASCII) are never candidates.
 """
 
 from __future__ import annotations
 
-from typing import Dict, FrozenSet, Iterator, List, Set, Tuple
+import builtins
+import keyword
+import re
+from typing import Dict, FrozenSet, Iterator, List, Set
 
-from ngc2py import nodes
+from ngc2py import assigned, nodes
 from ngc2py import structure as st
 from ngc2py.parser import RowLine
 from ngc2py.rowrun import RowRun
+from runtime import codes, comments, ops
 from runtime.params import attr_safe
 
-#: The prefix of the Python variable that holds ``#<name>``: no name the code
-#: generator writes otherwise starts with it.
+#: The prefix of the Python variable that holds ``#<name>`` when the name
+#: itself is taken: no name the code generator writes otherwise starts with it.
 PREFIX = "v_"
+
+#: Names a generated function already uses for something else: Python's
+#: keywords and builtins, the machine and its stores, what generated modules
+#: import from the runtime (or may), and what the code generator writes:
+#: temporaries ``t1``/``i1``, loop flags ``exit_1``, ``jump``, functions.
+_TAKEN = frozenset(
+    keyword.kwlist
+    + dir(builtins)
+    + dir(ops)
+    + dir(codes)
+    + ["m", "p", "g", "v", "jump", "start", "run_cli", "run_rows", "rows", "run"]
+)
+_WRITTEN = re.compile(r"[ti]\d+|exit_\d+|nest_\d+|main(_\d+)?|o_.*|v_.*")
 
 
 #: Locals the store itself defines: with OWORD_NARGS a call's ``#<n_args>``,
@@ -52,62 +76,228 @@ _STORE_KEEPS = frozenset({"n_args"})
 
 
 def variable(name: str) -> str:
-    """The Python variable of the G-code local ``name``."""
-    return PREFIX + name
+    """The Python variable of the G-code local ``name``: the name itself
+    (``#<x_start>`` is ``x_start``) unless that is taken (``#<jump>`` is
+    ``v_jump``, ``#<v_x>`` is ``v_v_x``)."""
+    if name in _TAKEN or _WRITTEN.fullmatch(name) or keyword.issoftkeyword(name):
+        return PREFIX + name
+    return name
 
 
-def fast_locals(body: List[st.Stmt], max_depth: int) -> FrozenSet[str]:
+def comment_line(line) -> bool:
+    """Is ``line`` a comment with nothing else but settings (no words, N
+    number, O-word or error)? The code generator writes its block as one
+    call of runtime.comments.CommentLines, after the settings."""
+    return (
+        type(line) is nodes.Line
+        and line.comment is not None
+        and not line.words
+        and line.n_text is None
+        and line.oword is None
+        and line.error is None
+    )
+
+
+def comment_names(comment: nodes.Comment) -> List[str]:
+    """The local names whose values a comment prints (DEBUG, PRINT, LOG,
+    ABORT expand ``#<name>``), each once, in order."""
+    if comment.kind not in comments.EXPANDING_KINDS or "#" not in comment.text:
+        return []
+    names = [
+        part.name
+        for part in comments.split_parts(comment.text)
+        if type(part) is comments.Name and not part.name.startswith("_")
+    ]
+    return list(dict.fromkeys(names))
+
+
+def fast_locals(body: List[st.Stmt], max_depth: int) -> Dict[str, str]:
     """The local names of a function body (``body``) that may be Python
-    variables; ``max_depth``: the deepest if/loop nesting the code generator
-    writes in one function."""
+    variables, each with its variable (``{"x-start": "x_start"}``);
+    ``max_depth``: the deepest if/loop nesting the code generator writes in
+    one function."""
     if _deeper_than(body, max_depth) or _lands(body):
-        return frozenset()
-    first: Dict[str, nodes.Line] = {}  # name -> the first line mentioning it
-    mentioned: Dict[str, Set[int]] = {}  # name -> ids of the lines
+        return {}
+    set_somewhere: Set[str] = set()
     for line in _lines(body):
         if line is None:  # something that reads the store by name
-            return frozenset()
-        for name in _names(line):
-            first.setdefault(name, line)
-            mentioned.setdefault(name, set()).add(id(line))
-    tainted = _exists_names(body)
-    places: Dict[int, Tuple[List[st.Stmt], int]] = {}
-    _settings_lines(body, places)
-    chosen: Set[str] = set()
-    for name, line in first.items():
-        place = places.get(id(line))
-        if (
-            place is None
-            or name.startswith("_")
-            or name in _STORE_KEEPS
-            or not attr_safe(name)
-            or name in tainted
-            or name not in _set_by(line)
-            or nodes.reads_name(line.items, name)
-        ):
+            return {}
+        set_somewhere.update(_set_by(line))
+    known: Dict[int, Known] = {}
+    _known_before(body, frozenset(), known)
+    unsafe = _exists_names(body) | _block_comment_names(body)
+    defining = {id(line) for line in _definition_lines(body)}
+    for line in _lines(body):
+        before = known.get(id(line), frozenset())
+        if id(line) in defining:
+            # reading past a definition, an unset name reads 0
+            unsafe.update(name for name in _reads(line) if name not in before)
             continue
-        # Every mention must come after the setting in its own statement
-        # list: reaching them means passing it (ifs and loops nest; a jump
-        # goes to a loop's start or end).
-        stmts, index = place
-        after = {id(later) for later in _lines(stmts[index:]) if later is not None}
-        if mentioned[name] <= after:
-            chosen.add(name)
-    return frozenset(chosen)
+        for i, item in enumerate(line.items):
+            # rs274 creates the name as it reads "#<n> =": the rest of the
+            # line reads 0 for it (v.declare)
+            target = item.target if isinstance(item, nodes.Assign) else None
+            if (
+                isinstance(target, nodes.NamedParam)
+                and target.name not in before
+                and nodes.reads_name(line.items[i:], target.name)
+            ):
+                unsafe.add(target.name)
+        if line.comment is not None:
+            # an unset name prints ######: the comment needs it set (the
+            # line's own settings come first)
+            after = before | assigned.line_settings(line)
+            unsafe.update(n for n in comment_names(line.comment) if n not in after)
+    chosen = sorted(
+        name
+        for name in set_somewhere
+        if not (
+            name.startswith("_")
+            or name in _STORE_KEEPS
+            or not name.isascii()  # Python folds other names (NFKC): ﬁ is fi
+            or name in unsafe
+        )
+    )
+    return _variables(chosen)
 
 
-def _settings_lines(stmts: List[st.Stmt], places: Dict[int, Tuple[List[st.Stmt], int]]):
-    """Where each line of settings alone is: (its statement list, index)."""
-    for index, stmt in enumerate(stmts):
-        if type(stmt) is st.Block and _settings_only(stmt.line):
-            places[id(stmt.line)] = (stmts, index)
+def _variables(names: List[str]) -> Dict[str, str]:
+    """Distinct Python variables for ``names``: a name itself where it is a
+    free identifier, else its letters with ``_`` for the others (``#<z-end>``
+    is ``z_end``), behind ``v_`` where that is taken (``#<pass>`` is
+    ``v_pass``), and ``_`` added until it is unique."""
+    variables: Dict[str, str] = {}
+    used: Set[str] = set()
+    for name in names:
+        if variable(name) == name and name.isidentifier():
+            variables[name] = name
+            used.add(name)
+    for name in names:
+        if name in variables:
+            continue
+        var = variable(re.sub(r"[^a-z0-9_]", "_", name))
+        if not var.isidentifier():
+            var = PREFIX + var
+        while var in used:
+            var += "_"
+        variables[name] = var
+        used.add(var)
+    return variables
+
+
+def _definition_lines(stmts: List[st.Stmt]) -> Iterator[nodes.Line]:
+    for stmt in st.walk(stmts, into_subs=False):
+        if isinstance(stmt, st.Define):
+            yield from st.definition_values(stmt.sub)
+
+
+Known = FrozenSet[str]
+
+
+_NEVER_SET_DEPTH = 100
+
+
+def never_set(body: List[st.Stmt]) -> FrozenSet[str]:
+    """Local names a function body mentions but never sets: its own store
+    never holds them (reading past a definition, ``#<x>`` there reads 0).
+    Empty where something else may set the store (an M98 call)."""
+    if _deeper_than(body, _NEVER_SET_DEPTH):
+        return frozenset()  # (G-code nesting has no bound; Python's stack has)
+    mentioned: Set[str] = set()
+    set_: Set[str] = set()
+    for line in _lines(body):
+        if line is None:
+            return frozenset()
+        mentioned.update(_names(line))
+        set_.update(_set_by(line))
+    return frozenset(n for n in mentioned - set_ if not n.startswith("_"))
+
+
+def _note(out: Dict[int, Known], line, known: Known) -> None:
+    """``known`` before ``line`` (a line met twice keeps what holds both times)."""
+    key = id(line)
+    out[key] = out[key] & known if key in out else known
+
+
+def _known_before(stmts: List[st.Stmt], known: Known, out: Dict[int, Known]) -> Known:
+    """Record in ``out`` (``id(line)`` -> names) the names certainly set
+    before each line of ``stmts`` runs, as ngc2py.assigned reckons them (only
+    a line of settings alone sets names for certain; after an if, what every
+    arm sets when there is an else; after a loop nothing new); a loop's
+    closing condition and later elseif conditions know what held before the
+    loop or the if. Returns what is known after ``stmts``."""
+    for stmt in stmts:
+        if isinstance(stmt, st.Block):
+            line = stmt.line
+            if type(line) in (RowLine, RowRun):
+                continue  # literal words only
+            _note(out, line, known)
+            known = known | assigned.line_settings(line)
         elif isinstance(stmt, st.If):
             for branch in stmt.branches:
-                _settings_lines(branch.body, places)
+                _note(out, branch.line, known)
+            arms = [_known_before(b.body, known, out) for b in stmt.branches]
             if stmt.orelse is not None:
-                _settings_lines(stmt.orelse.body, places)
+                _note(out, stmt.orelse.line, known)
+                arms.append(_known_before(stmt.orelse.body, known, out))
+                known = known | frozenset.intersection(*arms)
+            if stmt.end is not None:
+                _note(out, stmt.end, known)
         elif isinstance(stmt, st.Loop):
-            _settings_lines(stmt.body, places)
+            _note(out, stmt.line, known)
+            for fail in (stmt.eof, stmt.skip_fail):
+                if getattr(fail, "line", None) is not None:
+                    _note(out, fail.line, known)
+            _known_before(stmt.body, known, out)
+            if stmt.end is not None:
+                _note(out, stmt.end, known)
+        elif isinstance(stmt, st.Define):
+            for line in st.definition_values(stmt.sub):
+                _note(out, line, known)
+        else:
+            line = getattr(stmt, "line", None)
+            if line is not None:
+                _note(out, line, known)
+            if isinstance(stmt, st.FanucCall):
+                known = frozenset(name for name in known if name.startswith("_"))
+    return known
+
+
+def _reads(line: nodes.Line) -> Set[str]:
+    """The named parameters a line's values read (not its settings' targets)."""
+    found: Set[str] = set()
+    for expr in _values(line):
+        for e in nodes.subexpressions(expr):
+            if isinstance(e, (nodes.NamedParam, nodes.Exists)):
+                found.add(e.name)
+    return found
+
+
+def _values(line: nodes.Line) -> Iterator[nodes.Expr]:
+    for item in line.items:
+        yield item.value
+        if isinstance(item, nodes.Assign) and not isinstance(
+            item.target, nodes.NamedParam
+        ):
+            yield item.target  # #[index] = ...: the index is read
+    word = line.oword
+    if word is not None:
+        if isinstance(word.name, nodes.Expr):
+            yield word.name
+        if word.expr is not None:
+            yield word.expr
+        yield from word.args
+    yield from line.partial
+
+
+def _block_comment_names(stmts: List[st.Stmt]) -> Set[str]:
+    """Names printed by the comment of a line with words: the code hands the
+    block its comment as text, and the runtime reads them from the store."""
+    found: Set[str] = set()
+    for line in _lines(stmts):
+        if line is not None and line.comment is not None and not comment_line(line):
+            found.update(comment_names(line.comment))
+    return found
 
 
 def _lands(stmts: List[st.Stmt]) -> bool:
@@ -177,10 +367,12 @@ def _lines(stmts: List[st.Stmt]) -> Iterator[object]:
 def _line(line) -> Iterator[object]:
     if line is None or type(line) in (RowLine, RowRun):
         return  # none, or literal words only
-    for comment in line.comments:
-        if "#" in comment.text or "py" in comment.kind:
-            yield None
-            return
+    if any("py" in comment.kind for comment in line.comments):
+        yield None
+        return
+    if getattr(line, "fanuc_alt", None) is not None:
+        yield None  # M#1 P100: an M98 call when #1 is 98
+        return
     if line.oword is not None and line.oword.keyword in ("m98", "m99"):
         yield None
         return
@@ -206,17 +398,8 @@ def _names(line: nodes.Line) -> Iterator[str]:
         for e in nodes.subexpressions(expr):
             if isinstance(e, (nodes.NamedParam, nodes.Exists)):
                 yield e.name
-
-
-def _settings_only(line: nodes.Line) -> bool:
-    return (
-        type(line) not in (RowLine, RowRun)
-        and not line.error
-        and not line.block_delete
-        and line.oword is None
-        and bool(line.items)
-        and all(isinstance(item, nodes.Assign) for item in line.items)
-    )
+    if line.comment is not None:
+        yield from comment_names(line.comment)  # read when it is printed
 
 
 def _set_by(line: nodes.Line) -> Set[str]:

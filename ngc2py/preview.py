@@ -66,6 +66,7 @@ from runtime.errors import GCodeError, g_code_frames, g_code_frames_of_stack, lo
 from runtime.machine import Machine
 from runtime.mcodes import ProgramEnd
 from runtime.nurbs import preview_points
+from runtime.params import unset_variable
 from runtime.rows import BatchesOnly
 
 INTERP_OK = 0
@@ -776,7 +777,12 @@ def parse(
         frames = locate(end)
         if frames and not machine.reached_end:
             machine.line = frames[0].line
-    except GCodeError as error:
+    except (GCodeError, UnboundLocalError) as caught:
+        # a named local held in a Python variable read unset: the store's
+        # error (runtime.params.unset_variable)
+        error = unset_variable(caught) if type(caught) is UnboundLocalError else caught
+        if not isinstance(error, GCodeError):
+            raise
         _last_error = error.message
         return _failed(machine, adapter, error)
     line = machine.line

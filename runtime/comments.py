@@ -93,21 +93,124 @@ if TYPE_CHECKING:
     Part = Union[str, int, Name, Decimals]
 
 
-class Comment(namedtuple("Comment", "kind text parts")):
+class Comment(namedtuple("Comment", "kind text parts values")):
     """The comment rs274 acts on for a line.
 
     ``text`` is what follows the prefix (``msg,`` etc.), the file name for
     logopen/logappend, or the whole comment (leading white space removed) for
     plain ones. ``parts`` is ``text`` split by :func:`split_parts`; leave it
-    out and it is computed (and cached) from ``text``.
+    out and it is computed (and cached) from ``text``. ``values`` maps names
+    of local parameters the text expands to their values, for names the
+    generated code keeps in Python variables (ngc2py.fastlocals); any other
+    name is looked up in the machine's stores as rs274 does.
     """
 
     __slots__ = ()
 
-    def __new__(cls, kind: str, text: str, parts: Optional[Tuple[Part, ...]] = None):
+    def __new__(
+        cls,
+        kind: str,
+        text: str,
+        parts: Optional[Tuple[Part, ...]] = None,
+        values: Optional[dict] = None,
+    ):
         if parts is None and kind in EXPANDING_KINDS:
             parts = split_parts(text)
-        return super().__new__(cls, kind, text, parts)
+        return super().__new__(cls, kind, text, parts, values)
+
+
+_new_comment = tuple.__new__  # Comment's fields, without __new__'s Python frame
+
+
+def _expanding(kind: str, text: str, values: dict) -> Comment:
+    return _new_comment(Comment, (kind, text, split_parts(text), values or None))
+
+
+@lru_cache(maxsize=1024)
+def _fixed(kind: str, text: str) -> Comment:
+    """The (immutable) Comment of a kind that expands nothing."""
+    return Comment(kind, text)
+
+
+class CommentLines:
+    """A line with one comment and nothing else, as the generated code
+    writes it: ``m.comment(3, "text")``, ``m.debug(5, "x is #<x>", x=x)``.
+
+    Each is exactly ``block(line, comment=...)`` (the comment is the block's
+    first action; the block then publishes the position as any other does,
+    and a G7x profile's reader, which replaces ``block``, sees it too). Line
+    and text are positional-only, so any name can be a keyword: the values
+    of the names the text expands that are Python variables of the caller
+    (``Comment.values``); the other names are read from the stores.
+    """
+
+    __slots__ = ()
+
+    def comment(self, line: int, text: str, /) -> None:
+        """``(text)``: COMMENT(text)."""
+        self.block(line, comment=text)
+
+    def message(self, line: int, text: str, /) -> None:
+        """``(MSG,text)``: MESSAGE(text)."""
+        self.block(line, comment=_fixed("msg", text))
+
+    def debug(self, line: int, text: str, /, **values: float) -> None:
+        """``(DEBUG,text)``: MESSAGE(text expanded) while #5599 is positive."""
+        self.block(line, comment=_expanding("debug", text, values))
+
+    def print(self, line: int, text: str, /, **values: float) -> None:
+        """``(PRINT,text)``: the expanded text on the trace's stream."""
+        self.block(line, comment=_expanding("print", text, values))
+
+    def log(self, line: int, text: str, /, **values: float) -> None:
+        """``(LOG,text)``: LOG(text expanded)."""
+        self.block(line, comment=_expanding("log", text, values))
+
+    def abort(self, line: int, text: str, /, **values: float) -> None:
+        """``(ABORT,text)``: the program stops here, failing with the
+        expanded text as its error message. Never returns."""
+        self.block(line, comment=_expanding("abort", text, values))
+
+    def logopen(self, line: int, path: str, /) -> None:
+        """``(LOGOPEN,path)``: LOGOPEN(path)."""
+        self.block(line, comment=_fixed("logopen", path))
+
+    def logappend(self, line: int, path: str, /) -> None:
+        """``(LOGAPPEND,path)``: LOGAPPEND(path)."""
+        self.block(line, comment=_fixed("logappend", path))
+
+    def logclose(self, line: int, /) -> None:
+        """``(LOGCLOSE)``: LOGCLOSE()."""
+        self.block(line, comment=_fixed("logclose", ""))
+
+    def py(self, line: int, text: str, /) -> None:
+        """``(PY,text)``: runtime.py_comments reads it; nothing is run."""
+        self.block(line, comment=_fixed("py", text))
+
+    def pyrun(self, line: int, text: str, /) -> None:
+        """``(PYRUN,text)``: rs274 runs embedded Python; ngc2py does not."""
+        self.block(line, comment=_fixed("pyrun", text))
+
+    def pyreload(self, line: int, text: str, /) -> None:
+        """``(PYRELOAD...)``: as PYRUN."""
+        self.block(line, comment=_fixed("pyreload", text))
+
+
+#: The CommentLines method of each kind of comment (codegen writes these).
+LINE_METHODS = {
+    "plain": "comment",
+    "msg": "message",
+    "debug": "debug",
+    "print": "print",
+    "log": "log",
+    "abort": "abort",
+    "logopen": "logopen",
+    "logappend": "logappend",
+    "logclose": "logclose",
+    "py": "py",
+    "pyrun": "pyrun",
+    "pyreload": "pyreload",
+}
 
 
 def classify(comment: str) -> Comment:
@@ -216,21 +319,29 @@ _ASCII_LOWER = str.maketrans("ABCDEFGHIJKLMNOPQRSTUVWXYZ", "abcdefghijklmnopqrst
 # --------------------------------------------------------------------------
 
 
-def execute_comment(machine, comment: Comment) -> None:
-    """Do what rs274 does with the comment of a block (its first action)."""
-    kind = comment.kind
+def execute_comment(machine, comment: Union[Comment, str, Tuple[str, str]]) -> None:
+    """Do what rs274 does with the comment of a block (its first action).
+
+    ``comment`` is a :class:`Comment`, the text of a plain comment, or
+    ``(kind, text)`` (what generated code writes for a line with words)."""
     canon = machine.canon
+    if type(comment) is str:
+        canon.comment(comment)
+        return
+    if type(comment) is tuple:
+        comment = Comment(*comment)
+    kind = comment.kind
     if kind == SILENT:
         return
     if kind == "msg":
         canon.message(comment.text)
     elif kind == "debug":
         if machine.params.get_internal(DEBUG_SWITCH) > 0.0:
-            canon.message(expand(machine, comment.parts))
+            canon.message(expand(machine, comment.parts, comment.values))
     elif kind == "print":
-        canon.print_text(expand(machine, comment.parts))
+        canon.print_text(expand(machine, comment.parts, comment.values))
     elif kind == "log":
-        canon.log(expand(machine, comment.parts))
+        canon.log(expand(machine, comment.parts, comment.values))
     elif kind == "logopen":
         canon.logopen(comment.text)
     elif kind == "logappend":
@@ -238,7 +349,7 @@ def execute_comment(machine, comment: Comment) -> None:
     elif kind == "logclose":
         canon.logclose()
     elif kind == "abort":
-        raise GCodeError(expand(machine, comment.parts))
+        raise GCodeError(expand(machine, comment.parts, comment.values))
     elif kind == "py":
         # imported here: its ast tables cost every run's start-up otherwise
         from runtime.py_comments import run_py_comment
@@ -250,8 +361,9 @@ def execute_comment(machine, comment: Comment) -> None:
         canon.comment(comment.text)
 
 
-def expand(machine, parts: Tuple[Part, ...]) -> str:
-    """The text of ``parts`` with parameter values, as rs274 prints it."""
+def expand(machine, parts: Tuple[Part, ...], values: Optional[dict] = None) -> str:
+    """The text of ``parts`` with parameter values, as rs274 prints it;
+    ``values``: those of names held in the caller's Python variables."""
     out = []
     decimals = _DEFAULT_DECIMALS
     for part in parts:
@@ -260,7 +372,11 @@ def expand(machine, parts: Tuple[Part, ...]) -> str:
         elif isinstance(part, Decimals):
             decimals = part.places
         else:
-            out.append(format_value(_lookup(machine, part), decimals))
+            if values is not None and type(part) is Name and part.name in values:
+                value = values[part.name]
+            else:
+                value = _lookup(machine, part)
+            out.append(format_value(value, decimals))
     return "".join(out)
 
 
@@ -289,6 +405,8 @@ def format_value(value: Optional[float], decimals: int = _DEFAULT_DECIMALS) -> s
 
 __all__ = [
     "Comment",
+    "CommentLines",
+    "LINE_METHODS",
     "Name",
     "Decimals",
     "EXPANDING_KINDS",

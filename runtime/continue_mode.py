@@ -28,6 +28,7 @@ if TYPE_CHECKING:
     from typing import Callable, TextIO
 
 from runtime.errors import GCodeError, g_code_frames_of_stack
+from runtime.params import unset_variable
 
 STOP, CONTINUE, MDI = 2, 0, 1
 
@@ -79,7 +80,12 @@ def _continuing(machine, method: Callable, after_error: Callable) -> Callable:
         except _Unwound:
             if machine.call_level > 0:
                 raise
-        except GCodeError as error:
+        except (GCodeError, UnboundLocalError) as caught:
+            # a named local held in a Python variable read unset: the same
+            # error as the store's (runtime.params.unset_variable)
+            error = unset_variable(caught) if type(caught) is UnboundLocalError else caught
+            if not isinstance(error, GCodeError):
+                raise
             error.ngc_outer_frames = g_code_frames_of_stack()
             after_error(error)
             machine._comp_forget_queue()

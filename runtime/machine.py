@@ -120,7 +120,7 @@ from runtime.codes import (
     m_code,
     to_integer,
 )
-from runtime.comments import execute_comment
+from runtime.comments import CommentLines, execute_comment
 from runtime.cutter_comp import LEFT, RIGHT, CompState, CutterCompMixin
 from runtime.cycles import CyclesMixin
 from runtime.errors import GCodeError, Location, g_code_frames_of_stack
@@ -215,6 +215,7 @@ class Machine(
     ToolsMixin,
     ModalSaveMixin,
     StepBudgetMixin,
+    CommentLines,
     MachineState,
 ):
     """rs274's interpreter and its block execution, printing through

@@ -360,13 +360,19 @@ _RESERVED = frozenset(dir(Globals)) | frozenset(dir(Locals)) | {"_machine_", "__
 
 def unset_variable(error: UnboundLocalError) -> BaseException:
     """rs274's error for a named local that generated code keeps in a Python
-    variable (``v_i`` for ``#<i>``, see ngc2py/fastlocals.py) read before it
-    was set, with the traceback that names the G-code line. The code
-    generator only does that where the name is certainly set first: this is
-    the safety net. Any other UnboundLocalError is left as it is."""
+    variable (``i`` for ``#<i>``, ``v_jump`` for ``#<jump>``: see
+    ngc2py/fastlocals.py) read before it was set, with the traceback that
+    names the G-code line. The code generator only does that where the name
+    is certainly set first: this is the safety net. Any other
+    UnboundLocalError (not raised by a generated module's own code) is left
+    as it is."""
     words = str(error).split("'")
-    if len(words) >= 2 and words[1].startswith("v_"):
-        named = GCodeError("Named parameter #<%s> not defined" % words[1][2:])
+    tb = error.__traceback__
+    while tb is not None and tb.tb_next is not None:
+        tb = tb.tb_next
+    if len(words) >= 2 and tb is not None and "__ngc__" in tb.tb_frame.f_globals:
+        name = words[1][2:] if words[1].startswith("v_") else words[1]
+        named = GCodeError("Named parameter #<%s> not defined" % name)
         return named.with_traceback(error.__traceback__)
     return error
 

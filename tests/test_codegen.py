@@ -7,6 +7,7 @@ black is the oracle: every generated module must be unchanged by
 from __future__ import annotations
 
 import ast
+import re
 import keyword
 
 import black
@@ -110,8 +111,9 @@ def test_module_shape_follows_the_contract():
     code = compile_text(PROGRAMS["subs_and_loops"], "pocket.ngc")
     assert code.startswith('"""pocket.ngc, compiled by ngc2py')
     assert "def o_drill(m: Machine) -> None:" in code
-    assert "    # 7: G1 X[#<i>*10] Y0 F100\n" in code
-    assert "while v_i < 3.0:" in code  # a Python variable (ngc2py.fastlocals)
+    assert "    m.move(7, G1, x=finite(i * 10.0), y=0.0, f=100.0)\n" in code
+    assert "# 7:" not in code  # the call shows the line: no comment above it
+    assert "while i < 3.0:" in code  # a Python variable (ngc2py.fastlocals)
     assert "m.call(o_drill, 5.0)" in code
     assert code.rstrip().endswith("raise SystemExit(run_cli(main, __ngc__))")
     assert "def run(canon=None, **options):" in code
@@ -137,6 +139,8 @@ def test_no_source_text_reaches_code_outside_literals_and_comments():
         "run",
         "repeat",
         "exists",
+        "comment",
+        "message",
     }
 
 
@@ -200,7 +204,7 @@ def test_big_cam_files_become_data_rows():
     assert "run_rows(m, SHAPES, ROWS_1, as_printed=True)" in code
     assert "run_rows(m, SHAPES, ROWS_2, as_printed=True)" in code  # after the comment
     # line 3 is "G1 X1.5 Y1 F1200": shape 1 (G1 X Y F) and its values as written
-    assert '    # 1: G1 X Y F\n    ((G1,), ("x", "y", "f")),' in code
+    assert '    ((G1,), ("x", "y", "f")),  # 1: G1 X Y F\n' in code
     # four decimals at most: written as the trace prints them (test_rows.py)
     assert '\nROWS_1 = """\n1 0\n2 1 0.5000 0.0000 1200.0000\n3 1 1.5000 1.0000' in code
     table = code.split('ROWS_1 = """')[1].split('"""')[0]
@@ -239,10 +243,144 @@ def test_line_reads_declare_names_and_check_indices_in_order():
 
 def test_plain_settings_stay_plain():
     code = compile_text("#<a>=1\n#2=[#<a>] #<b>=2\n#3=#2\nM2\n", "p.ngc")
-    assert "    v_a = 1.0\n" in code
-    assert "    p[2], v_b = v_a, 2.0\n" in code
+    assert "    a = 1.0\n" in code
+    assert "    p[2], b = a, 2.0\n" in code
     assert "    p[3] = p[2]\n" in code
     assert "declare" not in code and "setting_index" not in code
+
+
+# --- readability (issue 13) -------------------------------------------------
+
+PROBE_MACRO = """\
+(probe toward -X and store the edge: written for these tests)
+o<edge_x> sub
+  #<feed> = #1
+  #<reach> = #2
+  #<x_start> = #5420\t(where we start)
+  (DEBUG, start at #<x_start>, reach #<reach>)
+  o100 if [#<feed> LE 0]
+    (abort, feed must be positive, got #<feed>)
+  o100 endif
+  G91 G38.2 X-[#<reach>] F[#<feed>]
+  o110 if [#5070 EQ 0]
+    G90 G0 X#<x_start>
+    (abort, probe failed)
+  o110 endif
+  #<edge> = #5061
+  (MSG, edge found)
+  (PRINT, edge %.3f#<edge> from %.3f#<x_start>)
+  #1005 = #<edge>
+  G90 G0 X#<x_start>
+o<edge_x> endsub
+
+G21
+o<edge_x> call [100] [20]
+M2
+"""
+
+
+def code_of(module: str) -> str:
+    """The module's code before its source map."""
+    return module[: module.index("\n__ngc__ = ")]
+
+
+def test_comment_lines_are_one_call_each():
+    code = compile_text(PROBE_MACRO, "edge.ngc")
+    assert (
+        '    m.debug(6, " start at #<x_start>, reach #<reach>", x_start=x_start, '
+        "reach=reach)\n" in code
+    )
+    assert '    m.comment(5, "where we start")\n' in code
+    assert "        m.abort(8, \" feed must be positive, got #<feed>\", feed=feed)\n" in code
+    assert '        m.abort(13, " probe failed")\n' in code
+    assert '    m.message(16, " edge found")\n' in code
+    assert (
+        '    m.print(17, " edge %.3f#<edge> from %.3f#<x_start>", edge=edge, '
+        "x_start=x_start)\n" in code
+    )
+    assert '    m.comment(1, "probe toward -X and store the edge: written for these tests")\n' in code  # fmt: skip
+    assert "Comment(" not in code and "comment=" not in code
+    assert_black_stable(code)
+
+
+def test_each_comment_kind_has_its_own_call():
+    text = (
+        "(plain)\n(msg,m)\n(debug,d)\n(print,p)\n(log,l)\n(logopen,f)\n"
+        "(logappend,f)\n(logclose)\n(pyrun,x)\n(abort,a)\nM2\n"
+    )
+    code = code_of(compile_text(text, "k.ngc"))
+    for line in [
+        'm.comment(1, "plain")',
+        'm.message(2, "m")',
+        'm.debug(3, "d")',
+        'm.print(4, "p")',
+        'm.log(5, "l")',
+        'm.logopen(6, "f")',
+        'm.logappend(7, "f")',
+        "m.logclose(8)",
+        'm.pyrun(9, "x")',
+        'm.abort(10, "a")',
+    ]:
+        assert "    %s\n" % line in code
+
+
+def test_a_comment_on_a_line_with_words_is_text_or_kind_and_text():
+    code = compile_text("G0 X1 (rapid)\nG0 X2 (msg, two)\nN5 (n)\nM2\n", "w.ngc")
+    assert '    m.block(1, G0, x=1.0, comment="rapid")\n' in code
+    assert '    m.block(2, G0, x=2.0, comment=("msg", " two"))\n' in code
+    assert '    m.block(3, n="5", comment="n")\n' in code
+
+
+def test_interpolating_comments_keep_locals_in_python_variables():
+    code = code_of(compile_text(PROBE_MACRO, "edge.ngc"))
+    assert "v." not in code and "v[" not in code and "m.locals" not in code
+    assert "    x_start = m.params[5420]\n" in code
+    assert "    edge = p[5061]\n" in code
+
+
+def test_no_source_comment_above_a_statement_that_shows_the_line():
+    code = code_of(compile_text(PROBE_MACRO, "edge.ngc"))
+    assert not re.search(r"^ *# \d+:", code, re.M)
+    assert "    m.block(10, G91, G38_2, x=-reach, f=feed)\n" in code
+
+
+def test_a_macro_is_not_longer_than_its_g_code():
+    code = code_of(compile_text(PROBE_MACRO, "edge.ngc"))
+    function = code[code.index("def o_edge_x") : code.index("\n\n\ndef main")]
+    assert function.count("\n") + 1 <= 19  # o<edge_x>'s lines: 2-20
+    assert code.count("\n") <= 1.5 * PROBE_MACRO.count("\n") + 6  # + the header
+
+
+def test_arithmetic_has_only_the_parentheses_python_needs():
+    text = "#<a>=1\n#<b>=2\nG0 X[2470*#<a>+#<b>] Y[#<a>-#<b>+1] Z[#<a>-[#<b>+1]]\nM2\n"
+    code = compile_text(text, "e.ngc")
+    assert "x=finite(2470.0 * a + b), y=finite(a - b + 1.0), z=finite(a - (b + 1.0))" in code
+
+
+def test_a_macros_set_up_codes_stay_statements():
+    text = "o<s> sub\n" + "".join("G%s\n" % g for g in "17 21 54 61 40 49 80 90".split())
+    code = compile_text(text + "o<s> endsub\nM2\n", "setup.ngc")
+    assert "    m.block(8, G80)\n" in code and "run_rows" not in code
+    code = compile_text("G21\n" + "G0 X1\n" * 8 + "M2\n", "moves.ngc")
+    assert "run_rows" in code  # moves: data rows from eight on
+
+
+def test_numbered_parameters_are_written_as_integers():
+    code = code_of(compile_text("#<a> = #5420\n#<b> = #5061\n#5420 = 1\n#[5000] = 2\nM2\n", "n.ngc"))  # fmt: skip
+    assert "    a = m.params[5420]\n" in code
+    assert "    b = p[5061]\n" in code
+    assert "5420.0" not in code
+
+
+def test_functions_bind_only_the_stores_they_use():
+    code = compile_text(
+        "o<s> sub\nG0 X#1\no<s> endsub\no<s> call [1]\n#<_g> = 2\nG0 X#<_g>\nM2\n", "s.ngc"
+    )
+    assert "    p = m.params.values\n" in code
+    assert "    g = m.globals\n" in code
+    assert "m.locals" not in code
+    code = compile_text("G0 X1\nM2\n", "plain.ngc")
+    assert "m.params" not in code and "m.globals" not in code
 
 
 # --- against rs274 ----------------------------------------------------------
@@ -281,6 +419,20 @@ RUNS = [
     "o1 if [0]\nG0 X" + "1" * 300 + "\no1 endif\nM2\n",
     # N words in data rows print as written
     "G21\n" + "".join("N%03d G1 X%d Y1 F100\n" % (i, i) for i in range(12)) + "M2\n",
+    # comment lines: each kind, locals in Python variables handed to the
+    # text (set, set on the line itself, unset, a global), in a subroutine
+    "#5599=1\no<s> sub\n#<x> = #1 (debug, x=#<x> y=#<y> g=#<_g>)\n"
+    "(print, %.2f#<x> #<x>)\n#<y> = [#<x> + 1]\n(debug, #<y>%d #<x>)\n"
+    "(log, #<y>)\n(msg, #<y>)\n(logopen, f.txt)\n(logclose)\no<s> endsub\n"
+    "#<_g> = 3\n#<x> = 7\no<s> call [2]\n(debug, main x=#<x> y=#<y>)\nM2\n",
+    "o<s> sub\n#<a> = [#1 * 2]\no1 if [#<a> GT 3]\n  (abort, a is %d#<a>)\no1 endif\n"
+    "o<s> endsub\no<s> call [1]\no<s> call [2]\nM2\n",
+    "#<a> = 1 (a comment on a setting)\nN10 (print, n #<a>)\n( )\n()\nG0 X#<a> (print, #<a>)\nM2\n",
+    "G21 (a)\n#5420 = 1\nM2\n",
+    "G0 X1\n#<x> = #5420\nG41 D1\n#<y> = #5420\nM2\n",
+    # grouping: Python's precedence where it equals the parser's, else ()
+    "#<a>=3\n#<b>=0.1\nG0 X[#<a>*[#<b>*3]] Y[[#<a>*#<b>]*3] Z[#<a>-[#<b>-1]]\n"
+    "G0 X[#<a>-#<b>-1] Y[#<a>*#<b>+#<a>*#<b>*#<b>] Z[-[#<a>-#<b>]*#<b>]\nM2\n",
 ]
 
 
@@ -381,13 +533,13 @@ def test_feed_and_rapid_calls_step_aside_like_move(text, tmp_path):
 
 def test_tabs_in_the_source_comments_read_as_spaces(tmp_path):
     """A G-code line's tabs show in its ``# n:`` comment as an editor shows
-    them, never as an escape; other control characters stay escaped."""
+    them, never as an escape; other control characters stay escaped. A
+    comment's text keeps its tab (rs274 prints it) as black's ``\\t``."""
     from ngc2py.compiler import compile_file
 
     program = tmp_path / "tabs.ngc"
-    program.write_bytes(b"G21\tG90\n(a\tcomment\x07)\nG0\tX1\nM2\n")
+    program.write_bytes(b"G21\tG90\n(a\tcomment\x07)\nG0\tX1\nG0\tX[1\x07\nM2\n")
     text = compile_file(str(program))
-    assert "# 1: G21     G90" in text
-    assert "# 3: G0      X1" in text
-    assert "\\x09" not in text
-    assert "# 2: (a      comment\\x07)" in text
+    assert "# 4: G0      X[1\\x07\n" in text
+    assert "\\x09" not in text and "\t" not in text
+    assert '    m.comment(2, "a\\tcomment\\x07")\n' in text

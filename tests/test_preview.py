@@ -283,6 +283,10 @@ def test_init_codes_match_gcode_parse(extra):
         "G17.1\nG18.1\nG19.1\nG17\nM2\n",  # UVW planes
         "M0\nM1\nM60\nM30\n",
         "(PRINT, printed #5220)\n(DEBUG, shown)\n(MSG, hi)\nM2\n",
+        # a local in a Python variable read unset: the store's error
+        "o<s> sub\no1 if [#1 GT 1]\n#<a> = 4\no1 endif\nG0 X#<a>\no<s> endsub\n"
+        "G21\no<s> call [2]\no<s> call [0]\nM2\n",
+        "#<a> = 2 (comment)\n(MSG, a)\n(PRINT, #<a>)\nG0 X#<a>\n(abort, #<a>)\nM2\n",
         "G20 G0 X1\nG21 G1 X2 F3\nG93 G1 X3 F2\nM2\n",  # units and inverse time
         "/G0 X5\nG0 Y1\nM2\n",  # block delete is asked for
         # a spline's feeds keep the last straight move's Z; the interpreter

