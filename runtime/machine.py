@@ -285,6 +285,11 @@ class Machine(
         #: What rs274 prints while loading the table (the CLI prints it).
         self.tool_table_report = table.load_report
         self.tools = ToolTable(dict(table.slots))
+        # The canon keeps its own table, reloaded into rs274's after every tool
+        # change: its spindle entry's pocket changes only by CHANGE_TOOL
+        # (SET_TOOL_TABLE_ENTRY keeps pockets), while rs274's own copy of a
+        # G10-edited loaded tool takes that tool's pocket until the reload.
+        self._canon_spindle_pocket = self._entry(0).pocket
         if self.settings.retain_g43:
             # Every block takes the general path (runtime.tools).
             self._execute = self._execute_retaining_g43
@@ -317,10 +322,9 @@ class Machine(
         self.lathe_diameter = False
         self.cutter_comp = False
         self._cc = CompState()
-        # Before any T word M6 changes to pocket 0, yet #<_selected_pocket>
-        # reads -1; the canon reports slot 1 as the loaded one.
+        # Before any T word M6 changes to index 0 (#<_selected_pocket> reads
+        # the spindle entry's pocket); the canon reports slot 1 as loaded.
         self.selected_pocket = 0
-        self.tool_selected = False
         self.selected_tool = 0
         self.current_pocket = 1
         self.toolchange_flag = False

@@ -398,6 +398,10 @@ def stmt_codes(w: Writer) -> None:
         if level == "1" and w.draw(st.booleans()):
             words += f" Q{w.draw(st.integers(0, 9))}"
         w.emit(f"G10 L{level} P{max(tool, 1)} {words}")
+        if w.draw(st.booleans()):
+            # an edit of the loaded tool is copied to the spindle entry,
+            # which #<_selected_pocket> reads before any T word
+            w.emit("(debug, #<_selected_pocket> #<_current_pocket> #5400 #5403)")
     elif kind == 2:
         w.emit(f"M19 R{w.draw(st.integers(0, 360))} P{w.draw(st.integers(0, 2))}"
                f" Q{w.draw(st.integers(1, 9))}")
@@ -1467,7 +1471,7 @@ def job_tool_change(w: JobWriter) -> None:
         w.emit(f"G10 {kind} P{other} Z{w.num(-1, 2)}{extra}")
         if w.draw(st.booleans()):
             w.emit(f"T{other} M6 G43")
-    w.emit("(debug, tool #<_current_tool> pocket #<_current_pocket> offset #5403 #5410)")
+    w.emit("(debug, tool #<_current_tool> pocket #<_current_pocket> #<_selected_pocket> offset #5403 #5410)")
     w.emit(f"G0 X{w.num(0, 2)} Y{w.num(0, 2)}")
 
 
