@@ -989,12 +989,17 @@ def definition_values(sub: Sub) -> List[nodes.Line]:
     """The lines whose value rs274 reads while it reads past the definition
     of ``sub`` (interp_read.cc read_o: skipping to the sub's own label, it
     evaluates the value of a ``return`` or ``endsub`` with that label, and
-    sets ``#<_value>``, or clears it when there is none): in text order."""
+    sets ``#<_value>``, or clears it when there is none): in text order.
+    A line with more than comments after its O-word (which fails when it
+    runs) counts too: while skipping, rs274 reads no further than a value
+    right after the keyword, so ``endsub G20`` clears the value and
+    ``endsub [2] #1=3`` sets it to 2."""
     if sub.fanuc:
         return []
     found = []
     for stmt in walk(sub.body):
-        if isinstance(stmt, Return) and stmt.line.oword is not None:
+        failing = type(stmt) is Block and stmt.line.error == AFTER_OWORD
+        if (failing or isinstance(stmt, Return)) and stmt.line.oword is not None:
             word = stmt.line.oword
             if word.keyword in ("return", "endsub") and word.name == sub.name:
                 found.append(stmt.line)
