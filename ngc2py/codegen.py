@@ -709,7 +709,9 @@ class CodeGen:
 
     def end_of_main(self) -> Tuple[int, bool]:
         """(last line read, is it the closing %) of the main file."""
-        closed = [s for s in self.program.body if isinstance(s, st.Finish)]
+        # (the closing % may sit in a construct left open before it)
+        walked = st.walk(self.program.body, False)
+        closed = [s for s in walked if isinstance(s, st.Finish)]
         if closed:
             return closed[0].line.number, True
         last = self.last_line()
