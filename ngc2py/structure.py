@@ -613,6 +613,11 @@ class _Builder:
         outer = Loop("do", first.line, self.body[start:], key=first.key)
         del self.body[start:]
         self.body.append(outer)
+        # rs274 still knows the label by the first do: a later do or while
+        # with it loops back there, so it wraps this loop in turn.
+        seen = self.labels.get(label)
+        if seen is not None and seen[3] is first:
+            self.labels[label] = seen[:2] + (self.body, outer)
         self.stack.append(_Open(label, outer, outer.body))
 
     def on_repeat(self, line: nodes.Line, word: nodes.OWord) -> None:
