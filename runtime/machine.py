@@ -492,6 +492,9 @@ class Machine(
         earlier call -- the very definition now reached in the normal flow
         ("illegal location"). Both messages name the sub line's file and line.
         """
+        if fanuc_subs.in_fanuc_call(self):
+            # run in an M98 call (or the frame an M98 .. L0 entered)
+            raise GCodeError(fanuc_subs.O_SUB_NEEDS_CALL)
         here = g_code_frames_of_stack()[-1]
         known = self._subroutines.get(name)
         if known is not None:
@@ -668,9 +671,25 @@ class Machine(
             caller_locals = self._enter_sub()
             caller_locals.__dict__.clear()
             self.locals = caller_locals
+            # an M98 frame: a sub line run in it fails, as in an M98 call
+            self.__dict__.setdefault("fanuc_levels", []).append(self.call_level)
         for _ in range(times):
             fanuc_subs.run_fanuc(self, self._run_sub, fn)
         self.value = self.value_returned = 0.0
+
+    def frame_mark(self, key: str) -> None:
+        """An if or loop around an ``M98 .. L0`` opens: note the call level
+        (rs274 records its label under the frame's subroutine name)."""
+        self.__dict__.setdefault("_frame_marks", {})[key] = self.call_level
+
+    def same_frame(self, key: str, line: int, text: str) -> None:
+        """A closing line (else, endif, endwhile, endrepeat, break,
+        continue) of the construct ``key`` runs: after an ``M98 .. L0``
+        inside it, rs274 looks its label up under the new frame's name and
+        does not find it."""
+        marks = self.__dict__.get("_frame_marks")
+        if marks and marks.get(key, self.call_level) != self.call_level:
+            self.fail(line, olabels.UNDEFINED_LABEL % (line, text))
 
     def _run_sub(self, fn: Callable) -> Optional[float]:
         """Run subroutine ``fn`` one call level down, with fresh named locals."""
