@@ -1377,10 +1377,17 @@ class CodeGen:
             self.w.stmt("while %s:" % self.x.condition(word.expr), stmt.line)
         elif stmt.kind == "repeat":
             count = self.x.expr(word.expr)
+            # Skipping to its end when the count runs out, rs274 fails on the
+            # way (loop_else): the loop never runs its count again.
+            fails = (stmt.eof or stmt.skip_fail) is not None
             if left_early(stmt):
                 # rs274 keeps the count left for the next time
-                repeat = "m.repeat_kept(%s, %s)" % (string(stmt.key), count)
-            elif self.continue_flag:
+                repeat = "m.repeat_kept(%s, %s%s)" % (
+                    string(stmt.key),
+                    count,
+                    ", again=False" if fails else "",
+                )
+            elif self.continue_flag and not fails:
                 repeat = "m.repeat_again(%s)" % count
             else:
                 repeat = "m.repeat(%s)" % count

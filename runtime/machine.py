@@ -731,9 +731,10 @@ class Machine(
         """A reused O-word label (see runtime.olabels)."""
         olabels.check_label(self, key, kind, line, text)
 
-    def repeat_kept(self, key: str, n: float) -> Iterator[int]:
-        """``repeat`` that may be left early (see runtime.loopflags)."""
-        return loopflags.repeat_keeping_count(self, key, round_to_int(n))
+    def repeat_kept(self, key: str, n: float, again: bool = True) -> Iterator[int]:
+        """``repeat`` that may be left early (see runtime.loopflags);
+        ``again=False``: never runs its count again (a stale continue)."""
+        return loopflags.repeat_keeping_count(self, key, round_to_int(n), again)
 
     def repeat_again(self, n: float) -> Iterator[int]:
         """``repeat`` where a do-loop's continue may have left rs274's
