@@ -850,6 +850,10 @@ class _Builder:
             # also when its condition is false or an earlier arm ran.
             self.stack.pop()
             self.fail(line, text)
+            if isinstance(top.node, Loop) and top.node.eof is None:
+                # a break or continue skipping forward for the loop's label
+                # (or its condition failing) lands here too
+                top.node.eof = Fail(line, text)
         return True
 
     # -- end of file ------------------------------------------------------
