@@ -612,6 +612,12 @@ class CodeGen:
         # Does any line fail to be read at all? (Then skipping fails too.)
         bodies = [program.body] + [sub.body for sub in program.externals]
         self.text_errors = st.first_text_error(bodies) is not None
+        # any M98 that may never return (see strands): most programs have none
+        self.any_strand = any(
+            isinstance(stmt, st.FanucCall) and m98_may_strand(stmt.line)
+            for body in bodies
+            for stmt in st.walk(body)
+        )
         self.loop_numbers: Dict[int, int] = {}
         self.flags: Dict[int, str] = {}
         #: ifs and loops holding an M98 that may not return (strands)
@@ -1181,7 +1187,7 @@ class CodeGen:
             self.stale_continue(stmt)
         if stmt.target.end is None and stmt.target.eof is not None:
             # no line with the loop's label follows: rs274 skips to the end
-            self.s_fail(stmt.target.eof)
+            self.statement(stmt.target.eof)
             return
         self.jump_to(stmt.kind, stmt.target, stmt.line)
 
@@ -1266,6 +1272,8 @@ class CodeGen:
         """Does ``stmt`` (an if or a loop) hold an ``M98`` whose L may be 0?
         Such a call never returns: the rest runs one call level down, where
         rs274 no longer finds the construct's label (runtime same_frame)."""
+        if not self.any_strand:
+            return False
         for inner in _walk_bodies(stmt):
             if isinstance(inner, st.FanucCall) and m98_may_strand(inner.line):
                 return True

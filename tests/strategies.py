@@ -888,6 +888,7 @@ class LanguageWriter:
         self.subs: List[str] = []  # callable subroutines
         self.size = 0  # statements written (bounds the program)
         self.globals: List[str] = []  # do-loop counters, set at the top
+        self.landing = False  # a jump aimed at a finished loop was written
 
     def pick(self, options):
         return self.draw(st.sampled_from(options))
@@ -923,7 +924,8 @@ class LanguageWriter:
     def label(self) -> str:
         """A label for a new construct: usually new, sometimes one already
         used by a closed construct of this body."""
-        if self.closed and self.chance(10):
+        if self.closed and (self.chance(2) if self.landing else self.chance(10)):
+            self.landing = False
             return self.pick(self.closed)[0]
         self.next_label += 1
         return str(self.next_label)
@@ -1051,7 +1053,9 @@ def lang_jump(w: LanguageWriter) -> None:
     finished = [entry for entry in w.closed if entry[1] in ("while", "do")]
     if finished and w.chance(15):
         # aimed at a loop that has ended: rs274 skips forward to its label
+        # and runs the next line with it (a later construct reusing it)
         loops = finished
+        w.landing = True
     if not loops:
         lang_plain(w)
         return
