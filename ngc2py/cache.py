@@ -139,7 +139,10 @@ def module_probes(module: str) -> List[Tuple[str, Optional[str]]]:
     the file found there (None: no file)."""
     import json
 
-    with open(module[: -len(".py")] + ".json", encoding="utf-8") as handle:
+    # m_<key>.py or m_<key>_<probes>.py: the probes are in m_<key>.json
+    name = os.path.basename(module)[: -len(".py")]
+    meta = os.path.join(os.path.dirname(module), name.split("_")[0] + "_" + name.split("_")[1])
+    with open(meta + ".json", encoding="utf-8") as handle:
         return [tuple(p) for p in json.loads(handle.read())]
 
 
@@ -154,7 +157,6 @@ def cached_module(path: str, ini: Optional[str] = None) -> str:
     except OSError as error:
         raise open_failure(path, error) from None
     folder = cache_dir()
-    module = os.path.join(folder, "m_%s.py" % key)
     meta = os.path.join(folder, "m_%s.json" % key)
     try:
         with open(meta, encoding="utf-8") as handle:
@@ -165,6 +167,7 @@ def cached_module(path: str, ini: Optional[str] = None) -> str:
             import json
 
             probes = [tuple(p) for p in json.loads(text)]
+        module = _module_path(folder, key, text)
         if os.path.isfile(module) and _probes_current(probes):
             return module
     except (OSError, ValueError, TypeError):
@@ -173,6 +176,19 @@ def cached_module(path: str, ini: Optional[str] = None) -> str:
 
     compiled = compile_program(path, ini)
     probes = [(p, _file_digest(p) if found else None) for p, found in compiled.probes]
+    text = json.dumps(probes)
+    module = _module_path(folder, key, text)
     write_atomic(module, compiled.text)
-    write_atomic(meta, json.dumps(probes))
+    write_atomic(meta, text)
     return module
+
+
+def _module_path(folder: str, key: str, probes: str) -> str:
+    """The module of an entry whose probes (as JSON text) are ``probes``.
+    Programs with the same source but other subroutine files share a key;
+    naming the module by its probes too means that runs compiling such
+    programs at the same time can never pair one's probes with the
+    other's module (each file is written atomically, the pair is not)."""
+    if probes == "[]":
+        return os.path.join(folder, "m_%s.py" % key)
+    return os.path.join(folder, "m_%s_%s.py" % (key, _digest(probes.encode())[:24]))

@@ -175,6 +175,20 @@ def attr_safe(name: str) -> bool:
 # --------------------------------------------------------------------------
 
 
+
+def _walk_bodies(stmt):
+    """The statements inside ``stmt`` (not into definitions)."""
+    return st.walk([s for body in st.children(stmt, False) for s in body], False)
+
+
+def m98_may_strand(line: nodes.Line) -> bool:
+    """An M98 line whose L word is not a non-zero number (``L0``, or a
+    value known only at run time)."""
+    for w in line.words:
+        if w.letter == "l":
+            return not (isinstance(w.value, nodes.Num) and w.value.value != 0)
+    return False
+
 class ExprWriter:
     """Renders expressions; records which runtime.ops helpers are used."""
 
@@ -627,8 +641,16 @@ class CodeGen:
         # Does any line fail to be read at all? (Then skipping fails too.)
         bodies = [program.body] + [sub.body for sub in program.externals]
         self.text_errors = st.first_text_error(bodies) is not None
+        # any M98 that may never return (see strands): most programs have none
+        self.any_strand = any(
+            isinstance(stmt, st.FanucCall) and m98_may_strand(stmt.line)
+            for body in bodies
+            for stmt in st.walk(body)
+        )
         self.loop_numbers: Dict[int, int] = {}
         self.flags: Dict[int, str] = {}
+        #: ifs and loops holding an M98 that may not return (strands)
+        self.stranding: set = set()
 
     # -- entry point ------------------------------------------------------
 
@@ -736,7 +758,9 @@ class CodeGen:
 
     def end_of_main(self) -> Tuple[int, bool]:
         """(last line read, is it the closing %) of the main file."""
-        closed = [s for s in self.program.body if isinstance(s, st.Finish)]
+        # (the closing % may sit in a construct left open before it)
+        walked = st.walk(self.program.body, False)
+        closed = [s for s in walked if isinstance(s, st.Finish)]
         if closed:
             return closed[0].line.number, True
         last = self.last_line()
@@ -1212,11 +1236,12 @@ class CodeGen:
             # rs274 skips to the loop's closing while, which clears the flag
             # (set by this break, or left over from a while-loop's).
             self.w.stmt("m.doing_break = False", stmt.line)
+        self.frame_check(stmt.target, stmt.line)
         if self.continue_flag:
             self.stale_continue(stmt)
         if stmt.target.end is None and stmt.target.eof is not None:
             # no line with the loop's label follows: rs274 skips to the end
-            self.s_fail(stmt.target.eof)
+            self.statement(stmt.target.eof)
             return
         self.jump_to(stmt.kind, stmt.target, stmt.line)
 
@@ -1297,16 +1322,43 @@ class CodeGen:
             self.continue_(target, target.end or target.line)
             self.w.depth -= 1
 
+    def strands(self, stmt) -> bool:
+        """Does ``stmt`` (an if or a loop) hold an ``M98`` whose L may be 0?
+        Such a call never returns: the rest runs one call level down, where
+        rs274 no longer finds the construct's label (runtime same_frame)."""
+        if not self.any_strand:
+            return False
+        for inner in _walk_bodies(stmt):
+            if isinstance(inner, st.FanucCall) and m98_may_strand(inner.line):
+                return True
+        return False
+
+    def frame_key(self, stmt) -> str:
+        line = stmt.branches[0].line if isinstance(stmt, st.If) else stmt.line
+        return "%d:%d" % (self.w.file_index, line.number)
+
+    def frame_check(self, stmt, line: Optional[nodes.Line]) -> None:
+        """``line`` (a closing line of ``stmt``) runs: see :meth:`strands`."""
+        if line is None or id(stmt) not in self.stranding:
+            return
+        args = (string(self.frame_key(stmt)), line.number, string(line.text))
+        self.w.stmt("m.same_frame(%s, %d, %s)" % args, line)
+
     def s_if(self, stmt: st.If) -> None:
         arms = stmt.branches + ([stmt.orelse] if stmt.orelse else [])
+        if self.strands(stmt):
+            self.stranding.add(id(stmt))
+            self.w.stmt("m.frame_mark(%s)" % string(self.frame_key(stmt)), stmt.branches[0].line)
         for i, branch in enumerate(stmt.branches):
             keyword_ = "if" if i == 0 else "elif"
             test = self.x.condition(branch.line.oword.expr)
             self.w.stmt("%s %s:" % (keyword_, test), branch.line)
+            following = arms[i + 1].line if i + 1 < len(arms) else stmt.end
             self.nested(
                 branch,
                 then=self.skip_error([arm.body for arm in arms[i + 1 :]]),
                 later=stmt.branches[i + 1 :],
+                check=(stmt, following),
             )
             if i == 0 and stmt.lands is not None and stmt.lands.end is not None:
                 # A false condition lands on the do line of the same label.
@@ -1326,24 +1378,30 @@ class CodeGen:
                 return
         if stmt.orelse is not None:
             self.w.stmt("else:", stmt.orelse.line)
-            self.nested(stmt.orelse)
+            self.nested(stmt.orelse, check=(stmt, stmt.end))
 
     def nested(
         self,
         branch: st.Branch,
         then: Optional[nodes.Line] = None,
         later: Sequence[st.Branch] = (),
+        check: Optional[tuple] = None,
     ) -> None:
         """An arm's body; ``then`` fails after it (rs274 skipping the
-        arms after a taken one reads that line)."""
+        arms after a taken one reads that line); ``check``: the if and the
+        line after the arm, whose label rs274 looks up (:meth:`frame_check`)."""
         self.w.depth += 1
         self.block(branch.body)
-        for arm in later:
+        for k, arm in enumerate(later):
             # rs274 still reads the condition of each later elseif (it
             # skips the arm, not the line): only its errors matter.
             if may_fail(arm.line.oword.expr):
                 self.w.comment(arm.line)
                 self.w.stmt(self.x.condition(arm.line.oword.expr), arm.line)
+            if k == 0 and check is not None:
+                self.frame_check(*check)
+        if not later and check is not None:
+            self.frame_check(*check)
         if then is not None:
             self.fail_skipped(then)
         self.w.depth -= 1
@@ -1364,6 +1422,9 @@ class CodeGen:
         self.w.stmt(fail_call(line.number, line.error), line)
 
     def s_loop(self, stmt: st.Loop) -> None:
+        if self.strands(stmt):
+            self.stranding.add(id(stmt))
+            self.w.stmt("m.frame_mark(%s)" % string(self.frame_key(stmt)), stmt.line)
         if stmt.flagged:
             self.w.stmt('%s = ""' % self.flag(stmt))
         word = stmt.line.oword
@@ -1371,10 +1432,17 @@ class CodeGen:
             self.w.stmt("while %s:" % self.x.condition(word.expr), stmt.line)
         elif stmt.kind == "repeat":
             count = self.x.expr(word.expr)
+            # Skipping to its end when the count runs out, rs274 fails on the
+            # way (loop_else): the loop never runs its count again.
+            fails = (stmt.eof or stmt.skip_fail) is not None
             if left_early(stmt):
                 # rs274 keeps the count left for the next time
-                repeat = "m.repeat_kept(%s, %s)" % (string(stmt.key), count)
-            elif self.continue_flag:
+                repeat = "m.repeat_kept(%s, %s%s)" % (
+                    string(stmt.key),
+                    count,
+                    ", again=False" if fails else "",
+                )
+            elif self.continue_flag and not fails:
                 repeat = "m.repeat_again(%s)" % count
             else:
                 repeat = "m.repeat(%s)" % count
@@ -1386,6 +1454,8 @@ class CodeGen:
             self.w.stmt("m.step()", stmt.line)  # runtime.budget
         self.loops.append(stmt)
         self.block(stmt.body)
+        if stmt.kind != "do":  # (a do's while is read as a new while)
+            self.frame_check(stmt, stmt.end)
         if stmt.end is None:
             # No closing line: rs274 reads on into what follows the body
             # (the end of the file or of the subroutine), never looping.

@@ -231,7 +231,7 @@ class _Block:
     items: List[Union[Word, Assign]] = field(default_factory=list)
     comments: List[Comment] = field(default_factory=list)
     oword: Optional[OWord] = None
-    oword_unread: bool = False  # reading an O-word's label or keyword
+    oword_unread: bool = False  # reading an O-word's label or keyword, or N
     seen: Dict[str, Word] = field(default_factory=dict)  # letter -> last word
     #: "g"/"m" -> modal group -> code, for the literal codes read so far.
     groups: Dict[str, Dict[int, int]] = field(
@@ -306,11 +306,16 @@ class _LineReader:
             self.read_item()
 
     def read_line_number(self) -> None:
+        # rs274 reads the N word before it asks whether it is skipping: a
+        # bad one fails even in a definition or an arm not taken (it counts
+        # as a line it cannot skip, like an O-word it cannot read).
+        self.block.oword_unread = True
         self.pos += 1
         self.block.n = float(self.read_unsigned())
         if self.peek() == ".":  # fractional line numbers are read and ignored
             self.pos += 1
             self.read_unsigned()
+        self.block.oword_unread = False
 
     def read_unsigned(self) -> int:
         start = self.pos

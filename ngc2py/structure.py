@@ -128,7 +128,7 @@ class Loop:
     #: it does not enter the loop, or a break or continue of it runs, it
     #: skips to the end of the file looking for the label; this is that
     #: failure.
-    eof: Optional[Fail] = None
+    eof: Optional[Union[Fail, "LabelCheck"]] = None
     #: A repeat loop with a break or continue line of its own label: when
     #: the count runs out rs274 skips forward to the first such line, and
     #: fails there (break and continue are for while and do loops only).
@@ -411,6 +411,9 @@ class _Builder:
         word = line.oword
         if word is not None and self.stale_jumps:
             name = str(word.name)
+            for key, fail in self.stale_jumps:
+                if key.split("#")[-1] == name:
+                    self._land(fail, line, word)
             self.stale_jumps = [
                 j for j in self.stale_jumps if j[0].split("#")[-1] != name
             ]
@@ -613,6 +616,11 @@ class _Builder:
         outer = Loop("do", first.line, self.body[start:], key=first.key)
         del self.body[start:]
         self.body.append(outer)
+        # rs274 still knows the label by the first do: a later do or while
+        # with it loops back there, so it wraps this loop in turn.
+        seen = self.labels.get(label)
+        if seen is not None and seen[3] is first:
+            self.labels[label] = seen[:2] + (self.body, outer)
         self.stack.append(_Open(label, outer, outer.body))
 
     def on_repeat(self, line: nodes.Line, word: nodes.OWord) -> None:
@@ -723,6 +731,32 @@ class _Builder:
         else:
             message = NO_MATCHING_END % ((line.number, line.text) + found)
         self.fail(line, message)
+
+    def _land(self, fail: Fail, line: nodes.Line, word: nodes.OWord) -> None:
+        """A break or continue of a finished loop (``fail``): rs274 takes it
+        for a real one and skips forward to the next line with the label,
+        ``line``, which it then executes as what it is. Where that fails
+        whatever the run, ``fail`` becomes that failure (a do, an endwhile
+        of the while or another break or continue would carry on: left)."""
+        seen = self.labels.get(str(word.name))
+        if seen is None:
+            return
+        kind, first = seen[0], seen[1]
+        number, text = line.number, line.text
+        keyword = word.keyword
+        if keyword == "if":
+            message = DUPLICATE_IF % (number, first, text)
+        elif keyword == "repeat" or (keyword == "while" and kind != "do"):
+            message = DUPLICATE_LOOP % (number, text, first)
+        elif keyword in ("elseif", "else"):
+            message = NO_MATCHING_IF % (number, text, kind, first)
+        elif keyword == "endif":
+            message = NO_MATCHING_ENDIF % (number, self._key(str(word.name)), kind, first, text)
+        elif keyword == "endrepeat" or (keyword == "endwhile" and kind != "while"):
+            message = NO_MATCHING_END % (number, text, kind, first)
+        else:
+            return
+        fail.line, fail.message = line, message
 
     # -- constructs left open ----------------------------------------------
 
@@ -837,14 +871,27 @@ class _Builder:
             text = message % (line.number, seen[1], line.text)
         else:
             text = message % (line.number, line.text, seen[1])
-        self.fail(line, text)
+        key = self._key(label)
+
+        def failure() -> Stmt:
+            # A label reused elsewhere too: the line names whichever opener
+            # rs274 recorded first, which only the run can tell.
+            if key in self.tracked:
+                return LabelCheck(line, key, word.keyword)
+            return Fail(line, text)
+
+        self.body.append(failure())
         top = self.stack[-1] if self.stack else None
         if top is not None and top.label == label and not isinstance(top.node, Sub):
             # rs274 stops skipping at the next line with the label being
             # skipped to, so this line fails on every path through ``top``:
             # also when its condition is false or an earlier arm ran.
             self.stack.pop()
-            self.fail(line, text)
+            self.body.append(failure())
+            if isinstance(top.node, Loop) and top.node.eof is None:
+                # a break or continue skipping forward for the loop's label
+                # (or its condition failing) lands here too
+                top.node.eof = failure()
         return True
 
     # -- end of file ------------------------------------------------------
@@ -989,12 +1036,17 @@ def definition_values(sub: Sub) -> List[nodes.Line]:
     """The lines whose value rs274 reads while it reads past the definition
     of ``sub`` (interp_read.cc read_o: skipping to the sub's own label, it
     evaluates the value of a ``return`` or ``endsub`` with that label, and
-    sets ``#<_value>``, or clears it when there is none): in text order."""
+    sets ``#<_value>``, or clears it when there is none): in text order.
+    A line with more than comments after its O-word (which fails when it
+    runs) counts too: while skipping, rs274 reads no further than a value
+    right after the keyword, so ``endsub G20`` clears the value and
+    ``endsub [2] #1=3`` sets it to 2."""
     if sub.fanuc:
         return []
     found = []
     for stmt in walk(sub.body):
-        if isinstance(stmt, Return) and stmt.line.oword is not None:
+        failing = type(stmt) is Block and stmt.line.error == AFTER_OWORD
+        if (failing or isinstance(stmt, Return)) and stmt.line.oword is not None:
             word = stmt.line.oword
             if word.keyword in ("return", "endsub") and word.name == sub.name:
                 found.append(stmt.line)

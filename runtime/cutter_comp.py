@@ -694,7 +694,10 @@ class CutterCompMixin:
             beta < -_SMALL
             or beta > math.pi + _SMALL
             # a tangent corner the tool is outside of (the middle of an "m")
-            or (abs(beta - math.pi) < _SMALL and not _tool_inside_arc(side, turn))
+            or (
+                abs(long_double_sum(beta, -ops.PI_L)) < _SMALL
+                and not _tool_inside_arc(side, turn)
+            )
         ):
             if self._queue_front().kind != "arc":
                 mid = self._line_to_arc_corner(
@@ -732,7 +735,8 @@ class CutterCompMixin:
     def _line_to_arc_corner(self, theta, beta, arc_radius, centre_x, centre_y, turn):
         st = self._cc
         radius = st.radius
-        across = arc_radius * math.sin(long_double_sum(beta, -ops.HALF_PI_L))
+        # rs274's sin(beta - M_PI_2l) is sinl of the unrounded long double
+        across = ops.long_double_sin_product(arc_radius, beta, -ops.HALF_PI_L)
         if _tool_inside_arc(st.side, turn):
             dist = arc_radius - radius
             ratio = (across + radius) / dist

@@ -40,9 +40,10 @@ def repeat_with_stale_continue(machine, count: int) -> Iterator[int]:
         machine.doing_continue = False
 
 
-def repeat_keeping_count(machine, key: str, count: int) -> Iterator[int]:
+def repeat_keeping_count(machine, key: str, count: int, again: bool = True) -> Iterator[int]:
     """``o.. repeat [n]`` that may be left early: the count left is kept
-    under ``key`` (rs274's name of the label) for the next time."""
+    under ``key`` (rs274's name of the label) for the next time. Without
+    ``again`` the count never runs again (rs274 fails before it would)."""
     counts = machine._repeat_counts
     while True:
         if counts.get(key, -1) == -1:
@@ -52,6 +53,6 @@ def repeat_keeping_count(machine, key: str, count: int) -> Iterator[int]:
             yield counts[key]
             continue
         counts[key] = -1
-        if not machine.doing_continue:
+        if not again or not machine.doing_continue:
             return
         machine.doing_continue = False

@@ -104,7 +104,6 @@ from runtime.codes import (
     G59_3,
     G61,
     G61_1,
-    G64,
     G80,
     G90_1,
     G91,
@@ -121,7 +120,7 @@ from runtime.codes import (
     to_integer,
 )
 from runtime.comments import CommentLines, execute_comment
-from runtime.cutter_comp import LEFT, RIGHT, CompState, CutterCompMixin
+from runtime.cutter_comp import LEFT, RIGHT, CutterCompMixin
 from runtime.cycles import CyclesMixin
 from runtime.errors import GCodeError, Location, g_code_frames_of_stack
 from runtime.fastpath import FastPathMixin
@@ -281,6 +280,11 @@ class Machine(
         #: What rs274 prints while loading the table (the CLI prints it).
         self.tool_table_report = table.load_report
         self.tools = ToolTable(dict(table.slots))
+        # The canon keeps its own table, reloaded into rs274's after every tool
+        # change: its spindle entry's pocket changes only by CHANGE_TOOL
+        # (SET_TOOL_TABLE_ENTRY keeps pockets), while rs274's own copy of a
+        # G10-edited loaded tool takes that tool's pocket until the reload.
+        self._canon_spindle_pocket = self._entry(0).pocket
         if self.settings.retain_g43:
             # Every block takes the general path (runtime.tools).
             self._execute = self._execute_retaining_g43
@@ -442,6 +446,9 @@ class Machine(
         earlier call -- the very definition now reached in the normal flow
         ("illegal location"). Both messages name the sub line's file and line.
         """
+        if fanuc_subs.in_fanuc_call(self):
+            # run in an M98 call (or the frame an M98 .. L0 entered)
+            raise GCodeError(fanuc_subs.O_SUB_NEEDS_CALL)
         here = g_code_frames_of_stack()[-1]
         known = self._subroutines.get(name)
         if known is not None:
@@ -618,9 +625,25 @@ class Machine(
             caller_locals = self._enter_sub()
             caller_locals.__dict__.clear()
             self.locals = caller_locals
+            # an M98 frame: a sub line run in it fails, as in an M98 call
+            self.fanuc_levels.append(self.call_level)
         for _ in range(times):
             fanuc_subs.run_fanuc(self, self._run_sub, fn)
         self.value = self.value_returned = 0.0
+
+    def frame_mark(self, key: str) -> None:
+        """An if or loop around an ``M98 .. L0`` opens: note the call level
+        (rs274 records its label under the frame's subroutine name)."""
+        self._frame_marks[key] = self.call_level
+
+    def same_frame(self, key: str, line: int, text: str) -> None:
+        """A closing line (else, endif, endwhile, endrepeat, break,
+        continue) of the construct ``key`` runs: after an ``M98 .. L0``
+        inside it, rs274 looks its label up under the new frame's name and
+        does not find it."""
+        marks = self._frame_marks
+        if marks and marks.get(key, self.call_level) != self.call_level:
+            self.fail(line, olabels.UNDEFINED_LABEL % (line, text))
 
     def _run_sub(self, fn: Callable) -> Optional[float]:
         """Run subroutine ``fn`` one call level down, with fresh named locals."""
@@ -662,9 +685,10 @@ class Machine(
         """A reused O-word label (see runtime.olabels)."""
         olabels.check_label(self, key, kind, line, text)
 
-    def repeat_kept(self, key: str, n: float) -> Iterator[int]:
-        """``repeat`` that may be left early (see runtime.loopflags)."""
-        return loopflags.repeat_keeping_count(self, key, round_to_int(n))
+    def repeat_kept(self, key: str, n: float, again: bool = True) -> Iterator[int]:
+        """``repeat`` that may be left early (see runtime.loopflags);
+        ``again=False``: never runs its count again (a stale continue)."""
+        return loopflags.repeat_keeping_count(self, key, round_to_int(n), again)
 
     def repeat_again(self, n: float) -> Iterator[int]:
         """``repeat`` where a do-loop's continue may have left rs274's

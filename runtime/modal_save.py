@@ -48,6 +48,8 @@ from runtime.codes import (
     G20,
     G21,
     G40,
+    G41,
+    G42,
     G43,
     G49,
     G54,
@@ -119,7 +121,10 @@ class ModalSaveMixin:
         feed_modes = {INVERSE_TIME: G93, UNITS_PER_MINUTE: G94}
         g = (
             _PLANE_CODES[self.plane],
-            G40,  # ngc2py never turns compensation on
+            # the side in force (a negative diameter swapped it), never the
+            # .1 form: restored as G41/G42 without D, which fails while
+            # compensation is on and takes the tool's diameter when off
+            (G40, G41, G42)[self._cc.side],
             G91 if self.distance_incremental else G90,
             feed_modes.get(self.feed_mode, G95),
             _SYSTEM_CODES[self.origin_index - 1],
@@ -230,14 +235,49 @@ class ModalSaveMixin:
         return ran
 
     def _run_restore_line(self, codes: List[int], words: Dict[str, float]) -> None:
-        """Execute one line of restore text, as rs274's execute(text) does."""
+        """Execute one line of restore text, as rs274's execute(text) does.
+        A failing line is reported with its text (e.g. G42 restored while
+        compensation is on)."""
         self.announce_block(None)
         # The fast path shares the current point: work on a copy.
         self.current = list(self.current)
-        block = blockcheck.read_block(codes, words)
-        blockcheck.enhance(block, self.plane, self.motion_mode)
-        blockcheck.check(block, self.distance_incremental)
-        self._execute(block, None)
+        try:
+            block = blockcheck.read_block(codes, words)
+            blockcheck.enhance(block, self.plane, self.motion_mode)
+            blockcheck.check(block, self.distance_incremental)
+            self._execute(block, None)
+        except GCodeError as error:
+            if codes in ([G20], [G21]) and not words:
+                raise  # (units cannot fail)
+            raise GCodeError(
+                "M7x: restore_settings failed executing: '%s': %s"
+                % (_restore_text(codes, words), error.message),
+                error.location,
+            ) from None
+
+
+def _restore_text(codes: List[int], words: Dict[str, float]) -> str:
+    """The text rs274 writes for a restore line (gen_settings, then the
+    first M code: `` F10.0 G42 G64 P0.010000M5``)."""
+    text = ""
+    if "f" in words:
+        text += " F%.1f" % words["f"]
+    if "s" in words:
+        text += " S%.0f" % words["s"]
+    for code in codes:
+        if code >= M_OFFSET:
+            text += "M%d" % (code - M_OFFSET)
+        elif code == G64:
+            text += " G64"
+            if "p" in words:
+                text += " P%f" % words["p"]
+                if "q" in words:
+                    text += " Q%f" % words["q"]
+        elif code % 10:
+            text += " G%d.%d" % (code // 10, code % 10)
+        else:
+            text += " G%d" % (code // 10)
+    return text
 
 
 def _settings_line(saved: ModalState, current: ModalState):

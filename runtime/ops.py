@@ -593,3 +593,33 @@ def long_double_product(x: float, constant: Tuple[int, int]) -> float:
     m, e = _double_parts(x)
     cm, ce = constant
     return _to_double(*_rounded_ratio(m * cm, 1, e + ce, _LD_BITS))
+
+
+def long_double_sin_product(factor: float, first: float, *terms) -> float:
+    """``factor * sin(first + terms...)`` where the argument mixes doubles
+    with the long double ``M_PIl`` constants (as :func:`long_double_sum`):
+    C++ then calls the long double ``sin`` (``sinl``) on the unrounded sum,
+    multiplies in long double and stores the product into a double
+    (rs274's ``arc_radius * sin(beta - M_PI_2l)``). Computed with the
+    integer emulation (a correctly rounded sinl)."""
+    from fractions import Fraction
+
+    acc = Fraction(first)
+    for term in terms:
+        acc += Fraction(term)
+        if acc:
+            m, e = _rounded_ratio(acc.numerator, acc.denominator, 0, _LD_BITS)
+            acc = Fraction(m) * Fraction(2) ** e
+    if acc == 0:  # sinl(+-0) keeps the zero's sign (a sum of terms gives +0)
+        return factor * (first if not terms else 0.0)
+    if factor == 0.0:
+        return factor * (1.0 if acc > 0 else -1.0)
+    m, e = _rounded_ratio(acc.numerator, acc.denominator, 0, _LD_BITS)
+    if m.bit_length() + e < _TINY_EXPONENT:
+        s = (m, e)  # sinl(u) == u for such a tiny u
+    else:
+        s = _rounded_ratio(_sin_cos(m, e)[0], 1, -_FIXED_BITS, _LD_BITS)
+    if s[0] == 0:
+        return factor * 0.0
+    fm, fe = _double_parts(factor)
+    return _to_double(*_rounded_ratio(fm * s[0], 1, fe + s[1], _LD_BITS))

@@ -69,7 +69,8 @@ class MachineState:
     doing_continue: bool  # a continue is going round again (rs274's flag)
     _olabels: Dict[str, object]  # O-word labels seen executing (reuse checks)
     _repeat_counts: Dict[str, int]  # counts left of repeat loops left early
-    fanuc_levels: List[int]  # call levels of running M98 calls
+    fanuc_levels: List[int]  # call levels of running M98 calls (and M98 L0 frames)
+    _frame_marks: Dict[str, int]  # call level where each if/loop around M98 L0 opened
     python_namespace: Dict[str, object]  # (py, ...) comments' variables
 
     # --- modes (rs274's Interp::init values: _reset_modes) ------------------
@@ -99,7 +100,6 @@ class MachineState:
 
     # --- tools ----------------------------------------------------------------
     selected_pocket: int  # the pocket T selected (#<_selected_pocket>)
-    tool_selected: bool  # a T word was given since the start
     selected_tool: int  # the tool T selected
     current_pocket: int  # the pocket in the spindle
     toolchange_flag: bool  # M6 done: the next line reads the new tool first
@@ -150,6 +150,7 @@ class MachineState:
         self._olabels = {}
         self._repeat_counts = {}
         self.fanuc_levels = []
+        self._frame_marks = {}
         self.python_namespace = {}
         self._spindle_before_change = None
         self.cycle_initial_level = None
@@ -198,10 +199,9 @@ class MachineState:
         self.lathe_diameter = False
         self.cutter_comp = False
         self._cc = CompState()
-        # Before any T word M6 changes to pocket 0, yet #<_selected_pocket>
-        # reads -1; the canon reports slot 1 as the loaded one.
+        # Before any T word M6 changes to index 0 (#<_selected_pocket> reads
+        # the spindle entry's pocket); the canon reports slot 1 as loaded.
         self.selected_pocket = 0
-        self.tool_selected = False
         self.selected_tool = 0
         self.current_pocket = 1
         self.toolchange_flag = False

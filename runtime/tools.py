@@ -61,7 +61,6 @@ class ToolsMixin:
         """T: find the tool now (errors show here), change it at M6."""
         self.selected_pocket = self._pocket_of(tool)
         self.selected_tool = tool
-        self.tool_selected = True
         self.canon.select_tool(tool)
 
     def _change_tool(self) -> None:
@@ -83,7 +82,11 @@ class ToolsMixin:
         self.canon.change_tool(self.selected_pocket)
         # rs274's own copy of the spindle entry changes only on the next line.
         self._spindle_before_change = self._entry(0)
-        self.tools.slots[0] = self._entry(self.selected_pocket)
+        if self.selected_pocket != 0:
+            self._canon_spindle_pocket = self._entry(self.selected_pocket).pocket
+        self.tools.slots[0] = self._entry(self.selected_pocket)._replace(
+            pocket=self._canon_spindle_pocket
+        )
         self.current_pocket = self.selected_pocket
         self.toolchange_flag = True
         self._store_tool_parameters()
@@ -96,13 +99,15 @@ class ToolsMixin:
         return self._entry(self.current_pocket).pocket
 
     def selected_pocket_number(self) -> int:
-        """``#<_selected_pocket>``: as :meth:`current_pocket_number`; -1 on a
-        non-random changer before any T word."""
+        """``#<_selected_pocket>``: as :meth:`current_pocket_number`, except
+        that on a non-random changer a P word of 0 reads -1. Before any T
+        word the selected index is 0, the spindle entry: -1 while the spindle
+        entry has no pocket, but the loaded tool's pocket once a G10 L1/L10/
+        L11 edit of that tool has been copied there."""
         if self.settings.random_toolchanger:
             return self.selected_pocket
-        if not self.tool_selected:
-            return -1
-        return self._entry(self.selected_pocket).pocket
+        pocket = self._entry(self.selected_pocket).pocket
+        return -1 if pocket == 0 else pocket
 
     # ------------------------------------------------------------------
     # [RS274NGC]RETAIN_G43
@@ -150,6 +155,10 @@ class ToolsMixin:
         """What rs274 does when it reads the line after a tool change."""
         self.toolchange_flag = False
         self._spindle_before_change = None
+        # rs274 reloads its table from the canon's (load_tool_table).
+        spindle = self.tools.slots.get(0)
+        if spindle is not None:
+            self.tools.slots[0] = spindle._replace(pocket=self._canon_spindle_pocket)
         self.current = self.world.reported_position()
         # rs274 refreshes #5420-#5428 too, before the line's words are read.
         self._publish_position()

@@ -398,6 +398,10 @@ def stmt_codes(w: Writer) -> None:
         if level == "1" and w.draw(st.booleans()):
             words += f" Q{w.draw(st.integers(0, 9))}"
         w.emit(f"G10 L{level} P{max(tool, 1)} {words}")
+        if w.draw(st.booleans()):
+            # an edit of the loaded tool is copied to the spindle entry,
+            # which #<_selected_pocket> reads before any T word
+            w.emit("(debug, #<_selected_pocket> #<_current_pocket> #5400 #5403)")
     elif kind == 2:
         w.emit(f"M19 R{w.draw(st.integers(0, 360))} P{w.draw(st.integers(0, 2))}"
                f" Q{w.draw(st.integers(1, 9))}")
@@ -884,6 +888,7 @@ class LanguageWriter:
         self.subs: List[str] = []  # callable subroutines
         self.size = 0  # statements written (bounds the program)
         self.globals: List[str] = []  # do-loop counters, set at the top
+        self.landing = False  # a jump aimed at a finished loop was written
 
     def pick(self, options):
         return self.draw(st.sampled_from(options))
@@ -919,7 +924,8 @@ class LanguageWriter:
     def label(self) -> str:
         """A label for a new construct: usually new, sometimes one already
         used by a closed construct of this body."""
-        if self.closed and self.chance(10):
+        if self.closed and (self.chance(2) if self.landing else self.chance(10)):
+            self.landing = False
             return self.pick(self.closed)[0]
         self.next_label += 1
         return str(self.next_label)
@@ -1047,7 +1053,9 @@ def lang_jump(w: LanguageWriter) -> None:
     finished = [entry for entry in w.closed if entry[1] in ("while", "do")]
     if finished and w.chance(15):
         # aimed at a loop that has ended: rs274 skips forward to its label
+        # and runs the next line with it (a later construct reusing it)
         loops = finished
+        w.landing = True
     if not loops:
         lang_plain(w)
         return
@@ -1467,7 +1475,7 @@ def job_tool_change(w: JobWriter) -> None:
         w.emit(f"G10 {kind} P{other} Z{w.num(-1, 2)}{extra}")
         if w.draw(st.booleans()):
             w.emit(f"T{other} M6 G43")
-    w.emit("(debug, tool #<_current_tool> pocket #<_current_pocket> offset #5403 #5410)")
+    w.emit("(debug, tool #<_current_tool> pocket #<_current_pocket> #<_selected_pocket> offset #5403 #5410)")
     w.emit(f"G0 X{w.num(0, 2)} Y{w.num(0, 2)}")
 
 

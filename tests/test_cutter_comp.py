@@ -80,3 +80,26 @@ def test_long_double_sum_rounds_like_x87():
         assert long_double_sum(x, -HALF_PI_L) == plus_half_pi(x, -1)
     assert long_double_sum(0.0, 2 * PI_L) == 2 * math.pi
     assert long_double_sum(-1.0, PI_L, 1.0 - math.pi) != 0.0  # not cancelled in doubles
+
+
+def test_sin_of_a_long_double_sum_is_sinl_of_the_unrounded_sum():
+    # rs274's arc_radius * sin(beta - M_PI_2l): sinl of the long double sum,
+    # a long double product stored into a double. With beta a double just
+    # below pi, the double route gives -27.5 exactly, rs274 a last-bit
+    # smaller magnitude (golden/cutter_comp/concave_line_to_arc_sinl).
+    from runtime.ops import long_double_sin_product
+
+    assert long_double_sin_product(2.0, 0.0) == 0.0
+    assert math.copysign(1.0, long_double_sin_product(2.0, -0.0)) == -1.0
+    # sinl(pi_l/2 - pi_l/2 + tiny) == tiny: small arguments come back exactly
+    assert long_double_sin_product(1.0, 1e-30) == 1e-30
+    # against the C library's sinl where this platform has the x87 format
+    import ctypes
+
+    if ctypes.sizeof(ctypes.c_longdouble) == 16:
+        libm = ctypes.CDLL(None)
+        sinl = libm.sinl
+        sinl.restype, sinl.argtypes = ctypes.c_longdouble, [ctypes.c_longdouble]
+        for beta in (0.1, 1.0, 2.5, 3.0, 4.0, 5.5):
+            # a double argument: no long double sum needed to compare
+            assert long_double_sin_product(1.0, beta) == sinl(beta)
