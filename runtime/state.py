@@ -103,6 +103,9 @@ class MachineState:
     selected_tool: int  # the tool T selected
     current_pocket: int  # the pocket in the spindle
     toolchange_flag: bool  # M6 done: the next line reads the new tool first
+    # the spindle entry's pocket in the canon's own table (set from the tool
+    # table; only CHANGE_TOOL changes it, a G10 edit does not)
+    _canon_spindle_pocket: int
     _spindle_before_change: Optional[object]  # the spindle's state before M6
 
     # --- position and offsets (program units) -------------------------------
