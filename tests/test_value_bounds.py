@@ -52,7 +52,7 @@ def test_bounded_arithmetic_is_written_without_a_check():
     code = compile_text(
         "#2 = 1\n#1 = [30 * COS[#2] + [#2 MOD 3]]\n#3 = [#2 * #2]\nM2\n"
     )
-    assert "p[1] = (30.0 * cos(p[2])) + mod(p[2], 3.0)\n" in code
+    assert "p[1] = 30.0 * cos(p[2]) + mod(p[2], 3.0)\n" in code
     assert "p[3] = finite(p[2] * p[2])\n" in code
     code = compile_text("#2 = 1\n#1 = [#2 * 0.3]\n#3 = [#2 + 1]\n#4 = [#2 * 2]\nM2\n")
     assert "p[1] = p[2] * 0.3\n" in code and "p[3] = p[2] + 1.0\n" in code
