@@ -609,7 +609,7 @@ class PreviewMachine(BatchesOnly, Machine):
             motion,
             group0,
             _PLANE_CODES[self.plane],
-            400,  # G40: ngc2py has no cutter compensation yet
+            (400, 410, 420)[self._cc.side],  # G41.1/G42.1 show as G41/G42
             200 if self.inches else 210,
             910 if self.distance_incremental else 900,
             _FEED_MODE_CODES[self.feed_mode],

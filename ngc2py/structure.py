@@ -445,6 +445,19 @@ class _Builder:
             # endsub closes it, and the rest of the line fails when run.
             self.on_endsub(line, word, failing=True)
             return
+        if (
+            word is not None
+            and word.keyword == "m99"
+            and line.error is not None
+            and word.in_call_error is not None
+            and self.fanuc is not None
+            and self.fanuc[1] is self.body
+        ):
+            # M99 ending a Fanuc definition, with words after it: run as the
+            # return of an M98 call rs274 reads no further than "Unexpected
+            # character after O-word"; in the main flow the line's own error
+            self.on_m99(line, word)
+            return
         if word is None or line.error is not None:
             if not line.is_blank:
                 self.body.append(Block(line))
