@@ -50,7 +50,6 @@ from ngc2py import structure as st
 from ngc2py.parser import RowLine
 from ngc2py.rowrun import RowRun
 from runtime import codes, comments, ops
-from runtime.params import attr_safe
 
 #: The prefix of the Python variable that holds ``#<name>`` when the name
 #: itself is taken: no name the code generator writes otherwise starts with it.
@@ -280,14 +279,7 @@ def _values(line: nodes.Line) -> Iterator[nodes.Expr]:
             item.target, nodes.NamedParam
         ):
             yield item.target  # #[index] = ...: the index is read
-    word = line.oword
-    if word is not None:
-        if isinstance(word.name, nodes.Expr):
-            yield word.name
-        if word.expr is not None:
-            yield word.expr
-        yield from word.args
-    yield from line.partial
+    yield from _oword_and_partial(line)
 
 
 def _block_comment_names(stmts: List[st.Stmt]) -> Set[str]:
@@ -379,10 +371,9 @@ def _line(line) -> Iterator[object]:
     yield line
 
 
-def _expressions(line: nodes.Line) -> Iterator[nodes.Expr]:
-    for item in line.items:
-        yield item.value
-        yield item.target if isinstance(item, nodes.Assign) else item.value
+def _oword_and_partial(line: nodes.Line) -> Iterator[nodes.Expr]:
+    """The expressions of a line's O-word (a computed name, the condition or
+    value, the call's arguments) and of what was read before an error."""
     word = line.oword
     if word is not None:
         if isinstance(word.name, nodes.Expr):
@@ -391,6 +382,13 @@ def _expressions(line: nodes.Line) -> Iterator[nodes.Expr]:
             yield word.expr
         yield from word.args
     yield from line.partial
+
+
+def _expressions(line: nodes.Line) -> Iterator[nodes.Expr]:
+    for item in line.items:
+        yield item.value
+        yield item.target if isinstance(item, nodes.Assign) else item.value
+    yield from _oword_and_partial(line)
 
 
 def _names(line: nodes.Line) -> Iterator[str]:

@@ -397,6 +397,15 @@ def long_double_sum(first: float, *terms) -> float:
     does: each partial sum rounded to a long double, the result stored into a
     double. Sums of doubles alone must be done before (they round to double).
     """
+    acc = _long_double_partial_sums(first, terms)
+    if acc == 0:
+        return 0.0
+    return _to_double(*_rounded_ratio(acc.numerator, acc.denominator, 0, _LD_BITS))
+
+
+def _long_double_partial_sums(first: float, terms):
+    """The exact value (a Fraction) of ``first + terms...`` left to right,
+    each partial sum rounded to a long double."""
     from fractions import Fraction
 
     acc = Fraction(first)
@@ -405,9 +414,7 @@ def long_double_sum(first: float, *terms) -> float:
         if acc:
             m, e = _rounded_ratio(acc.numerator, acc.denominator, 0, _LD_BITS)
             acc = Fraction(m) * Fraction(2) ** e
-    if acc == 0:
-        return 0.0
-    return _to_double(*_rounded_ratio(acc.numerator, acc.denominator, 0, _LD_BITS))
+    return acc
 
 
 def _degrees(radians: float) -> float:
@@ -602,14 +609,7 @@ def long_double_sin_product(factor: float, first: float, *terms) -> float:
     multiplies in long double and stores the product into a double
     (rs274's ``arc_radius * sin(beta - M_PI_2l)``). Computed with the
     integer emulation (a correctly rounded sinl)."""
-    from fractions import Fraction
-
-    acc = Fraction(first)
-    for term in terms:
-        acc += Fraction(term)
-        if acc:
-            m, e = _rounded_ratio(acc.numerator, acc.denominator, 0, _LD_BITS)
-            acc = Fraction(m) * Fraction(2) ** e
+    acc = _long_double_partial_sums(first, terms)
     if acc == 0:  # sinl(+-0) keeps the zero's sign (a sum of terms gives +0)
         return factor * (first if not terms else 0.0)
     if factor == 0.0:
