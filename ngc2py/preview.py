@@ -265,13 +265,7 @@ class PreviewCanon(Canon):
         machine = self.machine
         target = self.target
         next_line = target.next_line
-        saved = machine.motion_mode
-        modes = {}
-        for motion in set(motions):
-            machine.motion_mode = motion
-            gcodes, mcodes, settings = machine._active((), 0)
-            modes[motion] = (gcodes[1:], mcodes[1:], settings[1:])
-        machine.motion_mode = saved
+        modes = {motion: machine.line_state(motion) for motion in set(motions)}
         now = time.monotonic()  # asked once a batch: a batch takes milliseconds
         if now - self._checked > ABORT_INTERVAL:
             self._checked = now
@@ -502,14 +496,22 @@ class PreviewMachine(BatchesOnly, Machine):
     def _line_begins(self, line, n):
         return self.active
 
+    def line_state(self, motion):
+        """The state (gcodes, mcodes, settings without the line) a line of
+        one plain move in ``motion`` leaves, worked out once per motion
+        and feed until a general block runs."""
+        key = (motion, self.feed_rate, self.params.get_internal(5210))
+        state = self._line_states.get(key)
+        if state is None:
+            saved, self.motion_mode = self.motion_mode, motion
+            gcodes, mcodes, settings = self._active((), 0)
+            self.motion_mode = saved
+            state = self._line_states[key] = (gcodes[1:], mcodes[1:], settings[1:])
+        return state
+
     def _line_ended(self, line, before) -> None:
         if self.active is before:  # the fast path took it: no block wrote the state
-            key = (self.motion_mode, self.feed_rate, self.params.get_internal(5210))
-            state = self._line_states.get(key)
-            if state is None:
-                gcodes, mcodes, settings = self._active((), 0)
-                state = self._line_states[key] = (gcodes[1:], mcodes[1:], settings[1:])
-            gcodes, mcodes, settings = state
+            gcodes, mcodes, settings = self.line_state(self.motion_mode)
             self.active = (
                 (line,) + gcodes,
                 (line,) + mcodes,
