@@ -14,10 +14,14 @@ that is true when none of the cases that make a straight move more than
 * feed mode units per minute (G94) -- no inverse-time or per-rev checks;
 * no tool change waiting to be finished;
 * no canned-cycle series open (the next motion that is not a cycle must
-  end it: runtime.cycles).
+  end it: runtime.cycles);
+* no G7x profile being read (its lines go to the profile reader) and no
+  RETAIN_G43 (every block runs the M code step).
 
 The flag is recomputed by :meth:`refresh_plain` after every general block
-(only a general block can change those modes). :meth:`move` checks it and
+(only a general block can change those modes), and written nowhere else
+(but by :meth:`_plain_line`, for the one line a batches-only machine runs
+on the fast path). :meth:`move` checks it and
 the few value-dependent conditions (a negative F, a zero feed rate for G1,
 a modal motion other than G0/G1) and otherwise falls back to
 ``Machine.block``, which makes rs274's checks and raises its errors; so the
@@ -96,12 +100,16 @@ def _xyz_move(motion: int):
 class FastPathMixin:
     """``Machine.move``: the straight-move fast path (part of Machine)."""
 
-    #: See runtime.rows.BatchesOnly (a property of the class, not state).
+    #: See runtime.rows.BatchesOnly (properties of the class, not state).
     rows_by_move = False
+    batches_only = False
 
     def refresh_plain(self) -> None:
-        """Recompute ``_plain`` from the modes (see the module docstring)."""
-        self._plain = (
+        """Recompute ``_plain`` from the modes (see the module docstring):
+        the one place it is derived. A batches-only machine (runtime.rows)
+        keeps it in ``_batchable``, its lines taking the fast path one at a
+        time (:meth:`_plain_line`)."""
+        plain = (
             not self.distance_incremental
             and not self.lathe_diameter
             and not self.cutter_comp
@@ -110,7 +118,22 @@ class FastPathMixin:
             and self.feed_mode == UNITS_PER_MINUTE
             and not self.toolchange_flag
             and self.cycle_initial_level is None
+            and not self.reading_profile  # a G7x profile's lines go to its reader
+            and not self.settings.retain_g43  # every block runs the M step
         )
+        if self.batches_only:
+            self._batchable, self._plain = plain, False
+        else:
+            self._plain = plain
+
+    def _plain_line(self, run, *args, **words):
+        """``run(*args, **words)``, one line of a batches-only machine whose
+        modes are plain (``_batchable``), on the fast path."""
+        self._plain = True
+        try:
+            return run(*args, **words)
+        finally:
+            self._plain = False
 
     def announce_block(self, n: Optional[str]) -> None:
         """Tell the canon the N number of the line now executing."""

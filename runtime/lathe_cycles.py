@@ -132,7 +132,7 @@ class _ProfileReader:
         # plain moves, which falls back to m.block when _plain is off.
         m.block = self.block
         m.reading_profile = True
-        m._plain = False
+        m.refresh_plain()  # the profile's lines go to its reader
         m._publish_position()
         try:
             m.call_named(name)

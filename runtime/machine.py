@@ -288,7 +288,6 @@ class Machine(
         if self.settings.retain_g43:
             # Every block takes the general path (runtime.tools).
             self._execute = self._execute_retaining_g43
-            self.refresh_plain = self._never_plain
         self._start_state()
 
     # ------------------------------------------------------------------

@@ -258,10 +258,8 @@ class BatchesOnly:
     #: run_rows hands rows the batches leave to move() and arc(), as lines of
     #: the program would be, not to block(): see _single_line.
     rows_by_move = True
-
-    def refresh_plain(self) -> None:
-        super().refresh_plain()
-        self._batchable, self._plain = self._plain, False
+    #: refresh_plain keeps the plain flag in _batchable
+    batches_only = True
 
     # A line of a single plain move or arc (m.move, m.feed, m.rapid, m.arc,
     # and the data rows run_rows hands them) takes the fast path while the
@@ -274,11 +272,7 @@ class BatchesOnly:
             # the general path (a G7x profile's lines go to its reader)
             return run(line, *args, **words)
         token = self._line_begins(line, words.get("n"))
-        self._plain = True
-        try:
-            run(line, *args, **words)
-        finally:
-            self._plain = False
+        self._plain_line(run, line, *args, **words)
         self._line_ended(line, token)
 
     def _line_begins(self, line: int, n: Optional[str]):

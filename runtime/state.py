@@ -51,9 +51,8 @@ class MachineState:
     _closing_resets: int  # ON_RESET calls at the end: 1 with an INI read, else 2
     max_steps: int  # the step budget: loop iterations and calls (0: none)
     step: Callable[[], None]  # takes one step (StopIteration: budget spent)
-    # RETAIN_G43 only: every block on the general path (runtime.tools)
+    # RETAIN_G43 only: every block runs the M code step (runtime.tools)
     _execute: Callable
-    refresh_plain: Callable
 
     # --- where the program is ----------------------------------------------
     line: int  # the G-code line executing (errors and tracebacks name it)

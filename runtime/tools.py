@@ -131,10 +131,6 @@ class ToolsMixin:
             block.m[RETAIN_STEP] = 0
         type(self)._execute(self, block, comment)
 
-    def _never_plain(self) -> None:
-        """refresh_plain under RETAIN_G43: no block may skip the M step."""
-        self._plain = False
-
     def _hidden_traverse(self, end: List[float]) -> None:
         """A move the INI asks for around a tool change, hidden from AXIS's preview."""
         self.canon.comment("AXIS,hide")
