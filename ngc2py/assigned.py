@@ -22,7 +22,7 @@ the names are set), and they flow forward conservatively:
 
 from __future__ import annotations
 
-from typing import Dict, FrozenSet, Iterable, List
+from typing import Dict, FrozenSet, List
 
 from ngc2py import nodes
 from ngc2py import structure as st
@@ -33,12 +33,12 @@ Known = FrozenSet[str]
 
 
 def settled_names(program: st.Program) -> Dict[int, Known]:
-    """``id(line) -> names`` certainly set before each ordinary line runs."""
+    """``id(line) -> names`` certainly set before each line runs."""
     before: Dict[int, Known] = {}
     try:
-        _flow(program.body, frozenset(), before)
+        known_before(program.body, frozenset(), before)
         for sub in list(program.subs) + list(program.externals):
-            _flow(sub.body, frozenset(), before)
+            known_before(sub.body, frozenset(), before)
     except RecursionError:
         # Nesting deeper than Python's stack (hostile input): know nothing,
         # so every declare stays, as without this pass.
@@ -46,23 +46,48 @@ def settled_names(program: st.Program) -> Dict[int, Known]:
     return before
 
 
-def _flow(stmts: Iterable[st.Stmt], known: Known, before: Dict[int, Known]) -> Known:
+def known_before(stmts: List[st.Stmt], known: Known, out: Dict[int, Known]) -> Known:
+    """Record in ``out`` (``id(line)`` -> names) the names certainly set
+    before each line of ``stmts`` runs, starting from ``known``, and return
+    what is known after them. A loop's closing condition and the later
+    conditions of an if know what held before the loop or the if; a line met
+    twice keeps what holds both times."""
     for stmt in stmts:
         if isinstance(stmt, st.Block):
-            if type(stmt.line) in (RowLine, RowRun):
+            line = stmt.line
+            if type(line) in (RowLine, RowRun):
                 continue  # literal words only: no settings (and kept compact)
-            before[id(stmt.line)] = known
-            known = known | line_settings(stmt.line)
+            _note(out, line, known)
+            known = known | line_settings(line)
         elif isinstance(stmt, st.If):
-            arms: List[Known] = [_flow(b.body, known, before) for b in stmt.branches]
+            for branch in stmt.branches:
+                _note(out, branch.line, known)
+            arms = [known_before(b.body, known, out) for b in stmt.branches]
             if stmt.orelse is not None:
-                arms.append(_flow(stmt.orelse.body, known, before))
+                _note(out, stmt.orelse.line, known)
+                arms.append(known_before(stmt.orelse.body, known, out))
                 known = known | frozenset.intersection(*arms)
+            _note(out, stmt.end, known)
         elif isinstance(stmt, st.Loop):
-            _flow(stmt.body, known, before)
-        elif isinstance(stmt, st.FanucCall):
-            known = frozenset(name for name in known if name.startswith("_"))
+            _note(out, stmt.line, known)
+            for fail in (stmt.eof, stmt.skip_fail):  # lines read elsewhere
+                _note(out, getattr(fail, "line", None), known)
+            known_before(stmt.body, known, out)
+            _note(out, stmt.end, known)
+        elif isinstance(stmt, st.Define):
+            for line in st.definition_values(stmt.sub):
+                _note(out, line, known)
+        else:
+            _note(out, getattr(stmt, "line", None), known)
+            if isinstance(stmt, st.FanucCall):
+                known = frozenset(name for name in known if name.startswith("_"))
     return known
+
+
+def _note(out: Dict[int, Known], line, known: Known) -> None:
+    if line is not None:
+        key = id(line)
+        out[key] = out[key] & known if key in out else known
 
 
 def line_settings(line: nodes.Line) -> Known:

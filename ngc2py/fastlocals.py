@@ -122,8 +122,8 @@ def fast_locals(body: List[st.Stmt], max_depth: int) -> Dict[str, str]:
         if line is None:  # something that reads the store by name
             return {}
         set_somewhere.update(_set_by(line))
-    known: Dict[int, Known] = {}
-    _known_before(body, frozenset(), known)
+    known: Dict[int, assigned.Known] = {}
+    assigned.known_before(body, frozenset(), known)
     unsafe = _exists_names(body) | _block_comment_names(body)
     defining = {id(line) for line in _definition_lines(body)}
     for line in _lines(body):
@@ -190,9 +190,6 @@ def _definition_lines(stmts: List[st.Stmt]) -> Iterator[nodes.Line]:
             yield from st.definition_values(stmt.sub)
 
 
-Known = FrozenSet[str]
-
-
 _NEVER_SET_DEPTH = 100
 
 
@@ -210,56 +207,6 @@ def never_set(body: List[st.Stmt]) -> FrozenSet[str]:
         mentioned.update(_names(line))
         set_.update(_set_by(line))
     return frozenset(n for n in mentioned - set_ if not n.startswith("_"))
-
-
-def _note(out: Dict[int, Known], line, known: Known) -> None:
-    """``known`` before ``line`` (a line met twice keeps what holds both times)."""
-    key = id(line)
-    out[key] = out[key] & known if key in out else known
-
-
-def _known_before(stmts: List[st.Stmt], known: Known, out: Dict[int, Known]) -> Known:
-    """Record in ``out`` (``id(line)`` -> names) the names certainly set
-    before each line of ``stmts`` runs, as ngc2py.assigned reckons them (only
-    a line of settings alone sets names for certain; after an if, what every
-    arm sets when there is an else; after a loop nothing new); a loop's
-    closing condition and later elseif conditions know what held before the
-    loop or the if. Returns what is known after ``stmts``."""
-    for stmt in stmts:
-        if isinstance(stmt, st.Block):
-            line = stmt.line
-            if type(line) in (RowLine, RowRun):
-                continue  # literal words only
-            _note(out, line, known)
-            known = known | assigned.line_settings(line)
-        elif isinstance(stmt, st.If):
-            for branch in stmt.branches:
-                _note(out, branch.line, known)
-            arms = [_known_before(b.body, known, out) for b in stmt.branches]
-            if stmt.orelse is not None:
-                _note(out, stmt.orelse.line, known)
-                arms.append(_known_before(stmt.orelse.body, known, out))
-                known = known | frozenset.intersection(*arms)
-            if stmt.end is not None:
-                _note(out, stmt.end, known)
-        elif isinstance(stmt, st.Loop):
-            _note(out, stmt.line, known)
-            for fail in (stmt.eof, stmt.skip_fail):
-                if getattr(fail, "line", None) is not None:
-                    _note(out, fail.line, known)
-            _known_before(stmt.body, known, out)
-            if stmt.end is not None:
-                _note(out, stmt.end, known)
-        elif isinstance(stmt, st.Define):
-            for line in st.definition_values(stmt.sub):
-                _note(out, line, known)
-        else:
-            line = getattr(stmt, "line", None)
-            if line is not None:
-                _note(out, line, known)
-            if isinstance(stmt, st.FanucCall):
-                known = frozenset(name for name in known if name.startswith("_"))
-    return known
 
 
 def _reads(line: nodes.Line) -> Set[str]:
@@ -295,31 +242,18 @@ def _block_comment_names(stmts: List[st.Stmt]) -> Set[str]:
 def _lands(stmts: List[st.Stmt]) -> bool:
     """Does an if make rs274 enter one of its arms in the middle (a skip that
     lands on a do-loop: st.If.lands)?"""
-    for stmt in stmts:
-        if isinstance(stmt, st.If):
-            arms = [b.body for b in stmt.branches]
-            if stmt.orelse is not None:
-                arms.append(stmt.orelse.body)
-            if stmt.lands is not None or any(_lands(arm) for arm in arms):
-                return True
-        elif isinstance(stmt, st.Loop) and _lands(stmt.body):
-            return True
-    return False
+    return any(
+        isinstance(stmt, st.If) and stmt.lands is not None
+        for stmt in st.walk(stmts, into_subs=False)
+    )
 
 
 def _deeper_than(stmts: List[st.Stmt], limit: int) -> bool:
     """Do ifs and loops nest more than ``limit`` deep (stops looking there:
     G-code nesting has no bound)?"""
     for stmt in stmts:
-        if isinstance(stmt, st.If):
-            arms = [b.body for b in stmt.branches]
-            if stmt.orelse is not None:
-                arms.append(stmt.orelse.body)
-        elif isinstance(stmt, st.Loop):
-            arms = [stmt.body]
-        else:
-            continue
-        if limit == 0 or any(_deeper_than(arm, limit - 1) for arm in arms):
+        arms = st.children(stmt, into_subs=False)
+        if arms and (limit == 0 or any(_deeper_than(arm, limit - 1) for arm in arms)):
             return True
     return False
 
