@@ -61,8 +61,6 @@ from runtime.codes import (
     G59_1,
     G59_2,
     G59_3,
-    G61,
-    G61_1,
     G64,
     G90,
     G90_1,
