@@ -591,6 +591,9 @@ class FlattenCanon(Canon):
             math.hypot(start[0] - first_c, start[1] - second_c),
             math.hypot(first_end - first_c, second_end - second_c),
         )
+        # An R 0 arc whose end is within the tolerance of its start has a
+        # centre that is not a number (rs274 divides 0 by 0): written as R0.
+        no_centre = first_c != first_c
         if min(radii) < tolerance:
             raise FlattenError(
                 "flatten: an arc of zero radius (cutter compensation makes one where "
@@ -601,7 +604,9 @@ class FlattenCanon(Canon):
         # that gives back the very centre (known start, no rounding)
         exact = None not in offsets
         mode = ""
-        if exact and self._ijk_absolute:
+        if no_centre:
+            pass
+        elif exact and self._ijk_absolute:
             mode, self._ijk_absolute = "G91.1 ", False
         elif not exact and not self._ijk_absolute:
             mode, self._ijk_absolute = "G90.1 ", True
@@ -615,8 +620,11 @@ class FlattenCanon(Canon):
         for k, (letter, value) in enumerate(zip("ABC", args[6:9])):
             if not same(value, pos[3 + k]):
                 words.append(letter + number(value))
-        words.append(first_letter + number(centre[0]))
-        words.append(second_letter + number(centre[1]))
+        if no_centre:
+            words.append("R0")
+        else:
+            words.append(first_letter + number(centre[0]))
+            words.append(second_letter + number(centre[1]))
         if abs(rotation) != 1:
             words.append("P%d" % abs(rotation))
         pos[index[first]], pos[index[second]], pos[index[axis]] = (

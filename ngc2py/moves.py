@@ -112,7 +112,8 @@ class Recorder(ToolpathCanon):
 
     def arc_feed(self, *args):
         axes = PLANE_AXES.get(self.plane)
-        if axes is None:  # a UVW plane: a straight feed
+        if axes is None or args[2] != args[2]:
+            # a UVW plane, or a centre that is not a number: a straight feed
             return super().arc_feed(*args)
         first_end, second_end, first_axis, second_axis, rotation, axis_end = args[:6]
         start = self.position

@@ -14,7 +14,9 @@
  * type, hands the whole call to PyUnicode_Format, so the answer is always
  * exactly Python's.
  * Numbers that are not finite or are 1e11 or more in size are formatted by
- * Python's own routine.
+ * Python's own routine, but for one difference on purpose: a NaN prints as
+ * C's printf prints it, "-nan" when its sign bit is set (rs274's trace does:
+ * an R 0 arc's centre), where Python always writes "nan".
  *
  * Optional, like runtime._libm_trig: runtime/canon.py uses str.__mod__
  * where this was not built.
@@ -110,6 +112,9 @@ static int four_decimals(buffer *b, double x) {
 }
 
 static int python_float(buffer *b, double x) {
+    if (isnan(x)) {
+        return append(b, signbit(x) ? "-nan" : "nan", signbit(x) ? 4 : 3) < 0 ? -1 : 1;
+    }
     char *text = PyOS_double_to_string(x, 'f', 4, 0, NULL);
     if (!text) {
         return -1;

@@ -26,14 +26,13 @@ in rs274's order.
 from __future__ import annotations
 
 from itertools import repeat, takewhile
-from math import asin, atan2, cos, hypot, sin
+from math import hypot
 from operator import add, sub
 
 from runtime import arcs
 from runtime.canon import Canon, TraceCanon, trace_rows
 from runtime.codes import G0, G1, G2, G3
 from runtime.errors import GCodeError
-from runtime.ops import c_hypot, plus_half_pi
 
 
 def python_column_floats(texts: List[str]) -> List[float]:
@@ -77,9 +76,6 @@ _AXES = "xyzabc"
 #: differ by a few units in the last place at most (1e-16 relative).
 _MARGIN = 1e-14
 _BELOW = 1 - _MARGIN
-
-#: rs274's 1 - TINY: a chord this close to the diameter is a semicircle.
-_SEMICIRCLE = 1 - arcs._SEMICIRCLE_SLACK
 
 #: Rows of arcs in a row, at least, for the batch form; at most per batch.
 _BATCH = 8
@@ -128,65 +124,13 @@ def centre_checks_pass(s1, s2, e1, e2, c1, c2, zero: float, spiral: float) -> bo
     return small * _BELOW >= zero and (big - small) + big * _MARGIN <= spiral
 
 
-def radius_centre(
-    clockwise: bool, s1, s2, e1, e2, radius: float, zero: float
-) -> Optional[Tuple[float, float]]:
-    """The centre of an R-format arc (rs274's arc_data_r), or None for the
-    general path: the end point is the start point, R is too small or 0."""
-    if (e1 == s1 and e2 == s2) or radius == 0.0:
+def radius_centre(clockwise: bool, s1, s2, e1, e2, radius: float, zero: float):
+    """:func:`runtime.arcs.radius_centre` for an arc the fast path may take;
+    None (step aside) also where rs274 fails on the arc (its end point is
+    its start point) or divides by zero (R 0)."""
+    if radius == 0.0 or (e1 == s1 and e2 == s2):
         return None
-    abs_radius = abs(radius)
-    mid1 = (e1 + s1) / 2.0
-    mid2 = (e2 + s2) / 2.0
-    half = c_hypot(mid1 - e1, mid2 - e2)  # printed through the centre: exact
-    if half - abs_radius > zero:
-        return None
-    if half / abs_radius > _SEMICIRCLE:
-        half = abs_radius
-    # Centre to the right of the chord for a short clockwise arc (or a long
-    # counter-clockwise one), to the left otherwise.
-    theta = plus_half_pi_l(
-        atan2(e2 - s2, e1 - s1), -1 if clockwise == (radius > 0) else 1
-    )
-    offset = abs_radius * cos(asin(half / abs_radius))
-    return mid1 + offset * cos(theta), mid2 + offset * sin(theta)
-
-
-#: M_PI_2l (64-bit significand) times 2**128, and that scale.
-_HALF_PI_SCALED = 0xC90FDAA22168C235 << 65
-_SCALE = 2.0**128
-_UNSCALE = 2.0**-128
-#: M_PI_2l stored into a double.
-_HALF_PI = float(0xC90FDAA22168C235) * 2.0**-63
-
-
-def plus_half_pi_l(x: float, sign: int) -> float:
-    """:func:`runtime.ops.plus_half_pi` (``x + sign * M_PI_2l`` rounded to a
-    long double, then stored into a double) in integers scaled by 2**128,
-    about fifteen times faster than its exact fractions.
-
-    For 2**-66 <= |x| <= 4 (an angle from atan2) every double is a multiple
-    of 2**-118, so the scaled sum is an exact integer: rounding it to 64
-    significant bits (half to even) is the x87's addition, and ``float()``
-    of an integer rounds half to even, as the store does."""
-    if not 2.0**-66 <= abs(x) <= 4.0:
-        if x == 0.0:  # a chord along an axis
-            return _HALF_PI if sign > 0 else -_HALF_PI
-        return plus_half_pi(x, sign)
-    total = int(x * _SCALE) + (_HALF_PI_SCALED if sign > 0 else -_HALF_PI_SCALED)
-    negative = total < 0
-    if negative:
-        total = -total
-    extra = total.bit_length() - 64
-    if extra > 0:
-        kept = total >> extra
-        rest = total - (kept << extra)
-        half = 1 << (extra - 1)
-        if rest > half or (rest == half and kept & 1):
-            kept += 1
-        total = kept << extra
-    value = float(total) * _UNSCALE
-    return -value if negative else value
+    return arcs.radius_centre(clockwise, s1, s2, e1, e2, radius, zero)
 
 
 def _row_number(cells: List[str], at: int, has_n: bool):

@@ -262,31 +262,48 @@ def arc_from_center(
 def arc_from_radius(
     clockwise: bool, start: Point2, end: Point2, radius: float, turns: int, inch: bool
 ) -> Arc:
-    """A radius-format (R) arc; negative R asks for the arc longer than half.
-
-    The centre lies on the perpendicular bisector of the chord, on the side
-    that gives a short arc for positive R and a long one for negative R.
-    """
+    """A radius-format (R) arc; negative R asks for the arc longer than half."""
     if end[0] == start[0] and end[1] == start[1]:
         raise GCodeError("Current point same as end point of arc")
-    abs_radius = abs(radius)
-    mid = ((end[0] + start[0]) / 2.0, (end[1] + start[1]) / 2.0)
-    half_chord = c_hypot(mid[0] - end[0], mid[1] - end[1])
-    if half_chord - abs_radius > radius_tolerance(inch):
+    centre = radius_centre(
+        clockwise, start[0], start[1], end[0], end[1], radius, radius_tolerance(inch)
+    )
+    if centre is None:
         raise GCodeError("Arc radius too small to reach end point")
-    if half_chord / abs_radius > 1 - _SEMICIRCLE_SLACK:
-        half_chord = abs_radius
-    chord_angle = math.atan2(end[1] - start[1], end[0] - start[0])
-    # Centre to the right of the chord for a short clockwise arc (or a long
-    # counter-clockwise one), to the left otherwise.
-    if clockwise == (radius > 0):
-        theta = plus_half_pi(chord_angle, -1)
-    else:
-        theta = plus_half_pi(chord_angle)
-    offset = abs_radius * math.cos(math.asin(half_chord / abs_radius))
-    center1 = mid[0] + offset * math.cos(theta)
-    center2 = mid[1] + offset * math.sin(theta)
-    return Arc(end[0], end[1], center1, center2, _rotation(clockwise, turns))
+    return Arc(end[0], end[1], centre[0], centre[1], _rotation(clockwise, turns))
+
+
+#: The NaN that x86's invalid operations make (sign bit set: printf's "-nan").
+_DEFAULT_NAN = -math.nan
+
+
+def radius_centre(
+    clockwise: bool, s1: float, s2: float, e1: float, e2: float, radius: float, zero: float
+) -> "Optional[Tuple[float, float]]":
+    """The centre of an R-format arc from (s1, s2) to (e1, e2), by rs274's
+    operations in its order (arc_data_r), or None when R is too short to
+    reach the end point (more than ``zero`` short). The end point must differ
+    from the start point.
+
+    The centre lies on the perpendicular bisector of the chord: to the right
+    of it for a short clockwise arc (or a long counter-clockwise one), to
+    the left otherwise. An R of 0 with a chord within ``zero`` makes rs274
+    divide 0 by 0: its centre is then the default NaN, printed ``-nan``."""
+    abs_radius = abs(radius)
+    mid1 = (e1 + s1) / 2.0
+    mid2 = (e2 + s2) / 2.0
+    half = c_hypot(mid1 - e1, mid2 - e2)  # printed through the centre: exact
+    if half - abs_radius > zero:
+        return None
+    if abs_radius == 0.0:
+        return _DEFAULT_NAN, _DEFAULT_NAN
+    if half / abs_radius > 1 - _SEMICIRCLE_SLACK:
+        half = abs_radius  # a semicircle: asin() never sees more than 1
+    theta = plus_half_pi(
+        math.atan2(e2 - s2, e1 - s1), -1 if clockwise == (radius > 0) else 1
+    )
+    offset = abs_radius * math.cos(math.asin(half / abs_radius))
+    return mid1 + offset * math.cos(theta), mid2 + offset * math.sin(theta)
 
 
 def arc_angle(start: Point2, arc: Arc) -> float:

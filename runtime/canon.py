@@ -24,6 +24,9 @@ executing a line.
 from __future__ import annotations
 
 from itertools import starmap
+from math import copysign
+
+from runtime.lazy_re import Pattern
 
 TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
@@ -291,10 +294,40 @@ try:
     from runtime._fast_format import percent as trace_format
     from runtime._fast_format import percent_rows as trace_rows
 except ImportError:  # not built (no C compiler): the very same strings
-    trace_format = str.__mod__
+
+    def trace_format(template: str, args: tuple) -> str:
+        text = template % args
+        return text if "nan" not in text else c_nans(template, args)
 
     def trace_rows(template: str, columns) -> str:
-        return "".join(map(template.__mod__, zip(*columns)))
+        return "".join(trace_format(template, row) for row in zip(*columns))
+
+
+#: A conversion of a trace template (the few kinds trace lines use).
+_CONVERSION = Pattern(r"%[-\d]*(?:\.\d+)?[sdf%]")
+
+
+def c_nans(template: str, args: tuple) -> str:
+    """``template % args`` with each NaN printed by ``%f`` as C's printf
+    prints it: ``-nan`` when its sign bit is set (an R 0 arc's centre in
+    rs274's trace), where Python always writes ``nan``."""
+    values = iter(args)
+    out = []
+    at = 0
+    for found in _CONVERSION.finditer(template):
+        out.append(template[at : found.start()])
+        at = found.end()
+        spec = found.group()
+        if spec == "%%":
+            out.append("%")
+            continue
+        value = next(values)
+        if spec[-1] == "f" and value != value:
+            out.append("-nan" if copysign(1.0, value) < 0 else "nan")
+        else:
+            out.append(spec % value)
+    out.append(template[at:])
+    return "".join(out)
 
 
 _TRAVERSE = "%5d %sSTRAIGHT_TRAVERSE(%.4f, %.4f, %.4f, %s)\n"

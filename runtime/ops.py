@@ -363,13 +363,49 @@ def _half_pi_fixed() -> int:
 _PI_L = (0xC90FDAA22168C235, -62)
 
 
+#: M_PI_2l (64-bit significand) times 2**128, and that scale.
+_HALF_PI_SCALED = 0xC90FDAA22168C235 << 65
+_SCALE = 2.0**128
+_UNSCALE = 2.0**-128
+#: M_PI_2l stored into a double.
+_HALF_PI_DOUBLE = float(0xC90FDAA22168C235) * 2.0**-63
+
+
 def plus_half_pi(x: float, sign: int = 1) -> float:
     """rs274's ``x + M_PI_2l`` (or minus, for ``sign=-1``) stored into a double.
 
     The arc code mixes a double with the long double constant, so the sum is
     rounded to a long double first and then to a double; doing it in doubles
     alone sometimes turns a centre rs274 prints as ``-0.0000`` into ``0.0000``.
-    """
+    Worked in integers scaled by 2**128, about fifteen times faster than
+    exact fractions (:func:`plus_half_pi_exact`, used outside that range).
+
+    For 2**-66 <= |x| <= 4 (an angle from atan2) every double is a multiple
+    of 2**-118, so the scaled sum is an exact integer: rounding it to 64
+    significant bits (half to even) is the x87's addition, and ``float()``
+    of an integer rounds half to even, as the store does."""
+    if not 2.0**-66 <= abs(x) <= 4.0:
+        if x == 0.0:  # a chord along an axis
+            return _HALF_PI_DOUBLE if sign > 0 else -_HALF_PI_DOUBLE
+        return plus_half_pi_exact(x, sign)
+    total = int(x * _SCALE) + (_HALF_PI_SCALED if sign > 0 else -_HALF_PI_SCALED)
+    negative = total < 0
+    if negative:
+        total = -total
+    extra = total.bit_length() - 64
+    if extra > 0:
+        kept = total >> extra
+        rest = total - (kept << extra)
+        half = 1 << (extra - 1)
+        if rest > half or (rest == half and kept & 1):
+            kept += 1
+        total = kept << extra
+    value = float(total) * _UNSCALE
+    return -value if negative else value
+
+
+def plus_half_pi_exact(x: float, sign: int = 1) -> float:
+    """:func:`plus_half_pi` in exact fractions, for any double."""
     from fractions import Fraction  # here: its import costs start-up time
 
     pm, pe = _PI_L

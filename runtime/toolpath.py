@@ -319,7 +319,17 @@ class ToolpathCanon(Canon):
         start = self.position
         end = list(start[:3]) + list(self._point((0, 0, 0, a, b, c, u, v, w))[3:])
         axes = PLANE_AXES.get(self.plane)
-        if axes is None:  # a UVW plane: X, Y and Z stay where they are
+        if axes is None or first_axis != first_axis:
+            # A UVW plane: X, Y and Z stay where they are. A centre that is
+            # not a number (rs274's R 0 arc, its end within the tolerance of
+            # its start): a straight feed there.
+            if axes is not None:
+                f, s, n = axes
+                end[f], end[s], end[n] = (
+                    self.to_mm(first_end),
+                    self.to_mm(second_end),
+                    self.to_mm(axis_end),
+                )
             self.position = tuple(end)
             self.line("feed", start, self.position)
             return

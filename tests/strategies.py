@@ -208,7 +208,14 @@ def stmt_arc(w: Writer) -> None:
     if w.draw(st.integers(0, 3)) == 0:
         words += f" {lin}{w.draw(numbers(-50, 50, 10))}"  # helix
     chord = math.hypot(d1, d2)
-    if chord > 1.0 and w.draw(st.integers(0, 3)) == 0:
+    if w.draw(st.integers(0, 15)) == 0:
+        # an end within the radius tolerance of the start, R 0 or tiny: rs274
+        # divides 0 by 0 for an R 0 centre (it prints -nan) and takes a tiny
+        # R as a semicircle
+        tiny = w.draw(st.sampled_from(["0.000001", "-0.00002", "0.00001"]))
+        rr = w.draw(st.sampled_from(["0", "-0", "0.00001", "-0.000005"]))
+        w.emit(f"G{plane} G91 {code} {a1}{tiny} R{rr}")
+    elif chord > 1.0 and w.draw(st.integers(0, 3)) == 0:
         # radius format, R a bit more than half the chord (either sign)
         rr = chord / 2 + w.draw(st.integers(1, 50)) / 10
         sign = w.draw(st.sampled_from(["", "-"]))

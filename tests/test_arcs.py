@@ -325,6 +325,6 @@ def test_random_arcs_match_rs274(case):
     st.sampled_from([1, -1]),
 )
 def test_fast_half_pi_sum_is_the_exact_one(x, sign):
-    """runtime.arc_rows adds M_PI_2l with scaled integers: the same double
-    as the exact fractions of runtime.ops, near the cancellations too."""
-    assert arc_rows.plus_half_pi_l(x, sign) == ops.plus_half_pi(x, sign)
+    """runtime.ops adds M_PI_2l with scaled integers: the same double as
+    exact fractions, near the cancellations too."""
+    assert ops.plus_half_pi(x, sign) == ops.plus_half_pi_exact(x, sign)

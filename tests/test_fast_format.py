@@ -7,6 +7,8 @@ these tests are skipped with that reason.
 
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
 import math
 import struct
 
@@ -25,7 +27,22 @@ pytestmark = pytest.mark.skipif(
 )
 
 
+def c_printf(template: str, x: float) -> str:
+    """The C library's printf of one double (ctypes: no code of ours)."""
+    buffer = ctypes.create_string_buffer(128)
+    _LIBC.snprintf(buffer, len(buffer), template.encode(), ctypes.c_double(x))
+    return buffer.value.decode()
+
+
+_LIBC = ctypes.CDLL(ctypes.util.find_library("c"))
+
+
 def same_as_python(template: str, args: tuple) -> None:
+    """percent() is Python's ``%``, but for a NaN, which it prints as C's
+    printf does (``-nan`` with the sign bit set: rs274's trace)."""
+    if template == "%.4f" and args and isinstance(args[0], float) and math.isnan(args[0]):
+        assert percent(template, args) == c_printf(template, args[0])
+        return
     try:
         expected = template % args
     except Exception as exc:  # the same error, with the same words
@@ -131,6 +148,17 @@ def test_lines_longer_than_the_inline_buffer():
     template = "%s|" * 40 + "%.4f"
     args = tuple("x" * k for k in range(40)) + (2.5,)
     same_as_python(template, args)
+
+
+@pytest.mark.parametrize("x", [math.nan, -math.nan, -(0.0 * math.inf)])
+def test_nan_as_c_prints_it(x):
+    """A NaN is printed as printf prints it, by the extension and by the
+    Python fallback (runtime.canon.c_nans) alike."""
+    from runtime.canon import c_nans
+
+    want = "    3 X(" + c_printf("%.4f", x) + ", 1.0000) %"
+    assert percent("%5d X(%.4f, %.4f) %%", (3, x, 1.0)) == want
+    assert c_nans("%5d X(%.4f, %.4f) %%", (3, x, 1.0)) == want
 
 
 def test_bad_call():

@@ -15,7 +15,7 @@ import re
 from typing import Dict, List, Optional, Tuple
 
 _CALL = re.compile(r"^\s*\d+ N\S*\s*([A-Z_0-9]+)\((.*)\)\s*$")
-_NUMBER = re.compile(r"-?\d+(?:\.\d+)?")
+_NUMBER = re.compile(r"-?\d+(?:\.\d+)?|-?nan")
 #: Points per full turn when sampling an arc.
 _SAMPLES_PER_TURN = 2880
 
@@ -90,7 +90,7 @@ class TracePath:
             self.first_inches = self.inches
 
     def _arc(self, numbers: List[float]) -> None:
-        self.arcs += 1
+        self.arcs += not math.isnan(numbers[2])  # an R 0 arc's path is its chord
         scale = 25.4 if self.inches else 1.0
         fe, se, fc, sc = (v * scale for v in numbers[:4])
         turn, ne = numbers[4], numbers[5] * scale
@@ -98,6 +98,11 @@ class TracePath:
         start = list(self.position)
         end = list(start[:3]) + numbers[6:9]
         end[f], end[s], end[n] = fe, se, ne
+        if math.isnan(fc):  # an R 0 arc (its end within tolerance): its chord
+            self._add(start)
+            self._add(end)
+            self.position = end
+            return
         a0 = math.atan2(start[s] - sc, start[f] - fc)
         a1 = math.atan2(end[s] - sc, end[f] - fc)
         r0 = math.hypot(start[s] - sc, start[f] - fc)
