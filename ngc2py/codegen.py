@@ -10,11 +10,11 @@ Safety: nothing from the source reaches the output except through
 in comments is reduced to printable characters, so no input can inject code.
 
 Big CAM files: the main program is split into chunk functions of bounded
-size, and runs of constant blocks become data (see ``runtime/rows.py``): a
+size, and runs of constant blocks become data (see ``runtime/fast/rows.py``): a
 module-level ``SHAPES`` table of (codes, word letters) and, per run, one
 text table with one G-code line per text line (``24 0 1.0 2.0``: line,
-shape, values), which compiles as one string constant; see runtime/rows.py
-for why, and runtime/printed_rows.py for tables written as the trace prints
+shape, values), which compiles as one string constant; see runtime/fast/rows.py
+for why, and runtime/fast/printed_rows.py for tables written as the trace prints
 their numbers.
 
 Deep nesting: Python allows 20 statically nested blocks per function and
@@ -490,7 +490,7 @@ class ModuleWriter:
 
     def row_loop(self, code: str) -> None:
         """A statement running data rows: its G-code line is the failing
-        row's, which ``runtime.rows.run_rows`` attaches to the error."""
+        row's, which ``runtime.fast.rows.run_rows`` attaches to the error."""
         self.map.add(len(self.out) + 1, self.file_index, 0)
         self.out.append(INDENT * self.depth + code)
 
@@ -683,7 +683,7 @@ class CodeGen:
         if self.x.helpers:
             head.extend(import_lines("runtime.ops", sorted(self.x.helpers)))
         if self.row_tables:
-            head.append("from runtime.rows import run_rows")
+            head.append("from runtime.fast import run_rows")
         shift = len(head)
         final = ModuleWriter(self.files)
         final.out = head + body.out
@@ -939,7 +939,7 @@ class CodeGen:
     def flush(self, run: List) -> None:
         """Emit a run of constant blocks (row runs and (line, row) pairs):
         as statements when short, else as data tables executed by
-        ``runtime.rows.run_rows``."""
+        ``runtime.fast.rows.run_rows``."""
         total = sum(item.count if type(item) is RowRun else 1 for item in run)
         if total < MIN_ROWS or (total < MIN_VALUE_ROWS and not row_values(run)):
             for item in run:
@@ -1632,7 +1632,7 @@ class CodeGen:
 
     def move_call(self, line: nodes.Line, words, values: List[str]) -> Optional[str]:
         """``m.move(line, G1, x=..)`` for a plain straight move: G0, G1 or no
-        motion code, axis words, F and N only (runtime.fastpath); else None."""
+        motion code, axis words, F and N only (runtime.fast.moves); else None."""
         return self.motion_call(
             "m.move", line, words, values, (codes.G0, codes.G1), "xyzabcuvwf", False
         )
@@ -1854,7 +1854,7 @@ def as_printed(rows: List[Tuple[nodes.Line, Row]]) -> Optional[List[str]]:
     decimals), if that is exact for every value; else None.
 
     ``12.345`` becomes ``12.3450``: the same float, and the very text of the
-    trace line, so runtime.printed_rows writes a CAM file's trace without
+    trace line, so runtime.fast.printed_rows writes a CAM file's trace without
     reading or formatting a float per value. (Done for the whole table at
     once: a million-line file pays for it in C loops, not per cell.)"""
     cells = " ".join([values for _, (_, values) in rows]).split()
@@ -1875,7 +1875,7 @@ def as_printed(rows: List[Tuple[nodes.Line, Row]]) -> Optional[List[str]]:
 
 def row_table(name: str, cells: List[str], printed: bool = False) -> List[str]:
     """``ROWS_n`` as a triple-quoted string: one G-code line per text line
-    (see runtime.rows for why a table is text)."""
+    (see runtime.fast.rows for why a table is text)."""
     lines = [
         "",
         "",

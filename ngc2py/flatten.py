@@ -291,7 +291,7 @@ class FlattenCanon(Canon):
         self._flush()
 
     def straight_moves(self, feed, lines, x, y, z, a, b, c, u, v, w):
-        """A run of plain moves, each a block of its own (runtime.rows'
+        """A run of plain moves, each a block of its own (runtime.fast.rows'
         batches: no N, no F, nothing else on the line), written a column at
         a time: the axis words that change, as :meth:`_move` writes them."""
         if self._pitch is not None or not self.started or self.ended:
@@ -867,10 +867,10 @@ def _flatten_machine():
     """A Machine whose blocks each announce their start (FlattenCanon groups
     calls by block; the fast path alone announces only changes of N): lines
     of one plain move or arc announce it and take the fast path
-    (runtime.rows.BatchesOnly), whole batches of plain rows reach
+    (runtime.fast.rows.BatchesOnly), whole batches of plain rows reach
     FlattenCanon.straight_moves and arc_moves."""
     from runtime.machine import Machine
-    from runtime.rows import BatchesOnly
+    from runtime.fast.rows import BatchesOnly
 
     class FlattenMachine(BatchesOnly, Machine):
         def _line_begins(self, line, n):

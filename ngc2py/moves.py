@@ -138,7 +138,7 @@ class Recorder(ToolpathCanon):
         self.turns.append(rotation)
         self.position = self._last = tuple(end)
 
-    # --- batches (runtime.rows, runtime.arc_rows) ---------------------
+    # --- batches (runtime.fast.rows, runtime.fast.arc_rows) ---------------------
     def straight_moves(self, feed, lines, x, y, z, a, b, c, u, v, w):
         rows = len(lines)
         if not rows:

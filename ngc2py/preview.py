@@ -67,7 +67,7 @@ from runtime.machine import Machine
 from runtime.mcodes import ProgramEnd
 from runtime.nurbs import preview_points
 from runtime.params import unset_variable
-from runtime.rows import BatchesOnly
+from runtime.fast.rows import BatchesOnly
 
 INTERP_OK = 0
 INTERP_EXIT = 1
@@ -216,7 +216,7 @@ class PreviewCanon(Canon):
         self._motion("straight_feed", *self._pose(x, y, z, a, b, c, u, v, w))
 
     def straight_moves(self, feed, lines, x, y, z, a, b, c, u, v, w):
-        """A batch of plain rows (runtime.rows.BatchesOnly: one move a line,
+        """A batch of plain rows (runtime.fast.rows.BatchesOnly: one move a line,
         nothing else on it): each line announced with the modes the line
         before left, then its move, as :meth:`new_line` and
         :meth:`straight_feed` would, with the modes worked out once."""

@@ -45,7 +45,7 @@ IMPORTS = {
         "truth",
         "xor",
     ),
-    "runtime.rows": ("run_rows",),
+    "runtime.fast": ("run_rows",),
     # and every G and M code's constant (CODE_NAME: G0, G38_2, M3, ...)
     "runtime.codes": ("to_integer",),
 }

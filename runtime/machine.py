@@ -123,7 +123,7 @@ from runtime.comments import CommentLines, execute_comment
 from runtime.cutter_comp import LEFT, RIGHT, CutterCompMixin
 from runtime.cycles import CyclesMixin
 from runtime.errors import GCodeError, Location, g_code_frames_of_stack
-from runtime.fastpath import FastPathMixin
+from runtime.fast.moves import FastPathMixin
 from runtime.inifile import IniSettings, load_ini
 from runtime.mcodes import MCodesMixin, ProgramEnd, not_supported
 from runtime.modal_save import ModalSaveMixin
@@ -712,7 +712,7 @@ class Machine(
         self.line = line
         self.announce_block(n)
         # The fast path shares its end point with the canon model and the
-        # position parameters (runtime.fastpath): change a copy from here.
+        # position parameters (runtime.fast.moves): change a copy from here.
         self.current = list(self.current)
         if self.lathe_diameter and "x" in words:
             words["x"] /= 2  # rs274 halves X as it reads it in G7

@@ -75,7 +75,7 @@ class ProbingMixin:
                 end[1] + (backoff * (dy / distance)),
                 end[2] + (backoff * (dz / distance)),
             ]
-        # A new list: the machine may share the old one (runtime.fastpath).
+        # A new list: the machine may share the old one (runtime.fast.moves).
         world.position = xyz + list(end[3:6])
 
     def _after_probe(self) -> None:

@@ -10,7 +10,7 @@ change these fields and create none (tests/test_state.py runs programs and
 checks that a machine holds nothing undeclared).
 
 ``_plain``, the flag every fast path tests, is not a mode of its own: it is
-derived from the modes by ``refresh_plain`` (runtime.fastpath).
+derived from the modes by ``refresh_plain`` (runtime.fast.moves).
 """
 
 from __future__ import annotations
@@ -132,7 +132,7 @@ class MachineState:
     _nurbs_order: int  # G5.2 L
     _spline_ij: Tuple[float, float]  # G5's remembered I and J
 
-    # --- fast paths (runtime.fastpath, runtime.rows) ------------------------
+    # --- fast paths (runtime.fast.moves, runtime.fast.rows) ------------------------
     _plain: bool  # the modes let plain moves skip the general path
     _batchable: bool  # a BatchesOnly machine's plain flag, set aside
     _block_n: Optional[str]  # the N column last announced to the canon

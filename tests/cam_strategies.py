@@ -5,14 +5,14 @@ thousands of blocks of literal words: ``G1 X12.345 Y-0.5 F800``, an axis
 word alone in the modal motion, an N number on every line or on none,
 numbers with any count of decimals and written every way G-code allows
 (``-.5``, ``+2``, ``007.250``, ``12.``). ngc2py keeps such runs as data
-tables (runtime/rows.py), and as the trace's own text when every value has
-at most four decimals (runtime/printed_rows.py); these programs exercise
+tables (runtime/fast/rows.py), and as the trace's own text when every value has
+at most four decimals (runtime/fast/printed_rows.py); these programs exercise
 both, the modes that turn the fast paths off (incremental distance, offsets,
 inverse time, units), the blocks that interrupt a run (dwell, spindle,
 coolant, plane), arcs in each plane (Machine.plain_arc), long stretches
 of one row shape (written in batches) and the value errors a run can hit (no feed rate, a negative F, a zero F under G1).
 
-Chains of arcs (`arc_chain`, runtime/arc_rows.py) are computed from a
+Chains of arcs (`arc_chain`, runtime/fast/arc_rows.py) are computed from a
 known start point so that most of them are valid: centre (I J K, offsets
 or G90.1 centres) or radius (+R short, -R long) format, full circles,
 quarter, half and odd sweeps, radii from 0.002 to 20000, P turns, helical
@@ -133,7 +133,7 @@ def move_row(
 @st.composite
 def same_shape_rows(draw, numbered: bool, line: int, places: int = 6) -> list:
     """Eight or more moves of one shape (the same motion code or none, the
-    same axis letters, F on each or on none): what runtime.printed_rows
+    same axis letters, F on each or on none): what runtime.fast.printed_rows
     writes in one batch. Now and then one F is an error (zero under G1)."""
     motion = draw(st.sampled_from(["", "G1", "G0", "G01"]))
     axes = draw(st.lists(st.sampled_from(AXES), min_size=1, max_size=4, unique=True))
@@ -315,7 +315,7 @@ def cam_programs(draw) -> str:
     numbered = draw(st.booleans())
     plane = "G17"
     # Most CAM posts write 3 or 4 decimals: such tables are written as the
-    # trace prints them (runtime/printed_rows.py); others are not.
+    # trace prints them (runtime/fast/printed_rows.py); others are not.
     places = draw(st.sampled_from([3, 4, 4, 6]))
     for _ in range(draw(st.integers(1, 3))):
         for _ in range(draw(st.integers(8, 40))):

@@ -11,7 +11,8 @@ from pathlib import Path
 import pytest
 
 import rs274 as harness
-from runtime import arc_rows, arcs, ops
+from runtime import arcs, ops
+from runtime.fast import arc_rows
 from runtime.errors import GCodeError
 
 hypothesis = pytest.importorskip("hypothesis")

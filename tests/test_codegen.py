@@ -507,7 +507,7 @@ def test_a_large_percent_file_without_its_closing_percent(
 
 
 #: Modes in which Machine.feed/rapid must step aside to the general path
-#: (not plain: runtime.fastpath) or fail as rs274 does.
+#: (not plain: runtime.fast.moves) or fail as rs274 does.
 _FEED_CASES = [
     "G21 F100\n#<i>=1\nG1 X#<i> Y2\nG0 Z[#<i>+1]\nM2\n",
     "G21 G91 F100\n#<i>=1\nG1 X#<i> Y2\nG0 Z[#<i>]\nG1 X#<i>\nM2\n",  # incremental

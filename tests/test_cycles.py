@@ -76,7 +76,7 @@ def test_rs274_pecks_forever_there(tmp_path):
 @st.composite
 def cycle_tables(draw) -> str:
     """A canned cycle, then a table of rows of hole words alone (what
-    Machine.cycle_row takes from runtime.rows): X/Y/Z/R/P/Q/L/F in changing
+    Machine.cycle_row takes from runtime.fast.rows): X/Y/Z/R/P/Q/L/F in changing
     layouts, G90 or G91, G98 or G99, in every plane, now and then a row
     whose R falls below its Z (rs274's error, at that row)."""
     plane, first, second, hole = draw(

@@ -200,7 +200,7 @@ def assert_flat_makes_the_same_moves(name: str, text: str) -> None:
 
 @st.composite
 def cam_programs_with_parameters(draw):
-    """CAM tables (runtime.rows' batches of plain moves, which flatten
+    """CAM tables (runtime.fast.rows' batches of plain moves, which flatten
     writes a column at a time) with settings of the parameters G-codes read
     between them, and G28/G30/G92 that read them."""
     text = draw(cam_strategies.cam_programs())

@@ -434,11 +434,11 @@ def test_the_c_extension_mod_sin_cos_tan_are_the_python_ones():
 
 
 def test_the_c_extension_column_helpers_are_the_python_ones():
-    """runtime.arc_rows takes floats() and radius_bounds() from the extension
+    """runtime.fast.arc_rows takes floats() and radius_bounds() from the extension
     where it was built: the same floats, and bounds that differ at most in
     the last bits hypot may round differently (arc_rows keeps a margin of
     1e-14 for that)."""
-    from runtime import arc_rows
+    from runtime.fast import arc_rows
 
     if arc_rows.radius_bounds is arc_rows.python_radius_bounds:
         pytest.skip("runtime._libm_trig not built here: the Python versions run")

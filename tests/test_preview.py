@@ -398,7 +398,7 @@ def test_generated_programs_match_gcode_parse(text):
 @given(cam_strategies.cam_programs(), st.sampled_from(("G21", "G20", "")))
 def test_cam_tables_match_gcode_parse(text, units):
     """CAM tables: their batches of plain rows reach the preview as one
-    straight_moves call each (runtime.rows.BatchesOnly); every next_line
+    straight_moves call each (runtime.fast.rows.BatchesOnly); every next_line
     and move must still be gcode.parse's."""
     _compare_generated(units + "\n" + text)
 

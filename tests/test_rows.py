@@ -1,8 +1,8 @@
 """Runs of literal-only lines (CAM output) against rs274.
 
 The code generator keeps such runs as data tables, written as the trace
-prints their numbers when that is exact (runtime/rows.py,
-runtime/printed_rows.py). Generated CAM programs (tests/cam_strategies.py)
+prints their numbers when that is exact (runtime/fast/rows.py,
+runtime/fast/printed_rows.py). Generated CAM programs (tests/cam_strategies.py)
 must give rs274's trace byte for byte through both table forms, and a
 table written as printed must drive a non-trace canon with the same calls
 and values as one written as the G-code was.
@@ -18,7 +18,7 @@ from hypothesis import given, settings
 import cam_strategies
 from ngc2py import codegen, rowtable
 from ngc2py.compiler import compile_text
-from runtime.arc_rows import ArcRows
+from runtime.fast.arc_rows import ArcRows
 from runtime.canon import Canon, RecordingCanon, TraceCanon
 from runtime.errors import GCodeError
 from runtime.machine import Machine
@@ -74,7 +74,7 @@ def _calls(code: str, error: bool = False):
 
 
 def _trace(code: str):
-    """The trace text (runtime/arc_rows.py writes batches of it itself)."""
+    """The trace text (runtime/fast/arc_rows.py writes batches of it itself)."""
     namespace: dict = {"__name__": "cam"}
     exec(compile(code, "cam.py", "exec"), namespace)
     out = io.StringIO()
@@ -95,7 +95,7 @@ def _without_arc_fast_paths(monkeypatch) -> None:
 @given(cam_strategies.arc_programs())
 def test_arc_fast_paths_give_a_canon_the_general_paths_calls(text):
     """Any canon (here one that records) gets from the arc fast paths
-    (runtime/arc_rows.py, Machine.plain_arc) the calls, values, N numbers
+    (runtime/fast/arc_rows.py, Machine.plain_arc) the calls, values, N numbers
     and error the general path gives it, and a trace the same text."""
     code = compile_text(text, "arcs.ngc")
     fast = _calls(code, error=True), _trace(code)
@@ -150,7 +150,7 @@ def _stretch(template: str, count: int) -> str:
 
 
 BATCHES = {
-    # long stretches of one shape: runtime.printed_rows writes each in one go
+    # long stretches of one shape: runtime.fast.printed_rows writes each in one go
     "xy": "G21 G90 G17 F500\nG1 Z-1\n" + _stretch("X{x:.3f} Y{y:.3f}", 60) + "\nM2\n",
     "numbered_with_feed": "G90\n"
     + _stretch("N{k} G1 X{x:.2f} Z{y:.4f} F{k}1.5", 40)
@@ -212,20 +212,20 @@ class _FailingCanon(RecordingCanon):
 @PROFILE
 @given(cam_strategies.cam_programs())
 def test_batched_rows_give_a_canon_the_calls_of_row_by_row(text):
-    """runtime.rows.straight_batch (runs of one shape, applied in C) against
+    """runtime.fast.rows.straight_batch (runs of one shape, applied in C) against
     the row-by-row loop: the same calls, values and N numbers."""
-    import runtime.fastpath
+    import runtime.fast.moves
 
     code = compile_text(text, "cam.ngc")
     batched = RecordingCanon()
     outcome = _run_recorded(code, batched)
-    saved = runtime.fastpath.BATCH
-    runtime.fastpath.BATCH = 10**9  # never a batch
+    saved = runtime.fast.moves.BATCH
+    runtime.fast.moves.BATCH = 10**9  # never a batch
     try:
         single = RecordingCanon()
         assert _run_recorded(code, single) == outcome
     finally:
-        runtime.fastpath.BATCH = saved
+        runtime.fast.moves.BATCH = saved
     assert (batched.calls, batched.numbers) == (single.calls, single.numbers)
 
 
@@ -243,7 +243,7 @@ def test_a_canon_failing_inside_a_batch_stops_where_row_by_row_stops(
     batched = _FailingCanon(fail_at)
     outcome = _run_recorded(code, batched)
     assert outcome[0] == "canon failed at move %d" % fail_at
-    monkeypatch.setattr("runtime.fastpath.BATCH", 10**9)
+    monkeypatch.setattr("runtime.fast.moves.BATCH", 10**9)
     single = _FailingCanon(fail_at)
     assert _run_recorded(code, single) == outcome
     assert batched.calls == single.calls
@@ -260,7 +260,7 @@ class _MovesIgnored(RecordingCanon):
 @PROFILE
 @given(cam_strategies.cam_programs())
 def test_a_canon_that_ignores_straight_moves_ends_in_the_same_state(text):
-    """runtime.rows.straight_batch skips a batch's calls when the canon's
+    """runtime.fast.rows.straight_batch skips a batch's calls when the canon's
     straight moves are Canon's no-ops: every other call, the error and the
     state after the program must be those of a canon that gets them all."""
     code = compile_text(text, "cam.ngc")
@@ -280,6 +280,6 @@ def test_a_batch_for_a_canon_that_ignores_straight_moves_makes_no_calls(monkeypa
     def no_calls(*args):
         raise AssertionError("the batch called the canon")
 
-    monkeypatch.setattr("runtime.rows.starmap", no_calls)
+    monkeypatch.setattr("runtime.fast.rows.starmap", no_calls)
     assert _run_recorded(code, _MovesIgnored()) == expected
     assert expected[2][:2] == [29.5, -29.0]

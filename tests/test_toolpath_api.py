@@ -54,17 +54,17 @@ class OneByOne(ToolpathCanon):
 def reference(program: str) -> OneByOne:
     """The moves of ``program`` made one call a move, with no batch (whose
     calls come with the lines as a column, not one by one)."""
-    import runtime.arc_rows
-    import runtime.fastpath
-    import runtime.rows
+    import runtime.fast.arc_rows
+    import runtime.fast.moves
+    import runtime.fast.rows
 
     canon = OneByOne()
     canon.reads_lines = True
     with pytest.MonkeyPatch.context() as patch:
         for module, name in (
-            (runtime.fastpath, "BATCH"),
-            (runtime.rows, "BATCH"),
-            (runtime.arc_rows, "_BATCH"),
+            (runtime.fast.moves, "BATCH"),
+            (runtime.fast.rows, "BATCH"),
+            (runtime.fast.arc_rows, "_BATCH"),
         ):
             patch.setattr(module, name, 10**9)
         run_reference(program, canon)

@@ -28,7 +28,7 @@ a modal motion other than G0/G1) and otherwise falls back to
 fast path never has to reproduce an error itself.
 
 The code generator calls :meth:`move` for every line that is only a G0/G1
-(or no motion code), axis words, F and N; :mod:`runtime.rows` uses it for
+(or no motion code), axis words, F and N; :mod:`runtime.fast.rows` uses it for
 data rows.
 """
 
@@ -38,13 +38,14 @@ TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
     from typing import List, Optional
 
-from runtime import arc_rows, arcs
+from runtime import arcs
+from runtime.fast import arc_rows
 from runtime.codes import G0, G1, G2, G3
-from runtime.rows import BATCH, straight_batch
+from runtime.fast.rows import BATCH, straight_batch
 from runtime.motion import UNITS_PER_MINUTE
 
 _AXIS_LETTERS = "xyzabcuvw"
-#: (word letters, plane, G90.1) -> runtime.arc_rows.arc_recipe's answer.
+#: (word letters, plane, G90.1) -> runtime.fast.arc_rows.arc_recipe's answer.
 _ARC_RECIPES: dict = {}
 
 
@@ -100,13 +101,13 @@ def _xyz_move(motion: int):
 class FastPathMixin:
     """``Machine.move``: the straight-move fast path (part of Machine)."""
 
-    #: See runtime.rows.BatchesOnly (properties of the class, not state).
+    #: See runtime.fast.rows.BatchesOnly (properties of the class, not state).
     rows_by_move = False
     batches_only = False
 
     def refresh_plain(self) -> None:
         """Recompute ``_plain`` from the modes (see the module docstring):
-        the one place it is derived. A batches-only machine (runtime.rows)
+        the one place it is derived. A batches-only machine (runtime.fast.rows)
         keeps it in ``_batchable``, its lines taking the fast path one at a
         time (:meth:`_plain_line`)."""
         plain = (
@@ -208,7 +209,7 @@ class FastPathMixin:
     rapid = _xyz_move(G0)
 
     def plain_rows(self, cells: List[str], at: int, end: int, plans) -> int:
-        """Run data rows (runtime.rows) from ``cells[at]`` while they are
+        """Run data rows (runtime.fast.rows) from ``cells[at]`` while they are
         plain straight moves; returns where it stopped (a row for the
         general path, or ``end``).
 
@@ -310,7 +311,7 @@ class FastPathMixin:
     def plain_arc(self, line: int, motion: Optional[int], words, n) -> bool:
         """A line of G2/G3 (``motion``; None: the modal motion), axis words,
         I J K or R, and F, in the plain state: what ``block`` does, without
-        reading, enhancing and checking the line again (runtime.arc_rows
+        reading, enhancing and checking the line again (runtime.fast.arc_rows
         has the checks and geometry). Returns False, having done nothing,
         where the general path must decide: not plain, a modal motion that
         is not an arc, or any error, which ``block`` then raises in rs274's

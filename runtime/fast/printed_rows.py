@@ -5,7 +5,7 @@ CAM output has at most four decimals too, so the code generator writes such
 a table's values as the trace prints them (``12.3450`` for ``X12.345``):
 the text is still the exact value (``float("12.3450") == 12.345``), and it
 is also the text of the trace line. Such a table is run with
-``as_printed=True`` (:func:`runtime.rows.run_rows`).
+``as_printed=True`` (:func:`runtime.fast.rows.run_rows`).
 
 For a :class:`runtime.canon.TraceCanon`, a plain straight move of such a row
 then needs no float at all: the line is the row's cells put into the
@@ -14,8 +14,8 @@ from the text of the previous move. That removes the two costs of a CAM
 row's trace, reading each value as a float and formatting it back. Floats
 are made once, at the end of the run, for the machine's state.
 
-The loop is :meth:`runtime.fastpath.FastPathMixin.plain_rows` with strings:
-it runs while the machine is plain (see runtime.fastpath) and stops, for
+The loop is :meth:`runtime.fast.moves.FastPathMixin.plain_rows` with strings:
+it runs while the machine is plain (see runtime.fast.moves) and stops, for
 the general path, at the first row that is not a G0/G1 move of X Y Z A B C
 and F, or whose feed rate would be an error. Like the canon, it owns the
 canon's line counter and N column while it runs; the trace text of the
@@ -140,7 +140,7 @@ def printed_rows(machine, by_index, cells: List[str], at: int, end: int, plans) 
 
 
 #: Rows of one shape in a row, at least, for the batch form below (and
-#: runtime.rows.straight_batch); at most (bounds the slices a batch takes).
+#: runtime.fast.rows.straight_batch); at most (bounds the slices a batch takes).
 BATCH = 8
 MOST = 4096
 

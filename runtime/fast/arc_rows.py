@@ -1,7 +1,7 @@
 """Arcs in the machine's plain state: the geometry inlined, the checks made
 once per shape, the state kept in local variables for a run of rows.
 
-An arc block in the plain state (see :mod:`runtime.fastpath`) needs, from
+An arc block in the plain state (see :mod:`runtime.fast.moves`) needs, from
 rs274's pipeline, only:
 
 * the checks that depend on which words the block has (R or I J K, the
@@ -178,7 +178,7 @@ class _Pending:
 
 
 class ArcRows:
-    """The loop over a run of arc rows of one table (runtime.rows): made
+    """The loop over a run of arc rows of one table (runtime.fast.rows): made
     once per ``run_rows`` call, it keeps each shape's recipe per plane and
     IJK mode."""
 
@@ -200,13 +200,13 @@ class ArcRows:
         #: tolerance, spiral tolerance)
         self.recipes: dict = {}
         #: The table's values are written as the trace prints them
-        #: (runtime.printed_rows): the batch form copies their text.
+        #: (runtime.fast.printed_rows): the batch form copies their text.
         self.printed = printed
         #: shape cell text -> the shape cells of the same words with G2 or
         #: G3 (their rows can share a batch), None for a modal motion.
         self.groups: Optional[dict] = None
         #: shape cell text -> (motion, has_n, f_at, width, slots) of the
-        #: plain straight moves (runtime.rows._Plan.slots).
+        #: plain straight moves (runtime.fast.rows._Plan.slots).
         self.straight = {
             str(index): (plan.motion, plan.has_n, plan.f_at, plan.width, plan.slots)
             for index, plan in enumerate(plans)
@@ -231,14 +231,14 @@ class ArcRows:
         """Run the rows from ``cells[at]``, an arc, while they are plain
         arcs the fast path can take or plain straight moves between them;
         returns where it stopped (a row for the general path or for
-        runtime.printed_rows, or ``end``). The same calls as
+        runtime.fast.printed_rows, or ``end``). The same calls as
         ``Machine.plain_arc`` and ``Machine.plain_rows`` row by row, with
         the machine's state in local variables."""
         machine = self.machine
         plane = machine.plane
         if plane not in PLANE_AXES:
             return at
-        # A BatchesOnly machine (runtime.rows) takes only runs of arc rows
+        # A BatchesOnly machine (runtime.fast.rows) takes only runs of arc rows
         # without N or F here, as one arc_moves batch each (the canon sees
         # each of their lines begin); any other row goes back to run_rows.
         arcs_only = not machine._plain
@@ -275,7 +275,7 @@ class ArcRows:
         motion_mode, feed_rate = machine.motion_mode, machine.feed_rate
         block_n = machine._block_n
         feed_given = False
-        # Batches: trace text written at once (as runtime.printed_rows does),
+        # Batches: trace text written at once (as runtime.fast.printed_rows does),
         # or one arc_moves call of columns for any other canon.
         batch_from = at
         groups = self.groups if self.groups is not None else self._groups()
@@ -416,7 +416,7 @@ class ArcRows:
         if end - at >= stride * _BATCH and (
             cells[at + 1 + stride * (_BATCH - 1)] == key
         ):
-            return None  # a stretch runtime.printed_rows writes at once
+            return None  # a stretch runtime.fast.printed_rows writes at once
         if motion is None:
             motion = motion_mode
         n, start = _row_number(cells, at, has_n)

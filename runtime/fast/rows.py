@@ -1,0 +1,329 @@
+"""Constant blocks kept as data by the code generator, and their loop.
+
+A run of at least ``codegen.MIN_ROWS`` G-code lines that hold only literal
+words (a CAM file's moves: no expressions, settings, comments, block delete,
+O-words or read errors) is compiled into a text table instead of one
+statement per line, one row per text line::
+
+    ROWS_1 = (triple quote)
+    24 0 1.0 2.0
+    25 0 3.5 2.0
+    (triple quote)
+
+Each row is the G-code line number, the index of its *shape* in the
+module's ``SHAPES`` table (the row's G/M codes, as ``runtime.codes``
+numbers, and the letters of its words), then one value per letter: a
+float's shortest repr, except ``n`` (first when present), the N number's
+digits as written (rs274's trace prints them that way).
+
+Why text: a tuple of a million float literals takes Python seconds and
+gigabytes to compile every time ``python prog.py`` runs (a script is never
+cached as bytecode); one string constant per table compiles in
+milliseconds, and ``float()`` of each value is exact (repr round-trips).
+
+Rows whose shape is a plain straight move run through the machine's fast
+path (:mod:`runtime.fast.moves`), arcs through :mod:`runtime.fast.arc_rows`; the
+others through ``Machine.block``.
+"""
+
+from __future__ import annotations
+
+from functools import partial
+from itertools import repeat, starmap, takewhile
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import List, Optional, Sequence, Tuple
+
+    Shape = Tuple[Tuple[int, ...], Tuple[str, ...]]
+
+from runtime.fast.arc_rows import ArcRows, column_floats
+from runtime.canon import Canon, TraceCanon
+from runtime.codes import G0, G1, G2, G3
+from runtime.cycles import ROW_CYCLE_LETTERS
+from runtime.fast.printed_rows import BATCH, MOST, printed_rows
+
+_AXES = "xyzabcuvw"
+#: The protocol's own straight moves, which do nothing: a canon that keeps
+#: them (NullCanon, one that only watches tool changes...) is not called
+#: for a batch of rows at all (straight_batch).
+_NO_OPS = (Canon.straight_feed, Canon.straight_traverse)
+_STRAIGHT_MOVES = Canon.straight_moves
+_ARC_LETTERS = "xyzabcijkrf"
+
+
+class _Plan:
+    """How to run the rows of one shape."""
+
+    __slots__ = (
+        "codes",
+        "letters",
+        "width",
+        "has_n",
+        "motion",
+        "slots",
+        "f_at",
+        "beyond_printed",
+        "printed",
+        "batch",
+        "arc",
+        "cycle",
+    )
+
+    def __init__(self, shape: Shape):
+        codes, letters = shape
+        self.codes = codes
+        self.width = len(letters)
+        self.has_n = bool(letters) and letters[0] == "n"
+        #: The letters of the float values (the N text is apart).
+        self.letters = letters[1:] if self.has_n else letters
+        #: For a plain straight move: the motion code (None: the modal one),
+        #: (value index, axis index) pairs and where F is; else slots is None.
+        self.motion: Optional[int] = codes[0] if codes else None
+        self.slots: Optional[List[Tuple[int, int]]] = None
+        self.f_at = -1
+        #: Names U, V or W, which the trace does not print (runtime.fast.printed_rows).
+        self.beyond_printed = False
+        plain = len(codes) <= 1 and (not codes or codes[0] in (G0, G1))
+        axes = [(i, _AXES.index(x)) for i, x in enumerate(self.letters) if x in _AXES]
+        others = [x for x in self.letters if x not in _AXES and x != "f"]
+        if plain and axes and not others:
+            self.slots = axes
+            self.beyond_printed = any(axis >= 6 for _, axis in axes)
+            if "f" in self.letters:
+                self.f_at = self.letters.index("f")
+        #: Rows of this shape can go in one batch (straight_batch): plain
+        #: moves that set nothing but axes (no N, no F: one call a row).
+        self.batch = self.slots is not None and not self.has_n and self.f_at < 0
+        #: An arc (G2/G3 or the modal motion) for runtime.fast.arc_rows: axis
+        #: words, I J K or R, F; no P (turns) and no U V W.
+        self.arc = (
+            len(codes) <= 1
+            and (not codes or codes[0] in (G2, G3))
+            and any(x in "xyzabc" for x in self.letters)
+            and all(x in _ARC_LETTERS for x in self.letters)
+        )
+        #: Words a modal canned cycle may take a row of (Machine.cycle_row):
+        #: no code, no N, an axis among them.
+        self.cycle = (
+            not codes
+            and not self.has_n
+            and ROW_CYCLE_LETTERS.issuperset(self.letters)
+            and any(x in "xyz" for x in self.letters)
+        )
+        #: What runtime.fast.printed_rows needs, in one tuple (None: not for it).
+        self.printed = None
+        if self.slots is not None and not self.beyond_printed:
+            self.printed = (
+                self.motion,
+                self.has_n,
+                self.f_at,
+                self.width,
+                contiguous(self.slots),
+                self.slots,
+            )
+
+
+def straight_batch(
+    call, cells: List[str], at: int, end: int, plan: "_Plan", cur, feed: bool = True
+):
+    """Make the canon call ``call`` (straight_feed or straight_traverse, as
+    ``feed`` says) for the consecutive rows of ``plan``'s shape from
+    ``cells[at]``, which set only axes: ``(rows done, the point after the last, None)``, or
+    ``(rows done, ..., the exception)`` when a call raised (the next row's
+    failed), or ``(0, None, None)`` for fewer than ``BATCH`` such rows.
+
+    In a run of one shape the axes it does not name keep their values, so
+    the calls' arguments are columns of the table (float() of slices) and
+    constants, zipped and applied in C: the per-row cost is the call. A
+    canon whose straight moves are the protocol's no-ops (NullCanon) is not
+    called at all: only the last row's values are read, for the end point;
+    one that overrides ``Canon.straight_moves`` gets the columns in one
+    call."""
+    stride = plan.width + 2
+    key = cells[at + 1]
+    if cells[at + 1 : at + 1 + stride * BATCH : stride].count(key) != BATCH:
+        return 0, None, None
+    shapes = cells[at + 1 : min(end, at + 1 + stride * MOST) : stride]
+    rows = len(list(takewhile(key.__eq__, shapes)))
+    stop = at + rows * stride
+    done = 0
+    error = None
+    function = getattr(call, "__func__", None)
+    canon = getattr(call, "__self__", None)
+    if function in _NO_OPS:
+        done = rows  # the canon ignores these calls: only the end point counts
+    elif type(canon).straight_moves is not _STRAIGHT_MOVES:
+        # A canon that takes whole columns (statistics, toolpaths, previews):
+        # one call for the run; an error it raises names the run's first row.
+        columns = [[value] * rows for value in cur]
+        for i, axis in plan.slots:
+            columns[axis] = column_floats(cells[at + 2 + i : stop : stride])
+        lines = list(map(int, cells[at:stop:stride]))
+        try:
+            canon.straight_moves(feed, lines, *columns)
+            done = rows
+        except Exception as failed:  # noqa: BLE001 - handed back, raised by the caller
+            error = failed
+    else:
+        arguments = [repeat(value) for value in cur]
+        for i, axis in plan.slots:
+            arguments[axis] = column_floats(cells[at + 2 + i : stop : stride])
+        try:
+            for done, _ in enumerate(starmap(call, zip(*arguments)), 1):
+                pass
+        except Exception as failed:  # noqa: BLE001 - handed back, raised by the caller
+            error = failed
+    if not done:
+        return 0, None, error
+    point = list(cur)
+    last = at + (done - 1) * stride + 2
+    for i, axis in plan.slots:
+        point[axis] = float(cells[last + i])
+    return done, point, error
+
+
+def contiguous(slots: List[Tuple[int, int]]) -> Optional[Tuple[int, int, int]]:
+    """(first value, first axis, count) when the values fill consecutive
+    axes in order (``X Y``, ``X Y Z``, ``Z``): one slice assignment."""
+    first_value, first_axis = slots[0]
+    for k, (value, axis) in enumerate(slots):
+        if value != first_value + k or axis != first_axis + k:
+            return None
+    return first_value, first_axis, len(slots)
+
+
+def run_rows(
+    machine, shapes: Sequence[Shape], table: str, as_printed: bool = False
+) -> None:
+    """Execute the rows of ``table`` (see the module docstring).
+
+    ``as_printed``: every value is written as the trace prints it, four
+    decimals (see runtime.fast.printed_rows), so the trace can be written from
+    the text itself.
+
+    An error is tagged with the row's G-code line (``ngc_row_line``) so the
+    source map can name it: the generated frame only knows which table ran.
+    """
+    plans = [_Plan(shape) for shape in shapes]
+    cells = table.split()
+    at, end = 0, len(cells)
+    fast = machine.plain_rows
+    arc_rows = ArcRows(machine, plans, as_printed).run
+    if as_printed and type(machine.canon) is TraceCanon:
+        fast = partial(printed_rows, machine, [plan.printed for plan in plans])
+    # A machine whose moves must each be a line of their own (the preview's)
+    # takes the rows the loops above leave as single lines, as the code
+    # generator's m.move and m.arc lines would be taken.
+    by_move = machine.rows_by_move
+    try:
+        while at < end:
+            at = fast(cells, at, end, plans)
+            if at == end:
+                break
+            stop = arc_rows(cells, at, end)
+            if stop != at:
+                at = stop
+                continue
+            machine.line = line = int(cells[at])
+            plan = plans[int(cells[at + 1])]
+            start = at + 2
+            at = start + plan.width
+            n = None
+            if plan.has_n:
+                n = cells[start]
+                start += 1
+            words = dict(zip(plan.letters, map(float, cells[start:at])))
+            if plan.cycle and machine.cycle_row(line, words):
+                continue
+            if by_move and plan.slots is not None:
+                machine.move(line, plan.motion, n=n, **words)
+            elif by_move and plan.arc and plan.motion is not None:
+                machine.arc(line, plan.motion, n=n, **words)
+            else:
+                machine.block(line, *plan.codes, n=n, **words)
+    except Exception as error:
+        error.ngc_row_line = machine.line
+        raise
+
+
+class BatchesOnly:
+    """For a Machine whose canon must see every block begin (flatten groups
+    calls by block, the preview announces each line with the modes as of
+    the block before): blocks take the general path, except whole batches
+    of plain straight rows (:func:`straight_batch`: one move a block,
+    nothing else on the line), which reach the canon's ``straight_moves``
+    in one call and which it handles knowing exactly that."""
+
+    #: run_rows hands rows the batches leave to move() and arc(), as lines of
+    #: the program would be, not to block(): see _single_line.
+    rows_by_move = True
+    #: refresh_plain keeps the plain flag in _batchable
+    batches_only = True
+
+    # A line of a single plain move or arc (m.move, m.feed, m.rapid, m.arc,
+    # and the data rows run_rows hands them) takes the fast path while the
+    # modes are plain, between _line_begins and _line_ended, which a
+    # subclass defines to keep its canon's view of blocks (the preview's
+    # line codes, flatten's groups): the fast path makes the very calls of
+    # the general one.
+    def _single_line(self, run, line, *args, **words) -> None:
+        if not self._batchable or self.reading_profile:
+            # the general path (a G7x profile's lines go to its reader)
+            return run(line, *args, **words)
+        token = self._line_begins(line, words.get("n"))
+        self._plain_line(run, line, *args, **words)
+        self._line_ended(line, token)
+
+    def _line_begins(self, line: int, n: Optional[str]):
+        """A line is about to take the fast path; returns what _line_ended gets."""
+
+    def _line_ended(self, line: int, token) -> None:
+        """The line has run (by the fast path or, stepping aside, by block())."""
+
+    def move(self, line, *args, **words) -> None:
+        self._single_line(super().move, line, *args, **words)
+
+    def feed(self, line, *args, **words) -> None:
+        self._single_line(super().feed, line, *args, **words)
+
+    def rapid(self, line, *args, **words) -> None:
+        self._single_line(super().rapid, line, *args, **words)
+
+    def arc(self, line, *args, **words) -> None:
+        self._single_line(super().arc, line, *args, **words)
+
+    def plain_rows(self, cells: List[str], at: int, end: int, plans) -> int:
+        if not self._batchable or self._block_n is not None:
+            return at
+        canon = self.canon
+        cur, motion_mode = self.current, self.motion_mode
+        row = at
+        try:
+            while at < end:
+                row = at
+                plan = plans[int(cells[at + 1])]
+                motion = motion_mode if plan.motion is None else plan.motion
+                if not (
+                    plan.batch
+                    and end - at >= (plan.width + 2) * BATCH
+                    and (motion == G0 or (motion == G1 and self.feed_rate > 0.0))
+                ):
+                    break
+                feed = motion == G1
+                call = canon.straight_feed if feed else canon.straight_traverse
+                rows, point, error = straight_batch(
+                    call, cells, at, end, plan, cur, feed
+                )
+                if error is not None:
+                    raise error
+                if not rows:
+                    break
+                at += rows * (plan.width + 2)
+                cur, motion_mode = point, motion
+        finally:
+            self.line = int(cells[row])
+            if cur is not self.current:
+                self.current = self.world.position = self.params.position = cur
+                self.motion_mode = motion_mode
+        return at
