@@ -141,10 +141,11 @@ def _row_number(cells: List[str], at: int, has_n: bool):
     return None, at + 2
 
 
-def _publish(machine, line: int, cur, motion_mode) -> None:
-    """What a run of rows leaves: the line of its last row and, if it
+def _publish(machine, line: int, cur, motion_mode, block_n) -> None:
+    """What a run of rows leaves: the line and N of its last row and, if it
     moved, the end point and the motion."""
     machine.line = line
+    machine._block_n = block_n
     if cur is not machine.current:
         machine.current = machine.world.position = cur
         machine.params.position = cur
@@ -166,6 +167,15 @@ class _Pending:
         pending.machine, pending.arc_moves = machine, canon.arc_moves
         pending.rows, pending.start = [], machine.current
         return pending
+
+    def hold(self, line: int, point, c1: float, c2: float, rotation: int, axes, cur):
+        """One more arc: to ``point`` about (c1, c2), from ``cur``."""
+        if not self.rows:
+            self.start = cur
+        p1, p2, p3 = axes
+        self.rows.append(
+            (line, point[p1], point[p2], c1, c2, rotation, point[p3]) + tuple(point[3:])
+        )
 
     def flush(self) -> None:
         """The held rows to the canon, the machine at their start (the row
@@ -227,17 +237,14 @@ class ArcRows:
         f_at = letters.index("f") if "f" in letters else -1
         return (plan.motion, plan.has_n, f_at, plan.width) + recipe
 
-    def run(self, cells: List[str], at: int, end: int) -> int:
-        """Run the rows from ``cells[at]``, an arc, while they are plain
-        arcs the fast path can take or plain straight moves between them;
-        returns where it stopped (a row for the general path or for
-        runtime.fast.printed_rows, or ``end``). The same calls as
-        ``Machine.plain_arc`` and ``Machine.plain_rows`` row by row, with
-        the machine's state in local variables."""
+    def _context(self, cells: List[str], at: int):
+        """What a run of rows from ``cells[at]`` needs that is fixed while it
+        runs: (recipes by shape, geometry, whether only arcs are taken), or
+        None when the row at ``at`` is not an arc this loop takes."""
         machine = self.machine
         plane = machine.plane
         if plane not in PLANE_AXES:
-            return at
+            return None
         # A BatchesOnly machine (runtime.fast.rows) takes only runs of arc rows
         # without N or F here, as one arc_moves batch each (the canon sees
         # each of their lines begin); any other row goes back to run_rows.
@@ -247,7 +254,7 @@ class ArcRows:
             and machine._block_n is None
             and type(machine.canon).arc_moves is not Canon.arc_moves
         ):
-            return at
+            return None
         absolute = machine.ijk_absolute
         # per plane, IJK mode and units: the recipes and the geometry (a
         # run of arcs between straight rows starts here again and again)
@@ -255,38 +262,46 @@ class ArcRows:
         context = self.recipes.get(modes)
         if context is None:
             zero = arcs.radius_tolerance(machine.inches)
-            geometry = PLANE_AXES[plane][:2] + (absolute, zero)
+            geometry = PLANE_AXES[plane] + (absolute, zero)
             geometry += (machine.spiral_tolerance(),)
             context = self.recipes[modes] = ({}, geometry)
-        known, geometry = context
-        p1, p2, _, zero, spiral = geometry
-        p3 = PLANE_AXES[plane][2]
+        known = context[0]
         key = cells[at + 1]
         if key not in known:
             known[key] = self._row_recipe(key, plane, absolute)
         if known[key] is None:
+            return None
+        return context + (arcs_only,)
+
+    def run(self, cells: List[str], at: int, end: int) -> int:
+        """Run the rows from ``cells[at]``, an arc, while they are plain arcs
+        or plain straight moves between them, with the machine's state in
+        local variables (the calls of Machine.plain_arc and plain_rows row by
+        row); returns where it stopped (a row for the general path or for
+        runtime.fast.printed_rows, or ``end``)."""
+        context = self._context(cells, at)
+        if context is None:
             return at
+        known, geometry, arcs_only = context
+        p1, p2, p3, absolute = geometry[:4]
+        axes = geometry[:3]
+        machine = self.machine
+        plane = machine.plane
         canon = machine.canon
         arc_feed, set_feed_rate = canon.arc_feed, canon.set_feed_rate
-        straight_feed = canon.straight_feed
-        straight_traverse = canon.straight_traverse
-        straight = self.straight
+        straight_feed, straight_traverse = canon.straight_feed, canon.straight_traverse
         cur = machine.current
         motion_mode, feed_rate = machine.motion_mode, machine.feed_rate
         block_n = machine._block_n
         feed_given = False
-        # Batches: trace text written at once (as runtime.fast.printed_rows does),
-        # or one arc_moves call of columns for any other canon.
+        # Runs of one shape: written at once (_batch) from batch_from on.
         batch_from = at
         groups = self.groups if self.groups is not None else self._groups()
-        # a canon that reads the line number in its calls (ngc2py.moves)
-        row_lines = canon.reads_lines
-        # A canon with its own arc_moves takes the arcs between its other
-        # calls as one batch of columns, whatever their words (the run of
-        # one shape that _batch takes is only the trace's special case).
+        row_lines = canon.reads_lines  # (ngc2py.moves reads machine.line)
+        # A canon's own arc_moves takes every arc between its other calls.
+        if self.pending is False:
+            self.pending = _Pending.for_canon(machine)
         pending = self.pending
-        if pending is False:
-            pending = self.pending = _Pending.for_canon(machine)
         held = None if pending is None else pending.rows
         row = at
         try:
@@ -299,118 +314,89 @@ class ArcRows:
                 if recipe is False:
                     recipe = known[key] = self._row_recipe(key, plane, absolute)
                 if recipe is None:
-                    # Between arcs, a plain straight move (a contour's
-                    # lines) is taken here too, as Machine.plain_rows takes
-                    # it, rather than leaving this loop for one row.
-                    line = straight.get(key)
-                    if line is None or arcs_only:
+                    if arcs_only:
                         break
                     move = self._straight_row(
-                        cells, at, end, key, line, motion_mode, feed_rate, cur
+                        cells, at, end, key, motion_mode, feed_rate, cur
                     )
                     if move is None:
                         break
                     stride, motion, n, f, point = move
-                    if held:
-                        pending.flush()
-                    if n != block_n:
-                        canon.set_block_number(n)
-                        block_n = n
-                    if f is not None:
-                        feed_rate = f
-                        feed_given = True
-                        set_feed_rate(f)
+                    arc = None
+                else:
+                    motion, has_n, f_at, width, slots, r_at, i1, i2 = recipe
+                    if arcs_only and (has_n or f_at >= 0 or motion is None):
+                        break
+                    if (
+                        at >= batch_from
+                        and (block_n is None or type(canon) is TraceCanon)
+                        # the quick test: the eighth row from here is an arc
+                        # of these words too (_batch checks all of them)
+                        and end - at >= (2 + width) * _BATCH
+                        and cells[at + 1 + (2 + width) * (_BATCH - 1)]
+                        in groups.get(key, ())
+                    ):
+                        done = self._batch(
+                            cells, at, end, recipe, cur, feed_rate, geometry, pending
+                        )
+                        if type(done) is int:
+                            batch_from = done
+                        else:
+                            at, cur, rate, motion_mode, block_n = done
+                            row = at - 2 - width
+                            if rate is not None:
+                                feed_rate, feed_given = rate, True
+                            continue
+                    arc = self._arc_row(
+                        cells, at, recipe, motion_mode, cur, feed_rate, geometry
+                    )
+                    if arc is None:
+                        break
+                    motion, n, f, point, c1, c2 = arc
+                    rotation = -1 if motion == G2 else 1
+                    stride = 2 + width
+                # held arcs go to the canon before any other call
+                if held and (arc is None or n != block_n or f is not None):
+                    pending.flush()
+                if n != block_n:
+                    canon.set_block_number(n)
+                    block_n = n
+                if f is not None:
+                    feed_rate = f
+                    feed_given = True
+                    set_feed_rate(f)
+                if arc is None:
                     if motion == G1:
                         straight_feed(*point)
                     else:
                         straight_traverse(*point)
-                    cur = point
-                    motion_mode = motion
-                    at += stride
-                    continue
-                motion, has_n, f_at, width, slots, r_at, i1, i2 = recipe
-                if arcs_only and (has_n or f_at >= 0 or motion is None):
-                    break
-                if (
-                    at >= batch_from
-                    and (block_n is None or type(canon) is TraceCanon)
-                    # the quick test: the eighth row from here is an arc
-                    # of these words too (_batch checks all of them)
-                    and end - at >= (2 + width) * _BATCH
-                    and cells[at + 1 + (2 + width) * (_BATCH - 1)]
-                    in groups.get(key, ())
-                ):
-                    if held:
-                        pending.flush()
-                    done = self._batch(
-                        cells, at, end, recipe, cur, feed_rate, absolute, zero, spiral
-                    )
-                    if type(done) is int:
-                        # Not here: row by row past this stretch (its rows
-                        # are not scanned again and again).
-                        batch_from = at + (2 + width) * max(done, _BATCH)
-                    else:
-                        rows, cur, rate, motion_mode, n = done
-                        at += rows * (2 + width)
-                        row = at - 2 - width
-                        if rate is not None:
-                            feed_rate, feed_given = rate, True
-                        block_n = n
-                        continue
-                if motion is None:
-                    motion = motion_mode
-                    if motion != G2 and motion != G3:
-                        break
-                arc = self._arc_row(cells, at, recipe, motion, cur, feed_rate, geometry)
-                if arc is None:
-                    break
-                n, f, point, c1, c2 = arc
-                if n != block_n:
-                    if held:
-                        pending.flush()
-                    canon.set_block_number(n)
-                    block_n = n
-                if f is not None:
-                    if held:
-                        pending.flush()
-                    feed_rate = f
-                    feed_given = True
-                    set_feed_rate(f)
-                if held is not None:
-                    if not held:
-                        pending.start = cur
-                    held.append(
-                        (int(cells[at]), point[p1], point[p2], c1, c2)
-                        + (-1 if motion == G2 else 1, point[p3])
-                        + tuple(point[3:])
-                    )
+                elif held is not None:
+                    pending.hold(int(cells[at]), point, c1, c2, rotation, axes, cur)
                 else:
                     arc_feed(
-                        point[p1],
-                        point[p2],
-                        c1,
-                        c2,
-                        -1 if motion == G2 else 1,
-                        point[p3],
-                        *point[3:],
+                        point[p1], point[p2], c1, c2, rotation, point[p3], *point[3:]
                     )
                 cur = point
                 motion_mode = motion
-                at += 2 + width
+                at += stride
         finally:
             if held:
                 pending.flush()
-            _publish(machine, int(cells[row]), cur, motion_mode)
+            _publish(machine, int(cells[row]), cur, motion_mode, block_n)
             if feed_given:
                 machine.feed_rate = machine.world.feed_rate = feed_rate
-            machine._block_n = block_n
         return at
 
-    def _straight_row(self, cells, at, end, key, line, motion_mode, feed_rate, cur):
-        """The straight move of the row at ``at`` (its shape's ``line``
-        spec): (stride, motion, N, F or None, end point), or None where the
-        row loop must stop (a stretch printed_rows writes at once, a feed
-        of no rate, a motion no straight move)."""
+    def _straight_row(self, cells, at, end, key, motion_mode, feed_rate, cur):
+        """The straight move of the row at ``at`` (of shape ``key``): (stride,
+        motion, N, F or None, end point), or None where the row loop must
+        stop (not a plain straight move, a stretch printed_rows writes at
+        once, a feed of no rate). Between arcs, the lines of a contour are
+        taken here as Machine.plain_rows takes them, rather than leaving the
+        loop for one row."""
+        line = self.straight.get(key)
+        if line is None:
+            return None
         motion, has_n, f_at, width, slots = line
         stride = 2 + width
         if end - at >= stride * _BATCH and (
@@ -432,14 +418,18 @@ class ArcRows:
         return stride, motion, n, f, point
 
     @staticmethod
-    def _arc_row(cells, at, recipe, motion, cur, feed_rate, geometry):
-        """The arc of the row at ``at``: (N, F or None, end point, centre's
-        two coordinates), or None where the general path must decide (no
+    def _arc_row(cells, at, recipe, motion_mode, cur, feed_rate, geometry):
+        """The arc of the row at ``at``: (motion, N, F or None, end point,
+        centre's two coordinates), or None where the general path must decide (no
         feed, a radius not surely within the tolerances, an R arc it
         rejects). The same checks and floating-point steps as
         Machine.plain_arc."""
-        _, has_n, f_at, _, slots, r_at, i1, i2 = recipe
-        p1, p2, absolute, zero, spiral = geometry
+        motion, has_n, f_at, _, slots, r_at, i1, i2 = recipe
+        if motion is None:  # modal: an arc only in G2 or G3
+            motion = motion_mode
+            if motion != G2 and motion != G3:
+                return None
+        p1, p2, _, absolute, zero, spiral = geometry
         n, start = _row_number(cells, at, has_n)
         if f_at >= 0:
             f = float(cells[start + f_at])
@@ -467,13 +457,13 @@ class ArcRows:
                 r1, r2 = r2, r1
             if not (r2 * _BELOW >= zero and (r1 - r2) + r1 * _MARGIN <= spiral):
                 return None
-            return n, f, point, c1, c2
+            return motion, n, f, point, c1, c2
         centre = radius_centre(
             motion == G2, s1, s2, e1, e2, float(cells[start + r_at]), zero
         )
         if centre is None:
             return None
-        return (n, f, point) + centre
+        return (motion, n, f, point) + centre
 
     def _groups(self) -> dict:
         by_words: dict = {}
@@ -487,7 +477,22 @@ class ArcRows:
         }
         return self.groups
 
-    def _batch(self, cells, at, end, recipe, cur, feed_rate, absolute, zero, spiral):
+    def _batch(self, cells, at, end, recipe, cur, feed_rate, geometry, pending):
+        """The run of rows of the shape at ``at`` in one go (_columns), the
+        arcs held before it handed over first: (where it ended, end point,
+        last F or None, last motion, last N). Having done nothing, where the
+        row loop may look for a run again: past this stretch, so that its
+        rows are not scanned again and again."""
+        if pending is not None and pending.rows:
+            pending.flush()
+        done = self._columns(cells, at, end, recipe, cur, feed_rate, geometry)
+        stride = recipe[3] + 2
+        if type(done) is int:
+            return at + stride * max(done, _BATCH)
+        rows, cur, rate, motion, n = done
+        return at + rows * stride, cur, rate, motion, n
+
+    def _columns(self, cells, at, end, recipe, cur, feed_rate, geometry):
         """The trace of the run of arc rows of the shape of the
         row at ``at`` (or the same words with the other of G2/G3), made in
         one go and written: ``(rows, end point, last F or None, last motion,
@@ -514,7 +519,7 @@ class ArcRows:
         values = at + 2 + has_n
         texts = [cells[values + i : stop : stride] for i in range(width - has_n)]
         named = {axis: i for i, axis in slots}
-        p1, p2, p3 = PLANE_AXES[self.machine.plane]
+        p1, p2, p3, absolute, zero, spiral = geometry
 
         def floats(axis: int) -> List[float]:
             i = named.get(axis)
@@ -588,7 +593,7 @@ class ArcRows:
     def _trace_text(
         self, canon, cells, at, stop, recipe, shapes, texts, named, cur, feed_rate, ends
     ):
-        """_batch's answer for the trace: the rows' lines made from one
+        """_columns' answer for the trace: the rows' lines made from one
         pattern (the words each row gives as columns, the rest constant)
         and written at once."""
         _, has_n, f_at, width, slots, _, _, _ = recipe
@@ -673,7 +678,7 @@ class ArcRows:
         self, canon, cells, at, stop, stride, shapes, texts, named, cur, e1, e2, c1, c2
     ):
         """The batch as one ``arc_moves`` call of columns (the canon's own,
-        or the protocol's one ``arc_feed`` a row): ``_batch``'s answer."""
+        or the protocol's one ``arc_feed`` a row): ``_columns``' answer."""
         rows = len(shapes)
         p1, p2, p3 = PLANE_AXES[self.machine.plane]
         motion = {k: self.plans[int(k)].motion for k in set(shapes)}
