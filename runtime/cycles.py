@@ -87,6 +87,19 @@ def _radians(degrees: float) -> float:
 #: The words such a row may have; an axis (X, Y or Z) must be among them.
 ROW_CYCLE_LETTERS = frozenset("xyzrpqlf")
 
+#: Of those, the words each cycle uses (rs274's check_other_codes: P only
+#: with the cycles that dwell or tap, Q only with the peck cycles, L with
+#: any but G74). A row with another word is rs274's error: block() says it.
+_ROW_WORDS = {
+    motion: frozenset(
+        "xyzrf"
+        + ("l" if motion != G74 else "")
+        + ("p" if motion in (G74, G82, G84, G86, G88, G89) else "")
+        + ("q" if motion in _PECK_CYCLES else "")
+    )
+    for motion in (G73, G74, G81, G82, G83, G84, G85, G86, G87, G88, G89)
+}
+
 
 class CyclesMixin:
     """Canned cycle execution (part of Machine)."""
@@ -97,11 +110,13 @@ class CyclesMixin:
         with it (announce, copy the point, set F, drill, publish), without
         reading, enhancing and checking a line whose only possible outcome
         is this cycle. False, having done nothing, where ``block`` must
-        decide (no cycle, G7 diameters, a tool change or probe pending, a G7x
-        profile being read, the blocks of RETAIN_G43)."""
+        decide (no cycle, a word the cycle does not use, G7 diameters, a
+        tool change or probe pending, a G7x profile being read, the blocks of
+        RETAIN_G43)."""
         motion = self.motion_mode
         if (
             motion not in DRILL_CYCLES
+            or not _ROW_WORDS[motion].issuperset(words)
             or self.lathe_diameter
             or self.toolchange_flag
             or self.probe_flag

@@ -1,10 +1,13 @@
-"""Canned cycles where rs274 has no usable answer.
+"""Canned cycles: tables of hole rows, and where rs274 has no usable answer.
 
-Everything else about cycles is pinned by golden/cycles (recorded from rs274)
-and the differential tests. Here: a G73/G83 peck so small that subtracting it
-no longer changes the depth makes rs274 peck at one depth forever, printing
-without end -- too much output to record as a golden ``.expect``. ngc2py
-must stop with a clear error after the first peck instead.
+Cycles are pinned by golden/cycles (recorded from rs274) and the
+differential tests. Here: tables of rows of hole words under a modal cycle
+against rs274, and the replay of recorded holes (runtime.fast.hole_rows)
+against the reference path for any canon; and a G73/G83 peck so small that
+subtracting it no longer changes the depth, which makes rs274 peck at one
+depth forever, printing without end -- too much output to record as a
+golden ``.expect``. ngc2py must stop with a clear error after the first
+peck instead.
 """
 
 from __future__ import annotations
@@ -19,6 +22,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import rs274 as harness
+from ngc2py.compiler import compile_text
+from runtime import Machine, start
+from runtime.canon import RecordingCanon
+from runtime.errors import GCodeError
+from runtime.fast.hole_rows import HoleRows
 from test_differential import PROFILE, check_same
 
 #: Z starts at 1; Q is 1e-19, so 1 - Q == 1 in a double.
@@ -76,15 +84,21 @@ def test_rs274_pecks_forever_there(tmp_path):
 @st.composite
 def cycle_tables(draw) -> str:
     """A canned cycle, then a table of rows of hole words alone (what
-    Machine.cycle_row takes from runtime.fast.rows): X/Y/Z/R/P/Q/L/F in changing
-    layouts, G90 or G91, G98 or G99, in every plane, now and then a row
-    whose R falls below its Z (rs274's error, at that row)."""
+    Machine.cycle_row takes from runtime.fast.rows, and runtime.fast.hole_rows
+    replays): X/Y/Z/R/P/Q/L/F in changing layouts, G90 or G91, G98 or G99,
+    mm or inches, in every plane, every drilling cycle (taps, G87's offsets,
+    G88's stop), a start below the R plane, the same hole twice, now and
+    then a row whose R falls below its Z (rs274's error, at that row)."""
     plane, first, second, hole = draw(
         st.sampled_from(
             [("G17", "X", "Y", "Z"), ("G18", "Z", "X", "Y"), ("G19", "Y", "Z", "X")]
         )
     )
-    code = draw(st.sampled_from(["G81", "G82", "G83", "G73", "G85", "G86", "G89"]))
+    code = draw(
+        st.sampled_from(
+            ["G81", "G82", "G83", "G73", "G85", "G86", "G89", "G84", "G74", "G87", "G88"]
+        )
+    )
     incremental = draw(st.integers(0, 3)) == 0
     retract = draw(st.sampled_from(["G98", "G99"]))
     r = draw(st.integers(0, 30)) / 10
@@ -94,16 +108,26 @@ def cycle_tables(draw) -> str:
         else r - draw(st.integers(1, 30)) / 10
     )
     words = ["%s%.3f" % (hole, bottom), "R%.2f" % r]
-    if code in ("G82", "G86", "G89"):
+    if code in ("G82", "G86", "G89", "G84", "G74", "G88"):
         words.append("P0.5")
     if code in ("G73", "G83"):
         words.append("Q%.2f" % (draw(st.integers(3, 20)) / 10))
-    lines = ["G21 G90 %s F300" % plane, "M3 S1000", "G0 %s5" % hole]
+    if code == "G87":
+        words.append("I0.5 J0.3 K%.2f" % (bottom + 0.5 if incremental else 0.5))
+    units = draw(st.sampled_from(["G21", "G20"]))
+    spindle = "M4" if code == "G74" else "M3"
+    start = draw(st.sampled_from(["5", "5", "-1"]))  # -1: below the R plane
+    lines = ["%s G90 %s F300" % (units, plane), spindle + " S1000", "G0 %s%s" % (hole, start)]
     lines.append(" ".join(["G91" if incremental else "G90", retract, code] + words))
     for k in range(draw(st.integers(8, 40))):
-        row = ["%s%.3f" % (first, draw(st.integers(-500, 500)) / 10)]
-        if draw(st.booleans()):
+        shape = draw(st.integers(0, 9))
+        row = []
+        if shape != 0:
+            row.append("%s%.3f" % (first, draw(st.integers(-500, 500)) / 10))
+        if shape in (0, 1, 2, 3, 4) or not row:
             row.append("%s%.3f" % (second, draw(st.integers(-500, 500)) / 10))
+        if shape == 9 and len(lines) > 4:
+            row = lines[-1].split()  # the same hole again
         extra = draw(st.integers(0, 12))
         if extra == 1:
             row.append("F%d" % draw(st.integers(50, 900)))
@@ -113,7 +137,12 @@ def cycle_tables(draw) -> str:
             row.append("R%.2f" % (r + 0.5))
         elif extra == 4 and draw(st.integers(0, 3)) == 0:
             row.append("R%.2f %s%.2f" % (r - 5, hole, r - 1))  # R below Z: an error
+        elif extra == 5 and draw(st.integers(0, 2)) == 0:
+            # a P, Q or L the cycle may not use (rs274's error, at that row)
+            row.append(draw(st.sampled_from(["P0.2", "Q0.5", "L1"])))
         lines.append(" ".join(row))
+    if draw(st.booleans()):
+        lines.append("(debug, at #5420 #5421 #5422)")  # the last hole, published
     lines += ["G80", "G90", "M2"]
     return "\n".join(lines) + "\n"
 
@@ -124,3 +153,59 @@ def test_tables_of_cycle_rows_match_rs274(text):
     """Rows under a modal canned cycle take Machine.cycle_row: the same
     trace, and the same error at the same row, as rs274."""
     check_same(text, "run")
+
+
+def _cycle_calls(text: str):
+    """The calls a recording canon gets from ``text``, with the N numbers,
+    the error (or None) and the machine's last point."""
+    namespace: dict = {"__name__": "holes"}
+    exec(compile(compile_text(text, "holes.ngc"), "holes.py", "exec"), namespace)
+    canon = RecordingCanon()
+    machine = Machine(canon)
+    try:
+        start(machine, namespace["main"])
+        error = None
+    except GCodeError as raised:
+        error = str(raised)
+    return canon.calls, canon.numbers, error, machine.current
+
+
+@PROFILE
+@given(cycle_tables())
+def test_replayed_holes_give_a_canon_the_reference_calls(text):
+    """runtime.fast.hole_rows replays a recorded hole for the next rows of
+    hole words: any canon (here one that records) gets the very calls,
+    values, N numbers and error the reference path gives it row by row, and
+    the machine ends at the same point."""
+    replayed = _cycle_calls(text)
+    saved = HoleRows.run
+    HoleRows.run = lambda self, cells, at, end: at
+    try:
+        reference = _cycle_calls(text)
+    finally:
+        HoleRows.run = saved
+    assert replayed == reference
+
+
+def test_holes_are_replayed(monkeypatch):
+    """The replay is taken (a run of hole rows is recorded once), so the
+    test above compares two paths: G81 rows in the XY plane, pecks with a
+    start below the R plane in XZ."""
+    recorded = []
+    record = HoleRows._record
+
+    def counting(self, *args):
+        found = record(self, *args)
+        recorded.append(bool(found))
+        return found
+
+    monkeypatch.setattr(HoleRows, "_record", counting)
+    rows = "\n".join("X%d Y%d" % (k, k % 3) for k in range(2, 40))
+    _cycle_calls("G21 G17 F100\nG0 Z5\nG99 G81 X1 Y1 Z-1 R2\n" + rows + "\nG80\nM2\n")
+    assert recorded == [True]
+    rows = "\n".join("Z%d" % k for k in range(2, 40))
+    recorded.clear()
+    _cycle_calls(
+        "G21 G18 F100\nG0 Y-1\nG98 G83 Z1 X1 Y-3 R2 Q0.5\n" + rows + "\nG80\nM2\n"
+    )
+    assert recorded == [True]

@@ -38,6 +38,7 @@ if TYPE_CHECKING:
     Shape = Tuple[Tuple[int, ...], Tuple[str, ...]]
 
 from runtime.fast.arc_rows import ArcRows, column_floats
+from runtime.fast.hole_rows import HoleRows
 from runtime.canon import Canon, TraceCanon
 from runtime.codes import G0, G1, G2, G3
 from runtime.cycles import ROW_CYCLE_LETTERS
@@ -216,6 +217,8 @@ def run_rows(
     # takes the rows the loops above leave as single lines, as the code
     # generator's m.move and m.arc lines would be taken.
     by_move = machine.rows_by_move
+    # The next holes of a canned cycle, replayed (runtime.fast.hole_rows).
+    holes = None if by_move else HoleRows(machine, plans).run
     try:
         while at < end:
             at = fast(cells, at, end, plans)
@@ -235,6 +238,8 @@ def run_rows(
                 start += 1
             words = dict(zip(plan.letters, map(float, cells[start:at])))
             if plan.cycle and machine.cycle_row(line, words):
+                if holes is not None:
+                    at = holes(cells, at, end)
                 continue
             if by_move and plan.slots is not None:
                 machine.move(line, plan.motion, n=n, **words)

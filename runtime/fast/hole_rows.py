@@ -1,0 +1,241 @@
+"""Rows of holes: a canned cycle's next holes, replayed.
+
+A drilling program is mostly rows of hole positions under a modal canned
+cycle (``G81 X1 Y2 Z-3 R1`` then ``X3 Y4``, ``X5 Y6``...). The reference
+path (``Machine.cycle_row``) drills each row: it announces the block, checks
+and settles the cycle's words, works out the levels and makes the moves,
+about ten microseconds a hole.
+
+Once a row of the plane's two hole axes alone has been drilled, and it
+changed nothing of the machine but its position, every next row of those
+words alone makes the very same calls with only the hole's two coordinates
+changed: the levels, the number of pecks, the dwell and the motion-mode
+switches around each hole do not depend on where the hole is. So
+:class:`HoleRows` drills one such row by the reference path while a stand-in
+records the canon calls, checks that the row changed nothing but the
+position (every other field of the machine and its world model compared)
+and that every move of the hole is at the hole in the plane (G87's moves to
+its offset are not, and are never replayed), and then replays the recording
+for each next row of those words: the same calls with the new coordinates,
+the position published as the reference path publishes it.
+
+Anything else steps aside to the reference path: another shape of row, a
+row with N, incremental distance, a plane of U V W, a call other than the
+moves and the few switches a hole makes, and a machine whose canon must
+see each block begin (the preview and flatten: ``rows_by_move``).
+"""
+
+from __future__ import annotations
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import List
+
+#: The plane's two hole axes: (first index, second index, their letters).
+_HOLE_AXES = {"XY": (0, 1, "xy"), "YZ": (1, 2, "yz"), "XZ": (2, 0, "zx")}
+
+#: The canon calls a hole may make (besides its moves) that carry no position.
+_SWITCHES = frozenset(
+    (
+        "set_block_number",
+        "dwell",
+        "set_motion_control_mode",
+        "set_naivecam_tolerance",
+        "stop_spindle_turning",
+        "start_spindle_clockwise",
+        "start_spindle_counterclockwise",
+        "enable_feed_override",
+        "disable_feed_override",
+        "enable_speed_override",
+        "disable_speed_override",
+        "program_stop",  # G88's stop for the manual retract
+    )
+)
+_MOVES = frozenset(("straight_traverse", "straight_feed"))
+
+#: Machine fields a hole changes, which the replay sets itself.
+_SET_BY_REPLAY = frozenset(("current", "line"))
+
+#: Where a move of a hole is in the plane: at the hole, or where the tool
+#: was before it (its first move, straight up to the R plane).
+_AT_HOLE = "hole"
+_AT_START = "start"
+
+
+class _Recording:
+    """Stands for the canon while one hole is drilled: each call is made
+    on the canon and kept as (name, positional arguments)."""
+
+    __slots__ = ("canon", "calls", "keywords")
+
+    def __init__(self, canon) -> None:
+        self.canon = canon
+        self.calls: List[tuple] = []
+        self.keywords = False
+
+    def __getattr__(self, name: str):
+        method = getattr(self.canon, name)
+        if not callable(method):
+            return method
+        calls = self.calls
+
+        def record(*args, **keywords):
+            calls.append((name, args))
+            self.keywords = self.keywords or bool(keywords)
+            return method(*args, **keywords)
+
+        return record
+
+
+def _snapshot(machine) -> tuple:
+    world = machine.world
+    return dict(vars(machine)), [getattr(world, name) for name in type(world).__slots__]
+
+
+def _only_position_changed(before: tuple, machine) -> bool:
+    fields, world_before = before
+    after = vars(machine)
+    if after.keys() != fields.keys():
+        return False
+    for name, value in after.items():
+        old = fields[name]
+        if old is not value and name not in _SET_BY_REPLAY and old != value:
+            return False
+    world = machine.world
+    for name, old in zip(type(world).__slots__, world_before):
+        if name != "position" and old != getattr(world, name):
+            return False
+    return True
+
+
+class HoleRows:
+    """The replay of hole rows for one table (runtime.fast.rows)."""
+
+    __slots__ = ("machine", "plans", "holes")
+
+    def __init__(self, machine, plans) -> None:
+        self.machine = machine
+        self.plans = plans
+        #: plane -> {shape cell: the hole axes' value indexes, or None}
+        self.holes: dict = {}
+
+    def _hole_words(self, plane: str, key: str):
+        """For a row of shape ``key``: (index of the first hole axis' value
+        or -1, of the second or -1, the row's cells), or None when the row
+        has other words."""
+        known = self.holes.setdefault(plane, {})
+        if key not in known:
+            plan = self.plans[int(key)]
+            letters = _HOLE_AXES[plane][2]
+            known[key] = None
+            if plan.cycle and set(plan.letters) <= set(letters):
+                found = [
+                    plan.letters.index(x) if x in plan.letters else -1 for x in letters
+                ]
+                known[key] = (found[0], found[1], 2 + plan.width)
+        return known[key]
+
+    def run(self, cells: List[str], at: int, end: int) -> int:
+        """After a cycle row the reference path drilled: drill the rows from
+        ``cells[at]`` while they are holes of the plane's axes alone, the
+        first by the reference path (recorded), the others by replaying it;
+        returns where it stopped."""
+        machine = self.machine
+        plane = machine.plane
+        if (
+            at >= end
+            or machine.rows_by_move
+            or machine.distance_incremental
+            or plane not in _HOLE_AXES
+        ):
+            return at
+        hole = self._hole_words(plane, cells[at + 1])
+        if hole is None:
+            return at
+        ia, ib, _ = _HOLE_AXES[plane]
+        replay = self._record(cells, at, hole, ia, ib)
+        if replay is None:
+            return at
+        at += 2 + self.plans[int(cells[at + 1])].width
+        if replay is False:
+            return at  # drilled, but not to be replayed
+        calls, final = replay
+        known = self.holes[plane]
+        world, params = machine.world, machine.params
+        while at < end:
+            key = cells[at + 1]
+            hole = known.get(key, False)
+            if hole is False:
+                hole = self._hole_words(plane, key)
+            if hole is None:
+                break
+            first, second, stride = hole
+            machine.line = int(cells[at])
+            cur = machine.current
+            sa, sb = cur[ia], cur[ib]
+            aa = sa if first < 0 else float(cells[at + 2 + first])
+            bb = sb if second < 0 else float(cells[at + 2 + second])
+            if ia == 0 and ib == 1:
+                # XY: the moves' first two arguments (the usual case, quicker)
+                for method, args, move in calls:
+                    if move is None:
+                        method(*args)
+                    elif move is _AT_HOLE:
+                        method(aa, bb, *args)
+                    else:
+                        method(sa, sb, *args)
+            else:
+                for method, args, move in calls:
+                    if move is not None:
+                        args = list(args)
+                        args[ia], args[ib] = (aa, bb) if move is _AT_HOLE else (sa, sb)
+                    method(*args)
+            end_point = final[:]
+            end_point[ia], end_point[ib] = aa, bb
+            world.position = end_point
+            machine.current = end_point[:]
+            params.position = tuple(end_point)
+            at += stride
+        return at
+
+    def _record(self, cells: List[str], at: int, hole, ia: int, ib: int):
+        """Drill the row at ``at`` by the reference path, recording it:
+        (calls to replay, end point), False when it may not be replayed, or
+        None when the reference path did not take the row (nothing done)."""
+        machine = self.machine
+        plan = self.plans[int(cells[at + 1])]
+        values = cells[at + 2 : at + 2 + plan.width]
+        words = dict(zip(plan.letters, map(float, values)))
+        before = _snapshot(machine)
+        start = machine.current[ia], machine.current[ib]
+        canon = machine.canon
+        recording = machine.canon = _Recording(canon)
+        try:
+            done = machine.cycle_row(int(cells[at]), words)
+        finally:
+            machine.canon = canon
+        if not done:
+            return None
+        final = list(machine.current)
+        hole = final[ia], final[ib]
+        if hole == start:
+            return False  # which moves are at the hole is not to be told
+        calls = []
+        for name, args in recording.calls:
+            move = None
+            if name in _MOVES:
+                # at the hole, or (up to the R plane first) where it was
+                spot = args[ia], args[ib]
+                move = (
+                    _AT_HOLE if spot == hole else _AT_START if spot == start else None
+                )
+                if move is None:
+                    return False  # elsewhere (G87's offsets)
+            elif name not in _SWITCHES:
+                return False
+            if move is not None and (ia, ib) == (0, 1):
+                args = args[2:]  # the replay puts X and Y first
+            calls.append((getattr(canon, name), args, move))
+        if recording.keywords or not _only_position_changed(before, machine):
+            return False
+        return calls, final
