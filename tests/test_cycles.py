@@ -12,6 +12,7 @@ peck instead.
 
 from __future__ import annotations
 
+import io
 import os
 import subprocess
 import tempfile
@@ -26,6 +27,8 @@ from ngc2py.compiler import compile_text
 from runtime import Machine, start
 from runtime.canon import RecordingCanon
 from runtime.errors import GCodeError
+from runtime.canon import TraceCanon
+from runtime.fast import hole_rows
 from runtime.fast.hole_rows import HoleRows
 from test_differential import PROFILE, check_same
 
@@ -184,6 +187,41 @@ def test_replayed_holes_give_a_canon_the_reference_calls(text):
         reference = _cycle_calls(text)
     finally:
         HoleRows.run = saved
+    assert replayed == reference
+
+
+def _cycle_trace(text: str) -> tuple:
+    namespace: dict = {"__name__": "holes"}
+    exec(compile(compile_text(text, "holes.ngc"), "holes.py", "exec"), namespace)
+    out = io.StringIO()
+    canon = TraceCanon(out)
+    try:
+        start(Machine(canon), namespace["main"])
+        error = None
+    except GCodeError as raised:
+        error = str(raised)
+    canon.flush()
+    return out.getvalue(), error
+
+
+@PROFILE
+@given(cycle_tables())
+def test_replayed_holes_trace_the_reference_text(text):
+    """For the trace, runtime.fast.hole_rows writes the text of many holes
+    at once from one hole's template, a piece of at most _MOST rows at a
+    time (three here, so that pieces follow pieces): the very text and
+    error of the reference path."""
+    saved_most, saved_run = hole_rows._MOST, HoleRows.run
+    hole_rows._MOST = 3
+    try:
+        replayed = _cycle_trace(text)
+    finally:
+        hole_rows._MOST = saved_most
+    HoleRows.run = lambda self, cells, at, end: at
+    try:
+        reference = _cycle_trace(text)
+    finally:
+        HoleRows.run = saved_run
     assert replayed == reference
 
 

@@ -27,6 +27,8 @@ see each block begin (the preview and flatten: ``rows_by_move``).
 
 from __future__ import annotations
 
+from runtime.canon import TraceCanon, trace_rows
+
 TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
     from typing import List
@@ -52,6 +54,21 @@ _SWITCHES = frozenset(
     )
 )
 _MOVES = frozenset(("straight_traverse", "straight_feed"))
+
+#: Stand-ins for a move's X and Y while a hole's trace template is made
+#: (runtime.canon.TraceCanon prints them as below), at the hole and where
+#: the tool was before it.
+_STAND_INS = {
+    "hole": (77777777777.0, 66666666666.0),
+    "start": (55555555555.0, 44444444444.0),
+}
+_STAND_IN_TEXTS = {
+    "hole": ("77777777777.0000", "66666666666.0000"),
+    "start": ("55555555555.0000", "44444444444.0000"),
+}
+
+#: Rows of holes whose trace is made in one piece, at most.
+_MOST = 4096
 
 #: Machine fields a hole changes, which the replay sets itself.
 _SET_BY_REPLAY = frozenset(("current", "line"))
@@ -87,6 +104,33 @@ class _Recording:
         return record
 
 
+def _template(scratch, recorded: List[tuple], column: str):
+    """The trace text of one hole made of the recorded calls, as a template:
+    ``%5d`` for each line's number and, in a move's line, ``%s`` for its X
+    and Y; with what each line's X and Y stand for (_AT_HOLE, _AT_START or
+    None for a line that is not a move), and the N column after the hole.
+    The calls are made on ``scratch``, a trace, with stand-in values that
+    are then replaced. Moves in the XY plane only."""
+    scratch._pending.clear()
+    scratch._count, scratch._column = 0, column
+    lines = scratch._pending
+    parts: List[str] = []
+    slots: List[object] = []
+    for name, args, move in recorded:
+        done = len(lines)
+        if move is not None:
+            args = _STAND_INS[move] + args[2:]
+        getattr(scratch, name)(*args)
+        for line in lines[done:]:
+            body = line[6:].replace("%", "%%")
+            if move is not None:
+                x_text, y_text = _STAND_IN_TEXTS[move]
+                body = body.replace(x_text, "%s", 1).replace(y_text, "%s", 1)
+            parts.append("%5d " + body)
+            slots.append(move)
+    return "".join(parts), slots, scratch._column
+
+
 def _snapshot(machine) -> tuple:
     world = machine.world
     return dict(vars(machine)), [getattr(world, name) for name in type(world).__slots__]
@@ -111,11 +155,28 @@ def _only_position_changed(before: tuple, machine) -> bool:
 class HoleRows:
     """The replay of hole rows for one table (runtime.fast.rows)."""
 
-    __slots__ = ("machine", "plans", "holes")
+    __slots__ = (
+        "machine",
+        "plans",
+        "printed",
+        "holes",
+        "recorded",
+        "templates",
+        "scratch",
+    )
 
-    def __init__(self, machine, plans) -> None:
+    def __init__(self, machine, plans, printed: bool = False) -> None:
         self.machine = machine
         self.plans = plans
+        #: The table's values are written as the trace prints them.
+        self.printed = printed
+        #: The last recorded hole's calls: (name, arguments, _AT_HOLE,
+        #: _AT_START or None for a call that is not a move).
+        self.recorded: List[tuple] = []
+        #: The trace templates made of recorded holes (_template), and the
+        #: trace they are made on.
+        self.templates: dict = {}
+        self.scratch = None
         #: plane -> {shape cell: the hole axes' value indexes, or None}
         self.holes: dict = {}
 
@@ -160,13 +221,102 @@ class HoleRows:
         if replay is False:
             return at  # drilled, but not to be replayed
         calls, final = replay
-        known = self.holes[plane]
+        if type(machine.canon) is TraceCanon and (ia, ib) == (0, 1):
+            return self._trace_text(cells, at, end, final)
+        return self._replay(cells, at, end, calls, final, ia, ib)
+
+    def _trace_text(self, cells: List[str], at: int, end: int, final) -> int:
+        """For the trace, in the XY plane: the text of the next rows of hole
+        words, a piece of at most _MOST rows at a time (_trace_piece);
+        returns where it stopped."""
+        while at < end:
+            stop = self._trace_piece(cells, at, end, final)
+            if stop == at:
+                break
+            at = stop
+        return at
+
+    def _trace_piece(self, cells: List[str], at: int, end: int, final) -> int:
+        """The trace text of at most _MOST next rows of hole words, made from
+        one hole's template (_template), written in one piece: their X and
+        Y as the trace prints them (a table written as printed gives them as
+        they are); returns where it stopped."""
+        machine = self.machine
+        canon = machine.canon
+        # one template for every run of holes drilled alike
+        key = (canon._column,) + tuple(
+            (name, args[2:] if move else args, move)
+            for name, args, move in self.recorded
+        )
+        made = self.templates.get(key)
+        if made is None:
+            if self.scratch is None:
+                import io
+
+                self.scratch = TraceCanon(io.StringIO())
+            made = _template(self.scratch, self.recorded, canon._column)
+            self.templates[key] = made
+        template, slots, column = made
+        known = self.holes["XY"]
+        printed = self.printed
+        cur = machine.current
+        x_cell = y_cell = None
+        xs, ys = ["%.4f" % cur[0]], ["%.4f" % cur[1]]
+        row = at
+        while at < end and len(xs) <= _MOST:
+            hole = known.get(cells[at + 1], False)
+            if hole is False:
+                hole = self._hole_words("XY", cells[at + 1])
+            if hole is None:
+                break
+            first, second, stride = hole
+            if first >= 0:
+                x_cell = cells[at + 2 + first]
+                xs.append(x_cell if printed else "%.4f" % float(x_cell))
+            else:
+                xs.append(xs[-1])
+            if second >= 0:
+                y_cell = cells[at + 2 + second]
+                ys.append(y_cell if printed else "%.4f" % float(y_cell))
+            else:
+                ys.append(ys[-1])
+            row = at
+            at += stride
+        rows = len(xs) - 1
+        if not rows:
+            return at
+        base, lines = canon._count, len(slots)
+        columns: List = []
+        at_hole = xs[1:], ys[1:]
+        at_start = xs[:-1], ys[:-1]
+        for j, move in enumerate(slots):
+            columns.append(range(base + 1 + j, base + 1 + j + lines * rows, lines))
+            if move is not None:
+                columns += at_hole if move == _AT_HOLE else at_start
+        canon._write(trace_rows(template, columns))
+        canon._count, canon._column = base + lines * rows, column
+        if canon._count >= canon._drain_at:
+            canon._drain()
+        point = final[:]
+        point[0] = cur[0] if x_cell is None else float(x_cell)
+        point[1] = cur[1] if y_cell is None else float(y_cell)
+        machine.world.position = point
+        machine.current = point[:]
+        machine.params.position = tuple(point)
+        machine.line = int(cells[row])
+        return at
+
+    def _replay(self, cells, at: int, end: int, calls, final, ia: int, ib: int) -> int:
+        """The recorded calls again for each next row of hole words, at its
+        point; returns where it stopped."""
+        machine = self.machine
+        known = self.holes[machine.plane]
         world, params = machine.world, machine.params
         while at < end:
             key = cells[at + 1]
             hole = known.get(key, False)
             if hole is False:
-                hole = self._hole_words(plane, key)
+                hole = self._hole_words(machine.plane, key)
             if hole is None:
                 break
             first, second, stride = hole
@@ -220,7 +370,7 @@ class HoleRows:
         hole = final[ia], final[ib]
         if hole == start:
             return False  # which moves are at the hole is not to be told
-        calls = []
+        calls, recorded = [], []
         for name, args in recording.calls:
             move = None
             if name in _MOVES:
@@ -233,9 +383,11 @@ class HoleRows:
                     return False  # elsewhere (G87's offsets)
             elif name not in _SWITCHES:
                 return False
+            recorded.append((name, args, move))
             if move is not None and (ia, ib) == (0, 1):
                 args = args[2:]  # the replay puts X and Y first
             calls.append((getattr(canon, name), args, move))
         if recording.keywords or not _only_position_changed(before, machine):
             return False
+        self.recorded = recorded
         return calls, final

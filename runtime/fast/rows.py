@@ -218,7 +218,7 @@ def run_rows(
     # generator's m.move and m.arc lines would be taken.
     by_move = machine.rows_by_move
     # The next holes of a canned cycle, replayed (runtime.fast.hole_rows).
-    holes = None if by_move else HoleRows(machine, plans).run
+    holes = None if by_move else HoleRows(machine, plans, as_printed).run
     try:
         while at < end:
             at = fast(cells, at, end, plans)
