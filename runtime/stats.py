@@ -108,6 +108,8 @@ class StatsCanon(ToolpathCanon):
         self.feed_rate = 0.0  # mm/min (or mm/rev)
         self.per_rev = False
         self.rpm = 0.0
+        #: A subclass watches moves (its own line()): every move goes there.
+        self._watched = type(self).line is not StatsCanon.line
 
     # --- rates -------------------------------------------------------------
     def set_feed_rate(self, rate):
@@ -139,6 +141,33 @@ class StatsCanon(ToolpathCanon):
             rate = self.model.rapid_rate
         else:
             rate = self._feed_per_minute()
+        if length == 0.0:
+            # Rotary axes alone: degrees at the same numeric rate.
+            length = max(abs(end[i] - start[i]) for i in (3, 4, 5))
+        self._time(length, rate)
+
+    def straight_traverse(self, x, y, z, a, b, c, u, v, w):
+        if self._watched or self.inches:
+            return super().straight_traverse(x, y, z, a, b, c, u, v, w)
+        self._straight("rapid", self.model.rapid_rate, (x, y, z, a, b, c, u, v, w))
+
+    def straight_feed(self, x, y, z, a, b, c, u, v, w):
+        if self._watched or self.inches:
+            return super().straight_feed(x, y, z, a, b, c, u, v, w)
+        self._straight("feed", self._feed_per_minute(), (x, y, z, a, b, c, u, v, w))
+
+    def _straight(self, kind: str, rate: float, end: Point) -> None:
+        """A move in millimetres: ToolpathCanon's and :meth:`line`'s work in
+        one call (the same arithmetic), the usual case of a canned cycle's
+        moves and of a loop's, which come one call each."""
+        if self.first_units is None:
+            self.first_units = False
+        start = self.position
+        self.position = end
+        self.extents.add(end)
+        length = math.dist((start[0], start[1], start[2]), (end[0], end[1], end[2]))
+        self.counts[kind] += 1
+        self.lengths[kind] += length
         if length == 0.0:
             # Rotary axes alone: degrees at the same numeric rate.
             length = max(abs(end[i] - start[i]) for i in (3, 4, 5))
