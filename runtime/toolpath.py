@@ -78,7 +78,11 @@ class Arc:
         in proportion: the plane's two by angle, the others linearly)."""
         f, s, _ = self.axes
         start, end = self.start, self.end
-        p = [a + (b - a) * t for a, b in zip(start, end)]
+        # Kept between the ends: a + (b - a) * t may round past b (a helix's
+        # Z never goes beyond its end, whatever the rounding).
+        p = [
+            min(max(a + (b - a) * t, min(a, b)), max(a, b)) for a, b in zip(start, end)
+        ]
         theta = self.theta0 + self.sweep * t
         radius = self.r0 + (self.r1 - self.r0) * t
         p[f] = self.centre[0] + radius * math.cos(theta)

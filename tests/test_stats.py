@@ -22,7 +22,7 @@ import subprocess
 from typing import Optional
 
 import pytest
-from hypothesis import given, reject, settings
+from hypothesis import example, given, reject, settings
 
 import cam_strategies
 import rs274 as harness
@@ -411,6 +411,12 @@ def test_straight_moves_in_columns_give_the_per_move_report(text):
 
 @settings(max_examples=60, deadline=None)
 @given(cam_strategies.arc_programs())
+@example(  # a helix whose extreme point's Z rounded past its end (-1.688)
+    "G17 F300\nG0 G90 G94 G8 G90.1 F300 X0.000 Y0.000\n"
+    "G03 X0.002 Y-0.002 Z0.000 R0.003 P2\nX0.004 Y-0.004 R0.003\n"
+    "X0.504 Y0.496 Z31.000 R-0.501 P2\nX0.506 Y0.494 R0.003 F500\n"
+    "X0.508 Y0.492 Z-1.688 I0.508 J0.494\nG91.1\nM2\n"
+)
 def test_arcs_in_columns_give_the_per_move_report(text):
     """Arcs reach StatsCanon in batches (StatsCanon.arc_moves) and most skip
     their extreme points (inside the extents already): the same report as
