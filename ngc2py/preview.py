@@ -518,6 +518,17 @@ class PreviewMachine(BatchesOnly, Machine):
                 (float(line),) + settings,
             )
 
+    replayed_fields = frozenset(("active",))
+
+    def hole_replayed(self, line: int) -> None:
+        # the state cycle_row leaves (the rows replayed change no mode)
+        gcodes, mcodes, settings = self.active
+        self.active = (
+            (line,) + gcodes[1:],
+            (line,) + mcodes[1:],
+            (float(line),) + settings[1:],
+        )
+
     def cycle_row(self, line, words) -> bool:
         # A row of hole words is executed, never read past (an error in
         # its cycle reports the row itself), and leaves the state block()

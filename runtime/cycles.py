@@ -104,6 +104,16 @@ _ROW_WORDS = {
 class CyclesMixin:
     """Canned cycle execution (part of Machine)."""
 
+    #: Fields of a subclass's own that :meth:`hole_replayed` sets for a
+    #: row (besides the position and the line, which the replay sets).
+    replayed_fields: frozenset = frozenset()
+
+    def hole_replayed(self, line: int) -> None:
+        """A row of hole words at ``line`` was drilled by replaying a
+        recorded hole (runtime.fast.hole_rows) rather than by
+        :meth:`cycle_row`: a subclass keeps here what it keeps for each row
+        (the preview, its line state)."""
+
     def cycle_row(self, line: int, words) -> bool:
         """A data row of X, Y, Z, R, P, Q, L or F words alone (an axis among
         them) while a canned cycle is the modal motion: what ``block`` does

@@ -24,6 +24,7 @@ from hypothesis import strategies as st
 import cam_strategies
 import rs274 as harness
 import strategies
+import test_cycles
 from ngc2py import cli
 from ngc2py.flatten import number
 
@@ -227,6 +228,15 @@ def test_flat_cam_program_makes_the_same_moves(text):
 def test_flat_arc_program_makes_the_same_moves(text):
     """Arc tables: runs of one layout reach flatten as one arc_moves call."""
     assert_flat_makes_the_same_moves("arcs.ngc", text)
+
+
+@pytest.mark.rs274
+@GENERATED
+@given(test_cycles.cycle_tables())
+def test_flat_cycle_table_makes_the_same_moves(text):
+    """Tables of hole rows: holes replayed from a recorded one
+    (runtime.fast.hole_rows) reach flatten as a block each, as drilled."""
+    assert_flat_makes_the_same_moves("holes.ngc", text)
 
 
 def test_a_batch_of_moves_is_written_as_one_block_a_move(tmp_path):

@@ -21,13 +21,16 @@ the position published as the reference path publishes it.
 
 Anything else steps aside to the reference path: another shape of row, a
 row with N, incremental distance, a plane of U V W, a call other than the
-moves and the few switches a hole makes, and a machine whose canon must
-see each block begin (the preview and flatten: ``rows_by_move``).
+moves and the few switches a hole makes. A machine that keeps something of
+its own for each row (the preview's line state) is told of each replayed
+row (``hole_replayed``); the canon sees each row begin as it did, by the
+``set_block_number`` call the hole starts with, the machine's line set.
 """
 
 from __future__ import annotations
 
 from runtime.canon import TraceCanon, trace_rows
+from runtime.cycles import CyclesMixin
 
 TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
@@ -141,10 +144,12 @@ def _only_position_changed(before: tuple, machine) -> bool:
     after = vars(machine)
     if after.keys() != fields.keys():
         return False
+    replayed = type(machine).replayed_fields
     for name, value in after.items():
         old = fields[name]
         if old is not value and name not in _SET_BY_REPLAY and old != value:
-            return False
+            if name not in replayed:
+                return False
     world = machine.world
     for name, old in zip(type(world).__slots__, world_before):
         if name != "position" and old != getattr(world, name):
@@ -203,12 +208,7 @@ class HoleRows:
         returns where it stopped."""
         machine = self.machine
         plane = machine.plane
-        if (
-            at >= end
-            or machine.rows_by_move
-            or machine.distance_incremental
-            or plane not in _HOLE_AXES
-        ):
+        if at >= end or machine.distance_incremental or plane not in _HOLE_AXES:
             return at
         hole = self._hole_words(plane, cells[at + 1])
         if hole is None:
@@ -312,6 +312,10 @@ class HoleRows:
         machine = self.machine
         known = self.holes[machine.plane]
         world, params = machine.world, machine.params
+        # what a subclass keeps for each row (the preview's line state)
+        kept = None
+        if type(machine).hole_replayed is not CyclesMixin.hole_replayed:
+            kept = machine.hole_replayed
         while at < end:
             key = cells[at + 1]
             hole = known.get(key, False)
@@ -320,7 +324,7 @@ class HoleRows:
             if hole is None:
                 break
             first, second, stride = hole
-            machine.line = int(cells[at])
+            machine.line = line = int(cells[at])
             cur = machine.current
             sa, sb = cur[ia], cur[ib]
             aa = sa if first < 0 else float(cells[at + 2 + first])
@@ -345,6 +349,8 @@ class HoleRows:
             world.position = end_point
             machine.current = end_point[:]
             params.position = tuple(end_point)
+            if kept is not None:
+                kept(line)
             at += stride
         return at
 

@@ -218,7 +218,7 @@ def run_rows(
     # generator's m.move and m.arc lines would be taken.
     by_move = machine.rows_by_move
     # The next holes of a canned cycle, replayed (runtime.fast.hole_rows).
-    holes = None if by_move else HoleRows(machine, plans, as_printed).run
+    holes = HoleRows(machine, plans, as_printed).run
     try:
         while at < end:
             at = fast(cells, at, end, plans)
@@ -238,8 +238,7 @@ def run_rows(
                 start += 1
             words = dict(zip(plan.letters, map(float, cells[start:at])))
             if plan.cycle and machine.cycle_row(line, words):
-                if holes is not None:
-                    at = holes(cells, at, end)
+                at = holes(cells, at, end)
                 continue
             if by_move and plan.slots is not None:
                 machine.move(line, plan.motion, n=n, **words)
