@@ -153,6 +153,12 @@ def _bits(values: Sequence[float]) -> memoryview:
     return memoryview(array("d", values)).cast("B").cast("Q")
 
 
+def _names(calls: List[tuple], start: int, count: Optional[int] = None) -> List[str]:
+    """The names of the calls from ``start`` (``count`` of them, or all)."""
+    stop = len(calls) if count is None else start + count
+    return [name for name, _ in calls[start:stop]]
+
+
 def same(a: float, b: float) -> bool:
     """Equal, and with the same sign when zero (rs274 prints -0.0000)."""
     return a == b and math.copysign(1.0, a) == math.copysign(1.0, b)
@@ -349,6 +355,7 @@ class FlattenCanon(Canon):
 
     # --- writing -------------------------------------------------------
     def _flush(self) -> None:
+        """The G-code lines of the group of calls of the block that ended."""
         group, self._group = self._group, None
         if group is None or not group.calls:
             return
@@ -359,161 +366,7 @@ class FlattenCanon(Canon):
                 keep -= 1
             shuttle = any(name == "pallet_shuttle" for name, _ in calls[keep:])
             calls = calls[:keep] + [("program_end", (shuttle,))]
-        pos = self._pos
-        i = 0
-        pending_f: Optional[str] = None
-        out: List[str] = []
-        taken = set()  # calls a line further up has already written
-        while i < len(calls):
-            if i in taken:
-                i += 1
-                continue
-            name, args = calls[i]
-            following = [c[0] for c in calls[i + 1 :]]
-            nxt = following[0] if following else None
-            used = 1
-            text: Optional[str]
-            # G20/G21 that changes nothing leaves the current point alone
-            same_units = name == "use_length_units" and bool(args[0]) == self._inches
-            if name == "set_feed_rate" and nxt in ("straight_feed", "arc_feed"):
-                pending_f = "F" + number(args[0])
-                i += 1
-                continue
-            if name == "straight_feed" and self._pitch is not None:
-                # inside START/STOP_SPEED_FEED_SYNCH (G33, G76 passes)
-                text = self._move("G33", args, pos) + " K" + number(self._pitch)
-            elif name in ("straight_traverse", "straight_feed"):
-                text = self._move(
-                    "G0" if name == "straight_traverse" else "G1", args, pos
-                )
-            elif name == "start_speed_feed_synch":
-                # each G33/G33.1 line makes its own START/STOP pair
-                self._pitch, text = args[1], None
-            elif name == "stop_speed_feed_synch":
-                self._pitch, text = None, None
-            elif name == "rigid_tap":
-                x, y, z, scale = args
-                text = "G33.1 X%s Y%s Z%s K%s" % (
-                    number(x),
-                    number(y),
-                    number(z),
-                    number(self._pitch or 0.0),
-                )
-                if scale != 1:
-                    text += " I" + number(scale)
-                pos[:] = [UNKNOWN] * 6  # the tool comes back where it was
-            elif name == "turn_probe_on" and following[:2] == [
-                "straight_probe",
-                "turn_probe_off",
-            ]:
-                probe = calls[i + 1][1]
-                text = self._move("G38.%d" % (2 + probe[9]), probe[:6], pos)
-                pos[:] = [UNKNOWN] * 6  # it stops where the probe trips
-                used = 3
-            elif name == "nurbs_feed":
-                text = self._nurbs(*args)
-                pos[:] = [
-                    UNKNOWN
-                ] * 6  # see runtime/splines.py: rs274 reads past its list
-            elif name == "set_tool_table_entry":
-                text = self._tool_entry(args)
-                if (
-                    following[:1] == ["set_tool_table_entry"]
-                    and calls[i + 1][1][0] == 0
-                ):
-                    used = 2  # the loaded tool's copy: the G10 L1 makes it too
-            elif name == "arc_feed":
-                first = not any(c[0] in MOTION_CALLS for c in calls[:i])
-                if first and not (group.compensated or self.machine.cutter_comp):
-                    self._check_arc_start(group.start, pos)
-                text = self._arc(args, pos)
-            elif name == "set_g5x_offset":
-                text, used = self._g5x(args, calls[i + 1 : i + 3])
-            elif name == "set_xy_rotation":
-                stored = self._stored.get(self._system)
-                offsets = stored[0] if stored else (0.0,) * 6
-                text = self._g10(self._system, offsets, args[0])
-            elif (
-                name == "comment"
-                and args[0] in FEED_MODE_COMMENTS
-                and nxt == "set_feed_mode"
-            ):
-                text = FEED_MODE_COMMENTS[args[0]]
-                # G94's own SET_FEED_RATE(0) is made again by the written G94;
-                # any other rate (a G93 move's, queued behind cutter
-                # compensation) is written as F
-                zero = following[1:2] == ["set_feed_rate"] and calls[i + 2][1][0] == 0
-                used = 3 if text == "G94" and zero else 2
-            elif name == "set_motion_control_mode":
-                mode, tolerance = args
-                if mode == "CONTINUOUS":
-                    text = "G64 P" + number(tolerance)
-                    if nxt == "set_naivecam_tolerance":
-                        text += " Q" + number(calls[i + 1][1][0])
-                        used = 2
-                else:
-                    text = "G61" if mode == "EXACT_PATH" else "G61.1"
-            elif name == "start_change" and "change_tool" in following:
-                # M6 makes everything up to CHANGE_TOOL (spindle stop, the
-                # ini's tool-change moves) itself
-                text, used = "M6", 2 + following.index("change_tool")
-            elif (
-                name in ("mist_off", "disable_feed_override", "enable_feed_override")
-                and nxt
-            ):
-                pair = {
-                    ("mist_off", "flood_off"): "M9",
-                    ("enable_feed_override", "enable_speed_override"): "M48",
-                    ("disable_feed_override", "enable_speed_override"): None,
-                    ("disable_feed_override", "disable_speed_override"): "M49",
-                }.get((name, nxt))
-                if pair:
-                    text, used = pair, 2
-                else:
-                    text = self._single(name, args)
-            elif name == "orient_spindle":
-                # M19 (or G87's orientation): R is the angle before the
-                # INI's ORIENT_OFFSET is added
-                _spindle, orientation, direction = args
-                angle = orientation - self.machine.settings.orient_offset
-                # G87 orients with rs274's spindle direction (2 clockwise,
-                # 3 counterclockwise); M19 takes P0-P2 only, so 3 is
-                # written as P2: the one call that differs, never a move
-                text = "M19 R%s P%d" % (number(angle), min(direction, 2))
-                if nxt == "wait_spindle_orient_complete":
-                    text += " Q" + number(calls[i + 1][1][1])
-                    used = 2
-            elif name == "wait_spindle_orient_complete":
-                # M19 Q without R or P
-                text = "M19 Q" + number(args[1])
-            elif name == "set_spindle_mode" and args[1] != 0:
-                # G96: the mode's value is D (1e30 when not given); rs274
-                # wants its S on the same line, wherever the call came
-                text = "G96" + (" D" + number(args[1]) if args[1] < 1e29 else "")
-                speed = (
-                    following.index("set_spindle_speed")
-                    if "set_spindle_speed" in following
-                    else None
-                )
-                if speed is not None and "set_spindle_mode" not in following[:speed]:
-                    text += " S" + number(calls[i + 1 + speed][1][1])
-                    taken.add(i + 1 + speed)
-            elif name == "pallet_shuttle" and nxt == "program_stop":
-                text, used = "M60", 2
-            else:
-                text = self._single(name, args)
-            if not same_units and any(
-                c[0] in MOVES_ORIGIN for c in calls[i : i + used]
-            ):
-                pos[:] = [UNKNOWN] * 6
-            if text is not None:
-                if pending_f is not None:
-                    text = pending_f + " " + text
-                    pending_f = None
-                out.extend(text.split("\n"))
-            i += used
-        if pending_f is not None:
-            out.append(pending_f)
+        out = self._texts(group, calls)
         if calls[-1][0] != "program_end":
             # changed by this block or by assignments after it (the flush
             # runs as the next block starts)
@@ -526,6 +379,184 @@ class FlattenCanon(Canon):
                 self.lines.append(prefix + text)
             else:
                 self.lines.append(prefix + text + comment)
+
+    def _texts(self, group: "_Group", calls: List[tuple]) -> List[str]:
+        """The G-code of ``calls``: one line a call, or one for several
+        (_WRITERS: what writes each call that is not written alone)."""
+        pos = self._pos
+        at = _Cursor(calls, group, pos)
+        pending_f: Optional[str] = None
+        out: List[str] = []
+        i = 0
+        while i < len(calls):
+            if i in at.taken:
+                i += 1
+                continue
+            name, args = calls[i]
+            at.i = i
+            at.nxt = nxt = calls[i + 1][0] if i + 1 < len(calls) else None
+            if name == "set_feed_rate" and nxt in ("straight_feed", "arc_feed"):
+                pending_f = "F" + number(args[0])  # on the move's line
+                i += 1
+                continue
+            # G20/G21 that changes nothing leaves the current point alone
+            same_units = name == "use_length_units" and bool(args[0]) == self._inches
+            writer = _WRITERS.get(name)
+            if writer is None:
+                text, used = self._single(name, args), 1
+            else:
+                text, used = writer(self, at, args)
+            if not same_units and any(
+                c[0] in MOVES_ORIGIN for c in calls[i : i + used]
+            ):
+                pos[:] = [UNKNOWN] * 6
+            if text is not None:
+                if pending_f is not None:
+                    text = pending_f + " " + text
+                    pending_f = None
+                out.extend(text.split("\n"))
+            i += used
+        if pending_f is not None:
+            out.append(pending_f)
+        return out
+
+    # --- calls written with others, or not as _single writes them ------
+    # Each takes the cursor and the call's arguments and returns (the
+    # text or None, how many calls it wrote).
+    def _w_traverse(self, at: "_Cursor", args) -> Tuple[Optional[str], int]:
+        return self._move("G0", args, at.pos), 1
+
+    def _w_feed(self, at: "_Cursor", args) -> Tuple[Optional[str], int]:
+        if self._pitch is not None:
+            # inside START/STOP_SPEED_FEED_SYNCH (G33, G76 passes)
+            return self._move("G33", args, at.pos) + " K" + number(self._pitch), 1
+        return self._move("G1", args, at.pos), 1
+
+    def _w_synch_start(self, at: "_Cursor", args) -> Tuple[Optional[str], int]:
+        # each G33/G33.1 line makes its own START/STOP pair
+        self._pitch = args[1]
+        return None, 1
+
+    def _w_synch_stop(self, at: "_Cursor", args) -> Tuple[Optional[str], int]:
+        self._pitch = None
+        return None, 1
+
+    def _w_rigid_tap(self, at: "_Cursor", args) -> Tuple[Optional[str], int]:
+        x, y, z, scale = args
+        text = "G33.1 X%s Y%s Z%s K%s" % (
+            number(x),
+            number(y),
+            number(z),
+            number(self._pitch or 0.0),
+        )
+        if scale != 1:
+            text += " I" + number(scale)
+        at.pos[:] = [UNKNOWN] * 6  # the tool comes back where it was
+        return text, 1
+
+    def _w_probe(self, at: "_Cursor", args) -> Tuple[Optional[str], int]:
+        if _names(at.calls, at.i + 1, 2) != ["straight_probe", "turn_probe_off"]:
+            return self._single("turn_probe_on", args), 1
+        probe = at.calls[at.i + 1][1]
+        text = self._move("G38.%d" % (2 + probe[9]), probe[:6], at.pos)
+        at.pos[:] = [UNKNOWN] * 6  # it stops where the probe trips
+        return text, 3
+
+    def _w_nurbs(self, at: "_Cursor", args) -> Tuple[Optional[str], int]:
+        text = self._nurbs(*args)
+        at.pos[:] = [UNKNOWN] * 6  # see runtime/splines.py: rs274 reads past its list
+        return text, 1
+
+    def _w_tool_entry(self, at: "_Cursor", args) -> Tuple[Optional[str], int]:
+        text = self._tool_entry(args)
+        if at.nxt == "set_tool_table_entry" and at.calls[at.i + 1][1][0] == 0:
+            return text, 2  # the loaded tool's copy: the G10 L1 makes it too
+        return text, 1
+
+    def _w_arc(self, at: "_Cursor", args) -> Tuple[Optional[str], int]:
+        group = at.group
+        first = not any(c[0] in MOTION_CALLS for c in at.calls[: at.i])
+        if first and not (group.compensated or self.machine.cutter_comp):
+            self._check_arc_start(group.start, at.pos)
+        return self._arc(args, at.pos), 1
+
+    def _w_g5x(self, at: "_Cursor", args) -> Tuple[Optional[str], int]:
+        return self._g5x(args, at.calls[at.i + 1 : at.i + 3])
+
+    def _w_rotation(self, at: "_Cursor", args) -> Tuple[Optional[str], int]:
+        stored = self._stored.get(self._system)
+        offsets = stored[0] if stored else (0.0,) * 6
+        return self._g10(self._system, offsets, args[0]), 1
+
+    def _w_comment(self, at: "_Cursor", args) -> Tuple[Optional[str], int]:
+        if args[0] not in FEED_MODE_COMMENTS or at.nxt != "set_feed_mode":
+            return self._single("comment", args), 1
+        text = FEED_MODE_COMMENTS[args[0]]
+        # G94's own SET_FEED_RATE(0) is made again by the written G94; any
+        # other rate (a G93 move's, queued behind cutter compensation) is
+        # written as F
+        calls, i = at.calls, at.i
+        zero = _names(calls, i + 2, 1) == ["set_feed_rate"] and calls[i + 2][1][0] == 0
+        return text, 3 if text == "G94" and zero else 2
+
+    def _w_control_mode(self, at: "_Cursor", args) -> Tuple[Optional[str], int]:
+        mode, tolerance = args
+        if mode != "CONTINUOUS":
+            return ("G61" if mode == "EXACT_PATH" else "G61.1"), 1
+        text = "G64 P" + number(tolerance)
+        if at.nxt == "set_naivecam_tolerance":
+            return text + " Q" + number(at.calls[at.i + 1][1][0]), 2
+        return text, 1
+
+    def _w_start_change(self, at: "_Cursor", args) -> Tuple[Optional[str], int]:
+        following = _names(at.calls, at.i + 1)
+        if "change_tool" not in following:
+            return self._single("start_change", args), 1
+        # M6 makes everything up to CHANGE_TOOL (spindle stop, the ini's
+        # tool-change moves) itself
+        return "M6", 2 + following.index("change_tool")
+
+    def _w_pair(self, at: "_Cursor", args) -> Tuple[Optional[str], int]:
+        name = at.calls[at.i][0]
+        pair = _PAIRS.get((name, at.nxt))
+        if pair:
+            return pair, 2
+        return self._single(name, args), 1
+
+    def _w_orient(self, at: "_Cursor", args) -> Tuple[Optional[str], int]:
+        # M19 (or G87's orientation): R is the angle before the INI's
+        # ORIENT_OFFSET is added
+        _spindle, orientation, direction = args
+        angle = orientation - self.machine.settings.orient_offset
+        # G87 orients with rs274's spindle direction (2 clockwise, 3
+        # counterclockwise); M19 takes P0-P2 only, so 3 is written as P2:
+        # the one call that differs, never a move
+        text = "M19 R%s P%d" % (number(angle), min(direction, 2))
+        if at.nxt == "wait_spindle_orient_complete":
+            return text + " Q" + number(at.calls[at.i + 1][1][1]), 2
+        return text, 1
+
+    def _w_orient_wait(self, at: "_Cursor", args) -> Tuple[Optional[str], int]:
+        return "M19 Q" + number(args[1]), 1  # M19 Q without R or P
+
+    def _w_spindle_mode(self, at: "_Cursor", args) -> Tuple[Optional[str], int]:
+        if args[1] == 0:
+            return self._single("set_spindle_mode", args), 1
+        # G96: the mode's value is D (1e30 when not given); rs274 wants its
+        # S on the same line, wherever the call came
+        text = "G96" + (" D" + number(args[1]) if args[1] < 1e29 else "")
+        following = _names(at.calls, at.i + 1)
+        if "set_spindle_speed" in following:
+            speed = following.index("set_spindle_speed")
+            if "set_spindle_mode" not in following[:speed]:
+                text += " S" + number(at.calls[at.i + 1 + speed][1][1])
+                at.taken.add(at.i + 1 + speed)
+        return text, 1
+
+    def _w_shuttle(self, at: "_Cursor", args) -> Tuple[Optional[str], int]:
+        if at.nxt == "program_stop":
+            return "M60", 2
+        return self._single("pallet_shuttle", args), 1
 
     def _parameter_changes(self) -> List[str]:
         """Assignments for the parameters G-codes read (G28/G30 homes, G92
@@ -556,10 +587,14 @@ class FlattenCanon(Canon):
 
     def _move(self, code: str, args: Sequence[float], pos: List[float]) -> str:
         words = []
-        for k, letter in enumerate(AXES6):
-            if not same(args[k], pos[k]):
-                words.append(letter + number(args[k]))
-            pos[k] = args[k]
+        for k in range(6):
+            value, was = args[k], pos[k]
+            # not same(value, was): written out, as this runs for every move
+            if value != was or (
+                value == 0.0 and math.copysign(1.0, value) != math.copysign(1.0, was)
+            ):
+                words.append(AXES6[k] + number(value))
+        pos[:6] = args[:6]
         if not words:  # a move to where it is: still one axis word
             words.append("X" + number(args[0]))
         return code + " " + " ".join(words)
@@ -834,6 +869,53 @@ def _recorder(name: str):
 for _name in CALLS:
     setattr(FlattenCanon, _name, _recorder(_name))
 del _name
+
+
+#: The calls FlattenCanon._texts does not leave to _single: the method
+#: that writes each (with the calls after it, or in its own way).
+_WRITERS = {
+    "straight_traverse": FlattenCanon._w_traverse,
+    "straight_feed": FlattenCanon._w_feed,
+    "start_speed_feed_synch": FlattenCanon._w_synch_start,
+    "stop_speed_feed_synch": FlattenCanon._w_synch_stop,
+    "rigid_tap": FlattenCanon._w_rigid_tap,
+    "turn_probe_on": FlattenCanon._w_probe,
+    "nurbs_feed": FlattenCanon._w_nurbs,
+    "set_tool_table_entry": FlattenCanon._w_tool_entry,
+    "arc_feed": FlattenCanon._w_arc,
+    "set_g5x_offset": FlattenCanon._w_g5x,
+    "set_xy_rotation": FlattenCanon._w_rotation,
+    "comment": FlattenCanon._w_comment,
+    "set_motion_control_mode": FlattenCanon._w_control_mode,
+    "start_change": FlattenCanon._w_start_change,
+    "mist_off": FlattenCanon._w_pair,
+    "disable_feed_override": FlattenCanon._w_pair,
+    "enable_feed_override": FlattenCanon._w_pair,
+    "orient_spindle": FlattenCanon._w_orient,
+    "wait_spindle_orient_complete": FlattenCanon._w_orient_wait,
+    "set_spindle_mode": FlattenCanon._w_spindle_mode,
+    "pallet_shuttle": FlattenCanon._w_shuttle,
+}
+
+#: Two calls one M code makes (None: no code makes that pair).
+_PAIRS = {
+    ("mist_off", "flood_off"): "M9",
+    ("enable_feed_override", "enable_speed_override"): "M48",
+    ("disable_feed_override", "enable_speed_override"): None,
+    ("disable_feed_override", "disable_speed_override"): "M49",
+}
+
+
+class _Cursor:
+    """Where FlattenCanon._texts is in a group's calls (the writers' view)."""
+
+    __slots__ = ("calls", "group", "pos", "taken", "i", "nxt")
+
+    def __init__(self, calls: List[tuple], group: "_Group", pos: List[float]) -> None:
+        self.calls, self.group, self.pos = calls, group, pos
+        self.taken: set = set()  # calls a line further up has already written
+        self.i = 0
+        self.nxt: Optional[str] = None  # the next call's name
 
 
 class _PrintCatcher:
