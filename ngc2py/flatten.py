@@ -159,6 +159,11 @@ def _names(calls: List[tuple], start: int, count: Optional[int] = None) -> List[
     return [name for name, _ in calls[start:stop]]
 
 
+def _same_zero(a: float, b: float) -> bool:
+    """Two zeros of the same sign (rs274 prints -0.0000)."""
+    return math.copysign(1.0, a) == math.copysign(1.0, b)
+
+
 def same(a: float, b: float) -> bool:
     """Equal, and with the same sign when zero (rs274 prints -0.0000)."""
     return a == b and math.copysign(1.0, a) == math.copysign(1.0, b)
@@ -406,8 +411,10 @@ class FlattenCanon(Canon):
                 text, used = self._single(name, args), 1
             else:
                 text, used = writer(self, at, args)
-            if not same_units and any(
-                c[0] in MOVES_ORIGIN for c in calls[i : i + used]
+            if not same_units and (
+                name in MOVES_ORIGIN
+                if used == 1
+                else any(c[0] in MOVES_ORIGIN for c in calls[i : i + used])
             ):
                 pos[:] = [UNKNOWN] * 6
             if text is not None:
@@ -589,11 +596,11 @@ class FlattenCanon(Canon):
         words = []
         for k in range(6):
             value, was = args[k], pos[k]
-            # not same(value, was): written out, as this runs for every move
-            if value != was or (
-                value == 0.0 and math.copysign(1.0, value) != math.copysign(1.0, was)
-            ):
-                words.append(AXES6[k] + number(value))
+            # same(value, was), written out (this runs for every move); the
+            # axes a move leaves alone hold the very same float object
+            if value is was or (value == was and (value or _same_zero(value, was))):
+                continue
+            words.append(AXES6[k] + number(value))
         pos[:6] = args[:6]
         if not words:  # a move to where it is: still one axis word
             words.append("X" + number(args[0]))
