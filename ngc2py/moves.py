@@ -22,7 +22,7 @@ import argparse
 import io
 import math
 from array import array
-from itertools import repeat
+from itertools import chain, repeat
 from typing import List, Optional, Tuple
 
 import numpy as np
@@ -33,7 +33,6 @@ from runtime.toolpath import LINEAR, MM_PER_INCH, PLANE_AXES, Point, ToolpathCan
 RAPID, FEED, ARC, PROBE = 0, 1, 2, 3
 KINDS = ("rapid", "feed", "arc", "probe")
 _KIND = {"rapid": RAPID, "feed": FEED, "probe": PROBE}
-_NINE = tuple(range(9))
 
 
 class ProgramError(Exception):
@@ -43,6 +42,10 @@ class ProgramError(Exception):
     def __init__(self, message: str, toolpath: "Toolpath") -> None:
         super().__init__(message)
         self.toolpath = toolpath
+
+
+#: A straight move's centre.
+_NO_CENTRE = (math.nan, math.nan)
 
 
 class Recorder(ToolpathCanon):
@@ -61,8 +64,10 @@ class Recorder(ToolpathCanon):
         self.lines = array("l")
         self.tools = array("l")
         self.feeds = array("d")
-        self.ends = [array("d") for _ in _NINE]
-        self.centre = (array("d"), array("d"))
+        #: Row by row: nine ends a move (X Y Z A B C U V W), two centre
+        #: coordinates a move; a single move extends each in one call.
+        self.ends = array("d")
+        self.centre = array("d")
         self.normal = array("b")
         self.turns = array("l")
         self.shifts: List[Tuple[int, Point]] = []
@@ -102,10 +107,8 @@ class Recorder(ToolpathCanon):
         self.lines.append(self._line_number())
         self.tools.append(self._current_tool())
         self.feeds.append(math.nan if kind == "rapid" else self._rate)
-        for column, value in zip(self.ends, end):
-            column.append(value)
-        self.centre[0].append(math.nan)
-        self.centre[1].append(math.nan)
+        self.ends.extend(end)
+        self.centre.extend(_NO_CENTRE)
         self.normal.append(-1)
         self.turns.append(0)
         self._last = end
@@ -130,10 +133,8 @@ class Recorder(ToolpathCanon):
         self.lines.append(self._line_number())
         self.tools.append(self._current_tool())
         self.feeds.append(self._rate)
-        for column, value in zip(self.ends, end):
-            column.append(value)
-        self.centre[0].append(first_axis * k)
-        self.centre[1].append(second_axis * k)
+        self.ends.extend(end)
+        self.centre.extend((first_axis * k, second_axis * k))
         self.normal.append(normal)
         self.turns.append(rotation)
         self.position = self._last = tuple(end)
@@ -149,10 +150,8 @@ class Recorder(ToolpathCanon):
             for i in LINEAR:
                 columns[i] = [value * MM_PER_INCH for value in columns[i]]
         self._rows(FEED if feed else RAPID, lines, self._rate if feed else math.nan)
-        for target, column in zip(self.ends, columns):
-            target.extend(column)
-        self.centre[0].extend(repeat(math.nan, rows))
-        self.centre[1].extend(repeat(math.nan, rows))
+        self.ends.extend(chain.from_iterable(zip(*columns)))
+        self.centre.extend(repeat(math.nan, 2 * rows))
         self.normal.extend(repeat(-1, rows))
         self.turns.extend(repeat(0, rows))
         self.position = self._last = tuple(column[-1] for column in columns)
@@ -177,10 +176,8 @@ class Recorder(ToolpathCanon):
         columns = [None, None, None, a, b, c, u, v, w]
         columns[first], columns[second], columns[normal] = e1, e2, en
         self._rows(ARC, lines, self._rate)
-        for target, column in zip(self.ends, columns):
-            target.extend(column)
-        self.centre[0].extend(c1)
-        self.centre[1].extend(c2)
+        self.ends.extend(chain.from_iterable(zip(*columns)))
+        self.centre.extend(chain.from_iterable(zip(c1, c2)))
         self.normal.extend(repeat(normal, rows))
         self.turns.extend(rotation)
         self.position = self._last = tuple(column[-1] for column in columns)
@@ -230,9 +227,8 @@ class Toolpath:
     @classmethod
     def from_recorder(cls, recorder: Recorder) -> "Toolpath":
         count = len(recorder.kinds)
-        end = np.empty((count, 9))
-        for i, column in enumerate(recorder.ends):
-            end[:, i] = np.frombuffer(column, dtype=np.float64, count=count)
+        end = np.frombuffer(recorder.ends, dtype=np.float64, count=count * 9)
+        end = end.reshape(count, 9).copy()
         start = np.empty_like(end)
         start[1:] = end[:-1]
         if count:
@@ -240,9 +236,8 @@ class Toolpath:
         for row, point in recorder.shifts:
             if row < count:
                 start[row] = point
-        centre = np.empty((count, 2))
-        centre[:, 0] = np.frombuffer(recorder.centre[0], dtype=np.float64, count=count)
-        centre[:, 1] = np.frombuffer(recorder.centre[1], dtype=np.float64, count=count)
+        centre = np.frombuffer(recorder.centre, dtype=np.float64, count=count * 2)
+        centre = centre.reshape(count, 2).copy()
         return cls(
             kind=np.array(recorder.kinds, dtype=np.int8),
             start=start,
