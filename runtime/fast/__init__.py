@@ -16,7 +16,9 @@ rests on one flag, the machine's plain state, derived in one place
 * :mod:`.printed_rows`: rows written as the trace prints them, straight to
   trace text;
 * :mod:`.arc_rows`: runs of arc rows, their centres and checks worked out a
-  column at a time (the geometry itself is :mod:`runtime.arcs`').
+  column at a time (the geometry itself is :mod:`runtime.arcs`');
+* :mod:`.hole_rows`: rows of hole positions under a canned cycle, one hole
+  drilled by the reference path and recorded, the next ones replayed.
 
 docs/ARCHITECTURE.md ("Fast paths") says why each is fast and how a canon
 takes moves in batches.
