@@ -44,8 +44,9 @@ from runtime.toolpath import (
     Extents,
     Point,
     ToolpathCanon,
+    arc_geometry,
     distance,
-    make_arc,
+    helix_length,
 )
 
 #: Default rapid rate, mm/min.
@@ -225,16 +226,31 @@ class StatsCanon(ToolpathCanon):
         if self.first_units is None:
             self.first_units = False
         f, s, n = axes
-        arc = self.arc
+        extents, counts, lengths = self.extents, self.counts, self.lengths
+        rate = self._feed_per_minute()
         start = self.position
+        extents.add(start)  # (each later start is the end before it)
         point = list(start)
+        # arc() for each, without an Arc where its extents need none
         for e1, e2, c1, c2, rotation, en, *other in zip(
             first_end, second_end, first_axis, second_axis, *rest
         ):
             point[3:] = other
             point[f], point[s], point[n] = e1, e2, en
             end = tuple(point)
-            arc(make_arc(start, end, axes, (c1, c2), rotation))
+            centre = (c1, c2)
+            geometry = arc_geometry(start, end, axes, centre, rotation)
+            sweep, r0, r1 = geometry[:3]
+            if extents.encloses(axes, centre, r0 if r0 > r1 else r1):
+                extents.add(end)
+            else:
+                arc = Arc(start, end, axes, centre, *geometry)
+                for extreme in arc.extreme_points():
+                    extents.add(extreme)
+            length = helix_length(sweep, r0, r1, en - start[n])
+            counts["arc"] += 1
+            lengths["arc"] += length
+            self._time(length, rate)
             start = end
         self.position = start
 

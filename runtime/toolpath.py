@@ -69,9 +69,8 @@ class Arc:
     @property
     def length(self) -> float:
         """Path length of the helix (in the plane: mean radius times angle)."""
-        planar = abs(self.sweep) * (self.r0 + self.r1) / 2.0
         normal = self.end[self.axes[2]] - self.start[self.axes[2]]
-        return math.hypot(planar, normal)
+        return helix_length(self.sweep, self.r0, self.r1, normal)
 
     def point(self, t: float) -> Point:
         """The point a fraction ``t`` (0..1) along the arc (every axis moves
@@ -172,10 +171,26 @@ def _solve_increasing(h, slope, target: float, low: float, high: float) -> float
     return theta
 
 
+def helix_length(sweep: float, r0: float, r1: float, rise: float) -> float:
+    """Path length of an arc of ``sweep`` radians from radius ``r0`` to
+    ``r1`` rising ``rise`` along its normal (in the plane: mean radius times
+    angle)."""
+    return math.hypot(abs(sweep) * (r0 + r1) / 2.0, rise)
+
+
 def make_arc(
     start: Point, end: Point, axes: Tuple[int, int, int], centre, rotation: int
 ) -> Arc:
     """The :class:`Arc` from ``start`` to ``end`` as ARC_FEED describes it."""
+    geometry = arc_geometry(start, end, axes, centre, rotation)
+    return Arc(tuple(start), tuple(end), axes, tuple(centre), *geometry)
+
+
+def arc_geometry(
+    start: Point, end: Point, axes: Tuple[int, int, int], centre, rotation: int
+) -> Tuple[float, float, float, float]:
+    """The arc ARC_FEED describes from ``start`` to ``end``: (sweep, start
+    radius, end radius, start angle), as :class:`Arc` holds them."""
     f, s, _ = axes
     cf, cs = centre
     theta0 = math.atan2(start[s] - cs, start[f] - cf)
@@ -193,7 +208,7 @@ def make_arc(
         sweep -= TAU * (-rotation - 1)
     r0 = math.hypot(start[f] - cf, start[s] - cs)
     r1 = math.hypot(end[f] - cf, end[s] - cs)
-    return Arc(tuple(start), tuple(end), axes, (cf, cs), sweep, r0, r1, theta0)
+    return sweep, r0, r1, theta0
 
 
 def distance(a: Sequence[float], b: Sequence[float]) -> float:
