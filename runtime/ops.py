@@ -363,6 +363,24 @@ def _half_pi_fixed() -> int:
 _PI_L = (0xC90FDAA22168C235, -62)
 
 
+def round_bits(n: int, bits: int) -> Tuple[int, int]:
+    """``n`` (> 0) rounded to ``bits`` significant bits, ties to even, as
+    the x87 rounds: ``(q, shift)`` with ``q * 2**shift`` the result and
+    ``q`` below ``2**bits``."""
+    shift = n.bit_length() - bits
+    if shift <= 0:
+        return n, 0
+    q = n >> shift
+    rest = n - (q << shift)
+    half = 1 << (shift - 1)
+    if rest > half or (rest == half and q & 1):
+        q += 1
+        if q >> bits:
+            q >>= 1
+            shift += 1
+    return q, shift
+
+
 #: M_PI_2l (64-bit significand) times 2**128, and that scale.
 _HALF_PI_SCALED = 0xC90FDAA22168C235 << 65
 _SCALE = 2.0**128
@@ -392,14 +410,8 @@ def plus_half_pi(x: float, sign: int = 1) -> float:
     negative = total < 0
     if negative:
         total = -total
-    extra = total.bit_length() - 64
-    if extra > 0:
-        kept = total >> extra
-        rest = total - (kept << extra)
-        half = 1 << (extra - 1)
-        if rest > half or (rest == half and kept & 1):
-            kept += 1
-        total = kept << extra
+    kept, shift = round_bits(total, 64)
+    total = kept << shift
     value = float(total) * _UNSCALE
     return -value if negative else value
 

@@ -25,6 +25,8 @@ import ctypes
 import ctypes.util
 import struct
 
+from runtime.ops import round_bits
+
 TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
     from typing import Callable, Optional, Tuple
@@ -78,18 +80,10 @@ def make_radians(pi_significand: int, pi_exponent: int) -> Callable[[float], obj
         product = num * pi_significand
         shift = product.bit_length() - 64
         if shift > 0:
-            q = product >> shift
-            rest = product - (q << shift)
-            half = 1 << (shift - 1)
-            if rest > half or (rest == half and q & 1):
-                q += 1
-                if q >> 64:
-                    q >>= 1
-                    shift += 1
-            exponent += shift
+            q, shift = round_bits(product, 64)
         else:
             q = product << -shift
-            exponent += shift
+        exponent += shift
         # ... / 180.0, rounded to 64 bits (the quotient has 128 or 129 bits)
         quotient, remainder = divmod(q << 72, 180)
         shift = quotient.bit_length() - 64
