@@ -173,6 +173,16 @@ def _cycle_calls(text: str):
     return canon.calls, canon.numbers, error, machine.current
 
 
+def _without_replay(run, text: str):
+    """``run(text)`` with every hole row drilled by the reference path."""
+    saved = HoleRows.run
+    HoleRows.run = lambda self, cells, at, end: at
+    try:
+        return run(text)
+    finally:
+        HoleRows.run = saved
+
+
 @PROFILE
 @given(cycle_tables())
 def test_replayed_holes_give_a_canon_the_reference_calls(text):
@@ -180,14 +190,7 @@ def test_replayed_holes_give_a_canon_the_reference_calls(text):
     hole words: any canon (here one that records) gets the very calls,
     values, N numbers and error the reference path gives it row by row, and
     the machine ends at the same point."""
-    replayed = _cycle_calls(text)
-    saved = HoleRows.run
-    HoleRows.run = lambda self, cells, at, end: at
-    try:
-        reference = _cycle_calls(text)
-    finally:
-        HoleRows.run = saved
-    assert replayed == reference
+    assert _cycle_calls(text) == _without_replay(_cycle_calls, text)
 
 
 def _cycle_trace(text: str) -> tuple:
@@ -211,18 +214,13 @@ def test_replayed_holes_trace_the_reference_text(text):
     at once from one hole's template, a piece of at most _MOST rows at a
     time (three here, so that pieces follow pieces): the very text and
     error of the reference path."""
-    saved_most, saved_run = hole_rows._MOST, HoleRows.run
+    saved_most = hole_rows._MOST
     hole_rows._MOST = 3
     try:
         replayed = _cycle_trace(text)
     finally:
         hole_rows._MOST = saved_most
-    HoleRows.run = lambda self, cells, at, end: at
-    try:
-        reference = _cycle_trace(text)
-    finally:
-        HoleRows.run = saved_run
-    assert replayed == reference
+    assert replayed == _without_replay(_cycle_trace, text)
 
 
 def test_holes_are_replayed(monkeypatch):
