@@ -18,7 +18,7 @@ microsecond. Such a kind is drawn solid (the legend says so).
 
 from __future__ import annotations
 
-from typing import Tuple
+from typing import List, Tuple
 
 import numpy as np
 
@@ -193,11 +193,9 @@ def draw(path: Toolpath, view: str, title: str, out, fmt: str) -> None:
 
     matplotlib.use("Agg")
     from matplotlib import pyplot
-    from matplotlib.collections import LineCollection
     from matplotlib.lines import Line2D
 
     inches = path.units == "inch"
-    units = path.units
     scale = 1.0 / MM_PER_INCH if inches else 1.0
     figure, axes = pyplot.subplots(figsize=FIGURE_SIZE, dpi=DPI)
     kinds = {
@@ -213,8 +211,7 @@ def draw(path: Toolpath, view: str, title: str, out, fmt: str) -> None:
         resolution = max(span, 1e-9) / pixels * PIXEL_TOLERANCE
     handles = []
     dense = {}  # kind -> its (m, 2) polyline, rasterised once the axes are laid out
-    low3 = np.full(3, np.inf)
-    high3 = np.full(3, -np.inf)
+    extents = [np.full(3, np.inf), np.full(3, -np.inf)]
     for kind, (label, colour, style, width) in STYLES.items():
         chosen = kinds[kind]
         count = int(chosen.sum())
@@ -223,39 +220,16 @@ def draw(path: Toolpath, view: str, title: str, out, fmt: str) -> None:
         else:
             vertices = polyline(path.start[chosen, :3], path.end[chosen, :3])
         if len(vertices):
-            vertices = vertices * scale
-            low3 = np.fmin(low3, np.nanmin(vertices, axis=0))
-            high3 = np.fmax(high3, np.nanmax(vertices, axis=0))
-            u, v = project(vertices, view)
-            flat = np.column_stack((u, v))
+            flat = _projected(vertices * scale, view, extents)
             if len(flat) > RASTER_FROM:
                 style = "solid"
                 dense[kind] = flat
                 corners = (np.nanmin(flat, axis=0), np.nanmax(flat, axis=0))
                 axes.update_datalim(np.array(corners))
             else:
-                # Pieces of a bounded size: Agg's memory for one path grows
-                # with its length (one path of a million points takes
-                # gigabytes).
-                pieces = [flat[i : i + PIECE + 1] for i in range(0, len(flat), PIECE)]
-                axes.add_collection(
-                    LineCollection(
-                        pieces,
-                        colors=colour,
-                        linestyles=style,
-                        linewidths=width,
-                        zorder=ZORDER[kind],
-                    )
-                )
+                _add_lines(axes, flat, kind)
             if kind == "feed":
-                # A plunge seen end-on (a drilled hole from the top) is a dot.
-                su, sv = project(path.start[chosen, :3] * scale, view)
-                eu, ev = project(path.end[chosen, :3] * scale, view)
-                dots = (su == eu) & (sv == ev)
-                if dots.any():
-                    axes.plot(
-                        su[dots], sv[dots], "o", color=colour, markersize=3, zorder=4
-                    )
+                _plunge_dots(axes, path, chosen, view, scale, colour)
         handles.append(
             Line2D(
                 [],
@@ -266,6 +240,55 @@ def draw(path: Toolpath, view: str, title: str, out, fmt: str) -> None:
                 label="%s: %d move%s" % (label, count, "" if count == 1 else "s"),
             )
         )
+    _lay_out(figure, axes, view, path.units, title, handles, extents)
+    if dense:
+        axes.apply_aspect()  # the limits the picture will have
+        for kind, flat in dense.items():
+            _, colour, _, width = STYLES[kind]
+            show_raster(axes, flat, colour, width, ZORDER[kind])
+    figure.savefig(out, format=fmt, bbox_inches="tight")
+    pyplot.close(figure)
+
+
+def _projected(vertices, view: str, extents: List) -> "np.ndarray":
+    """``vertices`` (m, 3) seen from ``view`` as (m, 2); ``extents`` (low,
+    high) grow to take them in."""
+    extents[0] = np.fmin(extents[0], np.nanmin(vertices, axis=0))
+    extents[1] = np.fmax(extents[1], np.nanmax(vertices, axis=0))
+    u, v = project(vertices, view)
+    return np.column_stack((u, v))
+
+
+def _add_lines(axes, flat, kind: str) -> None:
+    """A kind's polyline as a collection of pieces of a bounded size: Agg's
+    memory for one path grows with its length (one path of a million
+    points takes gigabytes)."""
+    from matplotlib.collections import LineCollection
+
+    _, colour, style, width = STYLES[kind]
+    pieces = [flat[i : i + PIECE + 1] for i in range(0, len(flat), PIECE)]
+    axes.add_collection(
+        LineCollection(
+            pieces,
+            colors=colour,
+            linestyles=style,
+            linewidths=width,
+            zorder=ZORDER[kind],
+        )
+    )
+
+
+def _plunge_dots(axes, path: Toolpath, chosen, view: str, scale: float, colour) -> None:
+    """A plunge seen end-on (a drilled hole from the top) is a dot."""
+    su, sv = project(path.start[chosen, :3] * scale, view)
+    eu, ev = project(path.end[chosen, :3] * scale, view)
+    dots = (su == eu) & (sv == ev)
+    if dots.any():
+        axes.plot(su[dots], sv[dots], "o", color=colour, markersize=3, zorder=4)
+
+
+def _lay_out(figure, axes, view: str, units: str, title: str, handles, extents) -> None:
+    """Scale, labels, legend, title and the extents line."""
     axes.autoscale()
     axes.set_aspect("equal", adjustable="datalim")
     axes.margins(0.05)
@@ -278,6 +301,7 @@ def draw(path: Toolpath, view: str, title: str, out, fmt: str) -> None:
     axes.grid(True, linewidth=0.3, alpha=0.5)
     axes.legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.9)
     axes.set_title("%s - %s view" % (title, view.upper()), fontsize=11)
+    low3, high3 = extents
     if np.isfinite(low3).all():
         extent = "   ".join(
             "%s %.4g .. %.4g" % (name, low3[i], high3[i])
@@ -288,13 +312,6 @@ def draw(path: Toolpath, view: str, title: str, out, fmt: str) -> None:
         )
     else:
         figure.text(0.5, 0.015, "no moves", ha="center", fontsize=8)
-    if dense:
-        axes.apply_aspect()  # the limits the picture will have
-        for kind, flat in dense.items():
-            _, colour, _, width = STYLES[kind]
-            show_raster(axes, flat, colour, width, ZORDER[kind])
-    figure.savefig(out, format=fmt, bbox_inches="tight")
-    pyplot.close(figure)
 
 
 __all__ = [
