@@ -43,7 +43,7 @@ import math
 import re
 import zlib
 from dataclasses import dataclass, field
-from typing import Dict, Iterable, List, Optional, Sequence, Tuple
+from typing import Dict, Iterable, List, Optional, Sequence, Tuple, Union
 
 from ngc2py import __version__, assigned, fastlocals, nodes, parser, rowtable
 from ngc2py.wrap import split_call
@@ -1354,36 +1354,58 @@ class CodeGen:
             test = self.x.condition(branch.line.oword.expr)
             self.w.stmt("%s %s:" % (keyword_, test), branch.line)
             following = arms[i + 1].line if i + 1 < len(arms) else stmt.end
+            # rs274 skips the arms after a taken one: where it stops
+            stop, at = self.skip_stop(stmt, arms, i + 1)
             self.nested(
                 branch,
-                then=self.skip_error([arm.body for arm in arms[i + 1 :]]),
-                later=stmt.branches[i + 1 :],
+                then=stop,
+                later=stmt.branches[i + 1 : at + 1],
                 check=(stmt, following),
             )
-            if i == 0 and stmt.lands is not None and stmt.lands.end is not None:
-                # A false condition lands on the do line of the same label.
+            stop, _ = self.skip_stop(stmt, arms, i, i + 1)
+            if stop is not None:
+                # A false condition makes rs274 skip this arm, and stop in
+                # it: the later arms are never reached.
                 self.w.stmt("else:", branch.line)
                 self.w.depth += 1
-                self.statement(stmt.lands)
-                self.w.depth -= 1
-                return
-            unreadable = self.skip_error([branch.body])
-            if unreadable is not None:
-                # A false condition makes rs274 read this arm while skipping
-                # it, and fail: the later arms are never reached.
-                self.w.stmt("else:", branch.line)
-                self.w.depth += 1
-                self.fail_skipped(unreadable)
+                self.skipped_to(stop)
                 self.w.depth -= 1
                 return
         if stmt.orelse is not None:
             self.w.stmt("else:", stmt.orelse.line)
             self.nested(stmt.orelse, check=(stmt, stmt.end))
 
+    def skip_stop(
+        self, stmt: st.If, arms: List[st.Branch], first: int, end: Optional[int] = None
+    ) -> Tuple[Union[None, nodes.Line, List[st.Stmt]], int]:
+        """Where rs274, skipping the arms ``arms[first:end]`` of ``stmt`` to
+        its label, stops before its end: a line it cannot read (a line) or a
+        line reusing the label (its statements, ``stmt.landings``); and the
+        index of the arm that holds it (None, the last index: no stop)."""
+        end = len(arms) if end is None else end
+        for k in range(first, end):
+            unreadable = self.skip_error([arms[k].body])
+            landing = stmt.landings.get(k)
+            if landing is not None and (
+                unreadable is None or _first_line(landing) < unreadable.number
+            ):
+                return landing, k
+            if unreadable is not None:
+                return unreadable, k
+        return None, end - 1
+
+    def skipped_to(self, stop: Union[nodes.Line, List[st.Stmt]]) -> None:
+        """rs274 stops skipping at ``stop`` (see :meth:`skip_stop`)."""
+        if isinstance(stop, list):
+            # the line reusing the label runs as what it is
+            self.block(stop)
+        else:
+            self.fail_skipped(stop)
+
     def nested(
         self,
         branch: st.Branch,
-        then: Optional[nodes.Line] = None,
+        then: Union[None, nodes.Line, List[st.Stmt]] = None,
         later: Sequence[st.Branch] = (),
         check: Optional[tuple] = None,
     ) -> None:
@@ -1403,7 +1425,7 @@ class CodeGen:
         if not later and check is not None:
             self.frame_check(*check)
         if then is not None:
-            self.fail_skipped(then)
+            self.skipped_to(then)
         self.w.depth -= 1
 
     # -- lines read while skipping ----------------------------------------
@@ -1480,7 +1502,10 @@ class CodeGen:
         """What rs274 does when a loop ends by skipping forward to its label
         (a false while condition, a repeat count run out): it stops at every
         line with that label on the way."""
-        fail = (stmt.eof if stmt.kind != "do" else None) or stmt.skip_fail
+        # the first of them in the file (a repeat's own break or continue
+        # comes before the end of the file an unclosed loop skips to)
+        fails = [f for f in (stmt.skip_fail, stmt.eof if stmt.kind != "do" else None) if f]
+        fail = min(fails, key=_fail_order) if fails else None
         sets_break = (
             self.break_flag
             and stmt.kind == "while"
@@ -2167,3 +2192,15 @@ def generate(
     """The Python module text for ``program``; ``opening`` is the ``%`` line
     that demarcates the file, if it is demarcated."""
     return CodeGen(program, source_name, opening).module()
+
+
+def _first_line(landing: List[st.Stmt]) -> int:
+    """The number of the line a landing's statements come from."""
+    line = opening_line(landing[-1]) if isinstance(landing[-1], st.Loop) else None
+    return (line or landing[0].line).number
+
+
+def _fail_order(stmt: st.Stmt) -> float:
+    """Where a failure statement stands in the file (unknown: at the end)."""
+    line = getattr(stmt, "line", None)
+    return float("inf") if line is None else line.number

@@ -98,10 +98,13 @@ class If:
     branches: List[Branch]
     orelse: Optional[Branch] = None
     end: Optional[nodes.Line] = None
-    #: A do-loop reusing this if's label inside its first arm: a false
-    #: condition makes rs274 stop skipping at that ``do`` line and run the
-    #: loop (whose closing ``while`` then fails: the label is the if's).
-    lands: Optional["Loop"] = None
+    #: Lines reusing this if's label inside an arm, however deeply nested:
+    #: arm index -> the statements of the first such line in that arm.
+    #: rs274 skips an arm (a false condition, or the arms after a taken
+    #: one) to the next line with the label, wherever it is: a ``do`` there
+    #: runs its loop (whose closing ``while`` then fails: the label is the
+    #: if's), an opener, break, continue, endwhile or endrepeat fails.
+    landings: Dict[int, List["Stmt"]] = field(default_factory=dict)
 
 
 @dataclass(eq=False)
@@ -463,7 +466,13 @@ class _Builder:
                 self.body.append(Block(line))
             return
         handler = getattr(self, "on_" + word.keyword)
+        landing = self._landing_if(word)
+        body, start = self.body, len(self.body)
         handler(line, word)
+        if landing is not None and body[start:]:
+            node = landing.node
+            arm = len(node.branches) - (node.orelse is None)
+            node.landings.setdefault(arm, body[start:])
 
     # -- subroutines ------------------------------------------------------
 
@@ -594,19 +603,23 @@ class _Builder:
             self._reopen_do(label, seen[3])
             return
         self._open_loop("do", line, word)
-        for entry in reversed(self.stack[:-1]):
-            if isinstance(entry.node, Sub):
-                break
+
+    #: Lines a skip to their label stops at without ending an if: rs274
+    #: runs a ``do`` and fails on the others (the label is the if's).
+    _LANDING = frozenset(
+        ("if", "while", "repeat", "do", "break", "continue", "endwhile", "endrepeat")
+    )
+
+    def _landing_if(self, word: nodes.OWord) -> Optional[_Open]:
+        """The open ``if`` whose skip would stop at this line: the innermost
+        open construct of this scope with the line's label, if an if."""
+        if word.keyword not in self._LANDING:
+            return None
+        label = str(word.name)
+        for entry in self._scope_entries():
             if entry.label == label:
-                node = entry.node
-                if (
-                    isinstance(node, If)
-                    and len(node.branches) == 1
-                    and node.orelse is None
-                    and node.lands is None
-                ):
-                    node.lands = self.stack[-1].node
-                break
+                return entry if isinstance(entry.node, If) else None
+        return None
 
     def _reopens_do(self, label: str, seen) -> bool:
         """Is ``label`` that of a finished do-loop earlier in this body (so

@@ -979,6 +979,9 @@ def closer_words(w: LanguageWriter) -> str:
 
 def lang_if(w: LanguageWriter) -> None:
     label = w.label()
+    if w.open_ifs and w.chance(40):
+        # an enclosing if's label: a skip of that if's arm stops here
+        label = w.pick(w.open_ifs)[0]
     w.emit(f"o{label} if {w.condition()}", slash_ok=False)
     w.open_ifs.append((label, w.depth + 1))
     arms = 1 + w.draw(st.integers(0, 2))
@@ -997,12 +1000,12 @@ def lang_if(w: LanguageWriter) -> None:
 def lang_loop(w: LanguageWriter) -> None:
     kind = w.pick(["while", "do", "repeat"])
     label = w.label()
-    arm_of = [name for name, depth in w.open_ifs if depth == w.depth]
-    if kind == "do" and arm_of and w.chance(12):
-        # the label of the if whose arm it is in: a skip lands on the do.
-        # (A do deeper inside another construct of that arm is a known gap:
-        # test_language_generators.test_a_skip_lands_on_a_do_inside_a_nested_if.)
-        label = arm_of[0]
+    arm_of = [name for name, _ in w.open_ifs]
+    if arm_of and (w.chance(12) if kind == "do" else w.chance(40)):
+        # the label of an if around it, in one of its arms however deep: a
+        # skip of that arm lands on the do, which runs; a while or repeat
+        # fails there as a duplicate
+        label = w.pick(arm_of)
     w.next_counter += 1
     counter = f"k{w.next_counter}"
     count = w.draw(st.integers(0, 3))
@@ -1056,6 +1059,10 @@ def lang_jump(w: LanguageWriter) -> None:
         # and runs the next line with it (a later construct reusing it)
         loops = finished
         w.landing = True
+    if w.open_ifs and w.chance(40):
+        # an enclosing if's label: fails when run, or when a skip of that
+        # if's arm stops at it
+        loops = [(name, "if") for name, _ in w.open_ifs]
     if not loops:
         lang_plain(w)
         return
