@@ -181,6 +181,26 @@ def _walk_bodies(stmt):
     return st.walk([s for body in st.children(stmt, False) for s in body], False)
 
 
+def l0_span(stmts: List[st.Stmt]) -> Optional[Tuple[int, int]]:
+    """``(i, j)``: ``stmts[i]`` an M98 that may enter a frame without a call
+    (``m98_may_strand``), ``stmts[j]`` the first M99 after it (a block, its
+    failure, or a Fanuc subroutine's return), with no break or continue
+    between (the loop :meth:`CodeGen.m99_loop` writes would catch it)."""
+    start = None
+    for k, stmt in enumerate(stmts):
+        if start is None:
+            if isinstance(stmt, st.FanucCall) and m98_may_strand(stmt.line):
+                start = k
+            continue
+        word = getattr(stmt, "line", None) and stmt.line.oword
+        if isinstance(stmt, (st.Block, st.Fail, st.Return)) and word and word.keyword == "m99":
+            between = stmts[start + 1 : k]
+            if any(isinstance(inner, st.Jump) for inner in st.walk(between, False)):
+                return None
+            return start, k
+    return None
+
+
 def m98_may_strand(line: nodes.Line) -> bool:
     """An M98 line whose L word is not a non-zero number (``L0``, or a
     value known only at run time)."""
@@ -785,7 +805,12 @@ class CodeGen:
         self.w.raw('%s"""%s"""' % (INDENT, doc))
         stores = self.stores()
         body = sub.body
-        if body and isinstance(body[-1], st.Return) and body[-1].value is None:
+        if (
+            body
+            and isinstance(body[-1], st.Return)
+            and body[-1].value is None
+            and not self.any_strand  # (see m99_loop and s_return)
+        ):
             body = body[:-1]  # falling off the end is the plain endsub
         self.x.fast = fastlocals.fast_locals(body, FAST_LOCALS_DEPTH)
         self.x.never_set = fastlocals.never_set(body)
@@ -922,6 +947,16 @@ class CodeGen:
         if not stmts:
             self.w.raw(INDENT * self.w.depth + "pass")
             return
+        if not self.any_strand:
+            # a sub line run in a call does nothing (see s_subline)
+            stmts = [stmt for stmt in stmts if type(stmt) is not st.SubLine]
+            if not stmts:
+                self.w.raw(INDENT * self.w.depth + "pass")
+                return
+        span = l0_span(stmts) if self.any_strand else None
+        if span is not None:
+            self.m99_loop(stmts, *span)
+            return
         run: List = []  # row runs and (line, row) pairs
         for stmt in stmts:
             if type(stmt) is st.Block and type(stmt.line) is RowRun:
@@ -935,6 +970,19 @@ class CodeGen:
             run = []
             self.statement(stmt)
         self.flush(run)
+
+    def m99_loop(self, stmts: List[st.Stmt], i: int, j: int) -> None:
+        """``stmts[i]`` is an M98 that may enter a frame without a call (L0)
+        and ``stmts[j]`` an M99: run in that frame, the M99 leaves it and
+        rs274 goes back to the line after the M98, one call level up."""
+        self.block(stmts[: i + 1])
+        self.w.stmt("while True:", stmts[i].line)
+        self.w.depth += 1
+        self.block(stmts[i + 1 : j])
+        self.w.stmt("if not m.m99_back(%d):" % stmts[j].line.number, stmts[j].line)
+        self.w.raw(INDENT * (self.w.depth + 1) + "break")
+        self.w.depth -= 1
+        self.block(stmts[j:])
 
     def flush(self, run: List) -> None:
         """Emit a run of constant blocks (row runs and (line, row) pairs):
@@ -1208,7 +1256,16 @@ class CodeGen:
         args = ["%d" % line.number, fn] + codes + words
         self.w.stmt("m.m98(%s)" % ", ".join(args), line)
 
+    def s_subline(self, stmt: st.SubLine) -> None:
+        """A sub line run in a call: in the frame an M98 .. L0 entered it
+        fails as in an M98 call (only written when the file has such M98s)."""
+        self.w.stmt("m.m98_frame_end(%d, sub=True)" % stmt.line.number, stmt.line)
+
     def s_return(self, stmt: st.Return) -> None:
+        word = stmt.line.oword
+        if self.any_strand and word is not None and word.keyword != "m99":
+            # in the frame an M98 .. L0 entered, rs274 wants an M99
+            self.w.stmt("m.m98_frame_end(%d)" % stmt.line.number, stmt.line)
         value = None if stmt.value is None else self.x.expr(stmt.value)
         if self.in_helper:
             self.w.stmt('return ("return", %s)' % value, stmt.line)

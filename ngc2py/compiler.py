@@ -119,12 +119,15 @@ class _SubFile:
         #: (line searched from, name) -> what a call runs
         self.found: dict = {}
 
-    def seek(self, after: int, name: str) -> st.Sub:
+    def seek(self, after: int, name: str, fanuc: bool = False) -> st.Sub:
+        """What rs274 finds seeking ``o<name> sub`` (``fanuc``: the
+        ``O<name>`` of an M98) from line ``after`` of this file."""
         from ngc2py import structure as st
 
-        key = (after, name)
+        key = (after, name, fanuc)
         if key not in self.found:
-            self.found[key] = st.seek_result(
+            seek = st.seek_fanuc if fanuc else st.seek_result
+            self.found[key] = seek(
                 self.path, self.lines, self.last, after, name, self.demarcated
             )
         return self.found[key]
@@ -159,9 +162,9 @@ def _externals(program: st.Program, dirs: List[str]) -> List[Tuple[str, bool]]:
             pending.append(sub)
         return sub
 
-    def from_file(name: str) -> Optional[st.Sub]:
-        if name not in by_file:
-            by_file[name] = None
+    def from_file(name: str, fanuc: bool = False) -> Optional[st.Sub]:
+        if (name, fanuc) not in by_file:
+            by_file[name, fanuc] = None
             for folder in dirs:
                 path = os.path.join(folder, name + ".ngc")
                 found = os.path.isfile(path)
@@ -174,9 +177,9 @@ def _externals(program: st.Program, dirs: List[str]) -> List[Tuple[str, bool]]:
                     except CompileError:
                         files[path] = None
                 if files[path] is not None:
-                    by_file[name] = take(files[path].seek(0, name))
+                    by_file[name, fanuc] = take(files[path].seek(0, name, fanuc))
                 break
-        return by_file[name]
+        return by_file[name, fanuc]
 
     main_found = {}
     for name in st.called_names(program):
@@ -184,15 +187,25 @@ def _externals(program: st.Program, dirs: List[str]) -> List[Tuple[str, bool]]:
         if sub is not None:
             main_found[name] = sub
     program.found = main_found
+    for stmt in st.walk(program.body):
+        # M98 P<n>: rs274 opens <n>.ngc before it reads ahead in the file
+        if isinstance(stmt, st.FanucCall) and isinstance(stmt.line.oword.name, str):
+            stmt.found = from_file(stmt.line.oword.name, fanuc=True)
     while pending:
         sub = pending.pop(0)
         here = files.get(sub.line.file)
         for stmt in st.walk(sub.body):
-            if not isinstance(stmt, st.Call) or not isinstance(stmt.name, str):
+            fanuc = isinstance(stmt, st.FanucCall)
+            if fanuc and isinstance(stmt.line.oword.name, str):
+                name = stmt.line.oword.name
+            elif isinstance(stmt, st.Call) and isinstance(stmt.name, str):
+                name = stmt.name
+            else:
                 continue
-            found = from_file(stmt.name)
+            found = from_file(name, fanuc)
             if found is None and here is not None:
-                found = take(here.seek(stmt.line.number, stmt.name))
+                # else rs274 reads ahead in the file the call is in
+                found = take(here.seek(stmt.line.number, name, fanuc))
             stmt.found = found
     return probes
 

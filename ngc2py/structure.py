@@ -219,17 +219,28 @@ class SeekFail:
 
 @dataclass
 class FanucCall:
-    """``M98 P.. [L..]``: ``line.items`` are the words; ``sub`` is the Fanuc
-    subroutine of this file with that constant name, else None (found by
-    name at run time)."""
+    """``M98 P.. [L..]``: ``line.items`` are the words; ``sub`` is what
+    rs274 finds for that constant name when it has not recorded one yet
+    (the Fanuc subroutine of ``<P>.ngc``, else the first one further on in
+    this file, else a body failing as rs274 does), or None (found by name
+    at run time). ``found``: what compiler.py found in a file."""
 
     line: nodes.Line
     sub: Optional[Sub] = None
+    found: Optional[Sub] = None
 
 
 @dataclass
 class Finish:
     """The closing ``%`` of a demarcated file: the program ends here."""
+
+    line: nodes.Line
+
+
+@dataclass
+class SubLine:
+    """A ``sub`` line inside a definition: nothing when a call runs it,
+    except in the frame an ``M98 .. L0`` entered, where it fails."""
 
     line: nodes.Line
 
@@ -256,6 +267,7 @@ Stmt = Union[
     Finish,
     EndOfFile,
     SeekFail,
+    SubLine,
 ]
 
 
@@ -295,6 +307,7 @@ NESTED_SUB = "Nested subroutine definition"
 EOF_NO_END = "File ended with no percent sign or program end"
 EOF_NO_PERCENT = "File ended with no percent sign"
 FANUC_NEEDS_M98 = "Fanuc 'O....' subroutine must be called with 'M98'"
+O_SUB_NEEDS_CALL = "'O.... sub' subroutine must be called with 'O.... call'"
 M99_IN_O_SUB = (
     "'O.... endsub' or 'O.... return' must follow 'O.... sub' subroutine definition"
 )
@@ -482,6 +495,7 @@ class _Builder:
             # rs274 fails while *reading* the outer definition.
             if outer.define_error is None:
                 outer.define_error = Fail(line, NESTED_SUB)
+            self.body.append(SubLine(line))  # run in a call (entry_sub)
             return
         sub = Sub(line, str(word.name))
         self.subs.append(sub)
@@ -1118,13 +1132,9 @@ def resolve_calls(program: Program) -> None:
     everywhere = list(walk(program.body))
     for sub in program.externals:
         everywhere.extend(walk(sub.body))
-    fanuc: Dict[str, Sub] = {}
-    for sub in program.subs:  # reading ahead stops at the first definition
-        if sub.fanuc:
-            fanuc.setdefault(sub.name, sub)
     for stmt in everywhere:
         if isinstance(stmt, FanucCall) and isinstance(stmt.line.oword.name, str):
-            stmt.sub = fanuc.get(stmt.line.oword.name)
+            stmt.sub = stmt.found or fanuc_after(program.subs, stmt)
         if not isinstance(stmt, Call) or not isinstance(stmt.name, str):
             continue
         if stmt.found is not None:
@@ -1134,6 +1144,18 @@ def resolve_calls(program: Program) -> None:
             stmt.sub = sub
         elif stmt.name in program.found:
             stmt.found = program.found[stmt.name]
+
+
+def fanuc_after(subs: List[Sub], call: FanucCall) -> Optional[Sub]:
+    """The Fanuc subroutine an ``M98`` of the main file finds reading ahead
+    from its line: the first definition of that number further on (one
+    before it is never found: rs274 records a Fanuc definition only when a
+    search finds it)."""
+    name = call.line.oword.name
+    for sub in subs:
+        if sub.fanuc and sub.name == name and sub.line.number > call.line.number:
+            return sub
+    return None
 
 
 # --------------------------------------------------------------------------
@@ -1207,4 +1229,29 @@ def seek_result(
     if kind == "sub":
         return entry_sub(file, lines, index, demarcated)
     message = FANUC_NEEDS_M98 if kind == "fanuc" else line.error
+    return Sub(line, name, [Fail(line, message)], end=line)
+
+
+def seek_fanuc(
+    file: str,
+    lines: list,
+    last: Optional[nodes.Line],
+    after: int,
+    name: str,
+    demarcated: bool = False,
+) -> Sub:
+    """What ``M98 P<name>`` runs when rs274 seeks ``O<name>`` in ``file``
+    from line ``after`` (0: it has just opened ``<name>.ngc``): the Fanuc
+    subroutine found there, from its ``O`` line to ``M99``; or a body that
+    fails as rs274 does on the way (the end of the file, a line it cannot
+    read, an ``o<name> sub``, which M98 cannot run)."""
+    found = seek_sub(lines, after, name)
+    if found is None:
+        return seek_result(file, lines, last, after, name, demarcated)
+    kind, index = found
+    line = lines[index]
+    if kind == "fanuc":
+        program = build(file, list(lines[index:]), demarcated, True)
+        return program.subs[0]
+    message = O_SUB_NEEDS_CALL if kind == "sub" else line.error
     return Sub(line, name, [Fail(line, message)], end=line)

@@ -2072,6 +2072,12 @@ def _file_sub_body(draw, args: int, calls: list) -> list:
     return body
 
 
+def _fanuc_body(draw) -> list:
+    """The lines of a Fanuc-style program (it sees its caller's #1-#30)."""
+    options = ["G91 G0 X1", "G90", "G0 Y[#1 + 1]", "(DEBUG, fanuc #1 #<_seen>)", "#<_seen> = [#<_seen> + 1]"]
+    return draw(st.lists(st.sampled_from(options), min_size=1, max_size=3))
+
+
 @st.composite
 def subroutine_file_programs(draw) -> tuple:
     """(files, args): ``files`` maps a path relative to the program's folder
@@ -2081,6 +2087,17 @@ def subroutine_file_programs(draw) -> tuple:
     on_path = draw(st.booleans())
     main_lines = ["G21 G90 G17", "#<_seen> = 0"]
     outside_calls = []
+    # Fanuc-style programs (O<n> ... M99) for M98 calls: one per macro file
+    # (8f0, after its subs), one in the main program after its M2 (900),
+    # and 950.ngc, opened by M98 P950. An M98 finds what an earlier M98
+    # found, else <n>.ngc, else reads ahead in the file it is in.
+    fanuc_in_file = [draw(st.integers(0, 2)) == 0 for _ in range(2)]
+    fanuc_in_main = draw(st.integers(0, 2)) == 0
+    if draw(st.integers(0, 3)) == 0:
+        body = _fanuc_body(draw) + ["M98 P951" if draw(st.integers(0, 2)) == 0 else "G0 Z1"]
+        number_file = ["(a Fanuc-style program file)", "O950"] + body + ["M99", "O951", "G0 Y9", "M99"]
+        files["subs/950.ngc" if on_path else "950.ngc"] = "\n".join(number_file) + "\n"
+    m98_targets = ["800", "810", "900", "950", "800"]
     for f in range(draw(st.integers(1, 2))):
         fname = f"macro{f}"
         helpers = []
@@ -2105,6 +2122,12 @@ def subroutine_file_programs(draw) -> tuple:
                     called.append(callee)
                     body.append(f"o{callee} call [#1 + 1] [#2]")
                     body.append(f"(DEBUG, {callee} gave #<_value> #<_value_returned>)")
+                if draw(st.integers(0, 2)) == 0:
+                    # an M98 read in the macro file (its own Fanuc program
+                    # mostly, sometimes one it cannot find from there)
+                    target = f"{800 + 10 * f}" if draw(st.booleans()) else draw(st.sampled_from(m98_targets))
+                    times = draw(st.sampled_from(["", "", " L2", " L0"]))
+                    body.append(f"M98 P{target}{times}")
                 if draw(st.integers(0, 3)) == 0:
                     # a numbered sub written inside the main sub: run in the
                     # call, its sub line does nothing and its endsub returns
@@ -2124,6 +2147,8 @@ def subroutine_file_programs(draw) -> tuple:
                 lines.append(f"o{name} endsub{value}")
             if draw(st.integers(0, 2)) == 0:
                 lines.append("")
+        if fanuc_in_file[f]:
+            lines += [f"O{800 + 10 * f}"] + _fanuc_body(draw) + ["M99"]
         lines.append(draw(st.sampled_from(["M2", "M2", "(no end)"])))
         path = f"subs/{fname}.ngc" if on_path else f"{fname}.ngc"
         files[path] = "\n".join(lines) + "\n"
@@ -2143,6 +2168,8 @@ def subroutine_file_programs(draw) -> tuple:
             "(DEBUG, after local #<_value> #<_value_returned>)",
         ]
     first = outside_calls[0][0]
+    if draw(st.integers(0, 3)) == 0:
+        main_lines.append(f"M98 P{draw(st.sampled_from(m98_targets))}")
     if draw(st.booleans()):
         main_lines += ["o10 repeat [2]", f"  o{first} call [1] [2]", "o10 endrepeat"]
     else:
@@ -2154,7 +2181,11 @@ def subroutine_file_programs(draw) -> tuple:
     for name in order:
         main_lines.append(f"o{name} call [{draw(st.integers(0, 9))}] [1]")
         main_lines.append("(DEBUG, #<_value> #<_value_returned> #<_seen>)")
+    if draw(st.integers(0, 3)) == 0:
+        main_lines.append(f"M98 P{draw(st.sampled_from(m98_targets))}")
     main_lines.append("M2")
+    if fanuc_in_main:
+        main_lines += ["O900"] + _fanuc_body(draw) + ["M99"]
     files["main.ngc"] = "\n".join(main_lines) + "\n"
     args = []
     if on_path:
