@@ -442,8 +442,14 @@ def stmt_codes(w: Writer) -> None:
         # as a computed M value
         w.fanuc = True
         if w.draw(st.booleans()):
-            w.emit(f"M98 P9001 L{w.draw(st.integers(0, 2))}" if w.draw(st.booleans())
-                   else "M98 P9001")
+            times = w.draw(st.integers(0, 2))
+            w.emit(f"M98 P9001 L{times}" if w.draw(st.booleans()) else "M98 P9001")
+            if times == 0 and w.draw(st.integers(0, 3)) == 0:
+                # M99 in the frame M98 L0 entered: back to the line after
+                # the M98, one level up; met again at level 0, the end
+                w.emit("G91 G0 Y1")
+                w.emit("G90")
+                w.emit("M99")
         else:
             w.emit("#9 = 98")
             w.emit("M#9 P9001")
