@@ -1155,8 +1155,14 @@ class CodeGen:
         if expr is not None and may_fail(expr):
             # rs274 reads the condition (and fails there) before the label
             self.w.stmt(self.x.condition(expr), stmt.line)
-        args = (string(stmt.key), string(stmt.kind), stmt.line.number)
-        text = string(stmt.line.text)
+        checked = stmt.line
+        if stmt.loop is not None:
+            # a jump skipping to the do-loop's while line (none: to the end)
+            checked = stmt.loop.end
+            if checked is None:
+                return
+        args = (string(stmt.key), string(stmt.kind), checked.number)
+        text = string(checked.text)
         self.w.stmt("m.check_label(%s, %s, %d, %s)" % (args + (text,)), stmt.line)
 
     def s_topreturn(self, stmt: st.TopReturn) -> None:

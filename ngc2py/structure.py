@@ -161,6 +161,9 @@ class LabelCheck:
     line: nodes.Line
     key: str
     kind: str
+    #: A break or continue of this do-loop: rs274 skips to its closing
+    #: ``while`` line, checked here (``do-end``) before the jump.
+    loop: Optional["Loop"] = None
 
 
 @dataclass
@@ -727,6 +730,10 @@ class _Builder:
                 if key in self.tracked:
                     # a do-loop reusing a label finds what rs274 recorded
                     self.body.append(LabelCheck(line, key, word.keyword))
+                    if target.kind == "do":
+                        # and skips to the do's closing while line, which
+                        # acts on the record too (an opener's: a duplicate)
+                        self.body.append(LabelCheck(line, key, "do-end", target))
                 self.body.append(Jump(line, word.keyword, target))
                 return
             crossed.append(entry.node)
@@ -744,10 +751,16 @@ class _Builder:
         opener ran, so it is looked up at run time (:class:`LabelCheck`)."""
         label = str(word.name)
         key = self._key(label)
+        seen = self.labels.get(label)
         if key in self.tracked:
             self.body.append(LabelCheck(line, key, word.keyword))
+            if word.keyword in ("break", "continue") and seen is not None:
+                # passed: the label is a finished loop's, and rs274 skips
+                # forward to its next line (as below)
+                found = (seen[0], seen[1])
+                self.fail(line, NO_MATCHING_LOOP % ((line.number, line.text) + found))
+                self.stale_jumps.append((key, self.body[-1]))
             return
-        seen = self.labels.get(label)
         if seen is None:
             self.fail(line, UNDEFINED_LABEL % (line.number, line.text))
             return
