@@ -1172,6 +1172,9 @@ class CodeGen:
         self.w.stmt("m.top_level_return(%d, %s, %s%s)" % args, stmt.line)
 
     def s_fail(self, stmt: st.Fail) -> None:
+        if stmt.reads is not None and may_fail(stmt.reads):
+            # rs274 reads the condition (and fails there) before the label
+            self.w.stmt(self.x.condition(stmt.reads), stmt.line)
         self.w.comment(stmt.line)
         call = fail_call(stmt.line.number, stmt.message)
         if stmt.finish:

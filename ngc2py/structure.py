@@ -51,6 +51,8 @@ class Fail:
     message: str
     #: rs274 meets the closing ``%`` first: FINISH() comes before the error.
     finish: bool = False
+    #: A condition rs274 reads first (an opener failing as a duplicate).
+    reads: Optional[nodes.Expr] = None
 
 
 @dataclass(eq=False)
@@ -858,8 +860,12 @@ class _Builder:
             arms = node.branches + ([node.orelse] if node.orelse else [])
             for k, arm in enumerate(arms[:-1]):
                 # after a taken arm, the next arm's line starts the skip
-                # (which fails earlier at a line it cannot read: codegen)
-                if first_text_error([later.body for later in arms[k + 1 :]]) is None:
+                # (which fails earlier at a line it cannot read, or stops at
+                # a line reusing the label: codegen)
+                later = range(k + 1, len(arms))
+                if first_text_error([arms[j].body for j in later]) is None and not any(
+                    j in node.landings for j in later
+                ):
                     arm.body.append(self._eof_fail(key))
             if node.orelse is None:
                 node.orelse = Branch(node.branches[-1].line, [self._eof_fail(key)])
@@ -931,7 +937,7 @@ class _Builder:
             # rs274 recorded first, which only the run can tell.
             if key in self.tracked:
                 return LabelCheck(line, key, word.keyword)
-            return Fail(line, text)
+            return Fail(line, text, reads=word.expr)
 
         self.body.append(failure())
         top = self.stack[-1] if self.stack else None
