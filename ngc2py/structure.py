@@ -430,7 +430,8 @@ class _Builder:
 
     def add(self, line: nodes.Line) -> None:
         word = line.oword
-        if word is not None and self.stale_jumps:
+        if word is not None and self.stale_jumps and word.keyword not in ("break", "continue"):
+            # (on another break or continue of the label rs274 skips on)
             name = str(word.name)
             for key, fail in self.stale_jumps:
                 if key.split("#")[-1] == name:
