@@ -410,6 +410,11 @@ class _Builder:
         self.eof_fails: List[Tuple[Fail, str]] = []  # and the label's key
         # break/continue lines aimed at a finished loop: (label, failure)
         self.stale_jumps: List[Tuple[str, Fail]] = []
+        # sub name -> line numbers of its endsub lines (set by build)
+        self.endsubs: Dict[str, List[int]] = {}
+        # sub lines in an if or loop whose definition never ends: (name,
+        # the failure of reading it, known at a line or at the end)
+        self.orphans: List[Tuple[str, Fail]] = []
 
     # -- helpers ----------------------------------------------------------
 
@@ -430,6 +435,11 @@ class _Builder:
 
     def add(self, line: nodes.Line) -> None:
         word = line.oword
+        for name, fail in self.orphans:
+            if fail.line is None:
+                message = define_error(line, name)
+                if message is not None:
+                    fail.line, fail.message = line, message
         if word is not None and self.stale_jumps and word.keyword not in ("break", "continue"):
             # (on another break or continue of the label rs274 skips on)
             name = str(word.name)
@@ -502,6 +512,15 @@ class _Builder:
             if outer.define_error is None:
                 outer.define_error = Fail(line, NESTED_SUB)
             self.body.append(SubLine(line))  # run in a call (entry_sub)
+            return
+        name = str(word.name)
+        if self.stack and not any(n > line.number for n in self.endsubs.get(name, ())):
+            # Inside an if or loop, with no endsub of it further on: run,
+            # rs274 reads the definition to the end of the file (or to a
+            # line it cannot read) and fails; skipped, the line is nothing.
+            fail = Fail(None, "")
+            self.body.append(fail)
+            self.orphans.append((name, fail))
             return
         sub = Sub(line, str(word.name))
         self.subs.append(sub)
@@ -768,6 +787,13 @@ class _Builder:
             self.fail(line, UNDEFINED_LABEL % (line.number, line.text))
             return
         found = (seen[0], seen[1])
+        if seen[0] == "if" and word.keyword in ("elseif", "else", "endif"):
+            # The if with this label is no longer open here (a closing line
+            # of an outer construct ended it): rs274 knows the label only if
+            # that if ran, else it is undefined. Run time decides.
+            if self._track(key, seen):
+                self.body.append(LabelCheck(line, key, word.keyword))
+                return
         if word.keyword == "endif":
             message = NO_MATCHING_ENDIF % ((line.number, key) + found + (line.text,))
         elif word.keyword in ("elseif", "else"):
@@ -972,6 +998,7 @@ class _Builder:
                 self.stack.append(entry)
                 break
         self.eof_fails += [(fail, key) for key, fail in self.stale_jumps]
+        self.eof_fails += [(fail, name) for name, fail in self.orphans if fail.line is None]
         for fail, key in self.eof_fails:
             if closing is not None:
                 # rs274 meets the closing % while it skips
@@ -1035,6 +1062,10 @@ def build(
     start after the opening ``%`` of a demarcated file.
     """
     builder = _Builder(file, demarcated)
+    for line in lines:
+        word = getattr(line, "oword", None)
+        if word is not None and word.keyword == "endsub":
+            builder.endsubs.setdefault(str(word.name), []).append(line.number)
     seen_open = opened
     last: Optional[nodes.Line] = None
     closing: Optional[nodes.Line] = None
