@@ -1163,7 +1163,7 @@ class CodeGen:
                 return
         args = (string(stmt.key), string(stmt.kind), checked.number)
         text = string(checked.text)
-        self.w.stmt("m.check_label(%s, %s, %d, %s)" % (args + (text,)), stmt.line)
+        self.w.stmt("m.check_label(%s, %s, %d, %s)" % (args + (text,)), checked)
 
     def s_topreturn(self, stmt: st.TopReturn) -> None:
         self.w.comment(stmt.line)

@@ -972,6 +972,9 @@ def lang_plain(w: LanguageWriter) -> None:
         # O-word lines rs274 cannot read: it reads the O-word even of a
         # line it skips over (an untaken arm, a definition)
         bad = ["o[1 call", "o9 foo", "o7777", "o<s0> return [1", "o9 endif G1"]
+        if w.depth:
+            # a definition that never ends, where rs274 may skip it
+            bad.append("o<nowhere> sub")
         if w.sub:
             bad.append(f"o{w.sub} return [1")
         w.lines.append("  " * w.depth + w.pick(bad))
