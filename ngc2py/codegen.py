@@ -671,6 +671,9 @@ class CodeGen:
         self.flags: Dict[int, str] = {}
         #: ifs and loops holding an M98 that may not return (strands)
         self.stranding: set = set()
+        #: Writing where a skip lands (skipped_to): the loops it enters;
+        #: a jump to any other loop names a label rs274 never recorded.
+        self.landing_loops: Optional[set] = None
 
     # -- entry point ------------------------------------------------------
 
@@ -1287,6 +1290,11 @@ class CodeGen:
         self.w.stmt("m.end_of_file(True, True)", stmt.line)
 
     def s_jump(self, stmt: st.Jump) -> None:
+        if self.landing_loops is not None and id(stmt.target) not in self.landing_loops:
+            # a loop whose opener a skip passed over: rs274 has no such label
+            message = st.UNDEFINED_LABEL % (stmt.line.number, stmt.line.text)
+            self.w.stmt(fail_call(stmt.line.number, message), stmt.line)
+            return
         if self.break_flag and (
             (stmt.kind == "break" and stmt.target.kind == "while")
             or (stmt.kind == "continue" and break_after(stmt))
@@ -1463,8 +1471,13 @@ class CodeGen:
     def skipped_to(self, stop: Union[nodes.Line, List[st.Stmt]]) -> None:
         """rs274 stops skipping at ``stop`` (see :meth:`skip_stop`)."""
         if isinstance(stop, list):
-            # the line reusing the label runs as what it is
+            # the line reusing the label runs as what it is; the loops
+            # around it were skipped, never entered
+            saved = self.landing_loops
+            entered = {id(s) for s in st.walk(stop) if isinstance(s, st.Loop)}
+            self.landing_loops = entered | (saved or set())
             self.block(stop)
+            self.landing_loops = saved
         else:
             self.fail_skipped(stop)
 

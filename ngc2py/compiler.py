@@ -86,11 +86,11 @@ def subroutine_dirs(ini: Optional[str]) -> List[str]:
     return [settings.program_prefix or "", *settings.subroutine_path]
 
 
-def _parse(path: str):
+def _parse(path: str, main_percent: Optional[bool] = None):
     from ngc2py import parser
 
     try:
-        return parser.parse_file(path, runs=True)
+        return parser.parse_file(path, runs=True, main_percent=main_percent)
     except OSError as error:
         raise open_failure(path, error) from None
 
@@ -133,7 +133,9 @@ class _SubFile:
         return self.found[key]
 
 
-def _externals(program: st.Program, dirs: List[str]) -> List[Tuple[str, bool]]:
+def _externals(
+    program: st.Program, dirs: List[str], main_percent: bool = False
+) -> List[Tuple[str, bool]]:
     """Find and compile the external subroutines ``program`` calls, and
     those they call in turn; return the paths probed.
 
@@ -173,7 +175,7 @@ def _externals(program: st.Program, dirs: List[str]) -> List[Tuple[str, bool]]:
                     continue
                 if path not in files:
                     try:
-                        files[path] = _SubFile(path, _parse(path))
+                        files[path] = _SubFile(path, _parse(path, main_percent))
                     except CompileError:
                         files[path] = None
                 if files[path] is not None:
@@ -215,7 +217,7 @@ def _compile(parsed, name: str, ini: Optional[str]) -> Compiled:
     from ngc2py import structure as st
 
     program = _program(parsed)
-    probes = _externals(program, subroutine_dirs(ini))
+    probes = _externals(program, subroutine_dirs(ini), parsed.demarcated)
     st.resolve_calls(program)
     opening = next((line for line in parsed.lines if line.percent), None)
     return Compiled(codegen.generate(program, name, opening), probes)

@@ -1227,6 +1227,8 @@ def seek_sub(lines: list, after: int, name: str) -> Optional[Tuple[str, int]]:
     for index, line in enumerate(lines):
         if type(line) is RowRun or line.number <= after:
             continue
+        if line.percent:
+            return "percent", index  # (a subroutine file under a % main)
         if skip_error(line):
             return "error", index
         word = line.oword
@@ -1279,6 +1281,10 @@ def seek_result(
     line = lines[index]
     if kind == "sub":
         return entry_sub(file, lines, index, demarcated)
+    if kind == "percent":
+        # the main file's closing % ends any file rs274 reads
+        fail = Fail(line, "Failed to find sub 'O%s' before EOF" % name, finish=True)
+        return Sub(line, name, [fail], end=line)
     message = FANUC_NEEDS_M98 if kind == "fanuc" else line.error
     return Sub(line, name, [Fail(line, message)], end=line)
 
@@ -1297,7 +1303,7 @@ def seek_fanuc(
     fails as rs274 does on the way (the end of the file, a line it cannot
     read, an ``o<name> sub``, which M98 cannot run)."""
     found = seek_sub(lines, after, name)
-    if found is None:
+    if found is None or found[0] == "percent":
         return seek_result(file, lines, last, after, name, demarcated)
     kind, index = found
     line = lines[index]

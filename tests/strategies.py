@@ -2159,6 +2159,10 @@ def subroutine_file_programs(draw) -> tuple:
         if fanuc_in_file[f]:
             lines += [f"O{800 + 10 * f}"] + _fanuc_body(draw) + ["M99"]
         lines.append(draw(st.sampled_from(["M2", "M2", "(no end)"])))
+        if draw(st.integers(0, 4)) == 0:
+            # between % lines: under a demarcated main program any lone %
+            # ends what rs274 reads; under another it is an ordinary line
+            lines = ["%"] + lines + ["%"]
         path = f"subs/{fname}.ngc" if on_path else f"{fname}.ngc"
         files[path] = "\n".join(lines) + "\n"
         # the macro, then helpers called from outside: mostly ones the macro
@@ -2195,6 +2199,8 @@ def subroutine_file_programs(draw) -> tuple:
     main_lines.append("M2")
     if fanuc_in_main:
         main_lines += ["O900"] + _fanuc_body(draw) + ["M99"]
+    if draw(st.integers(0, 4)) == 0:
+        main_lines = ["%"] + main_lines + ["%"]
     files["main.ngc"] = "\n".join(main_lines) + "\n"
     args = []
     if on_path:
