@@ -410,6 +410,8 @@ class _Builder:
         self.eof_fails: List[Tuple[Fail, str]] = []  # and the label's key
         # break/continue lines aimed at a finished loop: (label, failure)
         self.stale_jumps: List[Tuple[str, Fail]] = []
+        # constructs opened by lines failing as duplicates (_duplicate)
+        self.dead: set = set()
         # sub name -> line numbers of its endsub lines (set by build)
         self.endsubs: Dict[str, List[int]] = {}
         # sub lines in an if or loop whose definition never ends: (name,
@@ -435,6 +437,12 @@ class _Builder:
 
     def add(self, line: nodes.Line) -> None:
         word = line.oword
+        if self.stale_jumps and skip_error(line):
+            # skipping forward for a finished loop's label, rs274 fails at
+            # a line it cannot read
+            for _, fail in self.stale_jumps:
+                fail.line, fail.message = line, line.error
+            self.stale_jumps = []
         for name, fail in self.orphans:
             if fail.line is None:
                 message = define_error(line, name)
@@ -855,6 +863,8 @@ class _Builder:
             if isinstance(entry.node, Sub):
                 return None
             if entry.label == label:
+                if id(entry.node) in self.dead and not fits(entry.node):
+                    continue  # not its closing line: the outer one's
                 if not fits(entry.node) or self._reopened(label, depth):
                     return None
                 while len(self.stack) > depth + 1:
@@ -873,7 +883,10 @@ class _Builder:
 
     def _reopened(self, label: str, depth: int) -> bool:
         """Is ``label`` also open above ``depth`` (a reused label)?"""
-        return any(entry.label == label for entry in self.stack[depth + 1 :])
+        return any(
+            entry.label == label and id(entry.node) not in self.dead
+            for entry in self.stack[depth + 1 :]
+        )
 
     def _abandon(self, entry: _Open) -> None:
         """A construct whose closing line never comes: where rs274 would
@@ -978,6 +991,14 @@ class _Builder:
                 # a break or continue skipping forward for the loop's label
                 # (or its condition failing) lands here too
                 top.node.eof = failure()
+        else:
+            # Deeper inside: run, or landed on, the line fails; skipped with
+            # what holds it, its lines up to its own closing line are never
+            # looked at. Those closing lines are its, not the outer one's.
+            dead = If([Branch(line)]) if word.keyword == "if" else Loop(word.keyword, line)
+            body = dead.branches[0].body if isinstance(dead, If) else dead.body
+            self.stack.append(_Open(label, dead, body))
+            self.dead.add(id(dead))
         return True
 
     # -- end of file ------------------------------------------------------
