@@ -43,7 +43,7 @@ import math
 import re
 import zlib
 from dataclasses import dataclass, field
-from typing import Dict, Iterable, List, Optional, Sequence, Tuple
+from typing import Dict, Iterable, List, Optional, Sequence, Tuple, Union
 
 from ngc2py import __version__, assigned, fastlocals, nodes, parser, rowtable
 from ngc2py.wrap import split_call
@@ -179,6 +179,26 @@ def attr_safe(name: str) -> bool:
 def _walk_bodies(stmt):
     """The statements inside ``stmt`` (not into definitions)."""
     return st.walk([s for body in st.children(stmt, False) for s in body], False)
+
+
+def l0_span(stmts: List[st.Stmt]) -> Optional[Tuple[int, int]]:
+    """``(i, j)``: ``stmts[i]`` an M98 that may enter a frame without a call
+    (``m98_may_strand``), ``stmts[j]`` the first M99 after it (a block, its
+    failure, or a Fanuc subroutine's return), with no break or continue
+    between (the loop :meth:`CodeGen.m99_loop` writes would catch it)."""
+    start = None
+    for k, stmt in enumerate(stmts):
+        if start is None:
+            if isinstance(stmt, st.FanucCall) and m98_may_strand(stmt.line):
+                start = k
+            continue
+        word = getattr(stmt, "line", None) and stmt.line.oword
+        if isinstance(stmt, (st.Block, st.Fail, st.Return)) and word and word.keyword == "m99":
+            between = stmts[start + 1 : k]
+            if any(isinstance(inner, st.Jump) for inner in st.walk(between, False)):
+                return None
+            return start, k
+    return None
 
 
 def m98_may_strand(line: nodes.Line) -> bool:
@@ -651,6 +671,9 @@ class CodeGen:
         self.flags: Dict[int, str] = {}
         #: ifs and loops holding an M98 that may not return (strands)
         self.stranding: set = set()
+        #: Writing where a skip lands (skipped_to): the loops it enters;
+        #: a jump to any other loop names a label rs274 never recorded.
+        self.landing_loops: Optional[set] = None
 
     # -- entry point ------------------------------------------------------
 
@@ -785,7 +808,12 @@ class CodeGen:
         self.w.raw('%s"""%s"""' % (INDENT, doc))
         stores = self.stores()
         body = sub.body
-        if body and isinstance(body[-1], st.Return) and body[-1].value is None:
+        if (
+            body
+            and isinstance(body[-1], st.Return)
+            and body[-1].value is None
+            and not self.any_strand  # (see m99_loop and s_return)
+        ):
             body = body[:-1]  # falling off the end is the plain endsub
         self.x.fast = fastlocals.fast_locals(body, FAST_LOCALS_DEPTH)
         self.x.never_set = fastlocals.never_set(body)
@@ -922,6 +950,16 @@ class CodeGen:
         if not stmts:
             self.w.raw(INDENT * self.w.depth + "pass")
             return
+        if not self.any_strand:
+            # a sub line run in a call does nothing (see s_subline)
+            stmts = [stmt for stmt in stmts if type(stmt) is not st.SubLine]
+            if not stmts:
+                self.w.raw(INDENT * self.w.depth + "pass")
+                return
+        span = l0_span(stmts) if self.any_strand else None
+        if span is not None:
+            self.m99_loop(stmts, *span)
+            return
         run: List = []  # row runs and (line, row) pairs
         for stmt in stmts:
             if type(stmt) is st.Block and type(stmt.line) is RowRun:
@@ -935,6 +973,19 @@ class CodeGen:
             run = []
             self.statement(stmt)
         self.flush(run)
+
+    def m99_loop(self, stmts: List[st.Stmt], i: int, j: int) -> None:
+        """``stmts[i]`` is an M98 that may enter a frame without a call (L0)
+        and ``stmts[j]`` an M99: run in that frame, the M99 leaves it and
+        rs274 goes back to the line after the M98, one call level up."""
+        self.block(stmts[: i + 1])
+        self.w.stmt("while True:", stmts[i].line)
+        self.w.depth += 1
+        self.block(stmts[i + 1 : j])
+        self.w.stmt("if not m.m99_back(%d):" % stmts[j].line.number, stmts[j].line)
+        self.w.raw(INDENT * (self.w.depth + 1) + "break")
+        self.w.depth -= 1
+        self.block(stmts[j:])
 
     def flush(self, run: List) -> None:
         """Emit a run of constant blocks (row runs and (line, row) pairs):
@@ -1107,9 +1158,15 @@ class CodeGen:
         if expr is not None and may_fail(expr):
             # rs274 reads the condition (and fails there) before the label
             self.w.stmt(self.x.condition(expr), stmt.line)
-        args = (string(stmt.key), string(stmt.kind), stmt.line.number)
-        text = string(stmt.line.text)
-        self.w.stmt("m.check_label(%s, %s, %d, %s)" % (args + (text,)), stmt.line)
+        checked = stmt.line
+        if stmt.loop is not None:
+            # a jump skipping to the do-loop's while line (none: to the end)
+            checked = stmt.loop.end
+            if checked is None:
+                return
+        args = (string(stmt.key), string(stmt.kind), checked.number)
+        text = string(checked.text)
+        self.w.stmt("m.check_label(%s, %s, %d, %s)" % (args + (text,)), checked)
 
     def s_topreturn(self, stmt: st.TopReturn) -> None:
         self.w.comment(stmt.line)
@@ -1118,6 +1175,9 @@ class CodeGen:
         self.w.stmt("m.top_level_return(%d, %s, %s%s)" % args, stmt.line)
 
     def s_fail(self, stmt: st.Fail) -> None:
+        if stmt.reads is not None and may_fail(stmt.reads):
+            # rs274 reads the condition (and fails there) before the label
+            self.w.stmt(self.x.condition(stmt.reads), stmt.line)
         self.w.comment(stmt.line)
         call = fail_call(stmt.line.number, stmt.message)
         if stmt.finish:
@@ -1208,7 +1268,16 @@ class CodeGen:
         args = ["%d" % line.number, fn] + codes + words
         self.w.stmt("m.m98(%s)" % ", ".join(args), line)
 
+    def s_subline(self, stmt: st.SubLine) -> None:
+        """A sub line run in a call: in the frame an M98 .. L0 entered it
+        fails as in an M98 call (only written when the file has such M98s)."""
+        self.w.stmt("m.m98_frame_end(%d, sub=True)" % stmt.line.number, stmt.line)
+
     def s_return(self, stmt: st.Return) -> None:
+        word = stmt.line.oword
+        if self.any_strand and word is not None and word.keyword != "m99":
+            # in the frame an M98 .. L0 entered, rs274 wants an M99
+            self.w.stmt("m.m98_frame_end(%d)" % stmt.line.number, stmt.line)
         value = None if stmt.value is None else self.x.expr(stmt.value)
         if self.in_helper:
             self.w.stmt('return ("return", %s)' % value, stmt.line)
@@ -1221,6 +1290,11 @@ class CodeGen:
         self.w.stmt("m.end_of_file(True, True)", stmt.line)
 
     def s_jump(self, stmt: st.Jump) -> None:
+        if self.landing_loops is not None and id(stmt.target) not in self.landing_loops:
+            # a loop whose opener a skip passed over: rs274 has no such label
+            message = st.UNDEFINED_LABEL % (stmt.line.number, stmt.line.text)
+            self.w.stmt(fail_call(stmt.line.number, message), stmt.line)
+            return
         if self.break_flag and (
             (stmt.kind == "break" and stmt.target.kind == "while")
             or (stmt.kind == "continue" and break_after(stmt))
@@ -1354,36 +1428,63 @@ class CodeGen:
             test = self.x.condition(branch.line.oword.expr)
             self.w.stmt("%s %s:" % (keyword_, test), branch.line)
             following = arms[i + 1].line if i + 1 < len(arms) else stmt.end
+            # rs274 skips the arms after a taken one: where it stops
+            stop, at = self.skip_stop(stmt, arms, i + 1)
             self.nested(
                 branch,
-                then=self.skip_error([arm.body for arm in arms[i + 1 :]]),
-                later=stmt.branches[i + 1 :],
+                then=stop,
+                later=stmt.branches[i + 1 : at + 1],
                 check=(stmt, following),
             )
-            if i == 0 and stmt.lands is not None and stmt.lands.end is not None:
-                # A false condition lands on the do line of the same label.
+            stop, _ = self.skip_stop(stmt, arms, i, i + 1)
+            if stop is not None:
+                # A false condition makes rs274 skip this arm, and stop in
+                # it: the later arms are never reached.
                 self.w.stmt("else:", branch.line)
                 self.w.depth += 1
-                self.statement(stmt.lands)
-                self.w.depth -= 1
-                return
-            unreadable = self.skip_error([branch.body])
-            if unreadable is not None:
-                # A false condition makes rs274 read this arm while skipping
-                # it, and fail: the later arms are never reached.
-                self.w.stmt("else:", branch.line)
-                self.w.depth += 1
-                self.fail_skipped(unreadable)
+                self.skipped_to(stop)
                 self.w.depth -= 1
                 return
         if stmt.orelse is not None:
             self.w.stmt("else:", stmt.orelse.line)
             self.nested(stmt.orelse, check=(stmt, stmt.end))
 
+    def skip_stop(
+        self, stmt: st.If, arms: List[st.Branch], first: int, end: Optional[int] = None
+    ) -> Tuple[Union[None, nodes.Line, List[st.Stmt]], int]:
+        """Where rs274, skipping the arms ``arms[first:end]`` of ``stmt`` to
+        its label, stops before its end: a line it cannot read (a line) or a
+        line reusing the label (its statements, ``stmt.landings``); and the
+        index of the arm that holds it (None, the last index: no stop)."""
+        end = len(arms) if end is None else end
+        for k in range(first, end):
+            unreadable = self.skip_error([arms[k].body])
+            landing = stmt.landings.get(k)
+            if landing is not None and (
+                unreadable is None or _first_line(landing) < unreadable.number
+            ):
+                return landing, k
+            if unreadable is not None:
+                return unreadable, k
+        return None, end - 1
+
+    def skipped_to(self, stop: Union[nodes.Line, List[st.Stmt]]) -> None:
+        """rs274 stops skipping at ``stop`` (see :meth:`skip_stop`)."""
+        if isinstance(stop, list):
+            # the line reusing the label runs as what it is; the loops
+            # around it were skipped, never entered
+            saved = self.landing_loops
+            entered = {id(s) for s in st.walk(stop) if isinstance(s, st.Loop)}
+            self.landing_loops = entered | (saved or set())
+            self.block(stop)
+            self.landing_loops = saved
+        else:
+            self.fail_skipped(stop)
+
     def nested(
         self,
         branch: st.Branch,
-        then: Optional[nodes.Line] = None,
+        then: Union[None, nodes.Line, List[st.Stmt]] = None,
         later: Sequence[st.Branch] = (),
         check: Optional[tuple] = None,
     ) -> None:
@@ -1403,7 +1504,7 @@ class CodeGen:
         if not later and check is not None:
             self.frame_check(*check)
         if then is not None:
-            self.fail_skipped(then)
+            self.skipped_to(then)
         self.w.depth -= 1
 
     # -- lines read while skipping ----------------------------------------
@@ -1480,7 +1581,10 @@ class CodeGen:
         """What rs274 does when a loop ends by skipping forward to its label
         (a false while condition, a repeat count run out): it stops at every
         line with that label on the way."""
-        fail = (stmt.eof if stmt.kind != "do" else None) or stmt.skip_fail
+        # the first of them in the file (a repeat's own break or continue
+        # comes before the end of the file an unclosed loop skips to)
+        fails = [f for f in (stmt.skip_fail, stmt.eof if stmt.kind != "do" else None) if f]
+        fail = min(fails, key=_fail_order) if fails else None
         sets_break = (
             self.break_flag
             and stmt.kind == "while"
@@ -2167,3 +2271,15 @@ def generate(
     """The Python module text for ``program``; ``opening`` is the ``%`` line
     that demarcates the file, if it is demarcated."""
     return CodeGen(program, source_name, opening).module()
+
+
+def _first_line(landing: List[st.Stmt]) -> int:
+    """The number of the line a landing's statements come from."""
+    line = opening_line(landing[-1]) if isinstance(landing[-1], st.Loop) else None
+    return (line or landing[0].line).number
+
+
+def _fail_order(stmt: st.Stmt) -> float:
+    """Where a failure statement stands in the file (unknown: at the end)."""
+    line = getattr(stmt, "line", None)
+    return float("inf") if line is None else line.number

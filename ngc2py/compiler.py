@@ -86,11 +86,11 @@ def subroutine_dirs(ini: Optional[str]) -> List[str]:
     return [settings.program_prefix or "", *settings.subroutine_path]
 
 
-def _parse(path: str):
+def _parse(path: str, main_percent: Optional[bool] = None):
     from ngc2py import parser
 
     try:
-        return parser.parse_file(path, runs=True)
+        return parser.parse_file(path, runs=True, main_percent=main_percent)
     except OSError as error:
         raise open_failure(path, error) from None
 
@@ -119,18 +119,23 @@ class _SubFile:
         #: (line searched from, name) -> what a call runs
         self.found: dict = {}
 
-    def seek(self, after: int, name: str) -> st.Sub:
+    def seek(self, after: int, name: str, fanuc: bool = False) -> st.Sub:
+        """What rs274 finds seeking ``o<name> sub`` (``fanuc``: the
+        ``O<name>`` of an M98) from line ``after`` of this file."""
         from ngc2py import structure as st
 
-        key = (after, name)
+        key = (after, name, fanuc)
         if key not in self.found:
-            self.found[key] = st.seek_result(
+            seek = st.seek_fanuc if fanuc else st.seek_result
+            self.found[key] = seek(
                 self.path, self.lines, self.last, after, name, self.demarcated
             )
         return self.found[key]
 
 
-def _externals(program: st.Program, dirs: List[str]) -> List[Tuple[str, bool]]:
+def _externals(
+    program: st.Program, dirs: List[str], main_percent: bool = False
+) -> List[Tuple[str, bool]]:
     """Find and compile the external subroutines ``program`` calls, and
     those they call in turn; return the paths probed.
 
@@ -159,9 +164,9 @@ def _externals(program: st.Program, dirs: List[str]) -> List[Tuple[str, bool]]:
             pending.append(sub)
         return sub
 
-    def from_file(name: str) -> Optional[st.Sub]:
-        if name not in by_file:
-            by_file[name] = None
+    def from_file(name: str, fanuc: bool = False) -> Optional[st.Sub]:
+        if (name, fanuc) not in by_file:
+            by_file[name, fanuc] = None
             for folder in dirs:
                 path = os.path.join(folder, name + ".ngc")
                 found = os.path.isfile(path)
@@ -170,13 +175,13 @@ def _externals(program: st.Program, dirs: List[str]) -> List[Tuple[str, bool]]:
                     continue
                 if path not in files:
                     try:
-                        files[path] = _SubFile(path, _parse(path))
+                        files[path] = _SubFile(path, _parse(path, main_percent))
                     except CompileError:
                         files[path] = None
                 if files[path] is not None:
-                    by_file[name] = take(files[path].seek(0, name))
+                    by_file[name, fanuc] = take(files[path].seek(0, name, fanuc))
                 break
-        return by_file[name]
+        return by_file[name, fanuc]
 
     main_found = {}
     for name in st.called_names(program):
@@ -184,15 +189,25 @@ def _externals(program: st.Program, dirs: List[str]) -> List[Tuple[str, bool]]:
         if sub is not None:
             main_found[name] = sub
     program.found = main_found
+    for stmt in st.walk(program.body):
+        # M98 P<n>: rs274 opens <n>.ngc before it reads ahead in the file
+        if isinstance(stmt, st.FanucCall) and isinstance(stmt.line.oword.name, str):
+            stmt.found = from_file(stmt.line.oword.name, fanuc=True)
     while pending:
         sub = pending.pop(0)
         here = files.get(sub.line.file)
         for stmt in st.walk(sub.body):
-            if not isinstance(stmt, st.Call) or not isinstance(stmt.name, str):
+            fanuc = isinstance(stmt, st.FanucCall)
+            if fanuc and isinstance(stmt.line.oword.name, str):
+                name = stmt.line.oword.name
+            elif isinstance(stmt, st.Call) and isinstance(stmt.name, str):
+                name = stmt.name
+            else:
                 continue
-            found = from_file(stmt.name)
+            found = from_file(name, fanuc)
             if found is None and here is not None:
-                found = take(here.seek(stmt.line.number, stmt.name))
+                # else rs274 reads ahead in the file the call is in
+                found = take(here.seek(stmt.line.number, name, fanuc))
             stmt.found = found
     return probes
 
@@ -202,7 +217,7 @@ def _compile(parsed, name: str, ini: Optional[str]) -> Compiled:
     from ngc2py import structure as st
 
     program = _program(parsed)
-    probes = _externals(program, subroutine_dirs(ini))
+    probes = _externals(program, subroutine_dirs(ini), parsed.demarcated)
     st.resolve_calls(program)
     opening = next((line for line in parsed.lines if line.percent), None)
     return Compiled(codegen.generate(program, name, opening), probes)

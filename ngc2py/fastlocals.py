@@ -14,7 +14,7 @@ each generated function from its statements alone:
 * the function is one Python function: no part of it nested deep enough to
   become a helper function (``codegen.NEST_LIMIT``), and not a main program
   split into chunks (the code generator asks only when it is not), and no if
-  whose skip lands inside an arm (``st.If.lands``);
+  whose skip lands inside an arm (``st.If.landings``);
 * nothing reads the store by name while the program runs: no embedded
   Python, no M98 call (whose ``L0`` form hands the caller's store to the new
   call level); a name is kept in the store where an ``EXISTS`` asks for it
@@ -241,9 +241,9 @@ def _block_comment_names(stmts: List[st.Stmt]) -> Set[str]:
 
 def _lands(stmts: List[st.Stmt]) -> bool:
     """Does an if make rs274 enter one of its arms in the middle (a skip that
-    lands on a do-loop: st.If.lands)?"""
+    stops on a line reusing its label: st.If.landings)?"""
     return any(
-        isinstance(stmt, st.If) and stmt.lands is not None
+        isinstance(stmt, st.If) and stmt.landings
         for stmt in st.walk(stmts, into_subs=False)
     )
 

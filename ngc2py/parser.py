@@ -973,16 +973,24 @@ def parse_text(
     file: str = "",
     axes: str = DEFAULT_AXES,
     runs: bool = False,
+    main_percent: Optional[bool] = None,
 ) -> ParsedFile:
     """Parse a file's contents (bytes as read, or already-decoded text).
 
     With ``runs``, stretches of data rows come as :class:`rowrun.RowRun`
     items (many lines each) instead of one :class:`RowLine` per line: what
-    the compiler reads; without, every line is its own item."""
+    the compiler reads; without, every line is its own item.
+
+    ``main_percent`` (not None): a subroutine file, read under a main
+    program that is demarcated by ``%`` (True) or not. rs274 has one flag
+    for the main file: under a demarcated one every lone ``%`` line of any
+    file ends the program (``percent=True`` lines), else such a line is an
+    ordinary one (a bad character when run); the whole file is read either
+    way, and ``demarcated`` is the main's."""
     if isinstance(data, str):
         data = source.encode(data)
     with _no_cyclic_gc():
-        return _parse_lines(data, file, axes, runs)
+        return _parse_lines(data, file, axes, runs, main_percent)
 
 
 @contextmanager
@@ -1003,9 +1011,10 @@ class _Reader:
     """Reads a file's lines one at a time, with the state of its ``%``
     demarcation."""
 
-    def __init__(self, file: str, axes: str):
+    def __init__(self, file: str, axes: str, main_percent: Optional[bool] = None):
         self.file = file
         self.axes = axes
+        self.main_percent = main_percent  # see parse_text
         self.lines: List = []
         self.demarcated = self.closed = False
         self.seen_content = False
@@ -1030,6 +1039,12 @@ class _Reader:
             self.lines.append(simple)
             return
         normalised = normalise(raw.text)
+        if self.main_percent is not None:
+            if normalised.text == "%" and self.main_percent:
+                self.lines.append(Line(raw.number, raw.text, file, percent=True))
+            else:
+                self.lines.append(read_any_line(raw.text, normalised, raw.number, file, axes))
+            return
         if normalised.text == "%" and self.demarcated == self.seen_content:
             # The first content line opens the demarcation; a later one
             # closes it.
@@ -1041,10 +1056,12 @@ class _Reader:
         self.lines.append(read_any_line(raw.text, normalised, raw.number, file, axes))
 
 
-def _parse_lines(data: bytes, file: str, axes: str, runs: bool) -> ParsedFile:
+def _parse_lines(
+    data: bytes, file: str, axes: str, runs: bool, main_percent: Optional[bool] = None
+) -> ParsedFile:
     from ngc2py import rowrun
 
-    reader = _Reader(file, axes)
+    reader = _Reader(file, axes, main_percent)
     lane = rowrun.Lane(file, axes, reader.shapes) if runs else None
     pos, number = 0, 0
     while pos < len(data) and not reader.closed:
@@ -1065,9 +1082,14 @@ def _parse_lines(data: bytes, file: str, axes: str, runs: bool) -> ParsedFile:
         number += 1
         raw, pos = source.read_line(data, pos, number)
         reader.read(raw)
+    if main_percent is not None:
+        return ParsedFile(file, reader.lines, main_percent, False)
     return ParsedFile(file, reader.lines, reader.demarcated, reader.closed)
 
 
-def parse_file(path: str, axes: str = DEFAULT_AXES, runs: bool = False) -> ParsedFile:
-    """Read and parse ``path``; OSError propagates (compile-time failure)."""
-    return parse_text(source.read_file(path), path, axes, runs)
+def parse_file(
+    path: str, axes: str = DEFAULT_AXES, runs: bool = False, main_percent: Optional[bool] = None
+) -> ParsedFile:
+    """Read and parse ``path``; OSError propagates (compile-time failure).
+    ``main_percent``: see :func:`parse_text`."""
+    return parse_text(source.read_file(path), path, axes, runs, main_percent)

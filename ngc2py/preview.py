@@ -762,6 +762,7 @@ def parse(
     adapter.machine = machine
     _last_error = ""
     result = INTERP_OK
+    ended_in_sub = None
     try:
         machine._initialise()
         machine.var_file = None  # read (and normalised) at start, as the
@@ -790,6 +791,9 @@ def parse(
         frames = locate(end)
         if frames and not machine.reached_end:
             machine.line = frames[0].line
+        elif frames and len(frames) > 1:
+            # a lone % in a subroutine file ended the program: its line
+            ended_in_sub = frames[-1].line
     except (GCodeError, UnboundLocalError) as caught:
         # a named local held in a Python variable read unset: the store's
         # error (runtime.params.unset_variable)
@@ -800,7 +804,7 @@ def parse(
         return _failed(machine, adapter, error)
     line = machine.line
     if result == INTERP_ENDFILE:
-        line = source_map.end[0]
+        line = source_map.end[0] if ended_in_sub is None else ended_in_sub
     adapter.new_line(line)
     return result, adapter.last_sequence + (1 if result == INTERP_ENDFILE else 0)
 

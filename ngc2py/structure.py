@@ -51,6 +51,8 @@ class Fail:
     message: str
     #: rs274 meets the closing ``%`` first: FINISH() comes before the error.
     finish: bool = False
+    #: A condition rs274 reads first (an opener failing as a duplicate).
+    reads: Optional[nodes.Expr] = None
 
 
 @dataclass(eq=False)
@@ -98,10 +100,13 @@ class If:
     branches: List[Branch]
     orelse: Optional[Branch] = None
     end: Optional[nodes.Line] = None
-    #: A do-loop reusing this if's label inside its first arm: a false
-    #: condition makes rs274 stop skipping at that ``do`` line and run the
-    #: loop (whose closing ``while`` then fails: the label is the if's).
-    lands: Optional["Loop"] = None
+    #: Lines reusing this if's label inside an arm, however deeply nested:
+    #: arm index -> the statements of the first such line in that arm.
+    #: rs274 skips an arm (a false condition, or the arms after a taken
+    #: one) to the next line with the label, wherever it is: a ``do`` there
+    #: runs its loop (whose closing ``while`` then fails: the label is the
+    #: if's), an opener, break, continue, endwhile or endrepeat fails.
+    landings: Dict[int, List["Stmt"]] = field(default_factory=dict)
 
 
 @dataclass(eq=False)
@@ -158,6 +163,9 @@ class LabelCheck:
     line: nodes.Line
     key: str
     kind: str
+    #: A break or continue of this do-loop: rs274 skips to its closing
+    #: ``while`` line, checked here (``do-end``) before the jump.
+    loop: Optional["Loop"] = None
 
 
 @dataclass
@@ -216,17 +224,28 @@ class SeekFail:
 
 @dataclass
 class FanucCall:
-    """``M98 P.. [L..]``: ``line.items`` are the words; ``sub`` is the Fanuc
-    subroutine of this file with that constant name, else None (found by
-    name at run time)."""
+    """``M98 P.. [L..]``: ``line.items`` are the words; ``sub`` is what
+    rs274 finds for that constant name when it has not recorded one yet
+    (the Fanuc subroutine of ``<P>.ngc``, else the first one further on in
+    this file, else a body failing as rs274 does), or None (found by name
+    at run time). ``found``: what compiler.py found in a file."""
 
     line: nodes.Line
     sub: Optional[Sub] = None
+    found: Optional[Sub] = None
 
 
 @dataclass
 class Finish:
     """The closing ``%`` of a demarcated file: the program ends here."""
+
+    line: nodes.Line
+
+
+@dataclass
+class SubLine:
+    """A ``sub`` line inside a definition: nothing when a call runs it,
+    except in the frame an ``M98 .. L0`` entered, where it fails."""
 
     line: nodes.Line
 
@@ -253,6 +272,7 @@ Stmt = Union[
     Finish,
     EndOfFile,
     SeekFail,
+    SubLine,
 ]
 
 
@@ -292,6 +312,7 @@ NESTED_SUB = "Nested subroutine definition"
 EOF_NO_END = "File ended with no percent sign or program end"
 EOF_NO_PERCENT = "File ended with no percent sign"
 FANUC_NEEDS_M98 = "Fanuc 'O....' subroutine must be called with 'M98'"
+O_SUB_NEEDS_CALL = "'O.... sub' subroutine must be called with 'O.... call'"
 M99_IN_O_SUB = (
     "'O.... endsub' or 'O.... return' must follow 'O.... sub' subroutine definition"
 )
@@ -389,6 +410,13 @@ class _Builder:
         self.eof_fails: List[Tuple[Fail, str]] = []  # and the label's key
         # break/continue lines aimed at a finished loop: (label, failure)
         self.stale_jumps: List[Tuple[str, Fail]] = []
+        # constructs opened by lines failing as duplicates (_duplicate)
+        self.dead: set = set()
+        # sub name -> line numbers of its endsub lines (set by build)
+        self.endsubs: Dict[str, List[int]] = {}
+        # sub lines in an if or loop whose definition never ends: (name,
+        # the failure of reading it, known at a line or at the end)
+        self.orphans: List[Tuple[str, Fail]] = []
 
     # -- helpers ----------------------------------------------------------
 
@@ -409,7 +437,19 @@ class _Builder:
 
     def add(self, line: nodes.Line) -> None:
         word = line.oword
-        if word is not None and self.stale_jumps:
+        if self.stale_jumps and skip_error(line):
+            # skipping forward for a finished loop's label, rs274 fails at
+            # a line it cannot read
+            for _, fail in self.stale_jumps:
+                fail.line, fail.message = line, line.error
+            self.stale_jumps = []
+        for name, fail in self.orphans:
+            if fail.line is None:
+                message = define_error(line, name)
+                if message is not None:
+                    fail.line, fail.message = line, message
+        if word is not None and self.stale_jumps and word.keyword not in ("break", "continue"):
+            # (on another break or continue of the label rs274 skips on)
             name = str(word.name)
             for key, fail in self.stale_jumps:
                 if key.split("#")[-1] == name:
@@ -463,7 +503,13 @@ class _Builder:
                 self.body.append(Block(line))
             return
         handler = getattr(self, "on_" + word.keyword)
+        landing = self._landing_if(word)
+        body, start = self.body, len(self.body)
         handler(line, word)
+        if landing is not None and body[start:]:
+            node = landing.node
+            arm = len(node.branches) - (node.orelse is None)
+            node.landings.setdefault(arm, body[start:])
 
     # -- subroutines ------------------------------------------------------
 
@@ -473,6 +519,16 @@ class _Builder:
             # rs274 fails while *reading* the outer definition.
             if outer.define_error is None:
                 outer.define_error = Fail(line, NESTED_SUB)
+            self.body.append(SubLine(line))  # run in a call (entry_sub)
+            return
+        name = str(word.name)
+        if self.stack and not any(n > line.number for n in self.endsubs.get(name, ())):
+            # Inside an if or loop, with no endsub of it further on: run,
+            # rs274 reads the definition to the end of the file (or to a
+            # line it cannot read) and fails; skipped, the line is nothing.
+            fail = Fail(None, "")
+            self.body.append(fail)
+            self.orphans.append((name, fail))
             return
         sub = Sub(line, str(word.name))
         self.subs.append(sub)
@@ -594,19 +650,23 @@ class _Builder:
             self._reopen_do(label, seen[3])
             return
         self._open_loop("do", line, word)
-        for entry in reversed(self.stack[:-1]):
-            if isinstance(entry.node, Sub):
-                break
+
+    #: Lines a skip to their label stops at without ending an if: rs274
+    #: runs a ``do`` and fails on the others (the label is the if's).
+    _LANDING = frozenset(
+        ("if", "while", "repeat", "do", "break", "continue", "endwhile", "endrepeat")
+    )
+
+    def _landing_if(self, word: nodes.OWord) -> Optional[_Open]:
+        """The open ``if`` whose skip would stop at this line: the innermost
+        open construct of this scope with the line's label, if an if."""
+        if word.keyword not in self._LANDING:
+            return None
+        label = str(word.name)
+        for entry in self._scope_entries():
             if entry.label == label:
-                node = entry.node
-                if (
-                    isinstance(node, If)
-                    and len(node.branches) == 1
-                    and node.orelse is None
-                    and node.lands is None
-                ):
-                    node.lands = self.stack[-1].node
-                break
+                return entry if isinstance(entry.node, If) else None
+        return None
 
     def _reopens_do(self, label: str, seen) -> bool:
         """Is ``label`` that of a finished do-loop earlier in this body (so
@@ -700,6 +760,10 @@ class _Builder:
                 if key in self.tracked:
                     # a do-loop reusing a label finds what rs274 recorded
                     self.body.append(LabelCheck(line, key, word.keyword))
+                    if target.kind == "do":
+                        # and skips to the do's closing while line, which
+                        # acts on the record too (an opener's: a duplicate)
+                        self.body.append(LabelCheck(line, key, "do-end", target))
                 self.body.append(Jump(line, word.keyword, target))
                 return
             crossed.append(entry.node)
@@ -717,14 +781,27 @@ class _Builder:
         opener ran, so it is looked up at run time (:class:`LabelCheck`)."""
         label = str(word.name)
         key = self._key(label)
+        seen = self.labels.get(label)
         if key in self.tracked:
             self.body.append(LabelCheck(line, key, word.keyword))
+            if word.keyword in ("break", "continue") and seen is not None:
+                # passed: the label is a finished loop's, and rs274 skips
+                # forward to its next line (as below)
+                found = (seen[0], seen[1])
+                self.fail(line, NO_MATCHING_LOOP % ((line.number, line.text) + found))
+                self.stale_jumps.append((key, self.body[-1]))
             return
-        seen = self.labels.get(label)
         if seen is None:
             self.fail(line, UNDEFINED_LABEL % (line.number, line.text))
             return
         found = (seen[0], seen[1])
+        if seen[0] == "if" and word.keyword in ("elseif", "else", "endif"):
+            # The if with this label is no longer open here (a closing line
+            # of an outer construct ended it): rs274 knows the label only if
+            # that if ran, else it is undefined. Run time decides.
+            if self._track(key, seen):
+                self.body.append(LabelCheck(line, key, word.keyword))
+                return
         if word.keyword == "endif":
             message = NO_MATCHING_ENDIF % ((line.number, key) + found + (line.text,))
         elif word.keyword in ("elseif", "else"):
@@ -786,6 +863,8 @@ class _Builder:
             if isinstance(entry.node, Sub):
                 return None
             if entry.label == label:
+                if id(entry.node) in self.dead and not fits(entry.node):
+                    continue  # not its closing line: the outer one's
                 if not fits(entry.node) or self._reopened(label, depth):
                     return None
                 while len(self.stack) > depth + 1:
@@ -804,7 +883,10 @@ class _Builder:
 
     def _reopened(self, label: str, depth: int) -> bool:
         """Is ``label`` also open above ``depth`` (a reused label)?"""
-        return any(entry.label == label for entry in self.stack[depth + 1 :])
+        return any(
+            entry.label == label and id(entry.node) not in self.dead
+            for entry in self.stack[depth + 1 :]
+        )
 
     def _abandon(self, entry: _Open) -> None:
         """A construct whose closing line never comes: where rs274 would
@@ -818,8 +900,12 @@ class _Builder:
             arms = node.branches + ([node.orelse] if node.orelse else [])
             for k, arm in enumerate(arms[:-1]):
                 # after a taken arm, the next arm's line starts the skip
-                # (which fails earlier at a line it cannot read: codegen)
-                if first_text_error([later.body for later in arms[k + 1 :]]) is None:
+                # (which fails earlier at a line it cannot read, or stops at
+                # a line reusing the label: codegen)
+                later = range(k + 1, len(arms))
+                if first_text_error([arms[j].body for j in later]) is None and not any(
+                    j in node.landings for j in later
+                ):
                     arm.body.append(self._eof_fail(key))
             if node.orelse is None:
                 node.orelse = Branch(node.branches[-1].line, [self._eof_fail(key)])
@@ -891,7 +977,7 @@ class _Builder:
             # rs274 recorded first, which only the run can tell.
             if key in self.tracked:
                 return LabelCheck(line, key, word.keyword)
-            return Fail(line, text)
+            return Fail(line, text, reads=word.expr)
 
         self.body.append(failure())
         top = self.stack[-1] if self.stack else None
@@ -905,6 +991,14 @@ class _Builder:
                 # a break or continue skipping forward for the loop's label
                 # (or its condition failing) lands here too
                 top.node.eof = failure()
+        else:
+            # Deeper inside: run, or landed on, the line fails; skipped with
+            # what holds it, its lines up to its own closing line are never
+            # looked at. Those closing lines are its, not the outer one's.
+            dead = If([Branch(line)]) if word.keyword == "if" else Loop(word.keyword, line)
+            body = dead.branches[0].body if isinstance(dead, If) else dead.body
+            self.stack.append(_Open(label, dead, body))
+            self.dead.add(id(dead))
         return True
 
     # -- end of file ------------------------------------------------------
@@ -925,6 +1019,7 @@ class _Builder:
                 self.stack.append(entry)
                 break
         self.eof_fails += [(fail, key) for key, fail in self.stale_jumps]
+        self.eof_fails += [(fail, name) for name, fail in self.orphans if fail.line is None]
         for fail, key in self.eof_fails:
             if closing is not None:
                 # rs274 meets the closing % while it skips
@@ -988,6 +1083,10 @@ def build(
     start after the opening ``%`` of a demarcated file.
     """
     builder = _Builder(file, demarcated)
+    for line in lines:
+        word = getattr(line, "oword", None)
+        if word is not None and word.keyword == "endsub":
+            builder.endsubs.setdefault(str(word.name), []).append(line.number)
     seen_open = opened
     last: Optional[nodes.Line] = None
     closing: Optional[nodes.Line] = None
@@ -1105,13 +1204,9 @@ def resolve_calls(program: Program) -> None:
     everywhere = list(walk(program.body))
     for sub in program.externals:
         everywhere.extend(walk(sub.body))
-    fanuc: Dict[str, Sub] = {}
-    for sub in program.subs:  # reading ahead stops at the first definition
-        if sub.fanuc:
-            fanuc.setdefault(sub.name, sub)
     for stmt in everywhere:
         if isinstance(stmt, FanucCall) and isinstance(stmt.line.oword.name, str):
-            stmt.sub = fanuc.get(stmt.line.oword.name)
+            stmt.sub = stmt.found or fanuc_after(program.subs, stmt)
         if not isinstance(stmt, Call) or not isinstance(stmt.name, str):
             continue
         if stmt.found is not None:
@@ -1121,6 +1216,18 @@ def resolve_calls(program: Program) -> None:
             stmt.sub = sub
         elif stmt.name in program.found:
             stmt.found = program.found[stmt.name]
+
+
+def fanuc_after(subs: List[Sub], call: FanucCall) -> Optional[Sub]:
+    """The Fanuc subroutine an ``M98`` of the main file finds reading ahead
+    from its line: the first definition of that number further on (one
+    before it is never found: rs274 records a Fanuc definition only when a
+    search finds it)."""
+    name = call.line.oword.name
+    for sub in subs:
+        if sub.fanuc and sub.name == name and sub.line.number > call.line.number:
+            return sub
+    return None
 
 
 # --------------------------------------------------------------------------
@@ -1141,6 +1248,8 @@ def seek_sub(lines: list, after: int, name: str) -> Optional[Tuple[str, int]]:
     for index, line in enumerate(lines):
         if type(line) is RowRun or line.number <= after:
             continue
+        if line.percent:
+            return "percent", index  # (a subroutine file under a % main)
         if skip_error(line):
             return "error", index
         word = line.oword
@@ -1193,5 +1302,34 @@ def seek_result(
     line = lines[index]
     if kind == "sub":
         return entry_sub(file, lines, index, demarcated)
+    if kind == "percent":
+        # the main file's closing % ends any file rs274 reads
+        fail = Fail(line, "Failed to find sub 'O%s' before EOF" % name, finish=True)
+        return Sub(line, name, [fail], end=line)
     message = FANUC_NEEDS_M98 if kind == "fanuc" else line.error
+    return Sub(line, name, [Fail(line, message)], end=line)
+
+
+def seek_fanuc(
+    file: str,
+    lines: list,
+    last: Optional[nodes.Line],
+    after: int,
+    name: str,
+    demarcated: bool = False,
+) -> Sub:
+    """What ``M98 P<name>`` runs when rs274 seeks ``O<name>`` in ``file``
+    from line ``after`` (0: it has just opened ``<name>.ngc``): the Fanuc
+    subroutine found there, from its ``O`` line to ``M99``; or a body that
+    fails as rs274 does on the way (the end of the file, a line it cannot
+    read, an ``o<name> sub``, which M98 cannot run)."""
+    found = seek_sub(lines, after, name)
+    if found is None or found[0] == "percent":
+        return seek_result(file, lines, last, after, name, demarcated)
+    kind, index = found
+    line = lines[index]
+    if kind == "fanuc":
+        program = build(file, list(lines[index:]), demarcated, True)
+        return program.subs[0]
+    message = O_SUB_NEEDS_CALL if kind == "sub" else line.error
     return Sub(line, name, [Fail(line, message)], end=line)

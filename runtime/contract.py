@@ -85,6 +85,8 @@ MACHINE = (
     "call_named",
     "call_found",
     "m98",
+    "m99_back",
+    "m98_frame_end",
     "is_m98",
     "seek_failed",
     "top_level_return",

@@ -37,6 +37,9 @@ from runtime.ops import c_hypot, long_double_sum
 
 LEFT, RIGHT = 1, 2
 
+#: A canon without a ``motion_line`` attribute (see _emit_queued).
+_NO_LINE = object()
+
 #: rs274's TOLERANCE_CONCAVE_CORNER (radians) and TOLERANCE_EQUAL.
 _SMALL = 0.05
 _TOLERANCE_EQUAL = 0.0001
@@ -62,7 +65,7 @@ class _Move:
     trim that reverses it); ``sweep`` the angle an arc turned when queued.
     """
 
-    __slots__ = ("kind", "x", "y", "z", "rest", "dx", "dy", "c1", "c2", "turn", "sweep")
+    __slots__ = ("kind", "x", "y", "z", "rest", "dx", "dy", "c1", "c2", "turn", "sweep", "line")
 
     def __init__(
         self, kind, x, y, z, rest, dx=0.0, dy=0.0, c1=0.0, c2=0.0, turn=0, sweep=0.0
@@ -72,6 +75,7 @@ class _Move:
         self.rest = list(rest)  # A B C U V W
         self.dx, self.dy = dx, dy
         self.c1, self.c2, self.turn, self.sweep = c1, c2, turn, sweep
+        self.line = 0  # the line that queued it (rs274's block->line_number)
 
 
 class CompState:
@@ -301,6 +305,7 @@ class CutterCompMixin:
         queue = self._cc.queue
         if not queue:
             self._cc.stale_front = move
+        move.line = self.line
         queue.append(move)
 
     def _queue_front(self) -> _Move:
@@ -349,6 +354,20 @@ class CutterCompMixin:
         return first, second
 
     def _emit_queued(self, canon, item: _Move) -> None:
+        # A canon that announces lines (ngc2py.preview) is told the move's
+        # own: the motion calls of rs274's queue carry the line that queued
+        # them (the trace prints the N of the line executing instead).
+        announced = getattr(canon, "motion_line", _NO_LINE)
+        if announced is _NO_LINE:
+            self._emit_comp_move(canon, item)
+            return
+        canon.motion_line = item.line
+        try:
+            self._emit_comp_move(canon, item)
+        finally:
+            canon.motion_line = announced
+
+    def _emit_comp_move(self, canon, item: _Move) -> None:
         plane = self.plane
         first, second = self._lathe_origin(item.x, item.y)
         rest = item.rest

@@ -57,13 +57,44 @@ def check_ocall(machine, name: str) -> None:
         raise GCodeError(FANUC_NEEDS_M98, _definition(source, fanuc))
 
 
+def m98_find(machine, fn: Optional[Callable], number: int, read_ahead) -> Callable:
+    """The subroutine ``M98 P<number>`` runs, as rs274 finds it: one an
+    earlier M98 found (rs274 records it then, whichever file it is in); else
+    an ``o<number> sub`` already read fails; else ``fn``, what the search
+    from this call finds (compiled: in ``<number>.ngc``, else further on in
+    the file the call is in; None: P is computed, or the main file has none
+    further on). A definition found is recorded."""
+    name = "%d" % number
+    found = machine._fanuc_found.get(name)
+    if found is not None:
+        return found
+    if fn is None:
+        fn = m98_target(machine, name, read_ahead)
+    else:
+        known = machine._subroutines.get(name)
+        if known is not None and known.fn is not None:
+            raise GCodeError(O_SUB_NEEDS_CALL, _definition(machine.source, known.fn))
+        source = machine.source
+        if source is not None and source.unskippable and _in_main(source, fn):
+            machine._skip_to(fn)  # reading ahead to it, rs274 may fail first
+    if definition_line(fn) is not None:
+        machine._fanuc_found[name] = fn
+    return fn
+
+
+def _in_main(source, fn: Callable) -> bool:
+    """Is ``fn`` a subroutine defined in the main file?"""
+    return any(sub is fn for sub in source.subs.values())
+
+
 def m98_target(machine, name: str, read_ahead: Callable[[str], Callable]) -> Callable:
-    """The subroutine ``M98 P<name>`` runs: a Fanuc one, else fail on an
-    ``o<name> sub`` (defined already or further on), else what reading
-    ahead finds (the usual end-of-file errors)."""
+    """The subroutine ``M98 P<name>`` runs, found by name: a Fanuc one
+    further on in the main file, else fail on an ``o<name> sub`` (defined
+    already or further on), else what reading ahead finds (the usual
+    end-of-file errors)."""
     source = machine.source
     fanuc = source.subs.get("O" + name) if source is not None else None
-    if fanuc is not None:
+    if fanuc is not None and machine._after_the_call(fanuc):
         machine._skip_to(fanuc)  # reading ahead to it, rs274 may fail first
         return fanuc
     known = machine._subroutines.get(name)

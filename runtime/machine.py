@@ -610,25 +610,54 @@ class Machine(
         block.m98 = True
         blockcheck.enhance(block, self.plane, self.motion_mode)
         blockcheck.check(block, self.distance_incremental)
-        if fn is None:
-            name = "%d" % to_integer(words["p"])
-            fn = fanuc_subs.m98_target(self, name, self._read_ahead)
-        elif self.source is not None and self.source.unskippable:
-            self._skip_to(fn)  # reading ahead to it, rs274 may fail first
         times = words.get("l", 1)
+        if times != 0:  # (with L0 rs274 looks for nothing)
+            fn = fanuc_subs.m98_find(self, fn, to_integer(words["p"]), self._read_ahead)
         if times == 0:
             # rs274 enters the call but never runs or leaves it: the rest of
             # the program runs one call level down, in the new frame. The
             # caller's code keeps its locals store bound, so that very store
             # becomes the new frame's (emptied: the old locals are gone).
             caller_locals = self._enter_sub()
+            kept = dict(caller_locals.__dict__)  # the caller's, after an M99
             caller_locals.__dict__.clear()
             self.locals = caller_locals
             # an M98 frame: a sub line run in it fails, as in an M98 call
             self.fanuc_levels.append(self.call_level)
+            self._l0_frames.append((self.call_level, caller_locals, kept))
         for _ in range(times):
             fanuc_subs.run_fanuc(self, self._run_sub, fn)
         self.value = self.value_returned = 0.0
+
+    def m99_back(self, line: int) -> bool:
+        """An M99 runs after an ``M98 .. L0``: in the frame that M98 entered
+        (and never called anything in), rs274 returns from it to where the
+        M98 would have returned, the line after it, one call level up (with
+        the caller's named locals). True when it did so; False: not in such
+        a frame, the M99 does what it does there."""
+        frames = self._l0_frames
+        if not frames or frames[-1][0] != self.call_level:
+            return False
+        self.line = line
+        level, caller_locals, kept = frames.pop()
+        self.fanuc_levels.pop()
+        self.call_level -= 1
+        caller_locals.__dict__.clear()
+        caller_locals.__dict__.update(kept)
+        self.locals = caller_locals
+        if not self.call_level:
+            self.returned_to_main = True  # see olabels.top_level_return
+        if self._saved_contexts:
+            self._left_frame(level)  # M73's restore
+        return True
+
+    def m98_frame_end(self, line: int, sub: bool = False) -> None:
+        """An o-sub's ``endsub`` or ``return`` runs (``sub``: a sub line run
+        in a call): in the frame an ``M98 .. L0`` entered, rs274 wants the
+        M99 of a Fanuc subroutine (an o-sub called with o.. call)."""
+        if fanuc_subs.in_fanuc_call(self):
+            message = fanuc_subs.O_SUB_NEEDS_CALL if sub else fanuc_subs.FANUC_END_M99
+            self.fail(line, message)
 
     def frame_mark(self, key: str) -> None:
         """An if or loop around an ``M98 .. L0`` opens: note the call level

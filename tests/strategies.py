@@ -449,8 +449,14 @@ def stmt_codes(w: Writer) -> None:
         # as a computed M value
         w.fanuc = True
         if w.draw(st.booleans()):
-            w.emit(f"M98 P9001 L{w.draw(st.integers(0, 2))}" if w.draw(st.booleans())
-                   else "M98 P9001")
+            times = w.draw(st.integers(0, 2))
+            w.emit(f"M98 P9001 L{times}" if w.draw(st.booleans()) else "M98 P9001")
+            if times == 0 and w.draw(st.integers(0, 3)) == 0:
+                # M99 in the frame M98 L0 entered: back to the line after
+                # the M98, one level up; met again at level 0, the end
+                w.emit("G91 G0 Y1")
+                w.emit("G90")
+                w.emit("M99")
         else:
             w.emit("#9 = 98")
             w.emit("M#9 P9001")
@@ -973,6 +979,9 @@ def lang_plain(w: LanguageWriter) -> None:
         # O-word lines rs274 cannot read: it reads the O-word even of a
         # line it skips over (an untaken arm, a definition)
         bad = ["o[1 call", "o9 foo", "o7777", "o<s0> return [1", "o9 endif G1"]
+        if w.depth:
+            # a definition that never ends, where rs274 may skip it
+            bad.append("o<nowhere> sub")
         if w.sub:
             bad.append(f"o{w.sub} return [1")
         w.lines.append("  " * w.depth + w.pick(bad))
@@ -986,6 +995,9 @@ def closer_words(w: LanguageWriter) -> str:
 
 def lang_if(w: LanguageWriter) -> None:
     label = w.label()
+    if w.open_ifs and w.chance(40):
+        # an enclosing if's label: a skip of that if's arm stops here
+        label = w.pick(w.open_ifs)[0]
     w.emit(f"o{label} if {w.condition()}", slash_ok=False)
     w.open_ifs.append((label, w.depth + 1))
     arms = 1 + w.draw(st.integers(0, 2))
@@ -1004,12 +1016,12 @@ def lang_if(w: LanguageWriter) -> None:
 def lang_loop(w: LanguageWriter) -> None:
     kind = w.pick(["while", "do", "repeat"])
     label = w.label()
-    arm_of = [name for name, depth in w.open_ifs if depth == w.depth]
-    if kind == "do" and arm_of and w.chance(12):
-        # the label of the if whose arm it is in: a skip lands on the do.
-        # (A do deeper inside another construct of that arm is a known gap:
-        # test_language_generators.test_a_skip_lands_on_a_do_inside_a_nested_if.)
-        label = arm_of[0]
+    arm_of = [name for name, _ in w.open_ifs]
+    if arm_of and (w.chance(12) if kind == "do" else w.chance(40)):
+        # the label of an if around it, in one of its arms however deep: a
+        # skip of that arm lands on the do, which runs; a while or repeat
+        # fails there as a duplicate
+        label = w.pick(arm_of)
     w.next_counter += 1
     counter = f"k{w.next_counter}"
     count = w.draw(st.integers(0, 3))
@@ -1063,6 +1075,10 @@ def lang_jump(w: LanguageWriter) -> None:
         # and runs the next line with it (a later construct reusing it)
         loops = finished
         w.landing = True
+    if w.open_ifs and w.chance(40):
+        # an enclosing if's label: fails when run, or when a skip of that
+        # if's arm stops at it
+        loops = [(name, "if") for name, _ in w.open_ifs]
     if not loops:
         lang_plain(w)
         return
@@ -2072,6 +2088,12 @@ def _file_sub_body(draw, args: int, calls: list) -> list:
     return body
 
 
+def _fanuc_body(draw) -> list:
+    """The lines of a Fanuc-style program (it sees its caller's #1-#30)."""
+    options = ["G91 G0 X1", "G90", "G0 Y[#1 + 1]", "(DEBUG, fanuc #1 #<_seen>)", "#<_seen> = [#<_seen> + 1]"]
+    return draw(st.lists(st.sampled_from(options), min_size=1, max_size=3))
+
+
 @st.composite
 def subroutine_file_programs(draw) -> tuple:
     """(files, args): ``files`` maps a path relative to the program's folder
@@ -2081,6 +2103,17 @@ def subroutine_file_programs(draw) -> tuple:
     on_path = draw(st.booleans())
     main_lines = ["G21 G90 G17", "#<_seen> = 0"]
     outside_calls = []
+    # Fanuc-style programs (O<n> ... M99) for M98 calls: one per macro file
+    # (8f0, after its subs), one in the main program after its M2 (900),
+    # and 950.ngc, opened by M98 P950. An M98 finds what an earlier M98
+    # found, else <n>.ngc, else reads ahead in the file it is in.
+    fanuc_in_file = [draw(st.integers(0, 2)) == 0 for _ in range(2)]
+    fanuc_in_main = draw(st.integers(0, 2)) == 0
+    if draw(st.integers(0, 3)) == 0:
+        body = _fanuc_body(draw) + ["M98 P951" if draw(st.integers(0, 2)) == 0 else "G0 Z1"]
+        number_file = ["(a Fanuc-style program file)", "O950"] + body + ["M99", "O951", "G0 Y9", "M99"]
+        files["subs/950.ngc" if on_path else "950.ngc"] = "\n".join(number_file) + "\n"
+    m98_targets = ["800", "810", "900", "950", "800"]
     for f in range(draw(st.integers(1, 2))):
         fname = f"macro{f}"
         helpers = []
@@ -2105,6 +2138,12 @@ def subroutine_file_programs(draw) -> tuple:
                     called.append(callee)
                     body.append(f"o{callee} call [#1 + 1] [#2]")
                     body.append(f"(DEBUG, {callee} gave #<_value> #<_value_returned>)")
+                if draw(st.integers(0, 2)) == 0:
+                    # an M98 read in the macro file (its own Fanuc program
+                    # mostly, sometimes one it cannot find from there)
+                    target = f"{800 + 10 * f}" if draw(st.booleans()) else draw(st.sampled_from(m98_targets))
+                    times = draw(st.sampled_from(["", "", " L2", " L0"]))
+                    body.append(f"M98 P{target}{times}")
                 if draw(st.integers(0, 3)) == 0:
                     # a numbered sub written inside the main sub: run in the
                     # call, its sub line does nothing and its endsub returns
@@ -2124,7 +2163,13 @@ def subroutine_file_programs(draw) -> tuple:
                 lines.append(f"o{name} endsub{value}")
             if draw(st.integers(0, 2)) == 0:
                 lines.append("")
+        if fanuc_in_file[f]:
+            lines += [f"O{800 + 10 * f}"] + _fanuc_body(draw) + ["M99"]
         lines.append(draw(st.sampled_from(["M2", "M2", "(no end)"])))
+        if draw(st.integers(0, 4)) == 0:
+            # between % lines: under a demarcated main program any lone %
+            # ends what rs274 reads; under another it is an ordinary line
+            lines = ["%"] + lines + ["%"]
         path = f"subs/{fname}.ngc" if on_path else f"{fname}.ngc"
         files[path] = "\n".join(lines) + "\n"
         # the macro, then helpers called from outside: mostly ones the macro
@@ -2143,6 +2188,8 @@ def subroutine_file_programs(draw) -> tuple:
             "(DEBUG, after local #<_value> #<_value_returned>)",
         ]
     first = outside_calls[0][0]
+    if draw(st.integers(0, 3)) == 0:
+        main_lines.append(f"M98 P{draw(st.sampled_from(m98_targets))}")
     if draw(st.booleans()):
         main_lines += ["o10 repeat [2]", f"  o{first} call [1] [2]", "o10 endrepeat"]
     else:
@@ -2154,7 +2201,13 @@ def subroutine_file_programs(draw) -> tuple:
     for name in order:
         main_lines.append(f"o{name} call [{draw(st.integers(0, 9))}] [1]")
         main_lines.append("(DEBUG, #<_value> #<_value_returned> #<_seen>)")
+    if draw(st.integers(0, 3)) == 0:
+        main_lines.append(f"M98 P{draw(st.sampled_from(m98_targets))}")
     main_lines.append("M2")
+    if fanuc_in_main:
+        main_lines += ["O900"] + _fanuc_body(draw) + ["M99"]
+    if draw(st.integers(0, 4)) == 0:
+        main_lines = ["%"] + main_lines + ["%"]
     files["main.ngc"] = "\n".join(main_lines) + "\n"
     args = []
     if on_path:

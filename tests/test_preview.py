@@ -206,30 +206,12 @@ _FANUC_LINE = (
 #: Known differences between ngc2py.parse and gcode.parse: program (golden
 #: name, or LinuxCNC sample file name) -> reason. Marked as strict expected
 #: failures, so a fixed one shows up as XPASS(strict).
-#: Found when the first compensated golden programs without options were
-#: recorded (the others run with -t and are not compared here): a move held
-#: by compensation is announced with the line that releases it, not its own.
-_COMP_LINES = (
-    "preview: under cutter compensation gcode.parse announces a held move with"
-    " its own line number (next_line), ngc2py.parse with the line that flushes it"
-)
-
 KNOWN_GAPS = {
     **{
         "comments/" + name: _PY
         for name in "py_indented py_name_error py_syntax_error py_zero_division".split()
     },
     "fanuc_calls/m98_osub_read_before": _FANUC_LINE,
-    **{
-        name: _COMP_LINES
-        for name in (
-            "cutter_comp/concave_line_to_arc_sinl",
-            "modal_state/restore_comp_off",
-            "modal_state/restore_comp_on",
-            "modal_state/restore_comp_side_while_on",
-            "modal_state/restore_fails_mcode_text",
-        )
-    },
 }
 
 #: Generated programs using a feature with a known gap (see KNOWN_GAPS):
@@ -390,6 +372,17 @@ def test_linecode_fields():
 @settings(PROFILE)
 @given(strategies.valid_programs(feed_modes=True))
 def test_generated_programs_match_gcode_parse(text):
+    _compare_generated(text)
+
+
+@needs_gcode
+@settings(PROFILE)
+@given(strategies.compensated_programs())
+def test_compensated_programs_match_gcode_parse(text):
+    """Under cutter compensation rs274 holds each move until the next one
+    settles its end: gcode.parse announces a held move with the line that
+    queued it (the motion call's own line number), not the line flushing
+    it (once a known gap, on five golden programs)."""
     _compare_generated(text)
 
 

@@ -94,14 +94,14 @@ def test_a_file_on_the_path_without_its_sub_is_named_by_its_real_path(tmp_path):
         ), result.err
 
 
-@pytest.mark.xfail(strict=True, reason="M98 in a subroutine file seeks in that file only")
 def test_m98_in_a_subroutine_file_seeks_in_that_file(tmp_path):
     """An M98 run in a subroutine file reads ahead in *that* file for its
     ``O9001``: defined only in the main program, rs274 fails with "EOF in
-    file:macro.ngc seeking o-word: o<9001> from line: 3"; ngc2py finds the
-    main program's definition (its Fanuc subs are looked up program-wide).
-    Found while checking issue 14; kept strict until M98 seeks like
-    ``o.. call`` does from a subroutine file."""
+    file:macro.ngc seeking o-word: o<9001> from line: 3" (it looks in what
+    earlier M98s found, then ``9001.ngc``, then further on in the file it is
+    reading: interp_o_word.cc control_back_to). Once a strict xfail: ngc2py
+    looked Fanuc subs up program-wide. golden/subfiles/m98_* hold the rest
+    of the class."""
     (tmp_path / "macro.ngc").write_text("o<macro> sub\n  G0 X1\n  M98 P9001\no<macro> endsub\nM2\n")
     (tmp_path / "main.ngc").write_text("o<macro> call\nG0 X5\nM2\nO9001\nG0 X9\nM99\n")
     check_same(({"main.ngc": (tmp_path / "main.ngc").read_text(),
