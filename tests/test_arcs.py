@@ -12,7 +12,6 @@ import pytest
 
 import rs274 as harness
 from runtime import arcs, ops
-from runtime.fast import arc_rows
 from runtime.errors import GCodeError
 
 hypothesis = pytest.importorskip("hypothesis")

@@ -17,7 +17,6 @@ import os
 from contextlib import contextmanager, redirect_stderr, redirect_stdout
 from pathlib import Path
 
-import re
 import subprocess
 from typing import Optional
 
