@@ -26,5 +26,13 @@ setup(
             extra_compile_args=["-ffp-contract=off"],
             optional=True,
         ),
+        Extension(
+            "runtime.fast._arc_row",
+            ["runtime/fast/_arc_row.c"],
+            libraries=["m"],
+            # rs274's arithmetic has no fused multiply-adds: neither may this
+            extra_compile_args=["-ffp-contract=off"],
+            optional=True,
+        ),
     ]
 )

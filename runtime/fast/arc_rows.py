@@ -141,6 +141,61 @@ def _row_number(cells: List[str], at: int, has_n: bool):
     return None, at + 2
 
 
+def python_arc_row(cells, at, recipe, motion_mode, cur, feed_rate, geometry):
+    """The arc of the row at ``at``: (motion, N, F or None, end point,
+    centre's two coordinates), or None where the general path must decide (no
+    feed, a radius not surely within the tolerances, an R arc it
+    rejects). The same checks and floating-point steps as
+    Machine.plain_arc."""
+    motion, has_n, f_at, _, slots, r_at, i1, i2 = recipe
+    if motion is None:  # modal: an arc only in G2 or G3
+        motion = motion_mode
+        if motion != G2 and motion != G3:
+            return None
+    p1, p2, _, absolute, zero, spiral = geometry
+    n, start = _row_number(cells, at, has_n)
+    if f_at >= 0:
+        f = float(cells[start + f_at])
+        if f <= 0.0:  # negative, or an arc without feed: errors
+            return None
+    else:
+        f = None
+        if feed_rate == 0.0:
+            return None
+    point = cur[:]
+    for i, axis in slots:
+        point[axis] = float(cells[start + i])
+    s1, s2, e1, e2 = cur[p1], cur[p2], point[p1], point[p2]
+    if r_at < 0:
+        v1 = float(cells[start + i1]) if i1 >= 0 else 0.0
+        v2 = float(cells[start + i2]) if i2 >= 0 else 0.0
+        if absolute:
+            c1, c2 = v1, v2
+        else:
+            c1, c2 = s1 + v1, s2 + v2
+        # centre_checks_pass, inlined
+        r1 = hypot(c1 - s1, c2 - s2)
+        r2 = hypot(c1 - e1, c2 - e2)
+        if r1 < r2:
+            r1, r2 = r2, r1
+        if not (r2 * _BELOW >= zero and (r1 - r2) + r1 * _MARGIN <= spiral):
+            return None
+        return motion, n, f, point, c1, c2
+    centre = radius_centre(
+        motion == G2, s1, s2, e1, e2, float(cells[start + r_at]), zero
+    )
+    if centre is None:
+        return None
+    return (motion, n, f, point) + centre
+
+
+try:  # the same in C, ten times quicker (runtime/fast/_arc_row.c)
+    from runtime.fast._arc_row import arc_row
+    from runtime.fast._arc_row import rows as rows_in_c
+except ImportError:  # not built: the loop's Python alone
+    arc_row, rows_in_c = python_arc_row, None
+
+
 def _publish(machine, line: int, cur, motion_mode, block_n) -> None:
     """What a run of rows leaves: the line and N of its last row and, if it
     moved, the end point and the motion."""
@@ -303,9 +358,35 @@ class ArcRows:
             self.pending = _Pending.for_canon(machine)
         pending = self.pending
         held = None if pending is None else pending.rows
+        # rows without N or F, one call a move, in C (runtime/fast/_arc_row.c)
+        in_c = rows_in_c
+        if type(canon) is not TraceCanon or row_lines or arcs_only:
+            in_c = None
+        straight = self.straight
         row = at
         try:
             while at < end:
+                if in_c is not None and block_n is None:
+                    state = [cur, motion_mode, row]
+                    try:
+                        stop = in_c(
+                            cells,
+                            at,
+                            end,
+                            known,
+                            straight,
+                            geometry,
+                            state,
+                            feed_rate,
+                            arc_feed,
+                            straight_feed,
+                            straight_traverse,
+                        )
+                    finally:
+                        cur, motion_mode, row = state
+                    if stop != at:
+                        at = stop
+                        continue
                 row = at
                 if row_lines:
                     machine.line = int(cells[at])
@@ -347,7 +428,7 @@ class ArcRows:
                             if rate is not None:
                                 feed_rate, feed_given = rate, True
                             continue
-                    arc = self._arc_row(
+                    arc = arc_row(
                         cells, at, recipe, motion_mode, cur, feed_rate, geometry
                     )
                     if arc is None:
@@ -416,54 +497,6 @@ class ArcRows:
         for i, axis in slots:
             point[axis] = float(cells[start + i])
         return stride, motion, n, f, point
-
-    @staticmethod
-    def _arc_row(cells, at, recipe, motion_mode, cur, feed_rate, geometry):
-        """The arc of the row at ``at``: (motion, N, F or None, end point,
-        centre's two coordinates), or None where the general path must decide (no
-        feed, a radius not surely within the tolerances, an R arc it
-        rejects). The same checks and floating-point steps as
-        Machine.plain_arc."""
-        motion, has_n, f_at, _, slots, r_at, i1, i2 = recipe
-        if motion is None:  # modal: an arc only in G2 or G3
-            motion = motion_mode
-            if motion != G2 and motion != G3:
-                return None
-        p1, p2, _, absolute, zero, spiral = geometry
-        n, start = _row_number(cells, at, has_n)
-        if f_at >= 0:
-            f = float(cells[start + f_at])
-            if f <= 0.0:  # negative, or an arc without feed: errors
-                return None
-        else:
-            f = None
-            if feed_rate == 0.0:
-                return None
-        point = cur[:]
-        for i, axis in slots:
-            point[axis] = float(cells[start + i])
-        s1, s2, e1, e2 = cur[p1], cur[p2], point[p1], point[p2]
-        if r_at < 0:
-            v1 = float(cells[start + i1]) if i1 >= 0 else 0.0
-            v2 = float(cells[start + i2]) if i2 >= 0 else 0.0
-            if absolute:
-                c1, c2 = v1, v2
-            else:
-                c1, c2 = s1 + v1, s2 + v2
-            # centre_checks_pass, inlined
-            r1 = hypot(c1 - s1, c2 - s2)
-            r2 = hypot(c1 - e1, c2 - e2)
-            if r1 < r2:
-                r1, r2 = r2, r1
-            if not (r2 * _BELOW >= zero and (r1 - r2) + r1 * _MARGIN <= spiral):
-                return None
-            return motion, n, f, point, c1, c2
-        centre = radius_centre(
-            motion == G2, s1, s2, e1, e2, float(cells[start + r_at]), zero
-        )
-        if centre is None:
-            return None
-        return (motion, n, f, point) + centre
 
     def _groups(self) -> dict:
         by_words: dict = {}

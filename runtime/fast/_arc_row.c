@@ -1,0 +1,559 @@
+/*
+ * arc_row(cells, at, recipe, motion_mode, cur, feed_rate, geometry): what
+ * runtime.fast.arc_rows.ArcRows._arc_row answers, with its arithmetic in C.
+ *
+ * The Python loop over a run of arc rows spends most of its time in that
+ * one function: reading the row's words, the centre of an R arc and the
+ * radius checks of an I J K arc, about three microseconds a row. Here they
+ * take a few hundred nanoseconds. The answer is the same object for object:
+ * (motion, N, F or None, end point, centre's two coordinates), or None where
+ * the general path must decide.
+ *
+ * The R centre is rs274's arc_data_r step for step, which C states more
+ * directly than Python can: the angle plus or minus M_PI_2l is a long double
+ * sum stored into a double (runtime/ops.py plus_half_pi emulates it), and
+ * hypot, atan2, asin, cos and sin are the C library's, the ones rs274 calls.
+ * The I J K checks keep the Python version's margin, so both versions step
+ * aside on exactly the same rows whatever hypot's last bit.
+ *
+ * Optional: runtime/fast/arc_rows.py runs its Python version where this was
+ * not built (setup.py), with identical results (tests/test_arc_row.py).
+ */
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+#include <math.h>
+
+/* runtime.codes: G2 and G3 are the ints 20 and 30 */
+#define G_2 20
+#define G_3 30
+
+/* arc_rows._MARGIN and arcs._SEMICIRCLE_SLACK (rs274's TINY) */
+#define MARGIN 1e-14
+#define SEMICIRCLE_SLACK 1e-12
+
+/* float(text) of a table cell; -1 with an exception set on failure. */
+static int cell_float(PyObject *cells, Py_ssize_t at, double *out) {
+    if (at < 0 || at >= PyList_GET_SIZE(cells)) {
+        PyErr_SetString(PyExc_IndexError, "row beyond the table");
+        return -1;
+    }
+    PyObject *text = PyList_GET_ITEM(cells, at);
+    if (PyUnicode_CheckExact(text) && PyUnicode_IS_ASCII(text)) {
+        Py_ssize_t size = PyUnicode_GET_LENGTH(text);
+        const char *s = (const char *) PyUnicode_DATA(text);
+        char *end = NULL;
+        if (size > 0 && s[0] != ' ' && s[size - 1] != ' ') {
+            double value = PyOS_string_to_double(s, &end, NULL);
+            if (end == s + size) {
+                *out = value;
+                return 0;
+            }
+            if (value == -1.0 && PyErr_Occurred()) {
+                PyErr_Clear();
+            }
+        }
+    }
+    /* anything unusual: exactly what float() does */
+    PyObject *number = PyFloat_FromString(text);
+    if (number == NULL) {
+        return -1;
+    }
+    *out = PyFloat_AS_DOUBLE(number);
+    Py_DECREF(number);
+    return 0;
+}
+
+static int tuple_ssize(PyObject *tuple, Py_ssize_t i, Py_ssize_t *out) {
+    *out = PyLong_AsSsize_t(PyTuple_GET_ITEM(tuple, i));
+    return (*out == -1 && PyErr_Occurred()) ? -1 : 0;
+}
+
+static int tuple_double(PyObject *tuple, Py_ssize_t i, double *out) {
+    *out = PyFloat_AsDouble(PyTuple_GET_ITEM(tuple, i));
+    return (*out == -1.0 && PyErr_Occurred()) ? -1 : 0;
+}
+
+static int list_double(PyObject *list, Py_ssize_t i, double *out) {
+    if (i < 0 || i >= PyList_GET_SIZE(list)) {
+        PyErr_SetString(PyExc_IndexError, "axis beyond the point");
+        return -1;
+    }
+    *out = PyFloat_AsDouble(PyList_GET_ITEM(list, i));
+    return (*out == -1.0 && PyErr_Occurred()) ? -1 : 0;
+}
+
+/* The centre of an R arc by arc_data_r's operations; 0 when R is too short
+ * to reach the end point (the caller steps aside). */
+static int radius_centre(int clockwise, double s1, double s2, double e1, double e2,
+                         double radius, double zero, double *c1, double *c2) {
+    double abs_radius = fabs(radius);
+    double mid1 = (e1 + s1) / 2.0;
+    double mid2 = (e2 + s2) / 2.0;
+    double half = hypot(mid1 - e1, mid2 - e2);
+    if (half - abs_radius > zero) {
+        return 0;
+    }
+    if (half / abs_radius > 1 - SEMICIRCLE_SLACK) {
+        half = abs_radius;
+    }
+    double theta;
+    if (clockwise == (radius > 0)) {
+        theta = atan2(e2 - s2, e1 - s1) - M_PI_2l;
+    } else {
+        theta = atan2(e2 - s2, e1 - s1) + M_PI_2l;
+    }
+    double offset = abs_radius * cos(asin(half / abs_radius));
+    *c1 = mid1 + offset * cos(theta);
+    *c2 = mid2 + offset * sin(theta);
+    return 1;
+}
+
+/* The parts of a recipe (motion, has_n, f_at, width, slots, r_at, i1, i2)
+ * and of a geometry (p1, p2, p3, absolute, zero, spiral). */
+typedef struct {
+    PyObject *motion, *slots;
+    int has_n;
+    Py_ssize_t f_at, width, r_at, i1, i2;
+} recipe_t;
+
+typedef struct {
+    Py_ssize_t p1, p2, p3;
+    int absolute;
+    double zero, spiral;
+} geometry_t;
+
+static int read_recipe(PyObject *recipe, recipe_t *r) {
+    if (!PyTuple_CheckExact(recipe) || PyTuple_GET_SIZE(recipe) != 8) {
+        PyErr_SetString(PyExc_TypeError, "arc_row: a recipe is a tuple of 8");
+        return -1;
+    }
+    r->motion = PyTuple_GET_ITEM(recipe, 0);
+    r->slots = PyTuple_GET_ITEM(recipe, 4);
+    r->has_n = PyObject_IsTrue(PyTuple_GET_ITEM(recipe, 1));
+    if (r->has_n < 0 || tuple_ssize(recipe, 2, &r->f_at) ||
+        tuple_ssize(recipe, 3, &r->width) || tuple_ssize(recipe, 5, &r->r_at) ||
+        tuple_ssize(recipe, 6, &r->i1) || tuple_ssize(recipe, 7, &r->i2)) {
+        return -1;
+    }
+    return 0;
+}
+
+static int read_geometry(PyObject *geometry, geometry_t *g) {
+    if (!PyTuple_CheckExact(geometry) || PyTuple_GET_SIZE(geometry) != 6) {
+        PyErr_SetString(PyExc_TypeError, "arc_row: a geometry is a tuple of 6");
+        return -1;
+    }
+    g->absolute = PyObject_IsTrue(PyTuple_GET_ITEM(geometry, 3));
+    if (tuple_ssize(geometry, 0, &g->p1) || tuple_ssize(geometry, 1, &g->p2) ||
+        tuple_ssize(geometry, 2, &g->p3) || g->absolute < 0 ||
+        tuple_double(geometry, 4, &g->zero) || tuple_double(geometry, 5, &g->spiral)) {
+        return -1;
+    }
+    return 0;
+}
+
+/* The current point with the row's axis words (slots of (value index, axis
+ * index) from ``start``): a new list, or NULL with an exception set. */
+static PyObject *end_point(PyObject *cells, Py_ssize_t start, PyObject *slots,
+                           PyObject *cur) {
+    if (!PyList_CheckExact(cur)) {
+        PyErr_SetString(PyExc_TypeError, "arc_row: the point is a list");
+        return NULL;
+    }
+    Py_ssize_t axes = PyList_GET_SIZE(cur);
+    PyObject *point = PyList_GetSlice(cur, 0, axes);
+    if (point == NULL) {
+        return NULL;
+    }
+    if (!PyTuple_CheckExact(slots) && !PyList_CheckExact(slots)) {
+        PyErr_SetString(PyExc_TypeError, "arc_row: slots are a tuple or a list");
+        Py_DECREF(point);
+        return NULL;
+    }
+    for (Py_ssize_t k = 0; k < PySequence_Fast_GET_SIZE(slots); k++) {
+        PyObject *slot = PySequence_Fast_GET_ITEM(slots, k);
+        Py_ssize_t i, axis;
+        double value;
+        if (!PyTuple_CheckExact(slot) || PyTuple_GET_SIZE(slot) != 2 ||
+            tuple_ssize(slot, 0, &i) || tuple_ssize(slot, 1, &axis) ||
+            cell_float(cells, start + i, &value)) {
+            if (!PyErr_Occurred()) {
+                PyErr_SetString(PyExc_TypeError, "arc_row: a slot is (index, axis)");
+            }
+            Py_DECREF(point);
+            return NULL;
+        }
+        if (axis < 0 || axis >= axes) {
+            PyErr_SetString(PyExc_IndexError, "axis beyond the point");
+            Py_DECREF(point);
+            return NULL;
+        }
+        PyObject *number = PyFloat_FromDouble(value);
+        if (number == NULL) {
+            Py_DECREF(point);
+            return NULL;
+        }
+        PyObject *old = PyList_GET_ITEM(point, axis);
+        PyList_SET_ITEM(point, axis, number);
+        Py_DECREF(old);
+    }
+    return point;
+}
+
+/* The arc of the row whose words begin at ``start``, from ``cur``, in
+ * motion ``code``: its end point in *point and its centre in c, 1; 0 where
+ * the general path must decide (nothing made); -1 on an exception. */
+static int arc_of_row(PyObject *cells, Py_ssize_t start, const recipe_t *r,
+                      const geometry_t *g, int code, PyObject *cur, PyObject **point,
+                      double *c1, double *c2) {
+    double s1, s2, e1, e2;
+    if (list_double(cur, g->p1, &s1) || list_double(cur, g->p2, &s2)) {
+        return -1;
+    }
+    PyObject *end = end_point(cells, start, r->slots, cur);
+    if (end == NULL) {
+        return -1;
+    }
+    if (list_double(end, g->p1, &e1) || list_double(end, g->p2, &e2)) {
+        Py_DECREF(end);
+        return -1;
+    }
+    if (r->r_at < 0) {
+        double v1 = 0.0, v2 = 0.0;
+        if ((r->i1 >= 0 && cell_float(cells, start + r->i1, &v1)) ||
+            (r->i2 >= 0 && cell_float(cells, start + r->i2, &v2))) {
+            Py_DECREF(end);
+            return -1;
+        }
+        if (g->absolute) {
+            *c1 = v1;
+            *c2 = v2;
+        } else {
+            *c1 = s1 + v1;
+            *c2 = s2 + v2;
+        }
+        double r1 = hypot(*c1 - s1, *c2 - s2);
+        double r2 = hypot(*c1 - e1, *c2 - e2);
+        if (r1 < r2) {
+            double swap = r1;
+            r1 = r2;
+            r2 = swap;
+        }
+        /* written as the Python version's test, NaN included */
+        if (!(r2 * (1 - MARGIN) >= g->zero && (r1 - r2) + r1 * MARGIN <= g->spiral)) {
+            Py_DECREF(end);
+            return 0;
+        }
+    } else {
+        double radius;
+        if (cell_float(cells, start + r->r_at, &radius)) {
+            Py_DECREF(end);
+            return -1;
+        }
+        /* R 0 and an end at the start: rs274 fails or divides by zero */
+        if (radius == 0.0 || (e1 == s1 && e2 == s2) ||
+            !radius_centre(code == G_2, s1, s2, e1, e2, radius, g->zero, c1, c2)) {
+            Py_DECREF(end);
+            return 0;
+        }
+    }
+    *point = end;
+    return 1;
+}
+
+/* The code of a motion object (an int), -1 for anything else. */
+static long motion_code(PyObject *motion) {
+    if (!PyLong_CheckExact(motion)) {
+        return -1;
+    }
+    long code = PyLong_AsLong(motion);
+    if (code == -1 && PyErr_Occurred()) {
+        PyErr_Clear();
+    }
+    return code;
+}
+
+static PyObject *arc_row(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    if (nargs != 7) {
+        PyErr_SetString(PyExc_TypeError, "arc_row takes 7 arguments");
+        return NULL;
+    }
+    PyObject *cells = args[0], *motion_mode = args[3], *cur = args[4];
+    recipe_t r;
+    geometry_t g;
+    if (!PyList_CheckExact(cells) || read_recipe(args[2], &r) ||
+        read_geometry(args[6], &g)) {
+        if (!PyErr_Occurred()) {
+            PyErr_SetString(PyExc_TypeError, "arc_row: the cells are a list");
+        }
+        return NULL;
+    }
+    Py_ssize_t at = PyLong_AsSsize_t(args[1]);
+    if (at == -1 && PyErr_Occurred()) {
+        return NULL;
+    }
+    double feed_rate = PyFloat_AsDouble(args[5]);
+    if (feed_rate == -1.0 && PyErr_Occurred()) {
+        return NULL;
+    }
+    PyObject *motion = r.motion == Py_None ? motion_mode : r.motion;
+    long code = motion_code(motion);
+    if (r.motion == Py_None && code != G_2 && code != G_3) {
+        Py_RETURN_NONE; /* modal: an arc only in G2 or G3 */
+    }
+    PyObject *n = Py_None;
+    Py_ssize_t start = at + 2;
+    if (r.has_n) {
+        if (at + 2 >= PyList_GET_SIZE(cells)) {
+            PyErr_SetString(PyExc_IndexError, "row beyond the table");
+            return NULL;
+        }
+        n = PyList_GET_ITEM(cells, at + 2);
+        start = at + 3;
+    }
+    double f = 0.0;
+    if (r.f_at >= 0) {
+        if (cell_float(cells, start + r.f_at, &f)) {
+            return NULL;
+        }
+        if (f <= 0.0) { /* negative or zero: errors the general path raises */
+            Py_RETURN_NONE;
+        }
+    } else if (feed_rate == 0.0) {
+        Py_RETURN_NONE;
+    }
+    PyObject *point = NULL;
+    double c1, c2;
+    int made = arc_of_row(cells, start, &r, &g, code, cur, &point, &c1, &c2);
+    if (made <= 0) {
+        if (made < 0) {
+            return NULL;
+        }
+        Py_RETURN_NONE;
+    }
+    PyObject *f_object = Py_None;
+    if (r.f_at >= 0) {
+        f_object = PyFloat_FromDouble(f);
+        if (f_object == NULL) {
+            Py_DECREF(point);
+            return NULL;
+        }
+    } else {
+        Py_INCREF(f_object);
+    }
+    return Py_BuildValue("(OONNdd)", motion, n, f_object, point, c1, c2);
+}
+
+/* straight_row: the end point of a plain straight move (the straight
+ * table's (motion, has_n, f_at, width, slots)) without N or F, or NULL with
+ * *stop set where the loop must stop (no exception) */
+#define G_0 0
+#define G_1 10
+#define STRETCH 8 /* arc_rows._BATCH: a stretch printed_rows writes at once */
+
+/* rows(cells, at, end, known, straight, geometry, state, feed_rate, arc_feed,
+ * straight_feed, straight_traverse): ArcRows.run's loop for the rows it
+ * takes one by one without N or F words (the usual rows of a contour: arcs
+ * and the lines between them), for a canon that takes each move as a call
+ * (the trace). ``known`` maps a row's shape cell to its arc recipe (None:
+ * not an arc), ``straight`` to its straight move; a shape in neither, a
+ * row with N or F, or one the general path must decide ends the loop.
+ *
+ * ``state`` is [point, motion, row]: the start point and modal motion on
+ * entry; on return, even with an exception from a canon call, the point and
+ * motion of the rows done and where the last row looked at begins (the
+ * Python loop's ``row``; unchanged when there was none). Returns where it
+ * stopped. */
+static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    if (nargs != 11) {
+        PyErr_SetString(PyExc_TypeError, "rows takes 11 arguments");
+        return NULL;
+    }
+    PyObject *cells = args[0], *known = args[3], *straight = args[4];
+    PyObject *state = args[6];
+    PyObject *arc_feed = args[8], *straight_feed = args[9], *straight_traverse = args[10];
+    geometry_t g;
+    if (!PyList_CheckExact(cells) || !PyDict_CheckExact(known) ||
+        !PyDict_CheckExact(straight) || !PyList_CheckExact(state) ||
+        PyList_GET_SIZE(state) != 3 || read_geometry(args[5], &g)) {
+        if (!PyErr_Occurred()) {
+            PyErr_SetString(PyExc_TypeError, "rows: unexpected argument types");
+        }
+        return NULL;
+    }
+    Py_ssize_t at = PyLong_AsSsize_t(args[1]);
+    Py_ssize_t end = PyLong_AsSsize_t(args[2]);
+    double feed_rate = PyFloat_AsDouble(args[7]);
+    if (PyErr_Occurred()) {
+        return NULL;
+    }
+    if (end > PyList_GET_SIZE(cells)) {
+        end = PyList_GET_SIZE(cells);
+    }
+    PyObject *cur = PyList_GET_ITEM(state, 0);
+    PyObject *motion_mode = PyList_GET_ITEM(state, 1);
+    Py_INCREF(cur);
+    Py_INCREF(motion_mode);
+    Py_ssize_t row = -1;
+    int failed = 0;
+    PyObject *call[12];
+    while (at + 1 < end) {
+        row = at;
+        PyObject *key = PyList_GET_ITEM(cells, at + 1);
+        PyObject *recipe = PyDict_GetItemWithError(known, key);
+        PyObject *point = NULL;
+        PyObject *motion;
+        Py_ssize_t stride;
+        if (recipe == NULL && PyErr_Occurred()) {
+            failed = 1;
+            break;
+        }
+        if (recipe == NULL) {
+            break; /* no recipe yet: the Python loop makes it */
+        }
+        if (recipe == Py_None) {
+            /* a plain straight move between arcs (ArcRows._straight_row) */
+            PyObject *line = PyDict_GetItemWithError(straight, key);
+            Py_ssize_t has_n, f_at, width;
+            if (line == NULL || !PyTuple_CheckExact(line) || PyTuple_GET_SIZE(line) != 5) {
+                failed = PyErr_Occurred() != NULL;
+                break;
+            }
+            if (tuple_ssize(line, 1, &has_n) || tuple_ssize(line, 2, &f_at) ||
+                tuple_ssize(line, 3, &width)) {
+                failed = 1;
+                break;
+            }
+            if (has_n || f_at >= 0) {
+                break;
+            }
+            stride = 2 + width;
+            if (end - at >= stride * STRETCH) {
+                int same = PyObject_RichCompareBool(
+                    PyList_GET_ITEM(cells, at + 1 + stride * (STRETCH - 1)), key, Py_EQ);
+                if (same) {
+                    failed = same < 0;
+                    break; /* a stretch for runtime.fast.printed_rows */
+                }
+            }
+            motion = PyTuple_GET_ITEM(line, 0);
+            if (motion == Py_None) {
+                motion = motion_mode;
+            }
+            long code = motion_code(motion);
+            if (!((code == G_1 && feed_rate > 0.0) || code == G_0)) {
+                break;
+            }
+            if (at + stride > end) {
+                break;
+            }
+            point = end_point(cells, at + 2, PyTuple_GET_ITEM(line, 4), cur);
+            if (point == NULL) {
+                failed = 1;
+                break;
+            }
+            PyObject *result = PyObject_Vectorcall(
+                code == G_1 ? straight_feed : straight_traverse,
+                &PyList_GET_ITEM(point, 0), PyList_GET_SIZE(point), NULL);
+            if (result == NULL) {
+                Py_DECREF(point);
+                failed = 1;
+                break;
+            }
+            Py_DECREF(result);
+        } else {
+            recipe_t r;
+            if (read_recipe(recipe, &r)) {
+                failed = 1;
+                break;
+            }
+            if (r.has_n || r.f_at >= 0 || feed_rate == 0.0 || at + 2 + r.width > end) {
+                break;
+            }
+            motion = r.motion == Py_None ? motion_mode : r.motion;
+            long code = motion_code(motion);
+            if (code != G_2 && code != G_3) {
+                break;
+            }
+            double c1, c2;
+            int made = arc_of_row(cells, at + 2, &r, &g, code, cur, &point, &c1, &c2);
+            if (made <= 0) {
+                failed = made < 0;
+                break;
+            }
+            if (PyList_GET_SIZE(point) != 9) {
+                Py_DECREF(point);
+                PyErr_SetString(PyExc_TypeError, "rows: a point of nine axes");
+                failed = 1;
+                break;
+            }
+            PyObject *centre1 = PyFloat_FromDouble(c1);
+            PyObject *centre2 = PyFloat_FromDouble(c2);
+            PyObject *rotation = PyLong_FromLong(code == G_2 ? -1 : 1);
+            PyObject *result = NULL;
+            if (centre1 && centre2 && rotation) {
+                call[0] = PyList_GET_ITEM(point, g.p1);
+                call[1] = PyList_GET_ITEM(point, g.p2);
+                call[2] = centre1;
+                call[3] = centre2;
+                call[4] = rotation;
+                call[5] = PyList_GET_ITEM(point, g.p3);
+                for (int k = 3; k < 9; k++) {
+                    call[3 + k] = PyList_GET_ITEM(point, k);
+                }
+                result = PyObject_Vectorcall(arc_feed, call, 12, NULL);
+            }
+            Py_XDECREF(centre1);
+            Py_XDECREF(centre2);
+            Py_XDECREF(rotation);
+            if (result == NULL) {
+                Py_DECREF(point);
+                failed = 1;
+                break;
+            }
+            Py_DECREF(result);
+            stride = 2 + r.width;
+        }
+        Py_SETREF(cur, point);
+        Py_INCREF(motion);
+        Py_SETREF(motion_mode, motion);
+        at += stride;
+    }
+    /* what was done, exception or not */
+    PyObject *type, *value, *traceback;
+    PyErr_Fetch(&type, &value, &traceback);
+    PyList_SetItem(state, 0, cur);
+    PyList_SetItem(state, 1, motion_mode);
+    if (row >= 0) {
+        PyObject *done = PyLong_FromSsize_t(row);
+        if (done == NULL) {
+            Py_XDECREF(type);
+            Py_XDECREF(value);
+            Py_XDECREF(traceback);
+            return NULL;
+        }
+        PyList_SetItem(state, 2, done);
+    }
+    if (failed) {
+        PyErr_Restore(type, value, traceback);
+        return NULL;
+    }
+    return PyLong_FromSsize_t(at);
+}
+
+static PyMethodDef methods[] = {
+    {"arc_row", (PyCFunction) (void (*)(void)) arc_row, METH_FASTCALL,
+     "ArcRows._arc_row's answer: (motion, N, F, end point, c1, c2) or None"},
+    {"rows", (PyCFunction) (void (*)(void)) rows, METH_FASTCALL,
+     "ArcRows.run's loop for rows without N or F, for a canon of calls"},
+    {NULL, NULL, 0, NULL},
+};
+
+static struct PyModuleDef module = {
+    PyModuleDef_HEAD_INIT, "runtime.fast._arc_row",
+    "The arc row loop's arithmetic in C (see runtime/fast/arc_rows.py).", -1, methods,
+};
+
+PyMODINIT_FUNC PyInit__arc_row(void) {
+    return PyModule_Create(&module);
+}

@@ -1,0 +1,209 @@
+"""The arc row loop in C (runtime/fast/_arc_row.c) against its Python.
+
+runtime/fast/arc_rows.py takes ``arc_row`` (one row's arc) and ``rows``
+(the loop over rows without N or F, for the trace) from the extension where
+it was built. Both must leave the trace, every call a canon gets, the
+machine's state and any error exactly as the Python loop does; the
+programs' traces against rs274 are tests/test_rows.py's.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+import random
+
+import pytest
+from hypothesis import given, settings
+
+import cam_strategies
+from ngc2py.compiler import compile_text
+from runtime import canon as canon_module
+from runtime.canon import TraceCanon
+from runtime.errors import GCodeError
+from runtime.fast import arc_rows
+from test_differential import PROFILE
+
+BUILT = arc_rows.rows_in_c is not None
+needs_c = pytest.mark.skipif(
+    not BUILT, reason="runtime.fast._arc_row not built here: the Python loop runs"
+)
+
+
+def _python_only(patch) -> None:
+    patch.setattr(arc_rows, "arc_row", arc_rows.python_arc_row)
+    patch.setattr(arc_rows, "rows_in_c", None)
+
+
+def _run(code: str, out=None, drain_at=None):
+    """The trace, the error (or None) and the machine's state after it."""
+    namespace: dict = {"__name__": "arcs"}
+    exec(compile(code, "arcs.py", "exec"), namespace)
+    out = io.StringIO() if out is None else out
+    canon = TraceCanon(out)
+    if drain_at is not None:
+        canon._drain_at = drain_at
+    machines = []
+    original = namespace["Machine"]
+
+    def keep(*args, **kwargs):
+        machine = original(*args, **kwargs)
+        machines.append(machine)
+        return machine
+
+    namespace["Machine"] = keep
+    error = None
+    try:
+        namespace["run"](canon)
+    except (GCodeError, OSError) as raised:
+        error = type(raised).__name__, str(raised)
+    machine = machines[0]
+    state = (
+        machine.line,
+        list(machine.current),
+        machine.motion_mode,
+        machine.feed_rate,
+    )
+    return out.getvalue() if isinstance(out, io.StringIO) else None, error, state
+
+
+@needs_c
+@settings(PROFILE, max_examples=PROFILE.max_examples * 3)
+@given(cam_strategies.arc_programs())
+def test_the_c_loop_writes_the_python_loops_trace(text):
+    code = compile_text(text, "arcs.ngc")
+    fast = _run(code)
+    with pytest.MonkeyPatch.context() as patch:
+        _python_only(patch)
+        assert _run(code) == fast
+
+
+class _Failing(io.StringIO):
+    """A stream that fails at its n-th write (a full disk, a closed pipe)."""
+
+    def __init__(self, fail_at: int) -> None:
+        super().__init__()
+        self.writes = 0
+        self.fail_at = fail_at
+
+    def write(self, text):
+        self.writes += 1
+        if self.writes >= self.fail_at:
+            raise OSError("no space left on device")
+        return super().write(text)
+
+
+def _contour(rows: int) -> str:
+    """A contour of R and I J arcs with lines between, no N or F."""
+    rng = random.Random(rows)
+    lines = ["G21 G90 G17 G94 F300", "G0 X0 Y0 Z1", "G1 Z-1"]
+    x = y = 0.0
+    for k in range(rows):
+        angle = rng.uniform(0, 2 * math.pi)
+        radius = rng.uniform(1, 30)
+        ex, ey = x + radius * math.cos(angle), y + radius * math.sin(angle)
+        if k % 5 == 4:
+            lines.append("G1 X%.4f Y%.4f" % (ex, ey))
+        elif k % 2:
+            lines.append("G%d X%.4f Y%.4f R%.4f" % (rng.choice((2, 3)), ex, ey, radius))
+        else:
+            cx, cy = (x + ex) / 2, (y + ey) / 2
+            lines.append(
+                "G%d X%.4f Y%.4f I%.4f J%.4f"
+                % (rng.choice((2, 3)), ex, ey, cx - x, cy - y)
+            )
+        x, y = ex, ey
+    return "\n".join(lines + ["M2", ""])
+
+
+@needs_c
+@pytest.mark.parametrize("fail_at", [1, 2, 5])
+def test_a_stream_failing_inside_the_c_loop_leaves_the_python_loops_state(
+    fail_at, monkeypatch
+):
+    """The C loop's state survives an exception from a canon call: the
+    same error, at the same line, with the same point as the Python loop."""
+    monkeypatch.setattr(canon_module, "BUFFERED_LINES", 40)  # a write every 40
+    code = compile_text(_contour(400), "arcs.ngc")
+    fast = _run(code, _Failing(fail_at), drain_at=40)
+    assert fast[1] == ("OSError", "no space left on device")
+    with pytest.MonkeyPatch.context() as patch:
+        _python_only(patch)
+        assert _run(code, _Failing(fail_at), drain_at=40) == fast
+
+
+def test_the_contour_runs_in_the_c_loop(monkeypatch):
+    """The loop above is the one taken (else the tests above prove nothing)."""
+    if not BUILT:
+        pytest.skip("runtime.fast._arc_row not built here")
+    done = []
+    original = arc_rows.rows_in_c
+
+    def counted(cells, at, *args):
+        stop = original(cells, at, *args)
+        done.append(stop - at)
+        return stop
+
+    monkeypatch.setattr(arc_rows, "rows_in_c", counted)
+    _run(compile_text(_contour(400), "arcs.ngc"))
+    assert sum(done) > 300 * 5  # cells: most rows of the contour
+
+
+@needs_c
+def test_one_row_is_the_python_rows_arc():
+    """arc_row against python_arc_row on random rows of each form, near
+    semicircles, R arcs too short, zero radii, ends at the start, F words."""
+    rng = random.Random(11)
+    geometry = (0, 1, 2, False, 0.000001, 0.0002)
+    for _ in range(20000):
+        cur = [rng.uniform(-50, 50) for _ in range(9)]
+        e1, e2 = rng.choice(
+            [
+                (cur[0], cur[1]),
+                (rng.uniform(-50, 50), rng.uniform(-50, 50)),
+                (round(cur[0] + 1, 4), cur[1]),
+            ]
+        )
+        half = math.hypot(e1 - cur[0], e2 - cur[1]) / 2
+        has_f = rng.random() < 0.3
+        f = ["%.1f" % rng.choice([-1, 0, 0, 250])] if has_f else []
+        if rng.random() < 0.5:
+            radius = rng.choice(
+                [0.0, half, half * (1 + 1e-13), half * 0.9, half * 1.5, -half * 2]
+            )
+            cells = ["7", "3", repr(e1), repr(e2), repr(radius)] + f
+            recipe = (
+                rng.choice([20, 30, None]),
+                False,
+                3 if has_f else -1,
+                0,
+                ((0, 0), (1, 1)),
+                2,
+                -1,
+                -1,
+            )
+        else:
+            c1, c2 = (cur[0] + e1) / 2 + rng.uniform(-1e-3, 1e-3), (cur[1] + e2) / 2
+            cells = ["7", "3", repr(e1), repr(e2), repr(c1 - cur[0]), repr(c2 - cur[1])]
+            cells += f
+            recipe = (
+                rng.choice([20, 30, None]),
+                False,
+                4 if has_f else -1,
+                0,
+                ((0, 0), (1, 1)),
+                -1,
+                2,
+                3,
+            )
+        motion_mode = rng.choice([0, 10, 20, 30])
+        feed = rng.choice([0.0, 100.0])
+        got = arc_rows.arc_row(cells, 0, recipe, motion_mode, cur, feed, geometry)
+        want = arc_rows.python_arc_row(
+            cells, 0, recipe, motion_mode, cur, feed, geometry
+        )
+        assert got == want, (cells, recipe, cur)
+        if got is not None:  # the very bits of the centre (a -0.0 shows)
+            assert [math.copysign(1, v) for v in got[4:]] == [
+                math.copysign(1, v) for v in want[4:]
+            ]
