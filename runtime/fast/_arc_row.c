@@ -359,8 +359,8 @@ static PyObject *arc_row(PyObject *self, PyObject *const *args, Py_ssize_t nargs
  * not an arc), ``straight`` to its straight move; a shape in neither, a
  * row with N or F, or one the general path must decide ends the loop.
  *
- * ``state`` is [point, motion, row]: the start point and modal motion on
- * entry; on return, even with an exception from a canon call, the point and
+ * ``state`` begins [point, motion, row] (ArcRows.run's list: more follows):
+ * the start point and modal motion on entry; on return, even with an exception from a canon call, the point and
  * motion of the rows done and where the last row looked at begins (the
  * Python loop's ``row``; unchanged when there was none). Returns where it
  * stopped. */
@@ -375,7 +375,7 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
     geometry_t g;
     if (!PyList_CheckExact(cells) || !PyDict_CheckExact(known) ||
         !PyDict_CheckExact(straight) || !PyList_CheckExact(state) ||
-        PyList_GET_SIZE(state) != 3 || read_geometry(args[5], &g)) {
+        PyList_GET_SIZE(state) < 3 || read_geometry(args[5], &g)) {
         if (!PyErr_Occurred()) {
             PyErr_SetString(PyExc_TypeError, "rows: unexpected argument types");
         }

@@ -337,6 +337,64 @@ class ArcRows:
         context = self._context(cells, at)
         if context is None:
             return at
+        machine = self.machine
+        # A canon's own arc_moves takes every arc between its other calls.
+        if self.pending is False:
+            self.pending = _Pending.for_canon(machine)
+        # what the loop leaves, exception or not: point, motion, the row it
+        # reached, N, feed rate and whether an F set it
+        state = [
+            machine.current,
+            machine.motion_mode,
+            at,
+            machine._block_n,
+            machine.feed_rate,
+            False,
+        ]
+        # rows without N or F, one call a move, in C (runtime/fast/_arc_row.c)
+        in_c = rows_in_c
+        if type(machine.canon) is not TraceCanon or machine.canon.reads_lines:
+            in_c = None
+        elif context[2]:  # arcs only (a BatchesOnly machine)
+            in_c = None
+        if in_c is not None:
+            known, geometry = context[:2]
+            canon = machine.canon
+            calls = canon.arc_feed, canon.straight_feed, canon.straight_traverse
+        try:
+            while at < end:
+                if in_c is not None and state[3] is None:
+                    stop = in_c(
+                        cells,
+                        at,
+                        end,
+                        known,
+                        self.straight,
+                        geometry,
+                        state,
+                        state[4],
+                        *calls,
+                    )
+                    if stop != at:
+                        at = stop
+                        continue
+                stop = self._loop(cells, at, end, context, state, in_c is not None)
+                if stop == at:
+                    break
+                at = stop
+        finally:
+            pending = self.pending
+            if pending and pending.rows:
+                pending.flush()
+            cur, motion_mode, row, block_n, feed_rate, feed_given = state
+            _publish(machine, int(cells[row]), cur, motion_mode, block_n)
+            if feed_given:
+                machine.feed_rate = machine.world.feed_rate = feed_rate
+        return at
+
+    def _loop(self, cells: List[str], at: int, end: int, context, state, once) -> int:
+        """run's loop in Python, from the state it is given to the one it
+        leaves; ``once``: back to run after a row with no N, for the C loop."""
         known, geometry, arcs_only = context
         p1, p2, p3, absolute = geometry[:4]
         axes = geometry[:3]
@@ -345,48 +403,17 @@ class ArcRows:
         canon = machine.canon
         arc_feed, set_feed_rate = canon.arc_feed, canon.set_feed_rate
         straight_feed, straight_traverse = canon.straight_feed, canon.straight_traverse
-        cur = machine.current
-        motion_mode, feed_rate = machine.motion_mode, machine.feed_rate
-        block_n = machine._block_n
-        feed_given = False
+        cur, motion_mode, row, block_n, feed_rate, feed_given = state
         # Runs of one shape: written at once (_batch) from batch_from on.
-        batch_from = at
+        batch_from = first = at
         groups = self.groups if self.groups is not None else self._groups()
         row_lines = canon.reads_lines  # (ngc2py.moves reads machine.line)
-        # A canon's own arc_moves takes every arc between its other calls.
-        if self.pending is False:
-            self.pending = _Pending.for_canon(machine)
         pending = self.pending
         held = None if pending is None else pending.rows
-        # rows without N or F, one call a move, in C (runtime/fast/_arc_row.c)
-        in_c = rows_in_c
-        if type(canon) is not TraceCanon or row_lines or arcs_only:
-            in_c = None
-        straight = self.straight
-        row = at
         try:
             while at < end:
-                if in_c is not None and block_n is None:
-                    state = [cur, motion_mode, row]
-                    try:
-                        stop = in_c(
-                            cells,
-                            at,
-                            end,
-                            known,
-                            straight,
-                            geometry,
-                            state,
-                            feed_rate,
-                            arc_feed,
-                            straight_feed,
-                            straight_traverse,
-                        )
-                    finally:
-                        cur, motion_mode, row = state
-                    if stop != at:
-                        at = stop
-                        continue
+                if once and block_n is None and at != first:
+                    break  # the C loop may take this row
                 row = at
                 if row_lines:
                     machine.line = int(cells[at])
@@ -461,11 +488,7 @@ class ArcRows:
                 motion_mode = motion
                 at += stride
         finally:
-            if held:
-                pending.flush()
-            _publish(machine, int(cells[row]), cur, motion_mode, block_n)
-            if feed_given:
-                machine.feed_rate = machine.world.feed_rate = feed_rate
+            state[:] = cur, motion_mode, row, block_n, feed_rate, feed_given
         return at
 
     def _straight_row(self, cells, at, end, key, motion_mode, feed_rate, cur):
