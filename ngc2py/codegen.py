@@ -71,6 +71,10 @@ MIN_ROWS = 8  # shortest run of constant blocks kept as data
 #: A shorter run of codes alone (``G17``, ``G21``, ``G90``...: a macro's
 #: set-up, not CAM data) stays statements, which read better.
 MIN_VALUE_ROWS = 64
+#: A program with fewer constant blocks than this is no CAM file: only its
+#: long runs (MIN_VALUE_ROWS) become tables, the rest reads as statements,
+#: as a person would have written them (a table pays off in long files).
+MIN_PROGRAM_ROWS = 64
 #: What a function binds for its code: numbered parameters (the list), named
 #: globals, named locals (CodeGen.bind_stores binds only those it uses).
 STORES = {"p": "m.params.values", "g": "m.globals", "v": "m.locals"}
@@ -175,7 +179,6 @@ def attr_safe(name: str) -> bool:
 # --------------------------------------------------------------------------
 
 
-
 def _walk_bodies(stmt):
     """The statements inside ``stmt`` (not into definitions)."""
     return st.walk([s for body in st.children(stmt, False) for s in body], False)
@@ -193,7 +196,11 @@ def l0_span(stmts: List[st.Stmt]) -> Optional[Tuple[int, int]]:
                 start = k
             continue
         word = getattr(stmt, "line", None) and stmt.line.oword
-        if isinstance(stmt, (st.Block, st.Fail, st.Return)) and word and word.keyword == "m99":
+        if (
+            isinstance(stmt, (st.Block, st.Fail, st.Return))
+            and word
+            and word.keyword == "m99"
+        ):
             between = stmts[start + 1 : k]
             if any(isinstance(inner, st.Jump) for inner in st.walk(between, False)):
                 return None
@@ -208,6 +215,7 @@ def m98_may_strand(line: nodes.Line) -> bool:
         if w.letter == "l":
             return not (isinstance(w.value, nodes.Num) and w.value.value != 0)
     return False
+
 
 class ExprWriter:
     """Renders expressions; records which runtime.ops helpers are used."""
@@ -256,7 +264,11 @@ class ExprWriter:
 
     def index(self, e: nodes.Expr) -> str:
         """A parameter number: a whole constant as an integer (``5420``)."""
-        if isinstance(e, nodes.Num) and float(e.value).is_integer() and abs(e.value) < 2**53:
+        if (
+            isinstance(e, nodes.Num)
+            and float(e.value).is_integer()
+            and abs(e.value) < 2**53
+        ):
             return "%d" % int(e.value)
         return self.expr(e)
 
@@ -662,6 +674,8 @@ class CodeGen:
         bodies = [program.body] + [sub.body for sub in program.externals]
         self.text_errors = st.first_text_error(bodies) is not None
         # any M98 that may never return (see strands): most programs have none
+        #: Enough constant blocks for short runs to become tables too.
+        self.cam_sized = constant_rows(bodies) >= MIN_PROGRAM_ROWS
         self.any_strand = any(
             isinstance(stmt, st.FanucCall) and m98_may_strand(stmt.line)
             for body in bodies
@@ -721,7 +735,11 @@ class CodeGen:
         final.raw("")
         opening = self.opening_error(final)
         map_lines = source_map_lines(
-            final, self.sub_table(), self.end_of_main(), opening, self.unskippable(final)
+            final,
+            self.sub_table(),
+            self.end_of_main(),
+            opening,
+            self.unskippable(final),
         )
         for line in map_lines:
             final.raw(line)
@@ -992,7 +1010,8 @@ class CodeGen:
         as statements when short, else as data tables executed by
         ``runtime.fast.rows.run_rows``."""
         total = sum(item.count if type(item) is RowRun else 1 for item in run)
-        if total < MIN_ROWS or (total < MIN_VALUE_ROWS and not row_values(run)):
+        short = total < MIN_VALUE_ROWS
+        if total < MIN_ROWS or short and not (self.cam_sized and row_values(run)):
             for item in run:
                 for line in item.lines() if type(item) is RowRun else [item[0]]:
                     self.line_block(line.full() if isinstance(line, RowLine) else line)
@@ -1422,7 +1441,9 @@ class CodeGen:
         arms = stmt.branches + ([stmt.orelse] if stmt.orelse else [])
         if self.strands(stmt):
             self.stranding.add(id(stmt))
-            self.w.stmt("m.frame_mark(%s)" % string(self.frame_key(stmt)), stmt.branches[0].line)
+            self.w.stmt(
+                "m.frame_mark(%s)" % string(self.frame_key(stmt)), stmt.branches[0].line
+            )
         for i, branch in enumerate(stmt.branches):
             keyword_ = "if" if i == 0 else "elif"
             test = self.x.condition(branch.line.oword.expr)
@@ -1583,7 +1604,9 @@ class CodeGen:
         line with that label on the way."""
         # the first of them in the file (a repeat's own break or continue
         # comes before the end of the file an unclosed loop skips to)
-        fails = [f for f in (stmt.skip_fail, stmt.eof if stmt.kind != "do" else None) if f]
+        fails = [
+            f for f in (stmt.skip_fail, stmt.eof if stmt.kind != "do" else None) if f
+        ]
         fail = min(fails, key=_fail_order) if fails else None
         sets_break = (
             self.break_flag
@@ -1656,7 +1679,9 @@ class CodeGen:
             self.w.stmt("%s = %s" % (targets, sources), line)
         if fastlocals.comment_line(line):
             self.w.stmt(self.comment_call(line), line)
-        elif line.words or line.comment is not None or line.n is not None or not settings:
+        elif (
+            line.words or line.comment is not None or line.n is not None or not settings
+        ):
             words = [r for r in reads if r.target is None]
             self.w.stmt(
                 self.block_call(line, line.words, [r.value for r in words]), line
@@ -1824,7 +1849,9 @@ class CodeGen:
             for name in fastlocals.comment_names(comment)
             if name in self.x.fast
         ]
-        odd = [(n, var) for n, var in given if not n.isidentifier() or keyword.iskeyword(n)]
+        odd = [
+            (n, var) for n, var in given if not n.isidentifier() or keyword.iskeyword(n)
+        ]
         args += ["%s=%s" % (n, var) for n, var in given if (n, var) not in odd]
         if odd:  # names no keyword argument can spell: #<pass>, #<z-end>
             args.append("**{%s}" % ", ".join("%s: %s" % (string(n), v) for n, v in odd))
@@ -1885,6 +1912,18 @@ def constant_row(stmt: st.Stmt) -> Optional[Row]:
         letters.insert(0, "n")  # first, as it is written
         values.insert(0, line.n_text)
     return (tuple(codes_), tuple(letters)), " ".join(values)
+
+
+def constant_rows(bodies: List[List[st.Stmt]]) -> int:
+    """How many constant blocks (rows of data tables) ``bodies`` hold."""
+    count = 0
+    for body in bodies:
+        for stmt in st.walk(body):
+            if type(stmt) is st.Block and type(stmt.line) is RowRun:
+                count += stmt.line.count
+            elif constant_row(stmt) is not None:
+                count += 1
+    return count
 
 
 def row_values(run: List) -> bool:

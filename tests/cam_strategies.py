@@ -29,7 +29,20 @@ import re
 
 from hypothesis import strategies as st
 
+from ngc2py.codegen import MIN_PROGRAM_ROWS
+
 ARC = re.compile(r"\bG0?[23]\b")
+
+
+def cam_sized(text: str) -> str:
+    """``text`` (which ends with M2) and, past its M2, rows enough to make
+    it CAM-sized for the code generator (codegen.MIN_PROGRAM_ROWS): then
+    its runs of eight constant blocks and more become data tables, as in a
+    real CAM file, where a short program's read as statements. rs274 never
+    reads past M2, and neither does the generated module run them."""
+    assert text.endswith("M2\n"), "rows past M2 only"
+    return text + "G0 X0\n" * MIN_PROGRAM_ROWS
+
 
 AXES = "XYZABC"
 
@@ -310,7 +323,8 @@ SETUPS = [
 @st.composite
 def cam_programs(draw) -> str:
     """Set-up lines, then one or more runs of move rows (each long enough
-    to become a data table), with the odd interruption between rows."""
+    to become a data table in a CAM-sized program: three in four are), with
+    the odd interruption between rows."""
     lines = draw(st.lists(st.sampled_from(SETUPS), min_size=0, max_size=3))
     numbered = draw(st.booleans())
     plane = "G17"
@@ -334,13 +348,15 @@ def cam_programs(draw) -> str:
             lines.append(draw(st.sampled_from(INTERRUPTIONS)))
             plane = lines[-1] if lines[-1] in PLANES else plane
     lines.append("M2")
-    return "\n".join(lines) + "\n"
+    text = "\n".join(lines) + "\n"
+    return cam_sized(text) if draw(st.integers(0, 3)) else text
 
 
 @st.composite
 def arc_programs(draw) -> str:
     """Units, a plane and a feed rate, then chains of arcs (`arc_chain`) with
-    straight moves, plane changes and the odd interruption between them."""
+    straight moves, plane changes and the odd interruption between them;
+    three in four CAM-sized (their runs of rows become tables)."""
     plane = draw(st.sampled_from(list(PLANES)))
     units = draw(st.sampled_from(["G21", "G21", "G20"]))
     lines = ["%s %s F%s" % (units, plane, draw(st.sampled_from(["300", "1200.5"])))]
@@ -362,7 +378,8 @@ def arc_programs(draw) -> str:
             lines.append(draw(st.sampled_from(INTERRUPTIONS)))
             plane = lines[-1] if lines[-1] in PLANES else plane
     lines.append("M2")
-    return "\n".join(lines) + "\n"
+    text = "\n".join(lines) + "\n"
+    return cam_sized(text) if draw(st.integers(0, 3)) else text
 
 
 # -- CAM text with odd lines: the edges of the parser's fast lane --------------

@@ -15,7 +15,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as hs
 
+from cam_strategies import cam_sized
 from ngc2py import codegen
+from ngc2py.codegen import MIN_PROGRAM_ROWS, MIN_VALUE_ROWS
 from ngc2py.compiler import compile_text
 from runtime.errors import SourceMap
 
@@ -291,7 +293,9 @@ def test_comment_lines_are_one_call_each():
         "reach=reach)\n" in code
     )
     assert '    m.comment(5, "where we start")\n' in code
-    assert "        m.abort(8, \" feed must be positive, got #<feed>\", feed=feed)\n" in code
+    assert (
+        '        m.abort(8, " feed must be positive, got #<feed>", feed=feed)\n' in code
+    )
     assert '        m.abort(13, " probe failed")\n' in code
     assert '    m.message(16, " edge found")\n' in code
     assert (
@@ -354,15 +358,34 @@ def test_a_macro_is_not_longer_than_its_g_code():
 def test_arithmetic_has_only_the_parentheses_python_needs():
     text = "#<a>=1\n#<b>=2\nG0 X[2470*#<a>+#<b>] Y[#<a>-#<b>+1] Z[#<a>-[#<b>+1]]\nM2\n"
     code = compile_text(text, "e.ngc")
-    assert "x=finite(2470.0 * a + b), y=finite(a - b + 1.0), z=finite(a - (b + 1.0))" in code
+    assert (
+        "x=finite(2470.0 * a + b), y=finite(a - b + 1.0), z=finite(a - (b + 1.0))"
+        in code
+    )
 
 
 def test_a_macros_set_up_codes_stay_statements():
-    text = "o<s> sub\n" + "".join("G%s\n" % g for g in "17 21 54 61 40 49 80 90".split())
+    text = "o<s> sub\n" + "".join(
+        "G%s\n" % g for g in "17 21 54 61 40 49 80 90".split()
+    )
     code = compile_text(text + "o<s> endsub\nM2\n", "setup.ngc")
     assert "    m.block(8, G80)\n" in code and "run_rows" not in code
-    code = compile_text("G21\n" + "G0 X1\n" * 8 + "M2\n", "moves.ngc")
-    assert "run_rows" in code  # moves: data rows from eight on
+    moves = "G21\n" + "G0 X1\n" * 8 + "M2\n"
+    code = compile_text(cam_sized(moves), "moves.ngc")
+    assert "run_rows" in code  # moves: data rows from eight on, in a CAM file
+
+
+def test_a_short_program_reads_as_statements():
+    """Below codegen.MIN_PROGRAM_ROWS constant blocks a program is no CAM
+    file: its runs of moves are statements, one a line, as a person would
+    write them; only a run of MIN_VALUE_ROWS becomes a table there."""
+    moves = "".join("G1 X%d Y2 F100\n" % k for k in range(MIN_PROGRAM_ROWS - 3))
+    code = code_of(compile_text("G21\n" + moves + "M2\n", "short.ngc"))
+    assert "run_rows" not in code
+    assert "    m.move(3, G1, x=1.0, y=2.0, f=100.0)\n" in code
+    long_run = "".join("G1 X%d Y2 F100\n" % k for k in range(MIN_VALUE_ROWS))
+    assert "run_rows" in compile_text("G21\n" + long_run + "M2\n", "long.ngc")
+    assert "run_rows" in compile_text(cam_sized("G21\n" + moves + "M2\n"), "cam.ngc")
 
 
 def test_numbered_parameters_are_written_as_integers():
@@ -374,7 +397,8 @@ def test_numbered_parameters_are_written_as_integers():
 
 def test_functions_bind_only_the_stores_they_use():
     code = compile_text(
-        "o<s> sub\nG0 X#1\no<s> endsub\no<s> call [1]\n#<_g> = 2\nG0 X#<_g>\nM2\n", "s.ngc"
+        "o<s> sub\nG0 X#1\no<s> endsub\no<s> call [1]\n#<_g> = 2\nG0 X#<_g>\nM2\n",
+        "s.ngc",
     )
     assert "    p = m.params.values\n" in code
     assert "    g = m.globals\n" in code

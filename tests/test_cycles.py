@@ -23,6 +23,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import rs274 as harness
+from cam_strategies import cam_sized
 from ngc2py.compiler import compile_text
 from runtime import Machine, start
 from runtime.canon import RecordingCanon
@@ -99,7 +100,19 @@ def cycle_tables(draw) -> str:
     )
     code = draw(
         st.sampled_from(
-            ["G81", "G82", "G83", "G73", "G85", "G86", "G89", "G84", "G74", "G87", "G88"]
+            [
+                "G81",
+                "G82",
+                "G83",
+                "G73",
+                "G85",
+                "G86",
+                "G89",
+                "G84",
+                "G74",
+                "G87",
+                "G88",
+            ]
         )
     )
     incremental = draw(st.integers(0, 3)) == 0
@@ -120,7 +133,11 @@ def cycle_tables(draw) -> str:
     units = draw(st.sampled_from(["G21", "G20"]))
     spindle = "M4" if code == "G74" else "M3"
     start = draw(st.sampled_from(["5", "5", "-1"]))  # -1: below the R plane
-    lines = ["%s G90 %s F300" % (units, plane), spindle + " S1000", "G0 %s%s" % (hole, start)]
+    lines = [
+        "%s G90 %s F300" % (units, plane),
+        spindle + " S1000",
+        "G0 %s%s" % (hole, start),
+    ]
     lines.append(" ".join(["G91" if incremental else "G90", retract, code] + words))
     for k in range(draw(st.integers(8, 40))):
         shape = draw(st.integers(0, 9))
@@ -147,7 +164,8 @@ def cycle_tables(draw) -> str:
     if draw(st.booleans()):
         lines.append("(debug, at #5420 #5421 #5422)")  # the last hole, published
     lines += ["G80", "G90", "M2"]
-    return "\n".join(lines) + "\n"
+    text = "\n".join(lines) + "\n"
+    return cam_sized(text) if draw(st.integers(0, 3)) else text
 
 
 @PROFILE
@@ -237,11 +255,15 @@ def test_holes_are_replayed(monkeypatch):
 
     monkeypatch.setattr(HoleRows, "_record", counting)
     rows = "\n".join("X%d Y%d" % (k, k % 3) for k in range(2, 40))
-    _cycle_calls("G21 G17 F100\nG0 Z5\nG99 G81 X1 Y1 Z-1 R2\n" + rows + "\nG80\nM2\n")
+    _cycle_calls(
+        cam_sized("G21 G17 F100\nG0 Z5\nG99 G81 X1 Y1 Z-1 R2\n" + rows + "\nG80\nM2\n")
+    )
     assert recorded == [True]
     rows = "\n".join("Z%d" % k for k in range(2, 40))
     recorded.clear()
     _cycle_calls(
-        "G21 G18 F100\nG0 Y-1\nG98 G83 Z1 X1 Y-3 R2 Q0.5\n" + rows + "\nG80\nM2\n"
+        cam_sized(
+            "G21 G18 F100\nG0 Y-1\nG98 G83 Z1 X1 Y-3 R2 Q0.5\n" + rows + "\nG80\nM2\n"
+        )
     )
     assert recorded == [True]

@@ -241,7 +241,9 @@ def test_flat_cycle_table_makes_the_same_moves(text):
 
 def test_a_batch_of_moves_is_written_as_one_block_a_move(tmp_path):
     rows = "".join("X%d.25 Y%d\n" % (k, k % 3) for k in range(40))
-    text = "G21 G90\nG1 Z-1 F100\n" + rows + "#5161 = 7\nG28\nM2\n"
+    text = cam_strategies.cam_sized(
+        "G21 G90\nG1 Z-1 F100\n" + rows + "#5161 = 7\nG28\nM2\n"
+    )
     rc, flat, err = run_flatten(tmp_path, text)
     assert rc == 0, err
     moves = [line for line in flat.splitlines() if line.startswith("G1 X")]

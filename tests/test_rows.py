@@ -24,7 +24,7 @@ from runtime.errors import GCodeError
 from runtime.machine import Machine
 from test_differential import PROFILE, check_same
 
-FOUR_PLACES = (
+FOUR_PLACES = cam_strategies.cam_sized(
     "\n".join(
         ["G21 G90 F500"] + ["G1 X%d.125 Y-0.5 Z3" % i for i in range(12)] + ["M2"]
     )
@@ -171,7 +171,7 @@ BATCHES = {
 @pytest.mark.rs274
 @pytest.mark.parametrize("name", sorted(BATCHES))
 def test_stretches_of_one_shape_match_rs274(name):
-    text = BATCHES[name]
+    text = cam_strategies.cam_sized(BATCHES[name])
     assert "as_printed=True" in compile_text(text, "cam.ngc")
     check_same(text, "inprocess")
 
@@ -238,7 +238,7 @@ def test_a_canon_failing_inside_a_batch_stops_where_row_by_row_stops(
         + "".join("X%d.5 Y%d\n" % (k, -k) for k in range(30))
         + "M2\n"
     )
-    code = compile_text(text, "cam.ngc")
+    code = compile_text(cam_strategies.cam_sized(text), "cam.ngc")
     assert "run_rows(" in code
     batched = _FailingCanon(fail_at)
     outcome = _run_recorded(code, batched)

@@ -2,8 +2,9 @@
 
 A run of at least ``codegen.MIN_ROWS`` G-code lines that hold only literal
 words (a CAM file's moves: no expressions, settings, comments, block delete,
-O-words or read errors) is compiled into a text table instead of one
-statement per line, one row per text line::
+O-words or read errors) in a CAM-sized program (``codegen.MIN_PROGRAM_ROWS``;
+elsewhere a run of ``MIN_VALUE_ROWS``) is compiled into a text table instead
+of one statement per line, one row per text line::
 
     ROWS_1 = (triple quote)
     24 0 1.0 2.0
