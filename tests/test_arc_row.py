@@ -19,7 +19,7 @@ from hypothesis import given, settings
 import cam_strategies
 from ngc2py.compiler import compile_text
 from runtime import canon as canon_module
-from runtime.canon import TraceCanon
+from runtime.canon import RecordingCanon, TraceCanon
 from runtime.errors import GCodeError
 from runtime.fast import arc_rows
 from test_differential import PROFILE
@@ -207,3 +207,72 @@ def test_one_row_is_the_python_rows_arc():
             assert [math.copysign(1, v) for v in got[4:]] == [
                 math.copysign(1, v) for v in want[4:]
             ]
+
+
+class _Batches(RecordingCanon):
+    """Takes arcs in batches (arc_moves): records each arc with its G-code
+    line and its start, the machine's point for the first of a batch (the
+    protocol's promise) and the arc before's end for the others, so that
+    batches cut anywhere record alike."""
+
+    machine = None
+    #: where the moves so far ended (None: not known, after an offset)
+    end = None
+
+    def arc_moves(self, lines, *columns):
+        start = list(self.machine.current)
+        if self.end is not None:  # the machine is at the batch's start
+            assert tuple(start) == self.end, (lines[0], start, self.end)
+        p1, p2, p3 = arc_rows.PLANE_AXES[self.machine.plane]
+        for line, *args in zip(lines, *columns):
+            self._record("arc", (line, tuple(start), *args))
+            start[p1], start[p2], start[p3] = args[0], args[1], args[5]
+            start[3:] = args[6:]
+        self.end = tuple(start)
+
+    def straight_feed(self, *args):
+        super().straight_feed(*args)
+        self.end = tuple(args)
+
+    def straight_traverse(self, *args):
+        super().straight_traverse(*args)
+        self.end = tuple(args)
+
+    def arc_feed(self, *args):
+        super().arc_feed(*args)
+        self.end = None
+
+    def _record(self, name, args):
+        super()._record(name, args)
+        if name not in ("arc", "straight_feed", "straight_traverse", "arc_feed"):
+            self.end = None  # an offset, units...: not followed here
+
+
+def _batched(code: str):
+    from runtime import Machine, start
+
+    namespace: dict = {"__name__": "arcs"}
+    exec(compile(code, "arcs.py", "exec"), namespace)
+    canon = _Batches()
+    machine = canon.machine = Machine(canon, source=namespace["__ngc__"])
+    try:
+        start(machine, namespace["main"])
+        error = None
+    except GCodeError as raised:
+        error = str(raised)
+    state = (machine.line, list(machine.current), machine.motion_mode)
+    return canon.calls, canon.numbers, error, state
+
+
+@needs_c
+@settings(PROFILE, max_examples=PROFILE.max_examples * 3)
+@given(cam_strategies.arc_programs())
+def test_the_c_loop_holds_the_python_loops_arcs(text):
+    """For a canon that takes arcs in batches, the C loop holds the arcs
+    the Python loop holds: the same arcs, lines, calls between them, N
+    numbers and end state (batches may be cut differently)."""
+    code = compile_text(text, "arcs.ngc")
+    fast = _batched(code)
+    with pytest.MonkeyPatch.context() as patch:
+        _python_only(patch)
+        assert _batched(code) == fast

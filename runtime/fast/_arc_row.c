@@ -344,6 +344,32 @@ static PyObject *arc_row(PyObject *self, PyObject *const *args, Py_ssize_t nargs
     return Py_BuildValue("(OONNdd)", motion, n, f_object, point, c1, c2);
 }
 
+/* Append to ``held`` what _Pending.hold keeps of an arc: its G-code line
+ * (the int of ``line``, a cell) and arc_feed's twelve arguments. A new
+ * reference to None, or NULL with an exception set. */
+static PyObject *hold(PyObject *held, PyObject *line, PyObject **call) {
+    PyObject *number = PyLong_FromUnicodeObject(line, 10);
+    if (number == NULL) {
+        return NULL;
+    }
+    PyObject *row = PyTuple_New(13);
+    if (row == NULL) {
+        Py_DECREF(number);
+        return NULL;
+    }
+    PyTuple_SET_ITEM(row, 0, number);
+    for (int k = 0; k < 12; k++) {
+        Py_INCREF(call[k]);
+        PyTuple_SET_ITEM(row, k + 1, call[k]);
+    }
+    int failed = PyList_Append(held, row);
+    Py_DECREF(row);
+    if (failed) {
+        return NULL;
+    }
+    Py_RETURN_NONE;
+}
+
 /* straight_row: the end point of a plain straight move (the straight
  * table's (motion, has_n, f_at, width, slots)) without N or F, or NULL with
  * *stop set where the loop must stop (no exception) */
@@ -352,10 +378,14 @@ static PyObject *arc_row(PyObject *self, PyObject *const *args, Py_ssize_t nargs
 #define STRETCH 8 /* arc_rows._BATCH: a stretch printed_rows writes at once */
 
 /* rows(cells, at, end, known, straight, geometry, state, feed_rate, arc_feed,
- * straight_feed, straight_traverse): ArcRows.run's loop for the rows it
- * takes one by one without N or F words (the usual rows of a contour: arcs
- * and the lines between them), for a canon that takes each move as a call
- * (the trace). ``known`` maps a row's shape cell to its arc recipe (None:
+ * straight_feed, straight_traverse[, held, explicit_only]): ArcRows.run's loop for the rows
+ * it takes one by one without N or F words (the usual rows of a contour:
+ * arcs and the lines between them), for a canon that takes each move as a
+ * call (the trace). With ``held`` (_Pending.rows, for a canon that takes
+ * arcs in batches), each arc is appended there as _Pending.hold keeps it,
+ * and a straight row ends the loop (the held arcs go to the canon first), as
+ * does, with ``explicit_only`` (a BatchesOnly machine), an arc in the modal
+ * motion. ``known`` maps a row's shape cell to its arc recipe (None:
  * not an arc), ``straight`` to its straight move; a shape in neither, a
  * row with N or F, or one the general path must decide ends the loop.
  *
@@ -365,8 +395,17 @@ static PyObject *arc_row(PyObject *self, PyObject *const *args, Py_ssize_t nargs
  * Python loop's ``row``; unchanged when there was none). Returns where it
  * stopped. */
 static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
-    if (nargs != 11) {
-        PyErr_SetString(PyExc_TypeError, "rows takes 11 arguments");
+    if (nargs != 11 && nargs != 13) {
+        PyErr_SetString(PyExc_TypeError, "rows takes 11 or 13 arguments");
+        return NULL;
+    }
+    PyObject *held = nargs == 13 ? args[11] : NULL;
+    int explicit_only = nargs == 13 ? PyObject_IsTrue(args[12]) : 0;
+    if (explicit_only < 0) {
+        return NULL;
+    }
+    if (held != NULL && !PyList_CheckExact(held)) {
+        PyErr_SetString(PyExc_TypeError, "rows: the held arcs are a list");
         return NULL;
     }
     PyObject *cells = args[0], *known = args[3], *straight = args[4];
@@ -412,6 +451,9 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
             break; /* no recipe yet: the Python loop makes it */
         }
         if (recipe == Py_None) {
+            if (held != NULL) {
+                break; /* the held arcs go to the canon first: Python's work */
+            }
             /* a plain straight move between arcs (ArcRows._straight_row) */
             PyObject *line = PyDict_GetItemWithError(straight, key);
             Py_ssize_t has_n, f_at, width;
@@ -470,6 +512,9 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
             if (r.has_n || r.f_at >= 0 || feed_rate == 0.0 || at + 2 + r.width > end) {
                 break;
             }
+            if (explicit_only && r.motion == Py_None) {
+                break;
+            }
             motion = r.motion == Py_None ? motion_mode : r.motion;
             long code = motion_code(motion);
             if (code != G_2 && code != G_3) {
@@ -501,7 +546,11 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
                 for (int k = 3; k < 9; k++) {
                     call[3 + k] = PyList_GET_ITEM(point, k);
                 }
-                result = PyObject_Vectorcall(arc_feed, call, 12, NULL);
+                if (held == NULL) {
+                    result = PyObject_Vectorcall(arc_feed, call, 12, NULL);
+                } else {
+                    result = hold(held, PyList_GET_ITEM(cells, at), call);
+                }
             }
             Py_XDECREF(centre1);
             Py_XDECREF(centre2);

@@ -342,7 +342,8 @@ class ArcRows:
         if self.pending is False:
             self.pending = _Pending.for_canon(machine)
         # what the loop leaves, exception or not: point, motion, the row it
-        # reached, N, feed rate and whether an F set it
+        # reached, N, feed rate, whether an F set it, and where _loop may
+        # look for a batch again
         state = [
             machine.current,
             machine.motion_mode,
@@ -350,31 +351,27 @@ class ArcRows:
             machine._block_n,
             machine.feed_rate,
             False,
+            at,
         ]
-        # rows without N or F, one call a move, in C (runtime/fast/_arc_row.c)
-        in_c = rows_in_c
-        if type(machine.canon) is not TraceCanon or machine.canon.reads_lines:
-            in_c = None
-        elif context[2]:  # arcs only (a BatchesOnly machine)
+        # Rows without N or F in C (runtime/fast/_arc_row.c): the trace's
+        # calls, or the arcs a batch canon's arc_moves takes (held).
+        canon, pending = machine.canon, self.pending
+        in_c = None if canon.reads_lines else rows_in_c
+        if pending is not None:  # arcs only: none in the modal motion
+            extra = (pending.rows, context[2])
+        elif type(canon) is TraceCanon and not context[2]:  # (not arcs only)
+            extra = ()
+        else:
             in_c = None
         if in_c is not None:
-            known, geometry = context[:2]
-            canon = machine.canon
+            fixed = context[0], self.straight, context[1]
             calls = canon.arc_feed, canon.straight_feed, canon.straight_traverse
         try:
             while at < end:
                 if in_c is not None and state[3] is None:
-                    stop = in_c(
-                        cells,
-                        at,
-                        end,
-                        known,
-                        self.straight,
-                        geometry,
-                        state,
-                        state[4],
-                        *calls,
-                    )
+                    if pending is not None and not pending.rows:
+                        pending.start = state[0]
+                    stop = in_c(cells, at, end, *fixed, state, state[4], *calls, *extra)
                     if stop != at:
                         at = stop
                         continue
@@ -386,7 +383,7 @@ class ArcRows:
             pending = self.pending
             if pending and pending.rows:
                 pending.flush()
-            cur, motion_mode, row, block_n, feed_rate, feed_given = state
+            cur, motion_mode, row, block_n, feed_rate, feed_given = state[:6]
             _publish(machine, int(cells[row]), cur, motion_mode, block_n)
             if feed_given:
                 machine.feed_rate = machine.world.feed_rate = feed_rate
@@ -403,9 +400,9 @@ class ArcRows:
         canon = machine.canon
         arc_feed, set_feed_rate = canon.arc_feed, canon.set_feed_rate
         straight_feed, straight_traverse = canon.straight_feed, canon.straight_traverse
-        cur, motion_mode, row, block_n, feed_rate, feed_given = state
+        cur, motion_mode, row, block_n, feed_rate, feed_given, batch_from = state
         # Runs of one shape: written at once (_batch) from batch_from on.
-        batch_from = first = at
+        first = at
         groups = self.groups if self.groups is not None else self._groups()
         row_lines = canon.reads_lines  # (ngc2py.moves reads machine.line)
         pending = self.pending
@@ -488,7 +485,7 @@ class ArcRows:
                 motion_mode = motion
                 at += stride
         finally:
-            state[:] = cur, motion_mode, row, block_n, feed_rate, feed_given
+            state[:] = cur, motion_mode, row, block_n, feed_rate, feed_given, batch_from
         return at
 
     def _straight_row(self, cells, at, end, key, motion_mode, feed_rate, cur):
@@ -744,6 +741,10 @@ class ArcRows:
             i = named.get(axis)
             columns.append([cur[axis]] * rows if i is None else column_floats(texts[i]))
         lines = list(map(int, cells[at:stop:stride]))
+        # the machine at the batch's start (held arcs flushed before it
+        # left it at theirs)
+        machine = self.machine
+        machine.current = machine.world.position = machine.params.position = cur
         canon.arc_moves(lines, e1, e2, c1, c2, rotation, *columns)
         point = cur[:]
         point[p1], point[p2] = e1[-1], e2[-1]
