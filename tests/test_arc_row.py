@@ -93,8 +93,9 @@ class _Failing(io.StringIO):
         return super().write(text)
 
 
-def _contour(rows: int) -> str:
-    """A contour of R and I J arcs with lines between, no N or F."""
+def _contour(rows: int, numbered: bool = False) -> str:
+    """A contour of R and I J arcs with lines between; ``numbered``: an N
+    on every line and now and then an F, as many CAM posts write them."""
     rng = random.Random(rows)
     lines = ["G21 G90 G17 G94 F300", "G0 X0 Y0 Z1", "G1 Z-1"]
     x = y = 0.0
@@ -112,19 +113,25 @@ def _contour(rows: int) -> str:
                 "G%d X%.4f Y%.4f I%.4f J%.4f"
                 % (rng.choice((2, 3)), ex, ey, cx - x, cy - y)
             )
+        if numbered and k % 7 == 3:
+            lines[-1] += " F%d" % rng.randint(100, 900)
         x, y = ex, ey
+    if numbered:
+        lines = ["N%d %s" % (10 * k, line) for k, line in enumerate(lines, 1)]
     return "\n".join(lines + ["M2", ""])
 
 
 @needs_c
+@pytest.mark.parametrize("numbered", [False, True])
 @pytest.mark.parametrize("fail_at", [1, 2, 5])
 def test_a_stream_failing_inside_the_c_loop_leaves_the_python_loops_state(
-    fail_at, monkeypatch
+    fail_at, numbered, monkeypatch
 ):
     """The C loop's state survives an exception from a canon call: the
-    same error, at the same line, with the same point as the Python loop."""
+    same error, at the same line, with the same point, motion and feed rate
+    as the Python loop."""
     monkeypatch.setattr(canon_module, "BUFFERED_LINES", 40)  # a write every 40
-    code = compile_text(_contour(400), "arcs.ngc")
+    code = compile_text(_contour(400, numbered), "arcs.ngc")
     fast = _run(code, _Failing(fail_at), drain_at=40)
     assert fast[1] == ("OSError", "no space left on device")
     with pytest.MonkeyPatch.context() as patch:
@@ -132,8 +139,10 @@ def test_a_stream_failing_inside_the_c_loop_leaves_the_python_loops_state(
         assert _run(code, _Failing(fail_at), drain_at=40) == fast
 
 
-def test_the_contour_runs_in_the_c_loop(monkeypatch):
-    """The loop above is the one taken (else the tests above prove nothing)."""
+@pytest.mark.parametrize("numbered", [False, True])
+def test_the_contour_runs_in_the_c_loop(numbered, monkeypatch):
+    """The loop above is the one taken, N and F words or not (else the
+    tests above prove nothing)."""
     if not BUILT:
         pytest.skip("runtime.fast._arc_row not built here")
     done = []
@@ -145,7 +154,9 @@ def test_the_contour_runs_in_the_c_loop(monkeypatch):
         return stop
 
     monkeypatch.setattr(arc_rows, "rows_in_c", counted)
-    _run(compile_text(_contour(400), "arcs.ngc"))
+    text = _contour(400, numbered)
+    assert ("N50 G" in text) == numbered and (" F" in text[50:]) == numbered
+    _run(compile_text(text, "arcs.ngc"))
     assert sum(done) > 300 * 5  # cells: most rows of the contour
 
 

@@ -377,30 +377,33 @@ static PyObject *hold(PyObject *held, PyObject *line, PyObject **call) {
 #define G_1 10
 #define STRETCH 8 /* arc_rows._BATCH: a stretch printed_rows writes at once */
 
-/* rows(cells, at, end, known, straight, geometry, state, feed_rate, arc_feed,
- * straight_feed, straight_traverse[, held, explicit_only]): ArcRows.run's loop for the rows
- * it takes one by one without N or F words (the usual rows of a contour:
- * arcs and the lines between them), for a canon that takes each move as a
- * call (the trace). With ``held`` (_Pending.rows, for a canon that takes
- * arcs in batches), each arc is appended there as _Pending.hold keeps it,
- * and a straight row ends the loop (the held arcs go to the canon first), as
- * does, with ``explicit_only`` (a BatchesOnly machine), an arc in the modal
- * motion. ``known`` maps a row's shape cell to its arc recipe (None:
- * not an arc), ``straight`` to its straight move; a shape in neither, a
- * row with N or F, or one the general path must decide ends the loop.
+/* rows(cells, at, end, known, straight, geometry, state, arc_feed,
+ * straight_feed, straight_traverse, set_block_number, set_feed_rate[, held,
+ * explicit_only]): ArcRows.run's loop for the rows of a contour (arcs and
+ * the plain lines between them), for a canon that takes each move as a call
+ * (the trace): their N and F words too, as the Python loop makes them.
+ * ``known`` maps a row's shape cell to its arc recipe (None: not an arc),
+ * ``straight`` to its straight move; a shape in neither, or a row the
+ * general path must decide, ends the loop.
  *
- * ``state`` begins [point, motion, row] (ArcRows.run's list: more follows):
- * the start point and modal motion on entry; on return, even with an exception from a canon call, the point and
- * motion of the rows done and where the last row looked at begins (the
- * Python loop's ``row``; unchanged when there was none). Returns where it
- * stopped. */
+ * With ``held`` (_Pending.rows, for a canon that takes arcs in batches),
+ * each arc is appended there as _Pending.hold keeps it, and a straight row
+ * or a row with N or F ends the loop (the held arcs go to the canon first),
+ * as does, with ``explicit_only`` (a BatchesOnly machine), an arc in the
+ * modal motion.
+ *
+ * ``state`` is ArcRows.run's list [point, motion, row, N, feed rate, F
+ * given, ...]: on return, even with an exception from a canon call, it holds
+ * what the rows done leave, and row is where the last row looked at begins
+ * (the Python loop's ``row``; unchanged when there was none). Returns where
+ * it stopped. */
 static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
-    if (nargs != 11 && nargs != 13) {
-        PyErr_SetString(PyExc_TypeError, "rows takes 11 or 13 arguments");
+    if (nargs != 12 && nargs != 14) {
+        PyErr_SetString(PyExc_TypeError, "rows takes 12 or 14 arguments");
         return NULL;
     }
-    PyObject *held = nargs == 13 ? args[11] : NULL;
-    int explicit_only = nargs == 13 ? PyObject_IsTrue(args[12]) : 0;
+    PyObject *held = nargs == 14 ? args[12] : NULL;
+    int explicit_only = nargs == 14 ? PyObject_IsTrue(args[13]) : 0;
     if (explicit_only < 0) {
         return NULL;
     }
@@ -410,11 +413,12 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
     }
     PyObject *cells = args[0], *known = args[3], *straight = args[4];
     PyObject *state = args[6];
-    PyObject *arc_feed = args[8], *straight_feed = args[9], *straight_traverse = args[10];
+    PyObject *arc_feed = args[7], *straight_feed = args[8], *straight_traverse = args[9];
+    PyObject *set_block_number = args[10], *set_feed_rate = args[11];
     geometry_t g;
     if (!PyList_CheckExact(cells) || !PyDict_CheckExact(known) ||
         !PyDict_CheckExact(straight) || !PyList_CheckExact(state) ||
-        PyList_GET_SIZE(state) < 3 || read_geometry(args[5], &g)) {
+        PyList_GET_SIZE(state) < 6 || read_geometry(args[5], &g)) {
         if (!PyErr_Occurred()) {
             PyErr_SetString(PyExc_TypeError, "rows: unexpected argument types");
         }
@@ -422,8 +426,9 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
     }
     Py_ssize_t at = PyLong_AsSsize_t(args[1]);
     Py_ssize_t end = PyLong_AsSsize_t(args[2]);
-    double feed_rate = PyFloat_AsDouble(args[7]);
-    if (PyErr_Occurred()) {
+    double feed_rate = PyFloat_AsDouble(PyList_GET_ITEM(state, 4));
+    int feed_given = PyObject_IsTrue(PyList_GET_ITEM(state, 5));
+    if (PyErr_Occurred() || feed_given < 0) {
         return NULL;
     }
     if (end > PyList_GET_SIZE(cells)) {
@@ -431,32 +436,31 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
     }
     PyObject *cur = PyList_GET_ITEM(state, 0);
     PyObject *motion_mode = PyList_GET_ITEM(state, 1);
+    PyObject *block_n = PyList_GET_ITEM(state, 3);
     Py_INCREF(cur);
     Py_INCREF(motion_mode);
+    Py_INCREF(block_n);
     Py_ssize_t row = -1;
-    int failed = 0;
+    int failed = 0, feed_changed = 0;
     PyObject *call[12];
     while (at + 1 < end) {
         row = at;
         PyObject *key = PyList_GET_ITEM(cells, at + 1);
         PyObject *recipe = PyDict_GetItemWithError(known, key);
-        PyObject *point = NULL;
-        PyObject *motion;
-        Py_ssize_t stride;
-        if (recipe == NULL && PyErr_Occurred()) {
-            failed = 1;
-            break;
-        }
+        PyObject *point = NULL, *motion, *line = NULL;
+        recipe_t r;
+        Py_ssize_t has_n, f_at, width;
+        long code;
         if (recipe == NULL) {
-            break; /* no recipe yet: the Python loop makes it */
+            failed = PyErr_Occurred() != NULL;
+            break; /* (no recipe yet: the Python loop makes it) */
         }
         if (recipe == Py_None) {
             if (held != NULL) {
                 break; /* the held arcs go to the canon first: Python's work */
             }
             /* a plain straight move between arcs (ArcRows._straight_row) */
-            PyObject *line = PyDict_GetItemWithError(straight, key);
-            Py_ssize_t has_n, f_at, width;
+            line = PyDict_GetItemWithError(straight, key);
             if (line == NULL || !PyTuple_CheckExact(line) || PyTuple_GET_SIZE(line) != 5) {
                 failed = PyErr_Occurred() != NULL;
                 break;
@@ -466,10 +470,7 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
                 failed = 1;
                 break;
             }
-            if (has_n || f_at >= 0) {
-                break;
-            }
-            stride = 2 + width;
+            Py_ssize_t stride = 2 + width;
             if (end - at >= stride * STRETCH) {
                 int same = PyObject_RichCompareBool(
                     PyList_GET_ITEM(cells, at + 1 + stride * (STRETCH - 1)), key, Py_EQ);
@@ -479,63 +480,103 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
                 }
             }
             motion = PyTuple_GET_ITEM(line, 0);
-            if (motion == Py_None) {
-                motion = motion_mode;
-            }
-            long code = motion_code(motion);
-            if (!((code == G_1 && feed_rate > 0.0) || code == G_0)) {
+        } else {
+            if (read_recipe(recipe, &r)) {
+                failed = 1;
                 break;
             }
-            if (at + stride > end) {
+            has_n = r.has_n;
+            f_at = r.f_at;
+            width = r.width;
+            if (explicit_only && r.motion == Py_None) {
                 break;
             }
-            point = end_point(cells, at + 2, PyTuple_GET_ITEM(line, 4), cur);
+            motion = r.motion;
+        }
+        if (held != NULL && (has_n || f_at >= 0)) {
+            break;
+        }
+        if (at + 2 + width > end || (has_n && width < 1)) {
+            break;
+        }
+        if (motion == Py_None) {
+            motion = motion_mode;
+        }
+        code = motion_code(motion);
+        PyObject *n = has_n ? PyList_GET_ITEM(cells, at + 2) : Py_None;
+        Py_ssize_t start = at + 2 + (has_n ? 1 : 0);
+        double f = 0.0;
+        if (f_at >= 0 && cell_float(cells, start + f_at, &f)) {
+            failed = 1;
+            break;
+        }
+        double c1 = 0.0, c2 = 0.0;
+        if (line != NULL) {
+            double rate = f_at >= 0 ? f : feed_rate;
+            if (!((code == G_1 && rate > 0.0) || (code == G_0 && !(f_at >= 0 && f < 0.0)))) {
+                break;
+            }
+            point = end_point(cells, start, PyTuple_GET_ITEM(line, 4), cur);
             if (point == NULL) {
                 failed = 1;
                 break;
             }
-            PyObject *result = PyObject_Vectorcall(
-                code == G_1 ? straight_feed : straight_traverse,
-                &PyList_GET_ITEM(point, 0), PyList_GET_SIZE(point), NULL);
+        } else {
+            if (code != G_2 && code != G_3) {
+                break;
+            }
+            if (f_at >= 0 ? f <= 0.0 : feed_rate == 0.0) {
+                break; /* no feed, or a negative one: errors */
+            }
+            int made = arc_of_row(cells, start, &r, &g, code, cur, &point, &c1, &c2);
+            if (made <= 0) {
+                failed = made < 0;
+                break;
+            }
+        }
+        if (PyList_GET_SIZE(point) != 9) {
+            Py_DECREF(point);
+            PyErr_SetString(PyExc_TypeError, "rows: a point of nine axes");
+            failed = 1;
+            break;
+        }
+        /* the calls: N, F, then the move (as the Python loop makes them) */
+        int other = n == block_n ? 0 : PyObject_RichCompareBool(n, block_n, Py_NE);
+        PyObject *result = NULL;
+        if (other > 0) {
+            result = PyObject_CallOneArg(set_block_number, n);
+            if (result != NULL) {
+                Py_DECREF(result);
+                Py_INCREF(n);
+                Py_SETREF(block_n, n);
+            }
+        }
+        if (other < 0 || (other > 0 && result == NULL)) {
+            Py_DECREF(point);
+            failed = 1;
+            break;
+        }
+        if (f_at >= 0) {
+            feed_rate = f; /* (before the call, as the Python loop does) */
+            feed_given = feed_changed = 1;
+            PyObject *rate = PyFloat_FromDouble(f);
+            result = rate == NULL ? NULL : PyObject_CallOneArg(set_feed_rate, rate);
+            Py_XDECREF(rate);
             if (result == NULL) {
                 Py_DECREF(point);
                 failed = 1;
                 break;
             }
             Py_DECREF(result);
+        }
+        if (line != NULL) {
+            result = PyObject_Vectorcall(code == G_1 ? straight_feed : straight_traverse,
+                                         &PyList_GET_ITEM(point, 0), 9, NULL);
         } else {
-            recipe_t r;
-            if (read_recipe(recipe, &r)) {
-                failed = 1;
-                break;
-            }
-            if (r.has_n || r.f_at >= 0 || feed_rate == 0.0 || at + 2 + r.width > end) {
-                break;
-            }
-            if (explicit_only && r.motion == Py_None) {
-                break;
-            }
-            motion = r.motion == Py_None ? motion_mode : r.motion;
-            long code = motion_code(motion);
-            if (code != G_2 && code != G_3) {
-                break;
-            }
-            double c1, c2;
-            int made = arc_of_row(cells, at + 2, &r, &g, code, cur, &point, &c1, &c2);
-            if (made <= 0) {
-                failed = made < 0;
-                break;
-            }
-            if (PyList_GET_SIZE(point) != 9) {
-                Py_DECREF(point);
-                PyErr_SetString(PyExc_TypeError, "rows: a point of nine axes");
-                failed = 1;
-                break;
-            }
             PyObject *centre1 = PyFloat_FromDouble(c1);
             PyObject *centre2 = PyFloat_FromDouble(c2);
             PyObject *rotation = PyLong_FromLong(code == G_2 ? -1 : 1);
-            PyObject *result = NULL;
+            result = NULL;
             if (centre1 && centre2 && rotation) {
                 call[0] = PyList_GET_ITEM(point, g.p1);
                 call[1] = PyList_GET_ITEM(point, g.p2);
@@ -555,33 +596,40 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
             Py_XDECREF(centre1);
             Py_XDECREF(centre2);
             Py_XDECREF(rotation);
-            if (result == NULL) {
-                Py_DECREF(point);
-                failed = 1;
-                break;
-            }
-            Py_DECREF(result);
-            stride = 2 + r.width;
         }
+        if (result == NULL) {
+            Py_DECREF(point);
+            failed = 1;
+            break;
+        }
+        Py_DECREF(result);
         Py_SETREF(cur, point);
         Py_INCREF(motion);
         Py_SETREF(motion_mode, motion);
-        at += stride;
+        at += 2 + width;
     }
     /* what was done, exception or not */
     PyObject *type, *value, *traceback;
     PyErr_Fetch(&type, &value, &traceback);
     PyList_SetItem(state, 0, cur);
     PyList_SetItem(state, 1, motion_mode);
+    PyList_SetItem(state, 3, block_n);
+    int lost = 0;
     if (row >= 0) {
         PyObject *done = PyLong_FromSsize_t(row);
-        if (done == NULL) {
-            Py_XDECREF(type);
-            Py_XDECREF(value);
-            Py_XDECREF(traceback);
-            return NULL;
-        }
-        PyList_SetItem(state, 2, done);
+        lost |= done == NULL || PyList_SetItem(state, 2, done) < 0;
+    }
+    if (feed_changed) {
+        PyObject *rate = PyFloat_FromDouble(feed_rate);
+        lost |= rate == NULL || PyList_SetItem(state, 4, rate) < 0;
+        Py_INCREF(Py_True);
+        PyList_SetItem(state, 5, Py_True);
+    }
+    if (lost) {
+        Py_XDECREF(type);
+        Py_XDECREF(value);
+        Py_XDECREF(traceback);
+        return NULL;
     }
     if (failed) {
         PyErr_Restore(type, value, traceback);
@@ -594,7 +642,7 @@ static PyMethodDef methods[] = {
     {"arc_row", (PyCFunction) (void (*)(void)) arc_row, METH_FASTCALL,
      "ArcRows._arc_row's answer: (motion, N, F, end point, c1, c2) or None"},
     {"rows", (PyCFunction) (void (*)(void)) rows, METH_FASTCALL,
-     "ArcRows.run's loop for rows without N or F, for a canon of calls"},
+     "ArcRows.run's loop for a contour's rows, for the trace or held arcs"},
     {NULL, NULL, 0, NULL},
 };
 

@@ -353,8 +353,8 @@ class ArcRows:
             False,
             at,
         ]
-        # Rows without N or F in C (runtime/fast/_arc_row.c): the trace's
-        # calls, or the arcs a batch canon's arc_moves takes (held).
+        # A contour's rows in C (runtime/fast/_arc_row.c): the trace's calls,
+        # or the arcs a batch canon's arc_moves takes (held).
         canon, pending = machine.canon, self.pending
         in_c = None if canon.reads_lines else rows_in_c
         if pending is not None:  # arcs only: none in the modal motion
@@ -364,14 +364,16 @@ class ArcRows:
         else:
             in_c = None
         if in_c is not None:
-            fixed = context[0], self.straight, context[1]
-            calls = canon.arc_feed, canon.straight_feed, canon.straight_traverse
+            fixed = context[0], self.straight, context[1], state
+            calls = (canon.arc_feed, canon.straight_feed, canon.straight_traverse)
+            calls += (canon.set_block_number, canon.set_feed_rate) + extra
         try:
             while at < end:
-                if in_c is not None and state[3] is None:
+                # (held arcs: not under an N, which the canon must see first)
+                if in_c is not None and (pending is None or state[3] is None):
                     if pending is not None and not pending.rows:
                         pending.start = state[0]
-                    stop = in_c(cells, at, end, *fixed, state, state[4], *calls, *extra)
+                    stop = in_c(cells, at, end, *fixed, *calls)
                     if stop != at:
                         at = stop
                         continue
@@ -391,7 +393,8 @@ class ArcRows:
 
     def _loop(self, cells: List[str], at: int, end: int, context, state, once) -> int:
         """run's loop in Python, from the state it is given to the one it
-        leaves; ``once``: back to run after a row with no N, for the C loop."""
+        leaves; ``once``: back to run after one row when the C loop may take
+        the next (any row for the trace; held arcs: one without an N)."""
         known, geometry, arcs_only = context
         p1, p2, p3, absolute = geometry[:4]
         axes = geometry[:3]
@@ -409,7 +412,7 @@ class ArcRows:
         held = None if pending is None else pending.rows
         try:
             while at < end:
-                if once and block_n is None and at != first:
+                if once and at != first and (block_n is None or pending is None):
                     break  # the C loop may take this row
                 row = at
                 if row_lines:
