@@ -187,7 +187,7 @@ def unopened(program: str, error: OpenError) -> SourceMap:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ngc2py.progress import progress_canon, spinner
+    from ngc2py.progress import spinner, watch_run
     from runtime.main import run_cli
 
     try:
@@ -210,17 +210,17 @@ def run(args: argparse.Namespace) -> int:
         argv += ["-n", args.continue_mode]
     if args.max_steps is not None:
         argv.append("--max-steps=%s" % args.max_steps)
-    wrapped = []
+    bars = []
 
-    def wrap(canon):
-        wrapped.append(progress_canon(canon, args.quiet))
-        return wrapped[-1]
+    def watched(canon):
+        bars.append(watch_run(canon, args.quiet))
+        return canon
 
     try:
-        return run_cli(main, source_map, argv, wrap_canon=wrap)
+        return run_cli(main, source_map, argv, wrap_canon=watched)
     finally:
-        for canon in wrapped:
-            getattr(canon, "close", lambda: None)()
+        for bar in bars:
+            bar.close()
 
 
 #: ``ngc2py run``'s options, for :func:`quick_run_args`: those that take a

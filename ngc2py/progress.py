@@ -4,8 +4,8 @@ Shown only when stderr is a terminal and the user did not ask for ``-q``:
 piped or captured output (scripts, CI, parity checks against rs274) never
 contains a bar. A bar that is shown is cleared when it closes, so what
 stays on the terminal is the same as without it. The runtime never imports
-this module: generated programs stay standard-library only; the CLI wraps
-the trace canon instead (:class:`ProgressCanon`).
+this module: generated programs stay standard-library only; the CLI
+watches the trace canon's count from a thread instead (:func:`watch_run`).
 """
 
 from __future__ import annotations
@@ -15,10 +15,6 @@ import sys
 TYPE_CHECKING = False  # the run path imports this: no typing
 if TYPE_CHECKING:
     from typing import IO, Optional
-
-#: Moves between two updates of a run's bar: the bar must cost nothing
-#: measurable per move.
-MOVE_STRIDE = 4096
 
 
 def wanted(quiet: bool = False, stream: Optional[IO] = None) -> bool:
@@ -96,50 +92,55 @@ def progress(total: Optional[int], description: str, unit: str, quiet: bool = Fa
         return _Quiet()
 
 
-def progress_canon(canon, quiet: bool = False):
-    """``canon`` wrapped so that a run shows how many moves it made, or
-    ``canon`` itself when no bar is wanted."""
+def watch_run(canon, quiet: bool = False):
+    """A bar for a run against ``canon`` (the trace), or a silent stand-in
+    when no bar is wanted; ``close()`` it when the run ends.
+
+    The bar counts the lines the canon has written (its ``_count``), read
+    five times a second from a thread of its own. The canon is not wrapped:
+    the machine's fast paths choose by the canon's class (the trace's own
+    text paths, batches for canons that take them), and a wrapper would
+    send every move down the slow path or past a batch method it lacks."""
     if not wanted(quiet):
-        return canon
+        return _Quiet()
     try:
-        bar = _Bar(None, "running", "move")
+        bar = _Bar(None, "running", "line")
     except ImportError:
-        return canon
-    return ProgressCanon(canon, bar)
+        return _Quiet()
+    return _Watcher(canon, bar)
 
 
-class ProgressCanon:
-    """Forwards every canonical call to ``inner`` (bound directly: no cost
-    per call), counting moves on the way: the machine's fast path announces
-    only changes of N, so moves are what can be counted."""
+class _Watcher:
+    """Updates ``bar`` with ``canon._count`` until closed."""
 
-    def __init__(self, inner, bar) -> None:
-        from runtime.canon import CALLS
+    #: Seconds between two looks at the count.
+    PERIOD = 0.2
 
-        self._inner = inner
+    def __init__(self, canon, bar) -> None:
+        import threading
+
+        self._canon = canon
         self._bar = bar
-        self._moves = 0
-        self.set_block_number = inner.set_block_number
-        for name in CALLS:
-            setattr(self, name, getattr(inner, name))
-        for name in ("straight_feed", "straight_traverse", "arc_feed"):
-            setattr(self, name, self._counting(getattr(inner, name)))
+        self._shown = 0
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._watch, daemon=True)
+        self._thread.start()
 
-    def _counting(self, call):
-        def counted(*args):
-            self._moves += 1
-            if self._moves % MOVE_STRIDE == 0:
-                self._bar.update(MOVE_STRIDE)
-            return call(*args)
+    def _look(self) -> None:
+        count = getattr(self._canon, "_count", 0)
+        if isinstance(count, int) and count > self._shown:
+            self._bar.update(count - self._shown)
+            self._shown = count
 
-        return counted
+    def _watch(self) -> None:
+        while not self._stop.wait(self.PERIOD):
+            self._look()
 
     def close(self) -> None:
+        self._stop.set()
+        self._thread.join()
+        self._look()
         self._bar.close()
-
-    def __getattr__(self, name):
-        # anything else a machine may read from its canon
-        return getattr(self._inner, name)
 
 
 class spinner:
