@@ -119,6 +119,25 @@ class Canon:
         for _ in starmap(self.arc_feed, zip(*columns, axis_end, a, b, c, u, v, w)):
             pass
 
+    def hole_moves(self, recording, lines, first, second, axes, start):
+        """Holes of a canned cycle drilled alike (runtime.fast.hole_rows):
+        ``recording`` is one hole's calls, ``(name, arguments, where)``,
+        where a move's ``where`` is ``"hole"`` (its coordinates on the
+        plane's two hole axes, indexes ``axes``, are the hole's), ``"start"``
+        (they are where the tool was before the hole: the hole before, or
+        ``start`` for the first) or None for a call that is not a move.
+        Hole k is at ``(first[k], second[k])``, on G-code line ``lines[k]``.
+        By default the recorded calls again, hole by hole."""
+        ia, ib = axes
+        before = start
+        for here in zip(first, second):
+            for name, args, where in recording:
+                if where is not None:
+                    args = list(args)
+                    args[ia], args[ib] = here if where == "hole" else before
+                getattr(self, name)(*args)
+            before = here
+
     def rigid_tap(self, x, y, z, scale): ...
     def nurbs_feed(self, control_points, order): ...
     def dwell(self, seconds): ...
@@ -212,7 +231,7 @@ class NullCanon(Canon):
 
 
 #: The batch methods: not calls of their own but runs of the calls above.
-BATCHES = ("straight_moves", "arc_moves")
+BATCHES = ("straight_moves", "arc_moves", "hole_moves")
 
 
 def _call_names() -> Tuple[str, ...]:

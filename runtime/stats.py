@@ -32,6 +32,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import reduce
+from itertools import chain, repeat
 from operator import add
 from typing import Dict, Optional
 
@@ -53,6 +54,27 @@ from runtime.toolpath import (
 DEFAULT_RAPID_RATE = 3000.0
 #: Default acceleration, mm/s^2.
 DEFAULT_ACCELERATION = 500.0
+
+#: What StatsCanon.hole_moves takes in columns: moves, dwells and calls it
+#: does not count (a hole's other switches).
+_HOLE_CALLS = frozenset(
+    (
+        "straight_traverse",
+        "straight_feed",
+        "dwell",
+        "set_block_number",
+        "set_motion_control_mode",
+        "set_naivecam_tolerance",
+        "stop_spindle_turning",
+        "start_spindle_clockwise",
+        "start_spindle_counterclockwise",
+        "enable_feed_override",
+        "disable_feed_override",
+        "enable_speed_override",
+        "disable_speed_override",
+        "program_stop",
+    )
+)
 
 
 @dataclass(frozen=True)
@@ -78,7 +100,7 @@ def move_time(length: float, rate_per_minute: float, acceleration: float) -> flo
 
 
 def move_times(lengths, rate_per_minute: float, acceleration: float):
-    """:func:`move_time` of each of ``lengths`` (all positive), with the
+    """:func:`move_time` of each of ``lengths`` (positive or zero), with the
     same arithmetic, as one list comprehension."""
     speed = rate_per_minute / 60.0
     if not acceleration or math.isinf(acceleration):
@@ -213,6 +235,91 @@ class StatsCanon(ToolpathCanon):
         self.motion_time = reduce(
             add, move_times(moving, rate, self.model.acceleration), self.motion_time
         )
+
+    def hole_moves(self, recording, lines, first, second, axes, start):
+        """Holes drilled alike (runtime.canon.Canon.hole_moves), a column at a
+        time: each recorded move's end points as columns, its lengths by one
+        ``map(math.dist, ...)``, then the same counts, lengths, extents,
+        times and dwells as one call a move (sums added in program order)."""
+        names = {name for name, _, _ in recording}
+        if self._watched or self.inches or not names <= _HOLE_CALLS:
+            return super().hole_moves(recording, lines, first, second, axes, start)
+        if self.first_units is None:
+            self.first_units = False
+        ia, ib = axes
+        count = len(lines)
+        before_first, before_second = [start[0]] + first[:-1], [start[1]] + second[:-1]
+        ends, kinds, dwells = [], [], []
+        for name, args, where in recording:
+            if name == "dwell":
+                dwells.append(args[0])
+            if where is None:
+                continue
+            columns = [[value] * count for value in args]
+            if where == "hole":
+                columns[ia], columns[ib] = first, second
+            else:
+                columns[ia], columns[ib] = before_first, before_second
+            ends.append(columns)
+            kinds.append("rapid" if name == "straight_traverse" else "feed")
+        # each move starts where the one before ended (the first of a hole
+        # where the hole before ended, the very first at the position)
+        last = ends[-1]
+        starts = [[[self.position[i]] + column[:-1] for i, column in enumerate(last)]]
+        starts += ends[:-1]
+        lengths = [
+            list(map(math.dist, zip(*begin[:3]), zip(*finish[:3])))
+            for begin, finish in zip(starts, ends)
+        ]
+        timed = lengths[:]
+        for j, begin in enumerate(starts):
+            if 0.0 in lengths[j]:  # rotary axes alone: degrees at the same rate
+                # (the same for every hole but the very first move's)
+                turned = [
+                    max(abs(ends[j][i][k] - begin[i][k]) for i in (3, 4, 5))
+                    for k in (0, -1)
+                ]
+                timed[j] = [length or turned[1] for length in lengths[j]]
+                timed[j][0] = lengths[j][0] or turned[0]
+        for kind in set(kinds):
+            mine = [lengths[j] for j, each in enumerate(kinds) if each == kind]
+            self.counts[kind] += count * len(mine)
+            self.lengths[kind] = reduce(
+                add, chain.from_iterable(zip(*mine)), self.lengths[kind]
+            )
+        # the holes' box on the plane: each move's two corners of it
+        boxes = {
+            "hole": (min(first), min(second), max(first), max(second)),
+            "start": (
+                min(before_first),
+                min(before_second),
+                max(before_first),
+                max(before_second),
+            ),
+        }
+        for _, args, where in recording:
+            if where is not None:
+                low, high = list(args), list(args)
+                low[ia], low[ib], high[ia], high[ib] = boxes[where]
+                self.extents.add(low)
+                self.extents.add(high)
+        acceleration = self.model.acceleration
+        rates = {"rapid": self.model.rapid_rate, "feed": self._feed_per_minute()}
+        times = []
+        for kind, column in zip(kinds, timed):
+            rate = rates[kind]
+            if rate <= 0.0:
+                self.untimed_moves += count - column.count(0.0)
+                times.append(repeat(0.0, count))
+            else:
+                times.append(move_times(column, rate, acceleration))
+        self.motion_time = reduce(
+            add, chain.from_iterable(zip(*times)), self.motion_time
+        )
+        if dwells:
+            self.dwells += count * len(dwells)
+            self.dwell_time = reduce(add, dwells * count, self.dwell_time)
+        self.position = tuple(column[-1] for column in ends[-1])
 
     def arc_moves(self, lines, first_end, second_end, first_axis, second_axis, *rest):
         """A batch of arcs (runtime.canon.Canon.arc_moves): the same

@@ -211,6 +211,82 @@ def test_replayed_holes_give_a_canon_the_reference_calls(text):
     assert _cycle_calls(text) == _without_replay(_cycle_calls, text)
 
 
+class _HoleBatches(RecordingCanon):
+    """Takes holes in batches by the protocol's default (Canon.hole_moves:
+    the recorded calls again, hole by hole), and counts the batches."""
+
+    batches = 0
+
+    def hole_moves(self, *args):
+        self.batches += 1
+        super().hole_moves(*args)
+
+
+def _batched_calls(text: str):
+    namespace: dict = {"__name__": "holes"}
+    exec(compile(compile_text(text, "holes.ngc"), "holes.py", "exec"), namespace)
+    canon = _HoleBatches()
+    machine = Machine(canon)
+    try:
+        start(machine, namespace["main"])
+        error = None
+    except GCodeError as raised:
+        error = str(raised)
+    return canon.calls, canon.numbers, error, machine.current
+
+
+@PROFILE
+@given(cycle_tables())
+def test_holes_in_batches_give_a_canon_the_reference_calls(text):
+    """A canon that takes holes in batches (Canon.hole_moves), by the
+    protocol's default, gets the calls the reference path makes row by
+    row: the batch's recording, lines and coordinates say it all."""
+    assert _batched_calls(text)[:3] == _without_replay(_cycle_calls, text)[:3]
+    assert _batched_calls(text) == _without_replay(_cycle_calls, text)
+
+
+def _stats_report(text: str):
+    from runtime.stats import StatsCanon
+
+    namespace: dict = {"__name__": "holes"}
+    exec(compile(compile_text(text, "holes.ngc"), "holes.py", "exec"), namespace)
+    canon = StatsCanon()
+    try:
+        start(Machine(canon), namespace["main"])
+        error = None
+    except GCodeError as raised:
+        error = str(raised)
+    return canon.report(), error
+
+
+@PROFILE
+@given(cycle_tables())
+def test_stats_of_holes_in_batches_are_the_stats_of_each_call(text):
+    """StatsCanon.hole_moves (columns, sums in program order) against its
+    own per-call path: the same report to the last bit."""
+    from runtime.canon import Canon
+    from runtime.stats import StatsCanon
+
+    batched = _stats_report(text)
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(StatsCanon, "hole_moves", Canon.hole_moves)
+        assert _stats_report(text) == batched
+
+
+def test_holes_go_to_a_batch_canon_in_batches():
+    """The batch path is taken (so the tests above compare two paths)."""
+    rows = "\n".join("X%d Y%d" % (k, k % 3) for k in range(2, 40))
+    text = cam_sized(
+        "G21 G17 F100\nG0 Z5\nG99 G82 X1 Y1 Z-1 R2 P0.5\n" + rows + "\nG80\nM2\n"
+    )
+    namespace: dict = {"__name__": "holes"}
+    exec(compile(compile_text(text, "holes.ngc"), "holes.py", "exec"), namespace)
+    canon = _HoleBatches()
+    start(Machine(canon), namespace["main"])
+    assert canon.batches == 1
+    assert sum(name == "dwell" for name, _ in canon.calls) == 39
+
+
 def _cycle_trace(text: str) -> tuple:
     namespace: dict = {"__name__": "holes"}
     exec(compile(compile_text(text, "holes.ngc"), "holes.py", "exec"), namespace)

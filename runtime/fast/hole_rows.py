@@ -29,7 +29,7 @@ row (``hole_replayed``); the canon sees each row begin as it did, by the
 
 from __future__ import annotations
 
-from runtime.canon import TraceCanon, trace_rows
+from runtime.canon import Canon, TraceCanon, trace_rows
 from runtime.cycles import CyclesMixin
 
 TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
@@ -310,6 +310,8 @@ class HoleRows:
         """The recorded calls again for each next row of hole words, at its
         point; returns where it stopped."""
         machine = self.machine
+        if type(machine.canon).hole_moves is not Canon.hole_moves:
+            return self._batches(cells, at, end, final, ia, ib)
         known = self.holes[machine.plane]
         world, params = machine.world, machine.params
         # what a subclass keeps for each row (the preview's line state)
@@ -352,6 +354,50 @@ class HoleRows:
             if kept is not None:
                 kept(line)
             at += stride
+        return at
+
+    def _batches(self, cells, at: int, end: int, final, ia: int, ib: int) -> int:
+        """For a canon that takes holes in batches (``Canon.hole_moves``):
+        the next rows of hole words, at most _MOST in one call; returns
+        where it stopped. While the canon works, ``machine.line`` is the
+        batch's last line and its point the batch's start."""
+        machine = self.machine
+        known = self.holes[machine.plane]
+        hole_moves = machine.canon.hole_moves
+        world, params = machine.world, machine.params
+        while at < end:
+            cur = machine.current
+            aa, bb = start = cur[ia], cur[ib]
+            lines: List[int] = []
+            firsts: List[float] = []
+            seconds: List[float] = []
+            while at < end and len(lines) < _MOST:
+                hole = known.get(cells[at + 1], False)
+                if hole is False:
+                    hole = self._hole_words(machine.plane, cells[at + 1])
+                if hole is None:
+                    break
+                first, second, stride = hole
+                if first >= 0:
+                    aa = float(cells[at + 2 + first])
+                if second >= 0:
+                    bb = float(cells[at + 2 + second])
+                lines.append(int(cells[at]))
+                firsts.append(aa)
+                seconds.append(bb)
+                at += stride
+            if not lines:
+                break
+            machine.line = lines[-1]
+            hole_moves(self.recorded, lines, firsts, seconds, (ia, ib), start)
+            end_point = final[:]
+            end_point[ia], end_point[ib] = aa, bb
+            world.position = end_point
+            machine.current = end_point[:]
+            params.position = tuple(end_point)
+            # what a subclass keeps for each row (the preview's line state)
+            if type(machine).hole_replayed is not CyclesMixin.hole_replayed:
+                machine.hole_replayed(lines[-1])
         return at
 
     def _record(self, cells: List[str], at: int, hole, ia: int, ib: int):
