@@ -54,8 +54,10 @@ start and on every G20/G21 change), and slot 0 as the loaded tool.
 
 from __future__ import annotations
 
+import operator
 import re
 import time
+from itertools import chain, repeat, starmap
 from typing import Any, List, Optional, Sequence, Tuple
 
 from runtime.arcs import INVERSE_TIME, UNITS_PER_MINUTE, UNITS_PER_REVOLUTION
@@ -68,6 +70,9 @@ from runtime.mcodes import ProgramEnd
 from runtime.nurbs import preview_points
 from runtime.params import unset_variable
 from runtime.fast.rows import BatchesOnly
+
+#: ``_call(method, *args)`` is ``method(*args)`` (operator.call, Python 3.11+)
+_call = getattr(operator, "call", None) or (lambda method, *args: method(*args))
 
 INTERP_OK = 0
 INTERP_EXIT = 1
@@ -257,6 +262,67 @@ class PreviewCanon(Canon):
             self.target.arc_feed,
             zip(e1, e2, c1, c2, rotation, normal, a, b, c, u, v, w),
         )
+
+    def hole_moves(self, recording, lines, first, second, axes, start):
+        """Holes drilled alike (runtime.canon.Canon.hole_moves): each hole's
+        line announced as its first call would announce it (with the modes
+        the hole before left, which a hole changes only by its line number),
+        then its calls on the target, lengths converted a column at a time.
+        The calls are made from columns by one ``starmap``: no Python
+        statement per move."""
+        machine = self.machine
+        if self.motion_line is not None or not isinstance(machine, PreviewMachine):
+            return super().hole_moves(recording, lines, first, second, axes, start)
+        target = self.target
+        count = len(lines)
+        k = 1.0 if machine.inches else MM_PER_INCH
+        places = {
+            "hole": (first, second),
+            "start": ([start[0]] + first[:-1], [start[1]] + second[:-1]),
+        }
+        columns = []  # per call of a hole: (the target's method, its columns)
+        for name, args, where in recording:
+            if where is not None:
+                steps = [repeat(value, count) for value in self._pose(*args)]
+                for axis, values in zip(axes, places[where]):
+                    steps[axis] = values if k == 1.0 else [v / k for v in values]
+                columns.append((getattr(target, name), steps))
+            elif name == "dwell":
+                columns.append((target.dwell, [repeat(args[0], count)]))
+            elif getattr(type(self), name) is not getattr(Canon, name):
+                # a call the module passes on that a hole seldom makes
+                return super().hole_moves(recording, lines, first, second, axes, start)
+        skipped = self.skipped
+        numbers = [line - skipped if line > skipped else line for line in lines]
+        if numbers[0] == self.last_sequence:  # announced already: row by row
+            return super().hole_moves(recording, lines, first, second, axes, start)
+        now = time.monotonic()  # asked once a batch: a batch takes milliseconds
+        if now - self._checked > ABORT_INTERVAL:
+            self._checked = now
+            if target.check_abort():
+                raise KeyboardInterrupt("Load aborted")
+        gcodes, mcodes, settings = machine.active
+        codes = [LineCode((numbers[0],) + gcodes[1:], mcodes, settings)]
+        codes += [
+            LineCode(
+                (number,) + gcodes[1:],
+                (line,) + mcodes[1:],
+                (float(line),) + settings[1:],
+            )
+            for number, line in zip(numbers[1:], lines)
+        ]
+        calls = [zip(repeat(target.next_line), codes)]
+        calls += [zip(repeat(method), *steps) for method, steps in columns]
+        for _ in starmap(_call, chain.from_iterable(zip(*calls))):
+            pass
+        self.last_sequence = numbers[-1]
+        for _, args, where in reversed(recording):
+            if where is not None:  # the module's own position: the last move's
+                position = list(args)
+                for axis, values in zip(axes, places[where]):
+                    position[axis] = values[-1]
+                self._pos = tuple(position)
+                break
 
     def _announce_batch(self, lines, motions, call, arguments) -> None:
         """``call(*arguments[k])`` for each line of a batch, each line
