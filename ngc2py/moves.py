@@ -27,6 +27,7 @@ from typing import List, Optional, Tuple
 
 import numpy as np
 
+from runtime.canon import Canon
 from runtime.toolpath import LINEAR, MM_PER_INCH, PLANE_AXES, Point, ToolpathCanon
 
 #: ``Toolpath.kind`` values.
@@ -181,6 +182,46 @@ class Recorder(ToolpathCanon):
         self.normal.extend(repeat(normal, rows))
         self.turns.extend(rotation)
         self.position = self._last = tuple(column[-1] for column in columns)
+
+    def hole_moves(self, recording, lines, first, second, axes, start):
+        """Holes drilled alike (``Canon.hole_moves``): each hole's moves as
+        rows, made from columns (one ``extend`` per array and batch)."""
+        moves = [(name, args, where) for name, args, where in recording if where]
+        ignored = all(
+            getattr(type(self), name) is getattr(Canon, name)
+            for name, _, where in recording
+            if where is None
+        )
+        names = {name for name, _, _ in moves}
+        if not ignored or not names <= {"straight_traverse", "straight_feed"}:
+            return super().hole_moves(recording, lines, first, second, axes, start)
+        count, per_hole = len(lines), len(moves)
+        self._begin(self.position, count * per_hole)
+        places = {
+            "hole": (first, second),
+            "start": ([start[0]] + first[:-1], [start[1]] + second[:-1]),
+        }
+        # hole by hole, move by move: nine ends, in millimetres
+        ends = np.empty((count, per_hole, 9))
+        k = MM_PER_INCH if self.inches else 1.0
+        for j, (_, args, where) in enumerate(moves):
+            ends[:, j, :] = self._point(args)
+            for axis, values in zip(axes, places[where]):
+                ends[:, j, axis] = values
+                if k != 1.0:
+                    ends[:, j, axis] *= k
+        kinds = [RAPID if name == "straight_traverse" else FEED for name, _, _ in moves]
+        feeds = [math.nan if kind == RAPID else self._rate for kind in kinds]
+        rows = count * per_hole
+        self.kinds.extend(kinds * count)
+        self.lines.extend(chain.from_iterable(zip(*[lines] * per_hole)))
+        self.tools.extend(repeat(self._current_tool(), rows))
+        self.feeds.extend(feeds * count)
+        self.ends.frombytes(ends.tobytes())
+        self.centre.frombytes(np.full(2 * rows, math.nan).tobytes())
+        self.normal.extend(repeat(-1, rows))
+        self.turns.extend(repeat(0, rows))
+        self.position = self._last = tuple(ends[-1, -1].tolist())
 
     def _rows(self, kind: int, lines, rate: float) -> None:
         rows = len(lines)

@@ -16,6 +16,7 @@ import pytest
 from hypothesis import given, settings
 
 import cam_strategies
+import test_cycles
 from test_differential import PROFILE
 from test_stats import scratch_run
 
@@ -128,6 +129,13 @@ def test_cam_programs_give_the_moves_of_one_call_a_move(tmp_path_factory, text):
 @given(cam_strategies.arc_programs())
 def test_arc_programs_give_the_moves_of_one_call_a_move(tmp_path_factory, text):
     compare(tmp_path_factory.mktemp("arcs"), text)
+
+
+@PROFILE
+@given(test_cycles.cycle_tables())
+def test_cycle_tables_give_the_moves_of_one_call_a_move(tmp_path_factory, text):
+    """Holes in batches (Recorder.hole_moves) against one call a move."""
+    compare(tmp_path_factory.mktemp("holes"), text)
 
 
 def test_offsets_units_cycles_and_probes(tmp_path):
