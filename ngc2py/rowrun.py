@@ -114,14 +114,20 @@ class Lane:
         templates = b"".join(parts).translate(_ZEROS).split(b"\n")
         templates.pop()  # after the last newline
         kinds = self.kinds
-        for template in set(templates).difference(kinds):
-            kinds[template] = self._resolve(template, templates, region, number)
+        new = set(templates).difference(kinds)
+        starts = [0, *accumulate(len(t) + 1 for t in templates)]
+        # each new template read at its first line, in the order of the lines
+        for i, template in enumerate(templates):
+            if not new:
+                break
+            if template in new:
+                new.discard(template)
+                kinds[template] = self._resolve(template, i, starts[i], region, number)
         row_kinds = list(map(kinds.__getitem__, templates))
         consumed = len(region)
         if -1 not in row_kinds:
             run = RowRun(number, _rows(region), row_kinds, self)
             return [run], pos + consumed, len(row_kinds)
-        starts = [0, *accumulate(len(t) + 1 for t in templates)]
         items: List[Union[RowRun, source.RawLine]] = []
         at = 0
         while at < len(row_kinds):
@@ -147,10 +153,10 @@ class Lane:
         return items, pos + consumed, len(row_kinds)
 
     def _resolve(
-        self, template: bytes, templates: List[bytes], region: bytes, number: int
+        self, template: bytes, i: int, start: int, region: bytes, number: int
     ) -> int:
         """The kind of the lines with ``template``: the parser reads the
-        first of them."""
+        first of them, line ``i`` of the region, at byte ``start``."""
         if len(template) > _LONGEST:
             return -1  # too long for rs274's buffer: an error
         if template[-1:] in (b" ", b"\t") or template.endswith((b" \r", b"\t\r")):
@@ -159,8 +165,6 @@ class Lane:
             return -1
         from ngc2py.parser import read_row_line
 
-        i = templates.index(template)
-        start = sum(map(len, templates[:i])) + i
         line = region[start : start + len(template)].rstrip(b"\r")
         row = read_row_line(
             line.decode("ascii"), number + i, self.file, self.axes, self.shapes
