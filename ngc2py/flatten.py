@@ -58,6 +58,7 @@ SYSTEM_CODES = ("G54", "G55", "G56", "G57", "G58", "G59", "G59.1", "G59.2", "G59
 PLANE_CODES = {"XY": "G17", "XZ": "G18", "YZ": "G19", "UNKNOWN": "G17.1"}
 #: ARC_FEED's first/second axis and the axis-end axis per plane, and the
 #: centre-offset letters of the first and second axis.
+_AXIS_INDEX = {letter: k for k, letter in enumerate(AXES6)}
 ARC_AXES = {
     "XY": ("X", "Y", "Z", "I", "J"),
     "XZ": ("Z", "X", "Y", "K", "I"),
@@ -173,6 +174,8 @@ def _offset(start: float, centre: float) -> Optional[float]:
     """An offset that rs274 adds to ``start`` to get exactly ``centre``, or
     None (unknown start; or -0.0, which no sum of non-zeros gives)."""
     guess = centre - start
+    if start + guess == centre and centre:  # the usual case, at once
+        return guess
     for _ in range(4):
         if same(start + guess, centre):
             return guess
@@ -624,7 +627,7 @@ class FlattenCanon(Canon):
         if plane is None:
             raise FlattenError("flatten: arcs in the %s plane" % self._plane)
         first, second, axis, first_letter, second_letter = plane
-        index = {letter: k for k, letter in enumerate(AXES6)}
+        index = _AXIS_INDEX
         start = pos[index[first]], pos[index[second]]
         # rs274 refuses arcs of (almost) no radius in G-code, but cutter
         # compensation can make one (tool radius equal to the arc's)
