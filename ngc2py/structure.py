@@ -795,10 +795,11 @@ class _Builder:
             self.fail(line, UNDEFINED_LABEL % (line.number, line.text))
             return
         found = (seen[0], seen[1])
-        if seen[0] == "if" and word.keyword in ("elseif", "else", "endif"):
-            # The if with this label is no longer open here (a closing line
-            # of an outer construct ended it): rs274 knows the label only if
-            # that if ran, else it is undefined. Run time decides.
+        if word.keyword not in ("break", "continue"):
+            # The construct with this label is no longer open here (or is
+            # another kind): rs274 knows the label only if its opener ran
+            # (not inside an arm not taken or a loop never entered), else
+            # it is undefined. Run time decides.
             if self._track(key, seen):
                 self.body.append(LabelCheck(line, key, word.keyword))
                 return
@@ -847,6 +848,9 @@ class _Builder:
         else:
             return
         fail.line, fail.message = line, message
+        if keyword in ("if", "elseif", "while", "repeat"):
+            # rs274 reads the condition (and fails there) before the label
+            fail.reads = word.expr
 
     # -- constructs left open ----------------------------------------------
 
