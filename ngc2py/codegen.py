@@ -1209,6 +1209,17 @@ class CodeGen:
                 break
             self.definition_value(line)
         if err is not None:
+            if err.line.error == err.message and err.line.partial:
+                # the sub's own return/endsub line, whose value fails to
+                # read: what rs274 computed before the error comes first
+                # (a division by zero inside it)
+                self.x.defining = True
+                try:
+                    for value in err.line.partial:
+                        if not is_constant(value):
+                            self.w.stmt(self.x.expr(value), err.line)
+                finally:
+                    self.x.defining = False
             call = fail_call(err.line.number, err.message)
             if err.finish:
                 call = call[:-1] + ", finish=True)"
@@ -1317,6 +1328,14 @@ class CodeGen:
             # no line with the loop's label follows: rs274 skips to the end
             self.statement(stmt.target.eof)
             return
+        if stmt.kind == "continue":
+            unreadable = self.skip_error([stmt.target.body])
+            if unreadable is not None:
+                # rs274 skips to the loop's end, reading the rest of its
+                # body: it fails at the first line it cannot read (one
+                # before this line would have failed already).
+                self.fail_skipped(unreadable)
+                return
         self.jump_to(stmt.kind, stmt.target, stmt.line)
 
     def stale_continue(self, stmt: st.Jump) -> None:
