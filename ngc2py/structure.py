@@ -408,6 +408,12 @@ class _Builder:
         self.fanuc: Optional[Tuple[Sub, List[Stmt], int]] = None
         # Failures at the end of the file, for abandoned constructs.
         self.eof_fails: List[Tuple[Fail, str]] = []  # and the label's key
+        # where each of those skips starts (id of the Fail -> line)
+        self.eof_origins: Dict[int, nodes.Line] = {}
+        # every line with a label, and every line rs274 cannot read while
+        # skipping (key None), in order: (number, key, line, word, what
+        # the label was recorded as before the line)
+        self.labelled: List[tuple] = []
         # break/continue lines aimed at a finished loop: (label, failure)
         self.stale_jumps: List[Tuple[str, Fail]] = []
         # constructs opened by lines failing as duplicates (_duplicate)
@@ -437,6 +443,13 @@ class _Builder:
 
     def add(self, line: nodes.Line) -> None:
         word = line.oword
+        if skip_error(line):
+            self.labelled.append((line.number, None, line, word, None))
+        elif word is not None and isinstance(word.name, str):
+            seen = self.labels.get(str(word.name))
+            self.labelled.append(
+                (line.number, self._key(str(word.name)), line, word, seen)
+            )
         if self.stale_jumps and skip_error(line):
             # skipping forward for a finished loop's label, rs274 fails at
             # a line it cannot read
@@ -829,12 +842,26 @@ class _Builder:
         ``line``, which it then executes as what it is. Where that fails
         whatever the run, ``fail`` becomes that failure (a do, an endwhile
         of the while or another break or continue would carry on: left)."""
-        seen = self.labels.get(str(word.name))
-        if seen is None:
+        message = self._land_message(self.labels.get(str(word.name)), line, word)
+        if message is None:
             return
+        fail.line, fail.message = line, message
+        if word.keyword in ("if", "elseif", "while", "repeat"):
+            # rs274 reads the condition (and fails there) before the label
+            fail.reads = word.expr
+
+    def _land_message(
+        self, seen, line: nodes.Line, word: nodes.OWord, key: Optional[str] = None
+    ) -> Optional[str]:
+        """How a line with a label recorded as ``seen`` fails when a skip
+        for the label stops there, or None where it would carry on."""
+        if seen is None:
+            return None
         kind, first = seen[0], seen[1]
         number, text = line.number, line.text
         keyword = word.keyword
+        if kind == "if" and keyword in ("elseif", "else", "endif"):
+            return None  # the if's own lines: the skip goes on or ends
         if keyword == "if":
             message = DUPLICATE_IF % (number, first, text)
         elif keyword == "repeat" or (keyword == "while" and kind != "do"):
@@ -842,15 +869,13 @@ class _Builder:
         elif keyword in ("elseif", "else"):
             message = NO_MATCHING_IF % (number, text, kind, first)
         elif keyword == "endif":
-            message = NO_MATCHING_ENDIF % (number, self._key(str(word.name)), kind, first, text)
+            key = key or self._key(str(word.name))
+            message = NO_MATCHING_ENDIF % (number, key, kind, first, text)
         elif keyword == "endrepeat" or (keyword == "endwhile" and kind != "while"):
             message = NO_MATCHING_END % (number, text, kind, first)
         else:
-            return
-        fail.line, fail.message = line, message
-        if keyword in ("if", "elseif", "while", "repeat"):
-            # rs274 reads the condition (and fails there) before the label
-            fail.reads = word.expr
+            return None
+        return message
 
     # -- constructs left open ----------------------------------------------
 
@@ -899,7 +924,7 @@ class _Builder:
         node = entry.node
         key = self._key(entry.label)
         if isinstance(node, Loop):
-            node.eof = self._eof_fail(key)
+            node.eof = self._eof_fail(key, node.line)
         elif isinstance(node, If):
             arms = node.branches + ([node.orelse] if node.orelse else [])
             for k, arm in enumerate(arms[:-1]):
@@ -910,16 +935,44 @@ class _Builder:
                 if first_text_error([arms[j].body for j in later]) is None and not any(
                     j in node.landings for j in later
                 ):
-                    arm.body.append(self._eof_fail(key))
+                    arm.body.append(self._eof_fail(key, arms[k + 1].line))
             if node.orelse is None:
-                node.orelse = Branch(node.branches[-1].line, [self._eof_fail(key)])
+                last = node.branches[-1].line
+                node.orelse = Branch(last, [self._eof_fail(key, last)])
 
-    def _eof_fail(self, key: str) -> Fail:
-        """Skipping to ``key``'s label, rs274 reaches the end of the file
-        (the message and line are known at :meth:`finish`)."""
+    def _eof_fail(self, key: str, origin: Optional[nodes.Line] = None) -> Fail:
+        """Skipping to ``key``'s label from ``origin``, rs274 reaches the end
+        of the file (the message and line are known at :meth:`finish`),
+        unless a later line carries the label (:meth:`_later_landing`)."""
         fail = Fail(None, eof_message(self.demarcated))
         self.eof_fails.append((fail, key))
+        if origin is not None:
+            self.eof_origins[id(fail)] = origin
         return fail
+
+    def _later_landing(self, fail: Fail, key: str) -> bool:
+        """A skip for ``key`` that no closing line of its own ends stops at
+        the next line with the label wherever it is (inside another
+        construct): where that line fails whatever the run, ``fail`` becomes
+        that failure. A line rs274 cannot read on the way fails first."""
+        origin = self.eof_origins.get(id(fail))
+        if origin is None:
+            return False
+        for number, line_key, line, word, seen in self.labelled:
+            if number <= origin.number or (line.file or "") != (origin.file or ""):
+                continue
+            if line_key is None:  # unreadable while skipping
+                return False
+            if line_key != key:
+                continue
+            message = self._land_message(seen, line, word, key)
+            if message is None:
+                return False
+            fail.line, fail.message = line, message
+            if word.keyword in ("if", "elseif", "while", "repeat"):
+                fail.reads = word.expr
+            return True
+        return False
 
     # -- labels -----------------------------------------------------------
 
@@ -1018,13 +1071,15 @@ class _Builder:
                 self._abandon(entry)
             elif isinstance(entry.node, Loop) and last is not None:
                 # its break and continue lines skip to the end of the file
-                entry.node.eof = self._eof_fail(entry.node.key)
+                entry.node.eof = self._eof_fail(entry.node.key, entry.node.line)
             elif isinstance(entry.node, Sub):
                 self.stack.append(entry)
                 break
         self.eof_fails += [(fail, key) for key, fail in self.stale_jumps]
         self.eof_fails += [(fail, name) for name, fail in self.orphans if fail.line is None]
         for fail, key in self.eof_fails:
+            if self._later_landing(fail, key):
+                continue
             if closing is not None:
                 # rs274 meets the closing % while it skips
                 fail.line, fail.finish = closing, True
