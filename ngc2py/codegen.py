@@ -646,6 +646,7 @@ class CodeGen:
         self.codes: set = set()  # runtime.codes constants used
         self.break_flag = stale_break_flag(program)
         self.continue_flag = stale_continue_flag(program)
+        self.if_flag = executed_if_flag(program)
         self.code_functions: set = set()  # runtime.codes functions used
         self.names: set = set()
         self.shapes: Dict[Shape, int] = {}  # row shape -> index in SHAPES
@@ -950,6 +951,8 @@ class CodeGen:
         if not stmts:
             self.w.raw(INDENT * self.w.depth + "pass")
             return
+        if self.if_flag:
+            stmts = st.flat_arms(stmts)
         if not self.any_strand:
             # a sub line run in a call does nothing (see s_subline)
             stmts = [stmt for stmt in stmts if type(stmt) is not st.SubLine]
@@ -1167,6 +1170,34 @@ class CodeGen:
         args = (string(stmt.key), string(stmt.kind), checked.number)
         text = string(checked.text)
         self.w.stmt("m.check_label(%s, %s, %d, %s)" % (args + (text,)), checked)
+        if self.if_flag and stmt.kind == "endif":
+            self.w.stmt("m.executed_if = True", checked)
+
+    def s_flatarm(self, stmt: st.FlatArm) -> None:
+        """See structure.FlatArm: rs274 reads an elseif's condition, checks
+        the label, then skips to the next line with it if an arm has run."""
+        line = stmt.check.line
+        test = None
+        if stmt.check.kind == "elseif":
+            self.temp += 1
+            test = "t%d" % self.temp
+            self.w.stmt("%s = %s" % (test, self.x.condition(line.oword.expr)), line)
+        self.s_labelcheck(stmt.check)
+        self.w.stmt("if not m.executed_if:", line)
+        self.w.depth += 1
+        if test is not None:
+            self.w.stmt("if %s:" % test, line)
+            self.w.depth += 1
+            self.w.stmt("m.executed_if = True", line)
+            self.w.depth -= 1
+        self.block(stmt.body)
+        self.w.depth -= 1
+        unreadable = self.skip_error([stmt.body])
+        if unreadable is not None:
+            self.w.stmt("else:", line)
+            self.w.depth += 1
+            self.fail_skipped(unreadable)
+            self.w.depth -= 1
 
     def s_topreturn(self, stmt: st.TopReturn) -> None:
         self.w.comment(stmt.line)
@@ -1461,12 +1492,17 @@ class CodeGen:
                 # it: the later arms are never reached.
                 self.w.stmt("else:", branch.line)
                 self.w.depth += 1
+                if self.if_flag and isinstance(stop, list):
+                    # no arm has run: the skip lands with the flag clear
+                    self.w.stmt("m.executed_if = False", branch.line)
                 self.skipped_to(stop)
                 self.w.depth -= 1
                 return
         if stmt.orelse is not None:
             self.w.stmt("else:", stmt.orelse.line)
             self.nested(stmt.orelse, check=(stmt, stmt.end))
+        if self.if_flag:  # the if ends at its endif, which sets the flag
+            self.w.stmt("m.executed_if = True", stmt.end or stmt.branches[0].line)
 
     def skip_stop(
         self, stmt: st.If, arms: List[st.Branch], first: int, end: Optional[int] = None
@@ -1511,6 +1547,8 @@ class CodeGen:
         arms after a taken one reads that line); ``check``: the if and the
         line after the arm, whose label rs274 looks up (:meth:`frame_check`)."""
         self.w.depth += 1
+        if self.if_flag:  # an arm runs: rs274's flag (structure.FlatArm)
+            self.w.stmt("m.executed_if = True", branch.line)
         self.block(branch.body)
         for k, arm in enumerate(later):
             # rs274 still reads the condition of each later elseif (it
@@ -2019,6 +2057,17 @@ def code_name(code: int) -> str:
 def code_order(name: str) -> Tuple[str, float]:
     """G codes before M codes, numerically (G1, G2, G10, G59_1...)."""
     return (name[0], float(name[1:].replace("_", ".")))
+
+
+def executed_if_flag(program: st.Program) -> bool:
+    """Must the code track rs274's ``executed_if`` (structure.FlatArm)?
+    Only programs with an else or elseif line checked at run time pay."""
+    bodies = [program.body] + [sub.body for sub in program.externals]
+    return any(
+        isinstance(s, st.LabelCheck) and s.kind in ("else", "elseif")
+        for body in bodies
+        for s in st.walk(body)
+    )
 
 
 def stale_break_flag(program: st.Program) -> bool:

@@ -169,6 +169,60 @@ class LabelCheck:
 
 
 @dataclass
+class FlatArm:
+    """An ``else`` or ``elseif`` line that running code reaches outside the
+    if it belongs to (a skip landed in a do-loop of the if's label, or an
+    outer construct's closing line ended the if), and the statements after
+    it up to the next line with the label (``body``). rs274 keeps one flag,
+    "an arm of an if has run" (set by a true if or elseif, an endif, an
+    else reached by skipping; cleared by a false if): when it is set, the
+    line skips to the next line with its label; when it is not, an else
+    runs on into what follows it, and an elseif runs on too, whatever its
+    condition (a true one sets the flag). Codegen groups these
+    (:func:`flat_arms`) and then tracks the flag (``m.executed_if``)."""
+
+    check: "LabelCheck"
+    body: List["Stmt"]
+
+
+def flat_arms(stmts: List["Stmt"]) -> List["Stmt"]:
+    """``stmts`` with each else/elseif :class:`LabelCheck` and what follows
+    it up to the next statement with its label made one :class:`FlatArm`
+    (a check with no such statement after it is left as it is)."""
+    out: List[Stmt] = []
+    i = 0
+    while i < len(stmts):
+        stmt = stmts[i]
+        if isinstance(stmt, LabelCheck) and stmt.kind in ("else", "elseif"):
+            label = stmt.key.split("#")[-1]
+            j = next(
+                (k for k in range(i + 1, len(stmts)) if _has_label(stmts[k], stmt.key, label)),
+                None,
+            )
+            if j is not None:
+                out.append(FlatArm(stmt, flat_arms(stmts[i + 1 : j])))
+                i = j
+                continue
+        out.append(stmt)
+        i += 1
+    return out
+
+
+def _has_label(stmt: "Stmt", key: str, label: str) -> bool:
+    """Does ``stmt`` start with a line carrying ``label`` (``key``)?"""
+    if isinstance(stmt, LabelCheck):
+        return stmt.key == key
+    if isinstance(stmt, If):
+        line = stmt.branches[0].line
+    elif isinstance(stmt, (Loop, Block, Fail, Jump)):
+        line = stmt.line
+    else:
+        return False
+    word = getattr(line, "oword", None)
+    return word is not None and str(word.name) == label
+
+
+@dataclass
 class TopReturn:
     """``return`` or ``endsub`` outside any subroutine: rs274 fails as "not
     in a subroutine definition", unless a call has returned to the main
