@@ -200,8 +200,13 @@ def flat_arms(stmts: List["Stmt"]) -> List["Stmt"]:
                 None,
             )
             if j is not None:
-                out.append(FlatArm(stmt, flat_arms(stmts[i + 1 : j])))
-                i = j
+                end = j
+                if type(stmts[j]) is Block and stmts[j].line.error == AFTER_OWORD:
+                    # words after the O-word fail only when the line is run
+                    # into, not when the skip lands on it
+                    end = j + 1
+                out.append(FlatArm(stmt, flat_arms(stmts[i + 1 : end])))
+                i = end
                 continue
         out.append(stmt)
         i += 1
@@ -834,6 +839,17 @@ class _Builder:
                 self.body.append(Jump(line, word.keyword, target))
                 return
             crossed.append(entry.node)
+        key = self._key(label)
+        if repeat is not None and key in self.tracked:
+            # a break or continue of a repeat loop around it whose label is
+            # reused: it fails naming whichever opener rs274 recorded (the
+            # repeat's, or another's that ran first), decided at run time;
+            # it is no jump aimed at a finished loop
+            check = LabelCheck(line, key, word.keyword)
+            self.body.append(check)
+            if repeat.skip_fail is None:
+                repeat.skip_fail = check
+            return
         self._label_error(line, word)
         if repeat is not None and repeat.skip_fail is None:
             repeat.skip_fail = self.body[-1]
@@ -1015,8 +1031,9 @@ class _Builder:
         for number, line_key, line, word, seen in self.labelled:
             if number <= origin.number or (line.file or "") != (origin.file or ""):
                 continue
-            if line_key is None:  # unreadable while skipping
-                return False
+            if line_key is None:  # unreadable: the skip fails there
+                fail.line, fail.message = line, line.error
+                return True
             if line_key != key:
                 continue
             message = self._land_message(seen, line, word, key)
