@@ -1359,6 +1359,13 @@ class CodeGen:
             # no line with the loop's label follows: rs274 skips to the end
             self.statement(stmt.target.eof)
             return
+        end = stmt.target.end
+        if stmt.kind == "break" and stmt.target.kind == "do" and end is not None:
+            expr = end.oword.expr if end.oword is not None else None
+            if expr is not None and may_fail(expr):
+                # rs274 skips to the closing while line and reads its
+                # condition there (it fails on a name not set yet)
+                self.w.stmt(self.x.condition(expr), end)
         if stmt.kind == "continue":
             unreadable = self.skip_error([stmt.target.body])
             if unreadable is not None:
