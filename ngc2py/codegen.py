@@ -1192,6 +1192,13 @@ class CodeGen:
             self.w.depth -= 1
         self.block(stmt.body)
         self.w.depth -= 1
+        if stmt.landing is not None:
+            # the skip lands inside a loop never closed, never entered
+            self.w.stmt("else:", line)
+            self.w.depth += 1
+            self.skipped_to(stmt.landing)
+            self.w.depth -= 1
+            return
         unreadable = self.skip_error([stmt.body])
         if unreadable is not None:
             self.w.stmt("else:", line)
@@ -1537,6 +1544,8 @@ class CodeGen:
             # around it were skipped, never entered
             saved = self.landing_loops
             entered = {id(s) for s in st.walk(stop) if isinstance(s, st.Loop)}
+            # (and the loops around this point, entered before the skip)
+            entered |= {id(loop) for loop in self.loops}
             self.landing_loops = entered | (saved or set())
             self.block(stop)
             self.landing_loops = saved

@@ -183,6 +183,10 @@ class FlatArm:
 
     check: "LabelCheck"
     body: List["Stmt"]
+    #: Where the next line with the label stands inside a loop never closed
+    #: that follows (``body`` ends with it): what rs274 runs after its skip
+    #: lands there, from that line on (the loop is never entered).
+    landing: Optional[List["Stmt"]] = None
 
 
 def flat_arms(stmts: List["Stmt"]) -> List["Stmt"]:
@@ -199,6 +203,13 @@ def flat_arms(stmts: List["Stmt"]) -> List["Stmt"]:
                 (k for k in range(i + 1, len(stmts)) if _has_label(stmts[k], stmt.key, label)),
                 None,
             )
+            deep = _deep_landing(stmts[i + 1 :], stmt.key, label)
+            if deep is not None and (j is None or deep[0] + i + 1 < j):
+                k, landing = deep
+                end = i + 1 + k + 1
+                out.append(FlatArm(stmt, flat_arms(stmts[i + 1 : end]), landing))
+                i = end
+                continue
             if j is not None:
                 end = j
                 if type(stmts[j]) is Block and stmts[j].line.error == AFTER_OWORD:
@@ -211,6 +222,47 @@ def flat_arms(stmts: List["Stmt"]) -> List["Stmt"]:
         out.append(stmt)
         i += 1
     return out
+
+
+def _deep_landing(
+    stmts: List["Stmt"], key: str, label: str
+) -> Optional[Tuple[int, List["Stmt"]]]:
+    """The first line with ``label`` in ``stmts`` when it stands inside a
+    loop never closed (however many): (the index of that loop, the
+    statements from the line on, then what follows each loop around it);
+    None when it is a statement of ``stmts`` itself, inside anything else,
+    or a line rs274 cannot read comes first."""
+    for k, stmt in enumerate(stmts):
+        if _has_label(stmt, key, label):
+            return None
+        if type(stmt) is Block and skip_error(stmt.line):
+            return None
+        if isinstance(stmt, Loop) and stmt.end is None:
+            rest = _landing_rest(stmt.body, key, label)
+            if rest is not None:
+                return k, rest + stmts[k + 1 :]
+        if any(_has_label(s, key, label) for s in walk([stmt])):
+            return None
+    return None
+
+
+def _landing_rest(stmts: List["Stmt"], key: str, label: str) -> Optional[List["Stmt"]]:
+    """From the first line with ``label`` in ``stmts`` (inside loops never
+    closed) on, as :func:`_deep_landing`."""
+    for k, stmt in enumerate(stmts):
+        if _has_label(stmt, key, label):
+            if type(stmt) is Block and stmt.line.error == AFTER_OWORD:
+                return stmts[k + 1 :]  # landing there does not fail
+            return stmts[k:]
+        if type(stmt) is Block and skip_error(stmt.line):
+            return None
+        if isinstance(stmt, Loop) and stmt.end is None:
+            rest = _landing_rest(stmt.body, key, label)
+            if rest is not None:
+                return rest + stmts[k + 1 :]
+        if any(_has_label(s, key, label) for s in walk([stmt])):
+            return None
+    return None
 
 
 def _has_label(stmt: "Stmt", key: str, label: str) -> bool:
