@@ -241,8 +241,26 @@ def _deep_landing(
             rest = _landing_rest(stmt.body, key, label)
             if rest is not None:
                 return k, rest + stmts[k + 1 :]
-        if any(_has_label(s, key, label) for s in walk([stmt])):
-            return None
+        hit = _failing_landing(stmt, key, label)
+        if hit is not None:
+            return (k, hit) if hit else None
+    return None
+
+
+def _failing_landing(stmt: "Stmt", key: str, label: str) -> Optional[List["Stmt"]]:
+    """The first line with ``label`` inside ``stmt`` (another construct):
+    [its failure] when running it fails whatever the run (a break of an
+    if's label, an opener reusing it), [] when it is something else (not
+    followed), None when there is no such line. (A closing line whose
+    label rs274 looks up at run time is such a failure where the label is
+    recorded as what it does not fit.)"""
+    for inner in walk([stmt], False):
+        if _has_label(inner, key, label):
+            if type(inner) is Fail:
+                return [inner]
+            if type(inner) is LabelCheck and inner.kind in ("break", "continue"):
+                return [inner]
+            return []
     return None
 
 
@@ -260,8 +278,9 @@ def _landing_rest(stmts: List["Stmt"], key: str, label: str) -> Optional[List["S
             rest = _landing_rest(stmt.body, key, label)
             if rest is not None:
                 return rest + stmts[k + 1 :]
-        if any(_has_label(s, key, label) for s in walk([stmt])):
-            return None
+        hit = _failing_landing(stmt, key, label)
+        if hit is not None:
+            return hit or None
     return None
 
 
