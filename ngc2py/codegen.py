@@ -1216,6 +1216,9 @@ class CodeGen:
         if stmt.reads is not None and may_fail(stmt.reads):
             # rs274 reads the condition (and fails there) before the label
             self.w.stmt(self.x.condition(stmt.reads), stmt.line)
+        if stmt.check is not None:
+            # a reused label: the opener rs274 recorded names the failure
+            self.s_labelcheck(stmt.check)
         self.w.comment(stmt.line)
         call = fail_call(stmt.line.number, stmt.message)
         if stmt.finish:

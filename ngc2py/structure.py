@@ -53,6 +53,9 @@ class Fail:
     finish: bool = False
     #: A condition rs274 reads first (an opener failing as a duplicate).
     reads: Optional[nodes.Expr] = None
+    #: A reused label: what rs274 recorded decides the message at run time
+    #: (this check fails; the message above is the fallback).
+    check: Optional["LabelCheck"] = None
 
 
 @dataclass(eq=False)
@@ -1113,6 +1116,8 @@ class _Builder:
             fail.line, fail.message = line, message
             if word.keyword in ("if", "elseif", "while", "repeat"):
                 fail.reads = word.expr
+            if key in self.tracked:
+                fail.check = LabelCheck(line, key, word.keyword)
             return True
         return False
 
