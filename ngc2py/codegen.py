@@ -1157,7 +1157,10 @@ class CodeGen:
         self.w.depth -= 1
 
     def s_labelcheck(self, stmt: st.LabelCheck) -> None:
-        expr = stmt.line.oword.expr if stmt.kind in ("if", "while", "repeat") else None
+        reads = stmt.kind in ("if", "while", "repeat") or (
+            stmt.kind == "do-end" and stmt.loop is None  # a do-loop's while line
+        )
+        expr = stmt.line.oword.expr if reads else None
         if expr is not None and may_fail(expr):
             # rs274 reads the condition (and fails there) before the label
             self.w.stmt(self.x.condition(expr), stmt.line)
