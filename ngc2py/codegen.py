@@ -658,6 +658,7 @@ class CodeGen:
         self.codes: set = set()  # runtime.codes constants used
         self.break_flag = stale_break_flag(program)
         self.continue_flag = stale_continue_flag(program)
+        self.if_flag = executed_if_flag(program)
         self.code_functions: set = set()  # runtime.codes functions used
         self.names: set = set()
         self.shapes: Dict[Shape, int] = {}  # row shape -> index in SHAPES
@@ -968,6 +969,8 @@ class CodeGen:
         if not stmts:
             self.w.raw(INDENT * self.w.depth + "pass")
             return
+        if self.if_flag:
+            stmts = st.flat_arms(stmts)
         if not self.any_strand:
             # a sub line run in a call does nothing (see s_subline)
             stmts = [stmt for stmt in stmts if type(stmt) is not st.SubLine]
@@ -1173,7 +1176,10 @@ class CodeGen:
         self.w.depth -= 1
 
     def s_labelcheck(self, stmt: st.LabelCheck) -> None:
-        expr = stmt.line.oword.expr if stmt.kind in ("if", "while", "repeat") else None
+        reads = stmt.kind in ("if", "while", "repeat") or (
+            stmt.kind == "do-end" and stmt.loop is None  # a do-loop's while line
+        )
+        expr = stmt.line.oword.expr if reads else None
         if expr is not None and may_fail(expr):
             # rs274 reads the condition (and fails there) before the label
             self.w.stmt(self.x.condition(expr), stmt.line)
@@ -1186,6 +1192,41 @@ class CodeGen:
         args = (string(stmt.key), string(stmt.kind), checked.number)
         text = string(checked.text)
         self.w.stmt("m.check_label(%s, %s, %d, %s)" % (args + (text,)), checked)
+        if self.if_flag and stmt.kind == "endif":
+            self.w.stmt("m.executed_if = True", checked)
+
+    def s_flatarm(self, stmt: st.FlatArm) -> None:
+        """See structure.FlatArm: rs274 reads an elseif's condition, checks
+        the label, then skips to the next line with it if an arm has run."""
+        line = stmt.check.line
+        test = None
+        if stmt.check.kind == "elseif":
+            self.temp += 1
+            test = "t%d" % self.temp
+            self.w.stmt("%s = %s" % (test, self.x.condition(line.oword.expr)), line)
+        self.s_labelcheck(stmt.check)
+        self.w.stmt("if not m.executed_if:", line)
+        self.w.depth += 1
+        if test is not None:
+            self.w.stmt("if %s:" % test, line)
+            self.w.depth += 1
+            self.w.stmt("m.executed_if = True", line)
+            self.w.depth -= 1
+        self.block(stmt.body)
+        self.w.depth -= 1
+        if stmt.landing is not None:
+            # the skip lands inside a loop never closed, never entered
+            self.w.stmt("else:", line)
+            self.w.depth += 1
+            self.skipped_to(stmt.landing)
+            self.w.depth -= 1
+            return
+        unreadable = self.skip_error([stmt.body])
+        if unreadable is not None:
+            self.w.stmt("else:", line)
+            self.w.depth += 1
+            self.fail_skipped(unreadable)
+            self.w.depth -= 1
 
     def s_topreturn(self, stmt: st.TopReturn) -> None:
         self.w.comment(stmt.line)
@@ -1197,6 +1238,9 @@ class CodeGen:
         if stmt.reads is not None and may_fail(stmt.reads):
             # rs274 reads the condition (and fails there) before the label
             self.w.stmt(self.x.condition(stmt.reads), stmt.line)
+        if stmt.check is not None:
+            # a reused label: the opener rs274 recorded names the failure
+            self.s_labelcheck(stmt.check)
         self.w.comment(stmt.line)
         call = fail_call(stmt.line.number, stmt.message)
         if stmt.finish:
@@ -1228,6 +1272,17 @@ class CodeGen:
                 break
             self.definition_value(line)
         if err is not None:
+            if err.line.error == err.message and err.line.partial:
+                # the sub's own return/endsub line, whose value fails to
+                # read: what rs274 computed before the error comes first
+                # (a division by zero inside it)
+                self.x.defining = True
+                try:
+                    for value in err.line.partial:
+                        if not is_constant(value):
+                            self.w.stmt(self.x.expr(value), err.line)
+                finally:
+                    self.x.defining = False
             call = fail_call(err.line.number, err.message)
             if err.finish:
                 call = call[:-1] + ", finish=True)"
@@ -1336,6 +1391,21 @@ class CodeGen:
             # no line with the loop's label follows: rs274 skips to the end
             self.statement(stmt.target.eof)
             return
+        end = stmt.target.end
+        if stmt.kind == "break" and stmt.target.kind == "do" and end is not None:
+            expr = end.oword.expr if end.oword is not None else None
+            if expr is not None and may_fail(expr):
+                # rs274 skips to the closing while line and reads its
+                # condition there (it fails on a name not set yet)
+                self.w.stmt(self.x.condition(expr), end)
+        if stmt.kind == "continue":
+            unreadable = self.skip_error([stmt.target.body])
+            if unreadable is not None:
+                # rs274 skips to the loop's end, reading the rest of its
+                # body: it fails at the first line it cannot read (one
+                # before this line would have failed already).
+                self.fail_skipped(unreadable)
+                return
         self.jump_to(stmt.kind, stmt.target, stmt.line)
 
     def stale_continue(self, stmt: st.Jump) -> None:
@@ -1463,12 +1533,17 @@ class CodeGen:
                 # it: the later arms are never reached.
                 self.w.stmt("else:", branch.line)
                 self.w.depth += 1
+                if self.if_flag and isinstance(stop, list):
+                    # no arm has run: the skip lands with the flag clear
+                    self.w.stmt("m.executed_if = False", branch.line)
                 self.skipped_to(stop)
                 self.w.depth -= 1
                 return
         if stmt.orelse is not None:
             self.w.stmt("else:", stmt.orelse.line)
             self.nested(stmt.orelse, check=(stmt, stmt.end))
+        if self.if_flag:  # the if ends at its endif, which sets the flag
+            self.w.stmt("m.executed_if = True", stmt.end or stmt.branches[0].line)
 
     def skip_stop(
         self, stmt: st.If, arms: List[st.Branch], first: int, end: Optional[int] = None
@@ -1496,6 +1571,8 @@ class CodeGen:
             # around it were skipped, never entered
             saved = self.landing_loops
             entered = {id(s) for s in st.walk(stop) if isinstance(s, st.Loop)}
+            # (and the loops around this point, entered before the skip)
+            entered |= {id(loop) for loop in self.loops}
             self.landing_loops = entered | (saved or set())
             self.block(stop)
             self.landing_loops = saved
@@ -1513,6 +1590,8 @@ class CodeGen:
         arms after a taken one reads that line); ``check``: the if and the
         line after the arm, whose label rs274 looks up (:meth:`frame_check`)."""
         self.w.depth += 1
+        if self.if_flag:  # an arm runs: rs274's flag (structure.FlatArm)
+            self.w.stmt("m.executed_if = True", branch.line)
         self.block(branch.body)
         for k, arm in enumerate(later):
             # rs274 still reads the condition of each later elseif (it
@@ -2039,6 +2118,17 @@ def code_name(code: int) -> str:
 def code_order(name: str) -> Tuple[str, float]:
     """G codes before M codes, numerically (G1, G2, G10, G59_1...)."""
     return (name[0], float(name[1:].replace("_", ".")))
+
+
+def executed_if_flag(program: st.Program) -> bool:
+    """Must the code track rs274's ``executed_if`` (structure.FlatArm)?
+    Only programs with an else or elseif line checked at run time pay."""
+    bodies = [program.body] + [sub.body for sub in program.externals]
+    return any(
+        isinstance(s, st.LabelCheck) and s.kind in ("else", "elseif")
+        for body in bodies
+        for s in st.walk(body)
+    )
 
 
 def stale_break_flag(program: st.Program) -> bool:

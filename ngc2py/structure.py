@@ -53,6 +53,9 @@ class Fail:
     finish: bool = False
     #: A condition rs274 reads first (an opener failing as a duplicate).
     reads: Optional[nodes.Expr] = None
+    #: A reused label: what rs274 recorded decides the message at run time
+    #: (this check fails; the message above is the fallback).
+    check: Optional["LabelCheck"] = None
 
 
 @dataclass(eq=False)
@@ -166,6 +169,136 @@ class LabelCheck:
     #: A break or continue of this do-loop: rs274 skips to its closing
     #: ``while`` line, checked here (``do-end``) before the jump.
     loop: Optional["Loop"] = None
+
+
+@dataclass
+class FlatArm:
+    """An ``else`` or ``elseif`` line that running code reaches outside the
+    if it belongs to (a skip landed in a do-loop of the if's label, or an
+    outer construct's closing line ended the if), and the statements after
+    it up to the next line with the label (``body``). rs274 keeps one flag,
+    "an arm of an if has run" (set by a true if or elseif, an endif, an
+    else reached by skipping; cleared by a false if): when it is set, the
+    line skips to the next line with its label; when it is not, an else
+    runs on into what follows it, and an elseif runs on too, whatever its
+    condition (a true one sets the flag). Codegen groups these
+    (:func:`flat_arms`) and then tracks the flag (``m.executed_if``)."""
+
+    check: "LabelCheck"
+    body: List["Stmt"]
+    #: Where the next line with the label stands inside a loop never closed
+    #: that follows (``body`` ends with it): what rs274 runs after its skip
+    #: lands there, from that line on (the loop is never entered).
+    landing: Optional[List["Stmt"]] = None
+
+
+def flat_arms(stmts: List["Stmt"]) -> List["Stmt"]:
+    """``stmts`` with each else/elseif :class:`LabelCheck` and what follows
+    it up to the next statement with its label made one :class:`FlatArm`
+    (a check with no such statement after it is left as it is)."""
+    out: List[Stmt] = []
+    i = 0
+    while i < len(stmts):
+        stmt = stmts[i]
+        if isinstance(stmt, LabelCheck) and stmt.kind in ("else", "elseif"):
+            label = stmt.key.split("#")[-1]
+            j = next(
+                (k for k in range(i + 1, len(stmts)) if _has_label(stmts[k], stmt.key, label)),
+                None,
+            )
+            deep = _deep_landing(stmts[i + 1 :], stmt.key, label)
+            if deep is not None and (j is None or deep[0] + i + 1 < j):
+                k, landing = deep
+                end = i + 1 + k + 1
+                out.append(FlatArm(stmt, flat_arms(stmts[i + 1 : end]), landing))
+                i = end
+                continue
+            if j is not None:
+                end = j
+                if type(stmts[j]) is Block and stmts[j].line.error == AFTER_OWORD:
+                    # words after the O-word fail only when the line is run
+                    # into, not when the skip lands on it
+                    end = j + 1
+                out.append(FlatArm(stmt, flat_arms(stmts[i + 1 : end])))
+                i = end
+                continue
+        out.append(stmt)
+        i += 1
+    return out
+
+
+def _deep_landing(
+    stmts: List["Stmt"], key: str, label: str
+) -> Optional[Tuple[int, List["Stmt"]]]:
+    """The first line with ``label`` in ``stmts`` when it stands inside a
+    loop never closed (however many): (the index of that loop, the
+    statements from the line on, then what follows each loop around it);
+    None when it is a statement of ``stmts`` itself, inside anything else,
+    or a line rs274 cannot read comes first."""
+    for k, stmt in enumerate(stmts):
+        if _has_label(stmt, key, label):
+            return None
+        if type(stmt) is Block and skip_error(stmt.line):
+            return None
+        if isinstance(stmt, Loop) and stmt.end is None:
+            rest = _landing_rest(stmt.body, key, label)
+            if rest is not None:
+                return k, rest + stmts[k + 1 :]
+        hit = _failing_landing(stmt, key, label)
+        if hit is not None:
+            return (k, hit) if hit else None
+    return None
+
+
+def _failing_landing(stmt: "Stmt", key: str, label: str) -> Optional[List["Stmt"]]:
+    """The first line with ``label`` inside ``stmt`` (another construct):
+    [its failure] when running it fails whatever the run (a break of an
+    if's label, an opener reusing it), [] when it is something else (not
+    followed), None when there is no such line. (A closing line whose
+    label rs274 looks up at run time is such a failure where the label is
+    recorded as what it does not fit.)"""
+    for inner in walk([stmt], False):
+        if _has_label(inner, key, label):
+            if type(inner) is Fail:
+                return [inner]
+            if type(inner) is LabelCheck and inner.kind in ("break", "continue"):
+                return [inner]
+            return []
+    return None
+
+
+def _landing_rest(stmts: List["Stmt"], key: str, label: str) -> Optional[List["Stmt"]]:
+    """From the first line with ``label`` in ``stmts`` (inside loops never
+    closed) on, as :func:`_deep_landing`."""
+    for k, stmt in enumerate(stmts):
+        if _has_label(stmt, key, label):
+            if type(stmt) is Block and stmt.line.error == AFTER_OWORD:
+                return stmts[k + 1 :]  # landing there does not fail
+            return stmts[k:]
+        if type(stmt) is Block and skip_error(stmt.line):
+            return None
+        if isinstance(stmt, Loop) and stmt.end is None:
+            rest = _landing_rest(stmt.body, key, label)
+            if rest is not None:
+                return rest + stmts[k + 1 :]
+        hit = _failing_landing(stmt, key, label)
+        if hit is not None:
+            return hit or None
+    return None
+
+
+def _has_label(stmt: "Stmt", key: str, label: str) -> bool:
+    """Does ``stmt`` start with a line carrying ``label`` (``key``)?"""
+    if isinstance(stmt, LabelCheck):
+        return stmt.key == key
+    if isinstance(stmt, If):
+        line = stmt.branches[0].line
+    elif isinstance(stmt, (Loop, Block, Fail, Jump)):
+        line = stmt.line
+    else:
+        return False
+    word = getattr(line, "oword", None)
+    return word is not None and str(word.name) == label
 
 
 @dataclass
@@ -408,6 +541,12 @@ class _Builder:
         self.fanuc: Optional[Tuple[Sub, List[Stmt], int]] = None
         # Failures at the end of the file, for abandoned constructs.
         self.eof_fails: List[Tuple[Fail, str]] = []  # and the label's key
+        # where each of those skips starts (id of the Fail -> line)
+        self.eof_origins: Dict[int, nodes.Line] = {}
+        # every line with a label, and every line rs274 cannot read while
+        # skipping (key None), in order: (number, key, line, word, what
+        # the label was recorded as before the line)
+        self.labelled: List[tuple] = []
         # break/continue lines aimed at a finished loop: (label, failure)
         self.stale_jumps: List[Tuple[str, Fail]] = []
         # constructs opened by lines failing as duplicates (_duplicate)
@@ -437,6 +576,13 @@ class _Builder:
 
     def add(self, line: nodes.Line) -> None:
         word = line.oword
+        if skip_error(line):
+            self.labelled.append((line.number, None, line, word, None))
+        elif word is not None and isinstance(word.name, str):
+            seen = self.labels.get(str(word.name))
+            self.labelled.append(
+                (line.number, self._key(str(word.name)), line, word, seen)
+            )
         if self.stale_jumps and skip_error(line):
             # skipping forward for a finished loop's label, rs274 fails at
             # a line it cannot read
@@ -767,6 +913,17 @@ class _Builder:
                 self.body.append(Jump(line, word.keyword, target))
                 return
             crossed.append(entry.node)
+        key = self._key(label)
+        if repeat is not None and key in self.tracked:
+            # a break or continue of a repeat loop around it whose label is
+            # reused: it fails naming whichever opener rs274 recorded (the
+            # repeat's, or another's that ran first), decided at run time;
+            # it is no jump aimed at a finished loop
+            check = LabelCheck(line, key, word.keyword)
+            self.body.append(check)
+            if repeat.skip_fail is None:
+                repeat.skip_fail = check
+            return
         self._label_error(line, word)
         if repeat is not None and repeat.skip_fail is None:
             repeat.skip_fail = self.body[-1]
@@ -795,10 +952,11 @@ class _Builder:
             self.fail(line, UNDEFINED_LABEL % (line.number, line.text))
             return
         found = (seen[0], seen[1])
-        if seen[0] == "if" and word.keyword in ("elseif", "else", "endif"):
-            # The if with this label is no longer open here (a closing line
-            # of an outer construct ended it): rs274 knows the label only if
-            # that if ran, else it is undefined. Run time decides.
+        if word.keyword not in ("break", "continue"):
+            # The construct with this label is no longer open here (or is
+            # another kind): rs274 knows the label only if its opener ran
+            # (not inside an arm not taken or a loop never entered), else
+            # it is undefined. Run time decides.
             if self._track(key, seen):
                 self.body.append(LabelCheck(line, key, word.keyword))
                 return
@@ -828,12 +986,26 @@ class _Builder:
         ``line``, which it then executes as what it is. Where that fails
         whatever the run, ``fail`` becomes that failure (a do, an endwhile
         of the while or another break or continue would carry on: left)."""
-        seen = self.labels.get(str(word.name))
-        if seen is None:
+        message = self._land_message(self.labels.get(str(word.name)), line, word)
+        if message is None:
             return
+        fail.line, fail.message = line, message
+        if word.keyword in ("if", "elseif", "while", "repeat"):
+            # rs274 reads the condition (and fails there) before the label
+            fail.reads = word.expr
+
+    def _land_message(
+        self, seen, line: nodes.Line, word: nodes.OWord, key: Optional[str] = None
+    ) -> Optional[str]:
+        """How a line with a label recorded as ``seen`` fails when a skip
+        for the label stops there, or None where it would carry on."""
+        if seen is None:
+            return None
         kind, first = seen[0], seen[1]
         number, text = line.number, line.text
         keyword = word.keyword
+        if kind == "if" and keyword in ("elseif", "else", "endif"):
+            return None  # the if's own lines: the skip goes on or ends
         if keyword == "if":
             message = DUPLICATE_IF % (number, first, text)
         elif keyword == "repeat" or (keyword == "while" and kind != "do"):
@@ -841,12 +1013,13 @@ class _Builder:
         elif keyword in ("elseif", "else"):
             message = NO_MATCHING_IF % (number, text, kind, first)
         elif keyword == "endif":
-            message = NO_MATCHING_ENDIF % (number, self._key(str(word.name)), kind, first, text)
+            key = key or self._key(str(word.name))
+            message = NO_MATCHING_ENDIF % (number, key, kind, first, text)
         elif keyword == "endrepeat" or (keyword == "endwhile" and kind != "while"):
             message = NO_MATCHING_END % (number, text, kind, first)
         else:
-            return
-        fail.line, fail.message = line, message
+            return None
+        return message
 
     # -- constructs left open ----------------------------------------------
 
@@ -895,7 +1068,7 @@ class _Builder:
         node = entry.node
         key = self._key(entry.label)
         if isinstance(node, Loop):
-            node.eof = self._eof_fail(key)
+            node.eof = self._eof_fail(key, node.line)
         elif isinstance(node, If):
             arms = node.branches + ([node.orelse] if node.orelse else [])
             for k, arm in enumerate(arms[:-1]):
@@ -906,16 +1079,47 @@ class _Builder:
                 if first_text_error([arms[j].body for j in later]) is None and not any(
                     j in node.landings for j in later
                 ):
-                    arm.body.append(self._eof_fail(key))
+                    arm.body.append(self._eof_fail(key, arms[k + 1].line))
             if node.orelse is None:
-                node.orelse = Branch(node.branches[-1].line, [self._eof_fail(key)])
+                last = node.branches[-1].line
+                node.orelse = Branch(last, [self._eof_fail(key, last)])
 
-    def _eof_fail(self, key: str) -> Fail:
-        """Skipping to ``key``'s label, rs274 reaches the end of the file
-        (the message and line are known at :meth:`finish`)."""
+    def _eof_fail(self, key: str, origin: Optional[nodes.Line] = None) -> Fail:
+        """Skipping to ``key``'s label from ``origin``, rs274 reaches the end
+        of the file (the message and line are known at :meth:`finish`),
+        unless a later line carries the label (:meth:`_later_landing`)."""
         fail = Fail(None, eof_message(self.demarcated))
         self.eof_fails.append((fail, key))
+        if origin is not None:
+            self.eof_origins[id(fail)] = origin
         return fail
+
+    def _later_landing(self, fail: Fail, key: str) -> bool:
+        """A skip for ``key`` that no closing line of its own ends stops at
+        the next line with the label wherever it is (inside another
+        construct): where that line fails whatever the run, ``fail`` becomes
+        that failure. A line rs274 cannot read on the way fails first."""
+        origin = self.eof_origins.get(id(fail))
+        if origin is None:
+            return False
+        for number, line_key, line, word, seen in self.labelled:
+            if number <= origin.number or (line.file or "") != (origin.file or ""):
+                continue
+            if line_key is None:  # unreadable: the skip fails there
+                fail.line, fail.message = line, line.error
+                return True
+            if line_key != key:
+                continue
+            message = self._land_message(seen, line, word, key)
+            if message is None:
+                return False
+            fail.line, fail.message = line, message
+            if word.keyword in ("if", "elseif", "while", "repeat"):
+                fail.reads = word.expr
+            if key in self.tracked:
+                fail.check = LabelCheck(line, key, word.keyword)
+            return True
+        return False
 
     # -- labels -----------------------------------------------------------
 
@@ -1014,13 +1218,15 @@ class _Builder:
                 self._abandon(entry)
             elif isinstance(entry.node, Loop) and last is not None:
                 # its break and continue lines skip to the end of the file
-                entry.node.eof = self._eof_fail(entry.node.key)
+                entry.node.eof = self._eof_fail(entry.node.key, entry.node.line)
             elif isinstance(entry.node, Sub):
                 self.stack.append(entry)
                 break
         self.eof_fails += [(fail, key) for key, fail in self.stale_jumps]
         self.eof_fails += [(fail, name) for name, fail in self.orphans if fail.line is None]
         for fail, key in self.eof_fails:
+            if self._later_landing(fail, key):
+                continue
             if closing is not None:
                 # rs274 meets the closing % while it skips
                 fail.line, fail.finish = closing, True

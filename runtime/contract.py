@@ -107,6 +107,7 @@ MACHINE = (
     "block_delete",
     "doing_break",
     "doing_continue",
+    "executed_if",
     "reading_profile",
 )
 

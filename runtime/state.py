@@ -66,6 +66,7 @@ class MachineState:
     returned_to_main: bool  # a return at the top level ended a call early
     doing_break: bool  # a break is leaving its loop (rs274's flag)
     doing_continue: bool  # a continue is going round again (rs274's flag)
+    executed_if: bool  # an arm of an if has run (rs274's flag)
     _olabels: Dict[str, object]  # O-word labels seen executing (reuse checks)
     _repeat_counts: Dict[str, int]  # counts left of repeat loops left early
     fanuc_levels: List[int]  # call levels of running M98 calls (and M98 L0 frames)
@@ -151,6 +152,7 @@ class MachineState:
         self.returned_to_main = False
         self.doing_break = False
         self.doing_continue = False
+        self.executed_if = False
         self._olabels = {}
         self._repeat_counts = {}
         self.fanuc_levels = []

@@ -16,7 +16,9 @@ counted as ``rejected`` (no reference), not compared. ngc2py runs in-process
 (``ngc2py run``, as ``ngc2py golden`` runs it) in worker processes.
 
 For each mismatch, ``OUT/<profile>/<n>/`` holds the program's files, the
-options (``args``) and the differences (``diff.txt``); ``OUT/summary.txt``
+options (``args``) and the differences (``diff.txt``); for each program
+rs274 hung or crashed on, ``OUT/<profile>/rejected/<n>/`` holds its files
+and why (``diff.txt``: the time-out or the signal); ``OUT/summary.txt``
 holds the figures.
 """
 
@@ -128,7 +130,8 @@ def compare_one(job):
         program = Path(tmp) / main
         expected = harness.run_rs274(program, args, timeout=timeout)
         if expected.timed_out or (expected.rc is not None and expected.rc < 0):
-            return profile, index, "rejected", ""
+            why = f"timed out after {timeout} s" if expected.timed_out else f"signal {-expected.rc}"
+            return profile, index, "rejected", why
         try:
             actual = harness.run_ngc2py(program, args, mode="inprocess", timeout=timeout * 6)
         except BaseException as exc:  # noqa: BLE001 - a campaign reports everything
@@ -171,8 +174,12 @@ def main(argv=None) -> int:
         with multiprocessing.Pool(opts.jobs, maxtasksperchild=200) as pool:
             for profile, index, status, diff in pool.imap_unordered(compare_one, jobs, chunksize=4):
                 counts[status] += 1
-                if status == "mismatch":
+                if status != "match":
+                    # mismatches, and the programs rs274 hangs or crashes on
+                    # (to check they really are: OUT/<profile>/rejected/)
                     folder = out / profile / str(index)
+                    if status == "rejected":
+                        folder = out / profile / "rejected" / str(index)
                     folder.mkdir(parents=True, exist_ok=True)
                     files, args = jobs[index][2], jobs[index][3]
                     for fname, text in files.items():

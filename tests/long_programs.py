@@ -238,6 +238,13 @@ class LongWriter:
         self.body(nest)
         for _ in range(self.randint(0, 2)):
             self.line(f"o{lab} elseif {self.condition()}", oword=True)
+            if self.chance(8):
+                # a do of the if's label, never closed: the skips of the
+                # arms before land on it and run on into the later elseif
+                # and else lines (rs274's executed_if flag decides there)
+                self.depth += 1
+                self.line(f"o{lab} do", oword=True)
+                self.depth -= 1
             self.body(nest)
         if self.chance(2):
             self.line(f"o{lab} else", oword=True)

@@ -1013,6 +1013,76 @@ def lang_if(w: LanguageWriter) -> None:
     w.closed.append((label, "if"))
 
 
+def lang_landing_if(w: LanguageWriter) -> None:
+    """An if with a do of its own label in one arm, never closed: a skip
+    of an arm before it (a false condition, the arms after a taken one)
+    lands on the do, which runs on into the later elseif and else lines.
+    rs274 decides there by its one flag "an arm of an if has run"."""
+    label = w.label()
+    w.emit(f"o{label} if {w.condition()}", slash_ok=False)
+    w.open_ifs.append((label, w.depth + 1))
+    arms = w.draw(st.integers(0, 2))  # arms before the one with the do
+    for arm in range(arms):
+        lang_body(w)
+        w.emit(f"o{label} elseif {w.condition()}{closer_words(w)}", slash_ok=False)
+    w.depth += 1
+    if w.chance(2):
+        lang_statement(w)
+    w.emit(f"o{label} do", slash_ok=False)
+    w.depth -= 1
+    lang_body(w)
+    for _ in range(w.draw(st.integers(0, 2))):
+        w.emit(f"o{label} elseif {w.condition()}{closer_words(w)}", slash_ok=False)
+        lang_body(w)
+    if not w.chance(4):
+        w.emit(f"o{label} else{closer_words(w)}", slash_ok=False)
+        lang_body(w)
+    w.open_ifs.pop()
+    w.emit(f"o{label} endif{closer_words(w)}", slash_ok=False)
+    w.closed.append((label, "if"))
+
+
+def lang_stray_label(w: LanguageWriter) -> None:
+    """A loop never closed that does not run (a repeat of none, a false
+    while): rs274 skips forward to the next line with its label, which
+    stands inside another construct (an opener or a closing line of
+    another kind, which fail there). (Not a do, which would run on from
+    the middle of a construct never entered: ngc2py does not follow that.)"""
+    label = w.label()
+    if w.chance(2):
+        w.emit(f"o{label} repeat [0]", slash_ok=False)
+    else:
+        w.emit(f"o{label} while [#<_g> GT 5]", slash_ok=False)
+    lang_body(w)
+    lang_statement(w)
+    other = str(w.next_label + 1)
+    w.next_label += 1
+    kind = w.pick(["if", "while"])
+    if kind == "if":
+        w.emit(f"o{other} if {w.condition()}", slash_ok=False)
+    else:
+        w.lines.append("  " * w.depth + "#<stray> = 0")
+        w.emit(f"o{other} while [#<stray> LT 1]", slash_ok=False)
+        w.lines.append("  " * (w.depth + 1) + "#<stray> = [#<stray> + 1]")
+    w.depth += 1
+    landing = w.pick(["if", "while", "repeat", "endif", "endwhile", "else"])
+    if landing == "if":
+        w.emit(f"o{label} if {w.condition()}", slash_ok=False)
+        w.emit(f"o{label} endif", slash_ok=False)
+    elif landing == "while":
+        w.emit(f"o{label} while [#<_unset> LT 1]", slash_ok=False)
+        w.emit(f"o{label} endwhile", slash_ok=False)
+    elif landing == "repeat":
+        w.emit(f"o{label} repeat [1]", slash_ok=False)
+        w.emit(f"o{label} endrepeat", slash_ok=False)
+    else:
+        w.emit(f"o{label} {landing}", slash_ok=False)
+    lang_statement(w)
+    w.depth -= 1
+    w.emit(f"o{other} end{kind}", slash_ok=False)
+    w.closed.append((other, kind))
+
+
 def lang_loop(w: LanguageWriter) -> None:
     kind = w.pick(["while", "do", "repeat"])
     label = w.label()
@@ -1112,6 +1182,9 @@ def lang_statement(w: LanguageWriter) -> None:
     options = [lang_plain] * 4 + [lang_call]
     if w.depth < 3 and w.size < 40:
         options += [lang_if, lang_loop, lang_loop]
+        if w.chance(3):
+            # a skip landing inside another construct
+            options += [lang_landing_if, lang_stray_label]
     if w.loops or w.sub:
         options += [lang_jump, lang_guarded_jump]
     if w.loops:
