@@ -356,7 +356,7 @@ class ArcRows:
         # A contour's rows in C (runtime/fast/_arc_row.c): the trace's calls,
         # or the arcs a batch canon's arc_moves takes (held).
         canon, pending = machine.canon, self.pending
-        in_c = None if canon.reads_lines else rows_in_c
+        in_c = rows_in_c
         if pending is not None:  # arcs only: none in the modal motion
             extra = (pending.rows, context[2])
         elif type(canon) is TraceCanon and not context[2]:  # (not arcs only)
@@ -384,6 +384,8 @@ class ArcRows:
         finally:
             pending = self.pending
             if pending and pending.rows:
+                # (a canon reading lines finds the last row's, as row by row)
+                machine.line = int(cells[state[2]])
                 pending.flush()
             cur, motion_mode, row, block_n, feed_rate, feed_given = state[:6]
             _publish(machine, int(cells[row]), cur, motion_mode, block_n)
