@@ -36,6 +36,7 @@ from itertools import chain, repeat
 from operator import add
 from typing import Dict, Optional
 
+from runtime.fast.hole_rows import HOLE_MOVES, HOLE_SWITCHES
 from runtime.toolpath import (
     AXIS_NAMES,
     LINEAR,
@@ -55,26 +56,9 @@ DEFAULT_RAPID_RATE = 3000.0
 #: Default acceleration, mm/s^2.
 DEFAULT_ACCELERATION = 500.0
 
-#: What StatsCanon.hole_moves takes in columns: moves, dwells and calls it
-#: does not count (a hole's other switches).
-_HOLE_CALLS = frozenset(
-    (
-        "straight_traverse",
-        "straight_feed",
-        "dwell",
-        "set_block_number",
-        "set_motion_control_mode",
-        "set_naivecam_tolerance",
-        "stop_spindle_turning",
-        "start_spindle_clockwise",
-        "start_spindle_counterclockwise",
-        "enable_feed_override",
-        "disable_feed_override",
-        "enable_speed_override",
-        "disable_speed_override",
-        "program_stop",
-    )
-)
+#: What StatsCanon.hole_moves takes in columns: moves, and the switches
+#: around a hole (dwells counted; the others change nothing it counts).
+_HOLE_CALLS = HOLE_MOVES | HOLE_SWITCHES
 
 
 @dataclass(frozen=True)

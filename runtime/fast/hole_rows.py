@@ -40,7 +40,7 @@ if TYPE_CHECKING:
 _HOLE_AXES = {"XY": (0, 1, "xy"), "YZ": (1, 2, "yz"), "XZ": (2, 0, "zx")}
 
 #: The canon calls a hole may make (besides its moves) that carry no position.
-_SWITCHES = frozenset(
+HOLE_SWITCHES = frozenset(
     (
         "set_block_number",
         "dwell",
@@ -56,7 +56,7 @@ _SWITCHES = frozenset(
         "program_stop",  # G88's stop for the manual retract
     )
 )
-_MOVES = frozenset(("straight_traverse", "straight_feed"))
+HOLE_MOVES = frozenset(("straight_traverse", "straight_feed"))
 
 #: Stand-ins for a move's X and Y while a hole's trace template is made
 #: (runtime.canon.TraceCanon prints them as below), at the hole and where
@@ -425,7 +425,7 @@ class HoleRows:
         calls, recorded = [], []
         for name, args in recording.calls:
             move = None
-            if name in _MOVES:
+            if name in HOLE_MOVES:
                 # at the hole, or (up to the R plane first) where it was
                 spot = args[ia], args[ib]
                 move = (
@@ -433,7 +433,7 @@ class HoleRows:
                 )
                 if move is None:
                     return False  # elsewhere (G87's offsets)
-            elif name not in _SWITCHES:
+            elif name not in HOLE_SWITCHES:
                 return False
             recorded.append((name, args, move))
             if move is not None and (ia, ib) == (0, 1):
