@@ -259,12 +259,25 @@ class _Batches(RecordingCanon):
             self.end = None  # an offset, units...: not followed here
 
 
-def _batched(code: str):
+class _LineBatches(_Batches):
+    """A batch canon that reads the machine's line (as ngc2py.moves does):
+    records the line each call outside a batch finds."""
+
+    reads_lines = True
+
+    def _record(self, name, args):
+        if name != "arc":
+            line = self.machine.line if self.machine is not None else None
+            args = (("line", line),) + tuple(args)
+        super()._record(name, args)
+
+
+def _batched(code: str, kind=_Batches):
     from runtime import Machine, start
 
     namespace: dict = {"__name__": "arcs"}
     exec(compile(code, "arcs.py", "exec"), namespace)
-    canon = _Batches()
+    canon = kind()
     machine = canon.machine = Machine(canon, source=namespace["__ngc__"])
     try:
         start(machine, namespace["main"])
@@ -287,3 +300,16 @@ def test_the_c_loop_holds_the_python_loops_arcs(text):
     with pytest.MonkeyPatch.context() as patch:
         _python_only(patch)
         assert _batched(code) == fast
+
+
+@needs_c
+@settings(PROFILE, max_examples=PROFILE.max_examples * 2)
+@given(cam_strategies.arc_programs())
+def test_a_canon_reading_lines_finds_them_as_the_python_loop_sets_them(text):
+    """Held arcs handed over before a straight row, an N or an F: every call
+    outside a batch finds the machine at the line the Python loop sets."""
+    code = compile_text(text, "arcs.ngc")
+    fast = _batched(code, _LineBatches)
+    with pytest.MonkeyPatch.context() as patch:
+        _python_only(patch)
+        assert _batched(code, _LineBatches) == fast

@@ -377,20 +377,47 @@ static PyObject *hold(PyObject *held, PyObject *line, PyObject **call) {
 #define G_1 10
 #define STRETCH 8 /* arc_rows._BATCH: a stretch printed_rows writes at once */
 
+/* Before a row's own calls in a run holding arcs: the machine's line set
+ * to the row's (``line_machine``, when the canon reads it), then the held
+ * arcs handed to the canon (pending.flush()). 0, or -1 with an exception. */
+static int hand_over(PyObject *pending, PyObject *held, PyObject *line_machine,
+                     PyObject *line) {
+    if (line_machine != NULL) {
+        PyObject *number = PyLong_FromUnicodeObject(line, 10);
+        int failed = number == NULL || PyObject_SetAttrString(line_machine, "line", number) < 0;
+        Py_XDECREF(number);
+        if (failed) {
+            return -1;
+        }
+    }
+    if (PyList_GET_SIZE(held) == 0) {
+        return 0;
+    }
+    PyObject *result = PyObject_CallMethod(pending, "flush", NULL);
+    if (result == NULL) {
+        return -1;
+    }
+    Py_DECREF(result);
+    return 0;
+}
+
 /* rows(cells, at, end, known, straight, geometry, state, arc_feed,
- * straight_feed, straight_traverse, set_block_number, set_feed_rate[, held,
- * explicit_only]): ArcRows.run's loop for the rows of a contour (arcs and
- * the plain lines between them), for a canon that takes each move as a call
- * (the trace): their N and F words too, as the Python loop makes them.
- * ``known`` maps a row's shape cell to its arc recipe (None: not an arc),
- * ``straight`` to its straight move; a shape in neither, or a row the
- * general path must decide, ends the loop.
+ * straight_feed, straight_traverse, set_block_number, set_feed_rate[,
+ * pending, explicit_only, machine]): ArcRows.run's loop for the rows of a
+ * contour (arcs and the plain lines between them), for a canon that takes
+ * each move as a call (the trace): their N and F words too, as the Python
+ * loop makes them. ``known`` maps a row's shape cell to its arc recipe
+ * (None: not an arc), ``straight`` to its straight move; a shape in
+ * neither, or a row the general path must decide, ends the loop.
  *
- * With ``held`` (_Pending.rows, for a canon that takes arcs in batches),
- * each arc is appended there as _Pending.hold keeps it, and a straight row
- * or a row with N or F ends the loop (the held arcs go to the canon first),
- * as does, with ``explicit_only`` (a BatchesOnly machine), an arc in the
- * modal motion.
+ * With ``pending`` (arc_rows._Pending, for a canon that takes arcs in
+ * batches), each arc is appended to pending.rows as _Pending.hold keeps it
+ * (pending.start set where a batch begins), and the held arcs go to the
+ * canon (pending.flush()) before any other call: a straight row's, or an N
+ * or F word's. ``machine`` (None: the canon does not read lines) gets the
+ * line of each row whose calls are made here, before they are made, as the
+ * Python loop sets it. With ``explicit_only`` (a BatchesOnly machine) only
+ * arcs without N or F in an explicit G2/G3 are taken.
  *
  * ``state`` is ArcRows.run's list [point, motion, row, N, feed rate, F
  * given, ...]: on return, even with an exception from a canon call, it holds
@@ -398,18 +425,27 @@ static PyObject *hold(PyObject *held, PyObject *line, PyObject **call) {
  * (the Python loop's ``row``; unchanged when there was none). Returns where
  * it stopped. */
 static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
-    if (nargs != 12 && nargs != 14) {
-        PyErr_SetString(PyExc_TypeError, "rows takes 12 or 14 arguments");
+    if (nargs != 12 && nargs != 15) {
+        PyErr_SetString(PyExc_TypeError, "rows takes 12 or 15 arguments");
         return NULL;
     }
-    PyObject *held = nargs == 14 ? args[12] : NULL;
-    int explicit_only = nargs == 14 ? PyObject_IsTrue(args[13]) : 0;
+    PyObject *pending = nargs == 15 ? args[12] : NULL;
+    int explicit_only = nargs == 15 ? PyObject_IsTrue(args[13]) : 0;
+    PyObject *line_machine = nargs == 15 && args[14] != Py_None ? args[14] : NULL;
     if (explicit_only < 0) {
         return NULL;
     }
-    if (held != NULL && !PyList_CheckExact(held)) {
-        PyErr_SetString(PyExc_TypeError, "rows: the held arcs are a list");
-        return NULL;
+    PyObject *held = NULL;
+    if (pending != NULL) {
+        held = PyObject_GetAttrString(pending, "rows");
+        if (held == NULL) {
+            return NULL;
+        }
+        Py_DECREF(held); /* (pending keeps it) */
+        if (!PyList_CheckExact(held)) {
+            PyErr_SetString(PyExc_TypeError, "rows: the held arcs are a list");
+            return NULL;
+        }
     }
     PyObject *cells = args[0], *known = args[3], *straight = args[4];
     PyObject *state = args[6];
@@ -456,8 +492,8 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
             break; /* (no recipe yet: the Python loop makes it) */
         }
         if (recipe == Py_None) {
-            if (held != NULL) {
-                break; /* the held arcs go to the canon first: Python's work */
+            if (explicit_only) {
+                break; /* the general path: the canon sees its line begin */
             }
             /* a plain straight move between arcs (ArcRows._straight_row) */
             line = PyDict_GetItemWithError(straight, key);
@@ -493,7 +529,7 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
             }
             motion = r.motion;
         }
-        if (held != NULL && (has_n || f_at >= 0)) {
+        if (explicit_only && (has_n || f_at >= 0)) {
             break;
         }
         if (at + 2 + width > end || (has_n && width < 1)) {
@@ -543,6 +579,14 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
         /* the calls: N, F, then the move (as the Python loop makes them) */
         int other = n == block_n ? 0 : PyObject_RichCompareBool(n, block_n, Py_NE);
         PyObject *result = NULL;
+        if (held != NULL && (line != NULL || other != 0 || f_at >= 0)) {
+            /* calls of this row's own: the held arcs go to the canon first */
+            if (other < 0 || hand_over(pending, held, line_machine, PyList_GET_ITEM(cells, at))) {
+                Py_DECREF(point);
+                failed = 1;
+                break;
+            }
+        }
         if (other > 0) {
             result = PyObject_CallOneArg(set_block_number, n);
             if (result != NULL) {
@@ -589,6 +633,9 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
                 }
                 if (held == NULL) {
                     result = PyObject_Vectorcall(arc_feed, call, 12, NULL);
+                } else if (PyList_GET_SIZE(held) == 0 &&
+                           PyObject_SetAttrString(pending, "start", cur) < 0) {
+                    result = NULL; /* (where the batch begins) */
                 } else {
                     result = hold(held, PyList_GET_ITEM(cells, at), call);
                 }

@@ -358,7 +358,7 @@ class ArcRows:
         canon, pending = machine.canon, self.pending
         in_c = rows_in_c
         if pending is not None:  # arcs only: none in the modal motion
-            extra = (pending.rows, context[2])
+            extra = (pending, context[2], machine if canon.reads_lines else None)
         elif type(canon) is TraceCanon and not context[2]:  # (not arcs only)
             extra = ()
         else:
@@ -369,8 +369,7 @@ class ArcRows:
             calls += (canon.set_block_number, canon.set_feed_rate) + extra
         try:
             while at < end:
-                # (held arcs: not under an N, which the canon must see first)
-                if in_c is not None and (pending is None or state[3] is None):
+                if in_c is not None:
                     if pending is not None and not pending.rows:
                         pending.start = state[0]
                     stop = in_c(cells, at, end, *fixed, *calls)
@@ -396,7 +395,7 @@ class ArcRows:
     def _loop(self, cells: List[str], at: int, end: int, context, state, once) -> int:
         """run's loop in Python, from the state it is given to the one it
         leaves; ``once``: back to run after one row when the C loop may take
-        the next (any row for the trace; held arcs: one without an N)."""
+        the next."""
         known, geometry, arcs_only = context
         p1, p2, p3, absolute = geometry[:4]
         axes = geometry[:3]
@@ -414,7 +413,7 @@ class ArcRows:
         held = None if pending is None else pending.rows
         try:
             while at < end:
-                if once and at != first and (block_n is None or pending is None):
+                if once and at != first:
                     break  # the C loop may take this row
                 row = at
                 if row_lines:
