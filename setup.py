@@ -2,10 +2,11 @@
 
 ``runtime._libm_trig`` computes SIN/COS/TAN as rs274 does, ten times faster
 than the ctypes path of runtime/x87.py. ``runtime._fast_format`` makes trace
-lines (``template % args``) without Python's general float formatting. Both
-are optional: without a C compiler and Python's headers the build skips them
-and the runtime runs its pure-Python equivalents, with identical results.
-"""
+lines (``template % args``) without Python's general float formatting.
+``runtime.fast._arc_row`` runs a contour's rows; ``runtime._arc_stats`` adds
+up a batch of arcs for ``ngc2py stats``. All are optional: without a C
+compiler and Python's headers the build skips them and the runtime runs its
+pure-Python equivalents, with identical results."""
 
 from setuptools import Extension, setup
 
@@ -31,6 +32,14 @@ setup(
             ["runtime/fast/_arc_row.c"],
             libraries=["m"],
             # rs274's arithmetic has no fused multiply-adds: neither may this
+            extra_compile_args=["-ffp-contract=off"],
+            optional=True,
+        ),
+        Extension(
+            "runtime._arc_stats",
+            ["runtime/_arc_stats.c"],
+            libraries=["m"],
+            # the same doubles as runtime/stats.py's Python: no fused steps
             extra_compile_args=["-ffp-contract=off"],
             optional=True,
         ),

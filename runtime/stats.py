@@ -98,6 +98,64 @@ def move_times(lengths, rate_per_minute: float, acceleration: float):
     ]
 
 
+def python_arc_sums(
+    s1, s2, sn, first_end, second_end, first_axis, second_axis, rotation,
+    axis_end, rest, box, rest_low, rest_high, f, s, n, length, time, rate,
+    acceleration,
+):  # fmt: skip
+    """A batch of arcs from (s1, s2, sn), the start's plane and normal
+    coordinates, as columns of arc_feed's arguments (``rest``: the six of
+    A B C U V W). Every end goes into the extents (``box`` is Extents._xyz,
+    ``f s n`` the plane's axes in it; ``rest_low``, ``rest_high``: changed in
+    place). Returns ``(length, time, untimed, outside)``: the totals with each
+    arc's length (:func:`helix_length`) and time (:meth:`StatsCanon._time`)
+    added in order, the count of arcs of no usable rate, and the ``(index,
+    sweep, r0, r1, theta0)`` of each arc whose square of its larger radius
+    about its centre is not inside the box. runtime._arc_stats.arc_sums does
+    the same in C."""
+    rest_low[:] = [min(low, *column) for low, column in zip(rest_low, rest)]
+    rest_high[:] = [max(high, *column) for high, column in zip(rest_high, rest)]
+    untimed = 0
+    outside = []
+    start, end = [0.0, 0.0], [0.0, 0.0]
+    plane = (0, 1, 2)
+    at = [0.0, 0.0, 0.0]
+    ends = zip(first_end, second_end, first_axis, second_axis, rotation, axis_end)
+    for k, (e1, e2, c1, c2, turns, en) in enumerate(ends):
+        start[0], start[1], end[0], end[1] = s1, s2, e1, e2
+        sweep, r0, r1, theta0 = arc_geometry(start, end, plane, (c1, c2), turns)
+        # the end into the box, then whether the arc is inside it: the box
+        # only grows and holds no point off the path, so an arc inside it is
+        # inside the final one
+        at[f], at[s], at[n] = e1, e2, en
+        for i in range(3):
+            box[2 * i] = min(box[2 * i], at[i])
+            box[2 * i + 1] = max(box[2 * i + 1], at[i])
+        radius = r0 if r0 > r1 else r1
+        if not (
+            box[2 * f] <= c1 - radius
+            and c1 + radius <= box[2 * f + 1]
+            and box[2 * s] <= c2 - radius
+            and c2 + radius <= box[2 * s + 1]
+        ):
+            outside.append((k, sweep, r0, r1, theta0))
+        step = helix_length(sweep, r0, r1, en - sn)
+        length += step
+        if step != 0.0:
+            if rate <= 0.0:
+                untimed += 1
+            else:
+                time += move_time(step, rate, acceleration)
+        s1, s2, sn = e1, e2, en
+    return length, time, untimed, outside
+
+
+try:  # the same in C (runtime/_arc_stats.c)
+    from runtime._arc_stats import arc_sums
+except ImportError:  # not built
+    arc_sums = python_arc_sums
+
+
 class StatsCanon(ToolpathCanon):
     """Counts, lengths, extents and time of everything the program does."""
 
@@ -306,8 +364,11 @@ class StatsCanon(ToolpathCanon):
         self.position = tuple(column[-1] for column in ends[-1])
 
     def arc_moves(self, lines, first_end, second_end, first_axis, second_axis, *rest):
-        """A batch of arcs (runtime.canon.Canon.arc_moves): the same
-        :meth:`arc` calls as ``arc_feed`` makes, without its per-call work."""
+        """A batch of arcs (runtime.canon.Canon.arc_moves): the same counts,
+        lengths, extents and times as one :meth:`arc` an arc. Every end goes
+        into the extents at once; an arc adds more (its extreme points) only
+        when the square of its radius about its centre is not inside them
+        (the box only grows, so that is the same box as arc by arc)."""
         axes = PLANE_AXES.get(self.plane)
         # Row by row: a subclass watching arcs, a UVW plane, inch conversions.
         if type(self).arc is not StatsCanon.arc or axes is None or self.inches:
@@ -317,33 +378,39 @@ class StatsCanon(ToolpathCanon):
         if self.first_units is None:
             self.first_units = False
         f, s, n = axes
-        extents, counts, lengths = self.extents, self.counts, self.lengths
-        rate = self._feed_per_minute()
+        rotation, axis_end, *other = rest
+        other = list(other)
+        count = len(lines)
+        if not count:
+            return
         start = self.position
-        extents.add(start)  # (each later start is the end before it)
-        point = list(start)
-        # arc() for each, without an Arc where its extents need none
-        for e1, e2, c1, c2, rotation, en, *other in zip(
-            first_end, second_end, first_axis, second_axis, *rest
-        ):
-            point[3:] = other
-            point[f], point[s], point[n] = e1, e2, en
-            end = tuple(point)
-            centre = (c1, c2)
-            geometry = arc_geometry(start, end, axes, centre, rotation)
-            sweep, r0, r1 = geometry[:3]
-            if extents.encloses(axes, centre, r0 if r0 > r1 else r1):
-                extents.add(end)
-            else:
-                arc = Arc(start, end, axes, centre, *geometry)
+        extents = self.extents
+        extents.add(start)
+        self.counts["arc"] += count
+        self.lengths["arc"], self.motion_time, untimed, outside = arc_sums(
+            start[f], start[s], start[n],
+            first_end, second_end, first_axis, second_axis, rotation, axis_end,
+            other, extents._xyz, extents._rest_low, extents._rest_high, f, s, n,
+            self.lengths["arc"], self.motion_time,
+            self._feed_per_minute(), self.model.acceleration,
+        )  # fmt: skip
+        self.untimed_moves += untimed
+        end = [0.0] * 9
+        end[f], end[s], end[n] = first_end[-1], second_end[-1], axis_end[-1]
+        end[3:] = [column[-1] for column in other]
+        self.position = tuple(end)
+        extents._rest = self.position[3:]  # (Extents.add's last look)
+        if outside:
+            columns = [None] * 9
+            columns[f], columns[s], columns[n] = first_end, second_end, axis_end
+            columns[3:] = other
+            ends = list(zip(*columns))
+            for k, *geometry in outside:
+                begin = ends[k - 1] if k else start
+                centre = (first_axis[k], second_axis[k])
+                arc = Arc(begin, ends[k], axes, centre, *geometry)
                 for extreme in arc.extreme_points():
                     extents.add(extreme)
-            length = helix_length(sweep, r0, r1, en - start[n])
-            counts["arc"] += 1
-            lengths["arc"] += length
-            self._time(length, rate)
-            start = end
-        self.position = start
 
     def arc(self, arc: Arc) -> None:
         extents = self.extents

@@ -37,6 +37,12 @@ from typing import List, Optional, Sequence, Tuple
 from runtime.canon import Canon
 from runtime.nurbs import preview_points
 
+try:  # the C library's, as runtime._arc_stats takes it (a batch of arcs
+    # in C then gives the very doubles of these functions)
+    from runtime._arc_stats import hypot
+except ImportError:  # not built: Python's own, in both
+    from math import hypot
+
 MM_PER_INCH = 25.4
 #: Linear axes (X Y Z U V W) among the nine; A B C are angles.
 LINEAR = (0, 1, 2, 6, 7, 8)
@@ -175,7 +181,7 @@ def helix_length(sweep: float, r0: float, r1: float, rise: float) -> float:
     """Path length of an arc of ``sweep`` radians from radius ``r0`` to
     ``r1`` rising ``rise`` along its normal (in the plane: mean radius times
     angle)."""
-    return math.hypot(abs(sweep) * (r0 + r1) / 2.0, rise)
+    return hypot(abs(sweep) * (r0 + r1) / 2.0, rise)
 
 
 def make_arc(
@@ -195,7 +201,7 @@ def arc_geometry(
     cf, cs = centre
     theta0 = math.atan2(start[s] - cs, start[f] - cf)
     theta1 = math.atan2(end[s] - cs, end[f] - cf)
-    closed = math.hypot(end[f] - start[f], end[s] - start[s]) < FULL_CIRCLE_CHORD
+    closed = hypot(end[f] - start[f], end[s] - start[s]) < FULL_CIRCLE_CHORD
     if rotation >= 0:
         sweep = (theta1 - theta0) % TAU
         if closed or sweep == 0.0:
@@ -206,8 +212,8 @@ def arc_geometry(
         if closed or sweep == 0.0:
             sweep = -TAU
         sweep -= TAU * (-rotation - 1)
-    r0 = math.hypot(start[f] - cf, start[s] - cs)
-    r1 = math.hypot(end[f] - cf, end[s] - cs)
+    r0 = hypot(start[f] - cf, start[s] - cs)
+    r1 = hypot(end[f] - cf, end[s] - cs)
     return sweep, r0, r1, theta0
 
 

@@ -22,6 +22,7 @@ from typing import Optional
 
 import pytest
 from hypothesis import example, given, reject, settings
+from hypothesis import strategies as st
 
 import cam_strategies
 import rs274 as harness
@@ -35,6 +36,7 @@ from runtime.canon import Canon
 from runtime.errors import GCodeError
 from runtime.machine import Machine
 from runtime.main import parse_options, start
+from runtime import stats
 from runtime.stats import Model, StatsCanon, move_time
 
 NCFILES = Path("/usr/share/linuxcnc/ncfiles")
@@ -67,7 +69,9 @@ def stats_of(name: str, args=()) -> StatsCanon:
     mode = options.pop("continue_mode", continue_mode.STOP)
     machine = Machine(canon, source=module.__ngc__, **options)
     # rs274's -n: report line errors and go on (MDI mode reads no input here).
-    continue_mode.enable(machine, mode, lambda error: None, io.StringIO(), io.StringIO())
+    continue_mode.enable(
+        machine, mode, lambda error: None, io.StringIO(), io.StringIO()
+    )
     try:
         start(machine, module.main)
     except GCodeError:
@@ -91,14 +95,22 @@ def spline_reference(name: str, rs274_failed: bool) -> TracePath:
     out = Path("gcode_reference.json").resolve()
     try:
         done = subprocess.run(
-            [GCODE_PYTHON, str(GCODE_REFERENCE), name, json.dumps(["G21", ""]), str(out)],
+            [
+                GCODE_PYTHON,
+                str(GCODE_REFERENCE),
+                name,
+                json.dumps(["G21", ""]),
+                str(out),
+            ],
             env=dict(os.environ, PYTHONPATH=""),
             stdout=subprocess.DEVNULL,
             stderr=subprocess.DEVNULL,
             timeout=60,
         )
     except (OSError, subprocess.TimeoutExpired):
-        raise NoReference("spline extents need LinuxCNC's gcode module (%s)" % GCODE_PYTHON)
+        raise NoReference(
+            "spline extents need LinuxCNC's gcode module (%s)" % GCODE_PYTHON
+        )
     if done.returncode != 0 or not out.exists():
         raise NoReference(
             "spline extents need LinuxCNC's gcode module, which is missing "
@@ -119,7 +131,10 @@ def spline_reference(name: str, rs274_failed: bool) -> TracePath:
 
 
 def assert_same_extents(
-    canon: StatsCanon, trace: str, name: Optional[str] = None, rs274_failed: bool = False
+    canon: StatsCanon,
+    trace: str,
+    name: Optional[str] = None,
+    rs274_failed: bool = False,
 ) -> None:
     """The stats' extents and counts are those of the rs274 trace; where
     it has splines, the extents are those of gcode.parse's path (needs the
@@ -198,7 +213,10 @@ def test_extents_equal_rs274_on_linuxcnc_samples(program):
     with scratch_run(program) as s:
         try:
             assert_same_extents(
-                canon, expected.stdout.decode("latin-1"), s.program.name, expected.rc != 0
+                canon,
+                expected.stdout.decode("latin-1"),
+                s.program.name,
+                expected.rc != 0,
             )
         except NoReference as missing:
             pytest.skip(str(missing))
@@ -216,7 +234,10 @@ def test_extents_equal_rs274_on_generated_programs(text):
         canon = stats_of(s.program.name)
         try:
             assert_same_extents(
-                canon, expected.stdout.decode("latin-1"), s.program.name, expected.rc != 0
+                canon,
+                expected.stdout.decode("latin-1"),
+                s.program.name,
+                expected.rc != 0,
             )
         except NoReference:
             reject()
@@ -437,3 +458,69 @@ def test_long_runs_of_moves_reach_stats_in_columns():
     text = "G20 G90\nG1 F100\n" + rows + "G0 X0 Y0\nM2\n"
     assert _report_of(Watching, text) == _report_of(_OneCallAMove, text)
     assert calls and sum(calls) >= 50
+
+
+def _arc_batch(draw_values):
+    """A batch of arcs for arc_sums, from a list of drawn numbers."""
+    coordinate = st.floats(-500, 500, allow_nan=False) | st.sampled_from(
+        [0.0, -0.0, 1.0]
+    )
+    count = draw_values(st.integers(1, 12))
+    columns = [[draw_values(coordinate) for _ in range(count)] for _ in range(4)]
+    rotation = [draw_values(st.sampled_from([-3, -1, 1, 2])) for _ in range(count)]
+    axis_end = [draw_values(st.sampled_from([0.0, 2.5, -1.0])) for _ in range(count)]
+    rest = [
+        [draw_values(st.sampled_from([0.0, 10.0, -3.5])) for _ in range(count)]
+        for _ in range(6)
+    ]
+    return columns, rotation, axis_end, rest
+
+
+@pytest.mark.skipif(
+    stats.arc_sums is stats.python_arc_sums, reason="runtime._arc_stats not built here"
+)
+@settings(max_examples=300, deadline=None)
+@given(
+    st.data(),
+    st.sampled_from([(0, 1, 2), (2, 0, 1), (1, 2, 0)]),
+    st.sampled_from([300.0, 0.0, -5.0]),
+    st.sampled_from([500.0, 0.0, math.inf, 1e-3]),
+)
+def test_the_c_arc_sums_give_the_python_ones_bit_for_bit(
+    data, axes, rate, acceleration
+):
+    """runtime._arc_stats.arc_sums against runtime.stats.python_arc_sums:
+    the same totals, count, arcs outside the box and extents, to the bit."""
+    columns, rotation, axis_end, rest = _arc_batch(data.draw)
+    f, s, n = axes
+    box = [
+        (
+            data.draw(st.sampled_from([-math.inf, -100.0, 0.0]))
+            if k % 2 == 0
+            else data.draw(st.sampled_from([math.inf, 100.0, 0.0]))
+        )
+        for k in range(6)
+    ]
+    low, high = [math.inf] * 6, [-math.inf] * 6
+    answers = []
+    for function in (stats.arc_sums, stats.python_arc_sums):
+        lists = [list(box), list(low), list(high)]
+        result = function(
+            1.5,
+            -2.0,
+            0.25,
+            *columns,
+            rotation,
+            axis_end,
+            [list(c) for c in rest],
+            *lists,
+            f,
+            s,
+            n,
+            10.0,
+            3.0,
+            rate,
+            acceleration,
+        )
+        answers.append(repr((result, lists)))  # repr: -0.0 and nan compared too
+    assert answers[0] == answers[1]

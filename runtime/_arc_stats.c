@@ -1,0 +1,253 @@
+/*
+ * The per-arc arithmetic of runtime.stats.StatsCanon.arc_moves in C: for a
+ * batch of arcs, each arc's sweep and radii (runtime.toolpath.arc_geometry),
+ * its length (helix_length) and its time (runtime.stats.move_time), summed
+ * in program order onto the totals so far, and which arcs may reach beyond
+ * the extents box (the Python side finds their extreme points).
+ *
+ * Optional, like the other extensions: runtime/stats.py holds the same steps
+ * in Python (python_arc_sums), and runtime/toolpath.py takes this module's
+ * hypot() -- the C library's -- where it is built, so that both give the
+ * very same doubles (Python's math.hypot rounds differently in about one
+ * case in a thousand). tests/test_stats.py holds the two to equal bits.
+ */
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+#include <math.h>
+
+#define TAU (2.0 * M_PI)
+#define FULL_CIRCLE_CHORD 1e-9 /* runtime.toolpath.FULL_CIRCLE_CHORD */
+
+/* Python's float ``%``: the remainder takes the sign of the divisor. */
+static double py_mod(double x, double y) {
+    double mod = fmod(x, y);
+    if (mod != 0.0) {
+        if ((y < 0.0) != (mod < 0.0)) {
+            mod += y;
+        }
+    } else {
+        mod = copysign(0.0, y);
+    }
+    return mod;
+}
+
+/* runtime.stats.move_time, step for step */
+static double move_time(double length, double rate, double acceleration) {
+    if (length <= 0.0) {
+        return 0.0;
+    }
+    double speed = rate / 60.0;
+    if (acceleration == 0.0 || isinf(acceleration)) {
+        return length / speed;
+    }
+    double ramp = speed * speed / acceleration;
+    if (length >= ramp) {
+        return length / speed + speed / acceleration;
+    }
+    return 2.0 * sqrt(length / acceleration);
+}
+
+static int item_double(PyObject *list, Py_ssize_t k, double *out) {
+    *out = PyFloat_AsDouble(PyList_GET_ITEM(list, k));
+    return *out == -1.0 && PyErr_Occurred();
+}
+
+static PyObject *c_hypot(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    if (nargs != 2) {
+        PyErr_SetString(PyExc_TypeError, "hypot takes 2 arguments");
+        return NULL;
+    }
+    double a = PyFloat_AsDouble(args[0]), b = PyFloat_AsDouble(args[1]);
+    if (PyErr_Occurred()) {
+        return NULL;
+    }
+    return PyFloat_FromDouble(hypot(a, b));
+}
+
+/* Each value of ``column`` (a list of floats) into low..high. */
+static int widen(PyObject *column, double *low, double *high) {
+    Py_ssize_t count = PyList_GET_SIZE(column);
+    for (Py_ssize_t k = 0; k < count; k++) {
+        double value;
+        if (item_double(column, k, &value)) {
+            return -1;
+        }
+        if (value < *low) {
+            *low = value;
+        }
+        if (value > *high) {
+            *high = value;
+        }
+    }
+    return 0;
+}
+
+static int store(PyObject *list, Py_ssize_t k, double value) {
+    PyObject *number = PyFloat_FromDouble(value);
+    return number == NULL ? -1 : PyList_SetItem(list, k, number);
+}
+
+/* arc_sums(s1, s2, sn, first_end, second_end, first_axis, second_axis,
+ * rotation, axis_end, rest, box, rest_low, rest_high, f, s, n, length, time,
+ * rate, acceleration): a batch of arcs from the start's plane coordinates
+ * (s1, s2) and normal one (sn), given as columns of arc_feed's arguments in
+ * millimetres (``rest``: the six columns of A B C U V W).
+ *
+ * Every end goes into the extents: ``box`` (Extents._xyz, [low x, high x,
+ * low y, ...]; ``f``, ``s``, ``n`` are the plane's axis indexes in it) and
+ * ``rest_low``/``rest_high`` are updated in place. Returns (length, time,
+ * untimed, outside): the length and time totals with each arc added in
+ * order, the count of arcs of no usable rate, and the (index, sweep, r0, r1,
+ * theta0) of each arc whose square of its larger radius about its centre
+ * is not inside the box as it stood (the caller adds their extreme points). */
+static PyObject *arc_sums(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    if (nargs != 20) {
+        PyErr_SetString(PyExc_TypeError, "arc_sums takes 20 arguments");
+        return NULL;
+    }
+    PyObject *columns[6] = {args[3], args[4], args[5], args[6], args[7], args[8]};
+    PyObject *rest = args[9], *box_list = args[10];
+    PyObject *rest_low = args[11], *rest_high = args[12];
+    if (!PyList_CheckExact(box_list) || PyList_GET_SIZE(box_list) != 6 ||
+        !PyList_CheckExact(rest_low) || PyList_GET_SIZE(rest_low) != 6 ||
+        !PyList_CheckExact(rest_high) || PyList_GET_SIZE(rest_high) != 6 ||
+        !PyList_CheckExact(rest) || PyList_GET_SIZE(rest) != 6) {
+        PyErr_SetString(PyExc_TypeError, "arc_sums: the box and extents are lists of six");
+        return NULL;
+    }
+    Py_ssize_t count = PyList_CheckExact(columns[0]) ? PyList_GET_SIZE(columns[0]) : -1;
+    for (int k = 0; k < 12; k++) {
+        PyObject *column = k < 6 ? columns[k] : PyList_GET_ITEM(rest, k - 6);
+        if (!PyList_CheckExact(column) || PyList_GET_SIZE(column) != count) {
+            PyErr_SetString(PyExc_TypeError, "arc_sums: columns are lists of one length");
+            return NULL;
+        }
+    }
+    double s1 = PyFloat_AsDouble(args[0]), s2 = PyFloat_AsDouble(args[1]);
+    double sn = PyFloat_AsDouble(args[2]);
+    long f = PyLong_AsLong(args[13]), s = PyLong_AsLong(args[14]);
+    long n = PyLong_AsLong(args[15]);
+    double length_sum = PyFloat_AsDouble(args[16]), time_sum = PyFloat_AsDouble(args[17]);
+    double rate = PyFloat_AsDouble(args[18]), acceleration = PyFloat_AsDouble(args[19]);
+    double box[6], low[6], high[6];
+    for (int k = 0; k < 6; k++) {
+        box[k] = PyFloat_AsDouble(PyList_GET_ITEM(box_list, k));
+        low[k] = PyFloat_AsDouble(PyList_GET_ITEM(rest_low, k));
+        high[k] = PyFloat_AsDouble(PyList_GET_ITEM(rest_high, k));
+    }
+    if (PyErr_Occurred()) {
+        return NULL;
+    }
+    if (f < 0 || f > 2 || s < 0 || s > 2 || n < 0 || n > 2) {
+        PyErr_SetString(PyExc_ValueError, "arc_sums: plane axes are 0, 1 or 2");
+        return NULL;
+    }
+    for (int k = 0; k < 6; k++) {
+        if (widen(PyList_GET_ITEM(rest, k), &low[k], &high[k])) {
+            return NULL;
+        }
+    }
+    PyObject *outside = PyList_New(0);
+    if (outside == NULL) {
+        return NULL;
+    }
+    Py_ssize_t untimed = 0;
+    for (Py_ssize_t k = 0; k < count; k++) {
+        double e1, e2, c1, c2, en;
+        if (item_double(columns[0], k, &e1) || item_double(columns[1], k, &e2) ||
+            item_double(columns[2], k, &c1) || item_double(columns[3], k, &c2) ||
+            item_double(columns[5], k, &en)) {
+            Py_DECREF(outside);
+            return NULL;
+        }
+        long rotation = PyLong_AsLong(PyList_GET_ITEM(columns[4], k));
+        if (rotation == -1 && PyErr_Occurred()) {
+            Py_DECREF(outside);
+            return NULL;
+        }
+        /* arc_geometry */
+        double theta0 = atan2(s2 - c2, s1 - c1);
+        double theta1 = atan2(e2 - c2, e1 - c1);
+        int closed = hypot(e1 - s1, e2 - s2) < FULL_CIRCLE_CHORD;
+        double sweep;
+        if (rotation >= 0) {
+            sweep = py_mod(theta1 - theta0, TAU);
+            if (closed || sweep == 0.0) {
+                sweep = TAU;
+            }
+            sweep += TAU * (double) (rotation - 1 > 0 ? rotation - 1 : 0);
+        } else {
+            sweep = -py_mod(theta0 - theta1, TAU);
+            if (closed || sweep == 0.0) {
+                sweep = -TAU;
+            }
+            sweep -= TAU * (double) (-rotation - 1);
+        }
+        double r0 = hypot(s1 - c1, s2 - c2);
+        double r1 = hypot(e1 - c1, e2 - c2);
+        /* the end into the box (Extents.add), then Extents.encloses with the
+         * larger radius: a box that only grows and holds no point off the
+         * path, so an arc inside it is inside the final one */
+        double at[3];
+        at[f] = e1;
+        at[s] = e2;
+        at[n] = en;
+        for (int i = 0; i < 3; i++) {
+            if (at[i] < box[2 * i]) {
+                box[2 * i] = at[i];
+            }
+            if (at[i] > box[2 * i + 1]) {
+                box[2 * i + 1] = at[i];
+            }
+        }
+        double radius = r0 > r1 ? r0 : r1;
+        if (!(box[2 * f] <= c1 - radius && c1 + radius <= box[2 * f + 1] &&
+              box[2 * s] <= c2 - radius && c2 + radius <= box[2 * s + 1])) {
+            PyObject *entry = Py_BuildValue("(ndddd)", k, sweep, r0, r1, theta0);
+            if (entry == NULL || PyList_Append(outside, entry) < 0) {
+                Py_XDECREF(entry);
+                Py_DECREF(outside);
+                return NULL;
+            }
+            Py_DECREF(entry);
+        }
+        /* helix_length, then StatsCanon._time */
+        double length = hypot(fabs(sweep) * (r0 + r1) / 2.0, en - sn);
+        length_sum += length;
+        if (length != 0.0) {
+            if (rate <= 0.0) {
+                untimed++;
+            } else {
+                time_sum += move_time(length, rate, acceleration);
+            }
+        }
+        s1 = e1;
+        s2 = e2;
+        sn = en;
+    }
+    for (int k = 0; k < 6; k++) {
+        if (store(box_list, k, box[k]) || store(rest_low, k, low[k]) ||
+            store(rest_high, k, high[k])) {
+            Py_DECREF(outside);
+            return NULL;
+        }
+    }
+    return Py_BuildValue("(ddnN)", length_sum, time_sum, untimed, outside);
+}
+
+static PyMethodDef methods[] = {
+    {"hypot", (PyCFunction) (void (*)(void)) c_hypot, METH_FASTCALL,
+     "The C library's hypot(a, b)."},
+    {"arc_sums", (PyCFunction) (void (*)(void)) arc_sums, METH_FASTCALL,
+     "A batch of arcs' lengths and times added in order, and those outside a box"},
+    {NULL, NULL, 0, NULL},
+};
+
+static struct PyModuleDef module = {
+    PyModuleDef_HEAD_INIT, "runtime._arc_stats",
+    "StatsCanon.arc_moves' per-arc arithmetic in C (see runtime/stats.py).", -1, methods,
+};
+
+PyMODINIT_FUNC PyInit__arc_stats(void) {
+    return PyModule_Create(&module);
+}
