@@ -344,26 +344,45 @@ static PyObject *arc_row(PyObject *self, PyObject *const *args, Py_ssize_t nargs
     return Py_BuildValue("(OONNdd)", motion, n, f_object, point, c1, c2);
 }
 
-/* Append to ``held`` what _Pending.hold keeps of an arc: its G-code line
- * (the int of ``line``, a cell) and arc_feed's twelve arguments. A new
+/* _Pending.columns, borrowed from the pending object's list (read again
+ * after each hand-over, which starts new lists): the held arcs' G-code lines,
+ * then arc_feed's twelve arguments, one list each. */
+#define HELD_COLUMNS 13
+typedef struct {
+    PyObject *column[HELD_COLUMNS];
+} held_t;
+
+static int read_held(PyObject *pending, held_t *held) {
+    PyObject *columns = PyObject_GetAttrString(pending, "columns");
+    if (columns == NULL) {
+        return -1;
+    }
+    int bad = !PyList_CheckExact(columns) || PyList_GET_SIZE(columns) != HELD_COLUMNS;
+    for (int k = 0; !bad && k < HELD_COLUMNS; k++) {
+        held->column[k] = PyList_GET_ITEM(columns, k);
+        bad = !PyList_CheckExact(held->column[k]);
+    }
+    Py_DECREF(columns); /* (pending keeps it) */
+    if (bad) {
+        PyErr_SetString(PyExc_TypeError, "rows: the held arcs are thirteen lists");
+        return -1;
+    }
+    return 0;
+}
+
+/* Append to the held columns what _Pending.hold keeps of an arc: its G-code
+ * line (the int of ``line``, a cell) and arc_feed's twelve arguments. A new
  * reference to None, or NULL with an exception set. */
-static PyObject *hold(PyObject *held, PyObject *line, PyObject **call) {
+static PyObject *hold(held_t *held, PyObject *line, PyObject **call) {
     PyObject *number = PyLong_FromUnicodeObject(line, 10);
     if (number == NULL) {
         return NULL;
     }
-    PyObject *row = PyTuple_New(13);
-    if (row == NULL) {
-        Py_DECREF(number);
-        return NULL;
+    int failed = PyList_Append(held->column[0], number);
+    Py_DECREF(number);
+    for (int k = 0; !failed && k < 12; k++) {
+        failed = PyList_Append(held->column[k + 1], call[k]);
     }
-    PyTuple_SET_ITEM(row, 0, number);
-    for (int k = 0; k < 12; k++) {
-        Py_INCREF(call[k]);
-        PyTuple_SET_ITEM(row, k + 1, call[k]);
-    }
-    int failed = PyList_Append(held, row);
-    Py_DECREF(row);
     if (failed) {
         return NULL;
     }
@@ -380,7 +399,7 @@ static PyObject *hold(PyObject *held, PyObject *line, PyObject **call) {
 /* Before a row's own calls in a run holding arcs: the machine's line set
  * to the row's (``line_machine``, when the canon reads it), then the held
  * arcs handed to the canon (pending.flush()). 0, or -1 with an exception. */
-static int hand_over(PyObject *pending, PyObject *held, PyObject *line_machine,
+static int hand_over(PyObject *pending, held_t *held, PyObject *line_machine,
                      PyObject *line) {
     if (line_machine != NULL) {
         PyObject *number = PyLong_FromUnicodeObject(line, 10);
@@ -390,7 +409,7 @@ static int hand_over(PyObject *pending, PyObject *held, PyObject *line_machine,
             return -1;
         }
     }
-    if (PyList_GET_SIZE(held) == 0) {
+    if (PyList_GET_SIZE(held->column[0]) == 0) {
         return 0;
     }
     PyObject *result = PyObject_CallMethod(pending, "flush", NULL);
@@ -398,7 +417,7 @@ static int hand_over(PyObject *pending, PyObject *held, PyObject *line_machine,
         return -1;
     }
     Py_DECREF(result);
-    return 0;
+    return read_held(pending, held);
 }
 
 /* rows(cells, at, end, known, straight, geometry, state, arc_feed,
@@ -411,7 +430,7 @@ static int hand_over(PyObject *pending, PyObject *held, PyObject *line_machine,
  * neither, or a row the general path must decide, ends the loop.
  *
  * With ``pending`` (arc_rows._Pending, for a canon that takes arcs in
- * batches), each arc is appended to pending.rows as _Pending.hold keeps it
+ * batches), each arc is appended to pending.columns as _Pending.hold keeps it
  * (pending.start set where a batch begins), and the held arcs go to the
  * canon (pending.flush()) before any other call: a straight row's, or an N
  * or F word's. ``machine`` (None: the canon does not read lines) gets the
@@ -435,17 +454,12 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
     if (explicit_only < 0) {
         return NULL;
     }
-    PyObject *held = NULL;
+    held_t columns, *held = NULL;
     if (pending != NULL) {
-        held = PyObject_GetAttrString(pending, "rows");
-        if (held == NULL) {
+        if (read_held(pending, &columns)) {
             return NULL;
         }
-        Py_DECREF(held); /* (pending keeps it) */
-        if (!PyList_CheckExact(held)) {
-            PyErr_SetString(PyExc_TypeError, "rows: the held arcs are a list");
-            return NULL;
-        }
+        held = &columns;
     }
     PyObject *cells = args[0], *known = args[3], *straight = args[4];
     PyObject *state = args[6];
@@ -633,7 +647,7 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
                 }
                 if (held == NULL) {
                     result = PyObject_Vectorcall(arc_feed, call, 12, NULL);
-                } else if (PyList_GET_SIZE(held) == 0 &&
+                } else if (PyList_GET_SIZE(held->column[0]) == 0 &&
                            PyObject_SetAttrString(pending, "start", cur) < 0) {
                     result = NULL; /* (where the batch begins) */
                 } else {

@@ -209,9 +209,13 @@ def _publish(machine, line: int, cur, motion_mode, block_n) -> None:
 
 class _Pending:
     """Arc rows held for one ``arc_moves`` call (a canon that defines it):
-    ``rows`` of arc_feed's arguments after the G-code line, from ``start``."""
+    ``columns``, the G-code lines then arc_feed's arguments, as the call
+    takes them, of arcs from ``start``."""
 
-    __slots__ = ("machine", "arc_moves", "rows", "start")
+    __slots__ = ("machine", "arc_moves", "columns", "start")
+
+    #: the line, then arc_feed's twelve arguments
+    WIDTH = 13
 
     @classmethod
     def for_canon(cls, machine) -> "Optional[_Pending]":
@@ -220,17 +224,22 @@ class _Pending:
             return None
         pending = cls()
         pending.machine, pending.arc_moves = machine, canon.arc_moves
-        pending.rows, pending.start = [], machine.current
+        pending.columns = [[] for _ in range(cls.WIDTH)]
+        pending.start = machine.current
         return pending
+
+    def __bool__(self) -> bool:
+        """Whether any arc is held."""
+        return bool(self.columns[0])
 
     def hold(self, line: int, point, c1: float, c2: float, rotation: int, axes, cur):
         """One more arc: to ``point`` about (c1, c2), from ``cur``."""
-        if not self.rows:
+        if not self.columns[0]:
             self.start = cur
         p1, p2, p3 = axes
-        self.rows.append(
-            (line, point[p1], point[p2], c1, c2, rotation, point[p3]) + tuple(point[3:])
-        )
+        row = (line, point[p1], point[p2], c1, c2, rotation, point[p3], *point[3:])
+        for column, value in zip(self.columns, row):
+            column.append(value)
 
     def flush(self) -> None:
         """The held rows to the canon, the machine at their start (the row
@@ -238,8 +247,9 @@ class _Pending:
         machine = self.machine
         machine.current = machine.world.position = self.start
         machine.params.position = self.start
-        self.arc_moves(*map(list, zip(*self.rows)))
-        self.rows.clear()
+        # new lists: the canon may keep the ones it is given
+        columns, self.columns = self.columns, [[] for _ in range(self.WIDTH)]
+        self.arc_moves(*columns)
 
 
 class ArcRows:
@@ -370,7 +380,7 @@ class ArcRows:
         try:
             while at < end:
                 if in_c is not None:
-                    if pending is not None and not pending.rows:
+                    if pending is not None and not pending:
                         pending.start = state[0]
                     stop = in_c(cells, at, end, *fixed, *calls)
                     if stop != at:
@@ -382,7 +392,7 @@ class ArcRows:
                 at = stop
         finally:
             pending = self.pending
-            if pending and pending.rows:
+            if pending:
                 # (a canon reading lines finds the last row's, as row by row)
                 machine.line = int(cells[state[2]])
                 pending.flush()
@@ -410,7 +420,7 @@ class ArcRows:
         groups = self.groups if self.groups is not None else self._groups()
         row_lines = canon.reads_lines  # (ngc2py.moves reads machine.line)
         pending = self.pending
-        held = None if pending is None else pending.rows
+        holding = pending is not None
         try:
             while at < end:
                 if once and at != first:
@@ -465,7 +475,11 @@ class ArcRows:
                     rotation = -1 if motion == G2 else 1
                     stride = 2 + width
                 # held arcs go to the canon before any other call
-                if held and (arc is None or n != block_n or f is not None):
+                if (
+                    holding
+                    and pending
+                    and (arc is None or n != block_n or f is not None)
+                ):
                     pending.flush()
                 if n != block_n:
                     canon.set_block_number(n)
@@ -479,7 +493,7 @@ class ArcRows:
                         straight_feed(*point)
                     else:
                         straight_traverse(*point)
-                elif held is not None:
+                elif holding:
                     pending.hold(int(cells[at]), point, c1, c2, rotation, axes, cur)
                 else:
                     arc_feed(
@@ -540,7 +554,7 @@ class ArcRows:
         last F or None, last motion, last N). Having done nothing, where the
         row loop may look for a run again: past this stretch, so that its
         rows are not scanned again and again."""
-        if pending is not None and pending.rows:
+        if pending:
             pending.flush()
         done = self._columns(cells, at, end, recipe, cur, feed_rate, geometry)
         stride = recipe[3] + 2
