@@ -43,7 +43,8 @@ from __future__ import annotations
 import argparse
 import math
 from array import array
-from operator import ne
+from math import hypot
+from operator import add, ne, sub
 import os
 import sys
 from decimal import Decimal
@@ -140,10 +141,11 @@ def number(value: float) -> str:
 def _numbers(values: Sequence[float]) -> List[str]:
     """:func:`number` of each of ``values``: repr without its ``.0`` for
     the integral ones, which is what number() writes below 1e15."""
+    if not values:
+        return []
     texts = list(map(repr, values))
-    if any("e" in text or "n" in text for text in texts) or (
-        max(map(abs, values)) >= 1e15
-    ):
+    joined = "".join(texts)  # (one look for exponents, nan and inf)
+    if "e" in joined or "n" in joined or max(values) >= 1e15 or min(values) <= -1e15:
         return list(map(number, values))
     return [text[:-2] if text.endswith(".0") else text for text in texts]
 
@@ -340,8 +342,7 @@ class FlattenCanon(Canon):
         pos = self._pos
         # Only the first arc can start away from the last move's end.
         self._check_arc_start(self.machine.current, pos)
-        arc = self._arc
-        self._write_batch(lines, [arc(args, pos) for args in zip(*columns)])
+        self._write_batch(lines, self._arc_texts(columns, pos))
 
     def _write_batch(self, lines, texts: List[str]) -> None:
         """A batch's blocks, each with its source comment (the batch's rows
@@ -620,6 +621,78 @@ class FlattenCanon(Canon):
                     "not where the last move ended (as after a canned cycle in the XZ "
                     "or YZ plane): plain G-code cannot start it there"
                 )
+
+    def _arc_texts(self, columns, pos: List[float]) -> List[str]:
+        """:meth:`_arc` of each arc of a batch (arc_feed's arguments as
+        columns), a column of numbers at a time: the very same text. Arcs
+        _arc treats apart (no centre, a radius under the tolerance, a centre
+        no relative offset gives exactly) make the whole batch go arc by arc."""
+        first_end, second_end, first_c, second_c, rotation, axis_end = columns[:6]
+        plane = ARC_AXES.get(self._plane)
+        if plane is None or not first_end:
+            return [self._arc(args, pos) for args in zip(*columns)]
+        first, second, axis, first_letter, second_letter = plane
+        index = _AXIS_INDEX
+        i1, i2, i3 = index[first], index[second], index[axis]
+        starts1 = [pos[i1]] + first_end[:-1]
+        starts2 = [pos[i2]] + second_end[:-1]
+        offsets1 = list(map(sub, first_c, starts1))
+        offsets2 = list(map(sub, second_c, starts2))
+        tolerance = RADIUS_TOLERANCE_INCH * (1.0 if self._inches else MM_PER_INCH)
+        if (
+            # rs274 adds I/J/K to the start point: each offset must give back
+            # the very centre (which also rules out NaN centres and -0.0)
+            list(map(add, starts1, offsets1)) != first_c
+            or list(map(add, starts2, offsets2)) != second_c
+            or 0.0 in first_c
+            or 0.0 in second_c
+            or min(map(hypot, offsets1, offsets2)) < tolerance
+            or min(
+                map(hypot, map(sub, first_end, first_c), map(sub, second_end, second_c))
+            )
+            < tolerance
+        ):
+            return [self._arc(args, pos) for args in zip(*columns)]
+        # the batch's numbers in one column: five of its values an arc
+        count = len(first_end)
+        texts = _numbers(first_end + second_end + axis_end + offsets1 + offsets2)
+        words = [
+            [letter + text for text in texts[k * count : (k + 1) * count]]
+            for k, letter in enumerate((first, second, axis))
+        ]
+        for k, letter in enumerate("ABC"):
+            column = columns[6 + k]
+            if (
+                array("d", column).tobytes()
+                == array("d", pos[3 + k : 4 + k]).tobytes() * count
+            ):
+                continue  # (the usual case: the axis does not move)
+            previous = [pos[3 + k]] + column[:-1]
+            changed = [
+                i
+                for i, differs in enumerate(map(ne, _bits(column), _bits(previous)))
+                if differs
+            ]
+            if changed:
+                moved = [""] * count
+                for i, text in zip(changed, _numbers([column[i] for i in changed])):
+                    moved[i] = letter + text
+                words.append(moved)
+        for k, letter in ((3, first_letter), (4, second_letter)):
+            words.append([letter + text for text in texts[k * count : (k + 1) * count]])
+        codes = ["G3" if turns > 0 else "G2" for turns in rotation]
+        if any(abs(turns) != 1 for turns in rotation):
+            words.append(
+                ["" if abs(turns) == 1 else "P%d" % abs(turns) for turns in rotation]
+            )
+        if self._ijk_absolute:
+            codes[0], self._ijk_absolute = "G91.1 " + codes[0], False
+        pos[i1], pos[i2], pos[i3] = first_end[-1], second_end[-1], axis_end[-1]
+        pos[3:6] = [column[-1] for column in columns[6:9]]
+        return [
+            " ".join([code] + [word for word in row if word])
+            for code, row in zip(codes, zip(*words))
+        ]
 
     def _arc(self, args: Sequence, pos: List[float]) -> str:
         first_end, second_end, first_c, second_c, rotation, axis_end = args[:6]

@@ -368,3 +368,45 @@ def test_what_no_plain_g_code_can_say_is_refused_by_name(tmp_path):
     assert err.startswith(
         "flatten: an arc starts where rs274's interpreter left the tool"
     )
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    st.data(),
+    st.sampled_from(["XY", "XZ", "YZ"]),
+    st.booleans(),
+    st.booleans(),
+)
+def test_a_batch_of_arcs_is_written_as_one_arc_at_a_time(data, plane, inches, absolute):
+    """FlattenCanon._arc_texts (a column of numbers at a time) writes the
+    very text of _arc arc by arc, and leaves the same point and IJK mode."""
+    from ngc2py.flatten import UNKNOWN, FlattenCanon, FlattenError
+
+    value = (
+        st.floats(-1e4, 1e4, allow_nan=False)
+        | st.sampled_from([0.0, -0.0, 1.0, 1e15, 2.5e-7, 0.1])
+        | st.integers(-50, 50).map(float)
+    )
+    count = data.draw(st.integers(1, 6))
+    columns = [[data.draw(value) for _ in range(count)] for _ in range(4)]
+    columns.append([data.draw(st.sampled_from([-2, -1, 1, 3])) for _ in range(count)])
+    columns += [[data.draw(value) for _ in range(count)] for _ in range(7)]
+    for k in range(count):  # centres nearby, some exactly at a whole offset
+        if data.draw(st.booleans()):
+            columns[2][k] = columns[0][k] + data.draw(st.sampled_from([3.0, -7.5, 0.25]))
+            columns[3][k] = columns[1][k] + data.draw(st.sampled_from([1.0, -2.0]))
+    pos = [data.draw(value | st.just(UNKNOWN)) for _ in range(6)]
+    answers = []
+    for batch in (True, False):
+        canon = FlattenCanon()
+        canon._plane, canon._inches, canon._ijk_absolute = plane, inches, absolute
+        where = list(pos)
+        try:
+            if batch:
+                texts = canon._arc_texts([list(c) for c in columns], where)
+            else:
+                texts = [canon._arc(args, where) for args in zip(*columns)]
+        except FlattenError as error:
+            texts = str(error)
+        answers.append((texts, repr(where), canon._ijk_absolute))
+    assert answers[0] == answers[1]
