@@ -230,13 +230,19 @@ class StatsCanon(ToolpathCanon):
         start = self.position
         self.position = end
         self.extents.add(end)
-        length = math.dist((start[0], start[1], start[2]), (end[0], end[1], end[2]))
+        # (math.dist of the XYZ triples, to the bit, without making them)
+        length = math.hypot(end[0] - start[0], end[1] - start[1], end[2] - start[2])
         self.counts[kind] += 1
         self.lengths[kind] += length
         if length == 0.0:
             # Rotary axes alone: degrees at the same numeric rate.
             length = max(abs(end[i] - start[i]) for i in (3, 4, 5))
-        self._time(length, rate)
+            if length == 0.0:
+                return
+        if rate <= 0.0:
+            self.untimed_moves += 1
+        else:
+            self.motion_time += move_time(length, rate, self.model.acceleration)
 
     def straight_moves(self, feed, lines, x, y, z, a, b, c, u, v, w):
         """A run of straight moves, a column at a time: the same counts,
