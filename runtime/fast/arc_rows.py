@@ -344,6 +344,8 @@ class ArcRows:
         local variables (the calls of Machine.plain_arc and plain_rows row by
         row); returns where it stopped (a row for the general path or for
         runtime.fast.printed_rows, or ``end``)."""
+        if not self.plans[int(cells[at + 1])].arc:
+            return at  # (what _context finds out, at once: rows between arcs)
         context = self._context(cells, at)
         if context is None:
             return at
