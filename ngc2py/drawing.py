@@ -161,8 +161,10 @@ def show_raster(axes, flat: np.ndarray, colour: str, width: float, zorder: int) 
     limits = (axes.get_xlim(), axes.get_ylim())
     pixels = max(1, int(round(width * axes.figure.dpi / 72.0)))
     mask = rasterise(flat, limits, size, pixels)
-    image = np.zeros(mask.shape + (4,))
-    image[mask] = to_rgba(colour)
+    # bytes, not floats: the figure resamples it (a named colour's parts
+    # are whole 255ths, so the pixels are the same)
+    image = np.zeros(mask.shape + (4,), dtype=np.uint8)
+    image[mask] = np.round(np.array(to_rgba(colour)) * 255.0).astype(np.uint8)
     (x0, x1), (y0, y1) = limits
     axes.set_autoscale_on(False)
     axes.imshow(
