@@ -123,6 +123,18 @@ RADIUS_TOLERANCE_INCH = 0.00005
 MM_PER_INCH = 25.4
 
 
+#: The calls of a hole (besides its set_block_number) that
+#: FlattenCanon.hole_moves writes: moves, dwells and the path-control modes a
+#: cycle sets around its moves, none of which changes what later lines mean.
+_HOLE_CALLS = {
+    "straight_traverse",
+    "straight_feed",
+    "dwell",
+    "set_motion_control_mode",
+    "set_naivecam_tolerance",
+}
+
+
 class FlattenError(Exception):
     """The program made a call flatten cannot write as G-code."""
 
@@ -344,15 +356,60 @@ class FlattenCanon(Canon):
         self._check_arc_start(self.machine.current, pos)
         self._write_batch(lines, self._arc_texts(columns, pos))
 
-    def _write_batch(self, lines, texts: List[str]) -> None:
-        """A batch's blocks, each with its source comment (the batch's rows
-        share a file and a call stack)."""
+    def hole_moves(self, recording, lines, first, second, axes, start):
+        """Holes drilled alike (runtime.canon.Canon.hole_moves): each hole a
+        block of its own, its calls written as :meth:`_flush` writes them,
+        without recording them call by call. Holes whose calls include one
+        not in _HOLE_CALLS go hole by hole."""
+        names = [name for name, _, _ in recording]
+        if (
+            self._pitch is not None
+            or not self.started
+            or self.ended
+            or names[0] != "set_block_number"
+            or not set(names[1:]) <= _HOLE_CALLS
+        ):
+            # call by call, each hole's block at its own line
+            machine = self.machine
+            befores = zip([start[0]] + first[:-1], [start[1]] + second[:-1])
+            for k, (line, before) in enumerate(zip(lines, befores)):
+                machine.line = line
+                super().hole_moves(
+                    recording, [line], first[k : k + 1], second[k : k + 1], axes, before
+                )
+            return
+        self.set_block_number(recording[0][1][0])  # (the block before, written)
+        group, self._group = self._group, None
+        ia, ib = axes
+        prefix = "N%s " % group.n if group.n is not None else ""
+        where = self._where_format()
+        before = start
+        for line, here in zip(lines, zip(first, second)):
+            calls = []
+            for name, args, at in recording[1:]:
+                if at is not None:
+                    args = list(args)
+                    args[ia], args[ib] = here if at == "hole" else before
+                calls.append((name, args))
+            self._write_block(self._texts(group, calls), prefix, "  ; " + where % line)
+            before = here
+        # (what the holes leave of parameters is written before the next block)
+        self._after_batch = True
+
+    def _where_format(self) -> str:
+        """Where the current data rows come from (:meth:`_where`), as a
+        format of a row's line: its file and the calls that led there."""
         frames = self._generated_frames()
         file = frames[-1].file if frames else self.main_file
         callers = " <- ".join("%s:%d" % (f.file, f.line) for f in reversed(frames[:-1]))
         tail = " <- " + callers if callers else ""
+        return "%s:%%d%s" % (file.replace("%", "%%"), tail.replace("%", "%%"))
+
+    def _write_batch(self, lines, texts: List[str]) -> None:
+        """A batch's blocks, each with its source comment (the batch's rows
+        share a file and a call stack)."""
         out = self.lines
-        where = "  ; %s:%%d%s" % (file.replace("%", "%%"), tail.replace("%", "%%"))
+        where = "  ; " + self._where_format()
         for line, text in zip(lines, texts):
             comment = where % line
             if len(text) + len(comment) > MAX_LINE:
@@ -381,8 +438,12 @@ class FlattenCanon(Canon):
             # runs as the next block starts)
             out.extend(self._parameter_changes())
         prefix = "N%s " % group.n if group.n is not None else ""
-        comment = "  ; " + group.where if group.where else ""
-        for text in out:
+        self._write_block(out, prefix, "  ; " + group.where if group.where else "")
+
+    def _write_block(self, texts: List[str], prefix: str, comment: str) -> None:
+        """A block's lines: each with the N ``prefix`` and the source
+        ``comment``, which goes on a line of its own before a long one."""
+        for text in texts:
             if len(prefix + text + comment) > MAX_LINE and comment:
                 self.lines.append(comment.strip())
                 self.lines.append(prefix + text)

@@ -410,3 +410,29 @@ def test_a_batch_of_arcs_is_written_as_one_arc_at_a_time(data, plane, inches, ab
             texts = str(error)
         answers.append((texts, repr(where), canon._ijk_absolute))
     assert answers[0] == answers[1]
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(text=test_cycles.cycle_tables())
+def test_holes_in_batches_are_written_as_hole_by_hole(text, tmp_path_factory):
+    """FlattenCanon.hole_moves (each hole's block written from the recorded
+    hole's calls) writes the very text of the holes replayed call by call,
+    line comments included; a hole with other calls goes call by call."""
+    from ngc2py import flatten as flat
+    from runtime.canon import Canon
+    from runtime.errors import GCodeError
+
+    folder = tmp_path_factory.mktemp("holes")
+    program = folder / "holes.ngc"
+    program.write_text(text)
+    answers = []
+    for batches in (True, False):
+        with pytest.MonkeyPatch.context() as patch:
+            patch.setenv("NGC2PY_CACHE", str(folder / "cache"))
+            if not batches:
+                patch.setattr(flat.FlattenCanon, "hole_moves", Canon.hole_moves)
+            try:
+                answers.append(flat.flatten(str(program)))
+            except (GCodeError, flat.FlattenError) as error:
+                answers.append(type(error).__name__ + str(error))
+    assert answers[0] == answers[1]
