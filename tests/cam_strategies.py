@@ -203,6 +203,7 @@ def arc_chain(draw, plane: str, numbered: bool, line: int, places: int = 4) -> l
     errors = {}
     if draw(st.integers(0, 7)) == 5:  # not 0: the generator's favourite
         errors[draw(st.integers(0, count - 1))] = draw(st.integers(0, 3))
+    after_line = False
     for k in range(count):
         if not uniform:
             radius_format = draw(st.integers(0, 3)) == 0
@@ -236,7 +237,7 @@ def arc_chain(draw, plane: str, numbered: bool, line: int, places: int = 4) -> l
             end[0] += draw(st.sampled_from([0.05, 0.0282, 0.0283, 3.0]))
         words = number(k + 1)
         clockwise = draw(st.booleans()) if not uniform else k % 2 == 0
-        if uniform or k == 0 or draw(st.integers(0, 3)):
+        if uniform or k == 0 or after_line or draw(st.integers(0, 3)):
             words.append(
                 ("G2" if clockwise else "G3")
                 if uniform or draw(st.booleans())
@@ -279,6 +280,18 @@ def arc_chain(draw, plane: str, numbered: bool, line: int, places: int = 4) -> l
         lines.append(" ".join(words))
         if not (error == 0 and radius_format):
             start = end if not (radius_format and error == 1) else start
+        # a contour's line between arcs, now and then (G0 or G1, one axis
+        # or both): the next arc names its motion again
+        after_line = not uniform and draw(st.integers(0, 2)) == 0
+        if after_line:
+            step = draw(st.sampled_from([(1.5, 0.0), (0.0, -2.25), (3.0, 4.0)]))
+            start = [float(_text(v + d, places)) for v, d in zip(start, step)]
+            moved = [a + _text(v, places) for a, v, d in zip(axes, start, step) if d]
+            lines.append(
+                " ".join(
+                    number(k + 1) + [draw(st.sampled_from(["G1", "G0", "G01"]))] + moved
+                )
+            )
     if absolute:
         lines.append("G91.1")
     return lines

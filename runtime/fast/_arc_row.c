@@ -396,6 +396,43 @@ static PyObject *hold(held_t *held, PyObject *line, PyObject **call) {
 #define G_1 10
 #define STRETCH 8 /* arc_rows._BATCH: a stretch printed_rows writes at once */
 
+/* straight_moves(feed, [line], [x], ..., [w]): a straight row as a batch of
+ * one, for a canon that takes its plain rows in batches (the preview's,
+ * flatten's: runtime.fast.rows.BatchesOnly). A new reference, or NULL. */
+static PyObject *one_row_batch(PyObject *straight_moves, int feed, PyObject *line,
+                               PyObject *point) {
+    PyObject *call[11] = {NULL};
+    call[0] = feed ? Py_True : Py_False;
+    PyObject *result = NULL;
+    PyObject *number = PyLong_FromUnicodeObject(line, 10);
+    if (number != NULL) {
+        call[1] = PyList_New(1);
+        if (call[1] != NULL) {
+            PyList_SET_ITEM(call[1], 0, number);
+            number = NULL;
+        }
+    }
+    Py_XDECREF(number);
+    int made = call[1] != NULL;
+    for (int k = 0; made && k < 9; k++) {
+        call[2 + k] = PyList_New(1);
+        if (call[2 + k] == NULL) {
+            made = 0;
+            break;
+        }
+        PyObject *value = PyList_GET_ITEM(point, k);
+        Py_INCREF(value);
+        PyList_SET_ITEM(call[2 + k], 0, value);
+    }
+    if (made) {
+        result = PyObject_Vectorcall(straight_moves, call, 11, NULL);
+    }
+    for (int k = 1; k < 11; k++) {
+        Py_XDECREF(call[k]);
+    }
+    return result;
+}
+
 /* Before a row's own calls in a run holding arcs: the machine's line set
  * to the row's (``line_machine``, when the canon reads it), then the held
  * arcs handed to the canon (pending.flush()). 0, or -1 with an exception. */
@@ -422,7 +459,7 @@ static int hand_over(PyObject *pending, held_t *held, PyObject *line_machine,
 
 /* rows(cells, at, end, known, straight, geometry, state, arc_feed,
  * straight_feed, straight_traverse, set_block_number, set_feed_rate[,
- * pending, explicit_only, machine]): ArcRows.run's loop for the rows of a
+ * pending, explicit_only, machine, straight_moves]): ArcRows.run's loop for the rows of a
  * contour (arcs and the plain lines between them), for a canon that takes
  * each move as a call (the trace): their N and F words too, as the Python
  * loop makes them. ``known`` maps a row's shape cell to its arc recipe
@@ -436,7 +473,10 @@ static int hand_over(PyObject *pending, held_t *held, PyObject *line_machine,
  * or F word's. ``machine`` (None: the canon does not read lines) gets the
  * line of each row whose calls are made here, before they are made, as the
  * Python loop sets it. With ``explicit_only`` (a BatchesOnly machine) only
- * arcs without N or F in an explicit G2/G3 are taken.
+ * arcs without N or F in an explicit G2/G3 are taken and, given
+ * ``straight_moves`` (else None), the plain straight rows without N or F
+ * between them, each as a batch of one (as runtime.fast.rows would hand it
+ * over: the canon sees its line as a batch's).
  *
  * ``state`` is ArcRows.run's list [point, motion, row, N, feed rate, F
  * given, ...]: on return, even with an exception from a canon call, it holds
@@ -444,13 +484,14 @@ static int hand_over(PyObject *pending, held_t *held, PyObject *line_machine,
  * (the Python loop's ``row``; unchanged when there was none). Returns where
  * it stopped. */
 static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
-    if (nargs != 12 && nargs != 15) {
-        PyErr_SetString(PyExc_TypeError, "rows takes 12 or 15 arguments");
+    if (nargs != 12 && nargs != 16) {
+        PyErr_SetString(PyExc_TypeError, "rows takes 12 or 16 arguments");
         return NULL;
     }
-    PyObject *pending = nargs == 15 ? args[12] : NULL;
-    int explicit_only = nargs == 15 ? PyObject_IsTrue(args[13]) : 0;
-    PyObject *line_machine = nargs == 15 && args[14] != Py_None ? args[14] : NULL;
+    PyObject *pending = nargs == 16 ? args[12] : NULL;
+    int explicit_only = nargs == 16 ? PyObject_IsTrue(args[13]) : 0;
+    PyObject *line_machine = nargs == 16 && args[14] != Py_None ? args[14] : NULL;
+    PyObject *straight_moves = nargs == 16 && args[15] != Py_None ? args[15] : NULL;
     if (explicit_only < 0) {
         return NULL;
     }
@@ -506,7 +547,7 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
             break; /* (no recipe yet: the Python loop makes it) */
         }
         if (recipe == Py_None) {
-            if (explicit_only) {
+            if (explicit_only && straight_moves == NULL) {
                 break; /* the general path: the canon sees its line begin */
             }
             /* a plain straight move between arcs (ArcRows._straight_row) */
@@ -627,7 +668,9 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
             }
             Py_DECREF(result);
         }
-        if (line != NULL) {
+        if (line != NULL && explicit_only) {
+            result = one_row_batch(straight_moves, code == G_1, PyList_GET_ITEM(cells, at), point);
+        } else if (line != NULL) {
             result = PyObject_Vectorcall(code == G_1 ? straight_feed : straight_traverse,
                                          &PyList_GET_ITEM(point, 0), 9, NULL);
         } else {

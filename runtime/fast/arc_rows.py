@@ -371,6 +371,10 @@ class ArcRows:
         in_c = rows_in_c
         if pending is not None:  # arcs only: none in the modal motion
             extra = (pending, context[2], machine if canon.reads_lines else None)
+            # a batches-only machine's canon takes a row between arcs as a
+            # batch of one (runtime.fast.rows.BatchesOnly.plain_rows)
+            takes_rows = type(canon).straight_moves is not Canon.straight_moves
+            extra += (canon.straight_moves if context[2] and takes_rows else None,)
         elif type(canon) is TraceCanon and not context[2]:  # (not arcs only)
             extra = ()
         else:

@@ -127,13 +127,20 @@ class _Plan:
 
 
 def straight_batch(
-    call, cells: List[str], at: int, end: int, plan: "_Plan", cur, feed: bool = True
+    call,
+    cells: List[str],
+    at: int,
+    end: int,
+    plan: "_Plan",
+    cur,
+    feed: bool = True,
+    least: int = BATCH,
 ):
     """Make the canon call ``call`` (straight_feed or straight_traverse, as
     ``feed`` says) for the consecutive rows of ``plan``'s shape from
     ``cells[at]``, which set only axes: ``(rows done, the point after the last, None)``, or
     ``(rows done, ..., the exception)`` when a call raised (the next row's
-    failed), or ``(0, None, None)`` for fewer than ``BATCH`` such rows.
+    failed), or ``(0, None, None)`` for fewer than ``least`` such rows.
 
     In a run of one shape the axes it does not name keep their values, so
     the calls' arguments are columns of the table (float() of slices) and
@@ -144,10 +151,14 @@ def straight_batch(
     call."""
     stride = plan.width + 2
     key = cells[at + 1]
-    if cells[at + 1 : at + 1 + stride * BATCH : stride].count(key) != BATCH:
+    if cells[at + 1 : at + 1 + stride * least : stride].count(key) != least:
         return 0, None, None
-    shapes = cells[at + 1 : min(end, at + 1 + stride * MOST) : stride]
-    rows = len(list(takewhile(key.__eq__, shapes)))
+    # a short look first: a run may be a single row (least 1)
+    for most in (least + 8, MOST):
+        shapes = cells[at + 1 : min(end, at + 1 + stride * most) : stride]
+        rows = len(list(takewhile(key.__eq__, shapes)))
+        if rows < most:
+            break
     stop = at + rows * stride
     done = 0
     error = None
@@ -303,6 +314,10 @@ class BatchesOnly:
             return at
         canon = self.canon
         cur, motion_mode = self.current, self.motion_mode
+        # A canon that takes columns (the preview's, flatten's) writes a row
+        # of them as it writes a batch, which costs less than the line's
+        # general path: a single plain row (between arcs, say) is a batch.
+        least = BATCH if type(canon).straight_moves is Canon.straight_moves else 1
         row = at
         try:
             while at < end:
@@ -311,14 +326,14 @@ class BatchesOnly:
                 motion = motion_mode if plan.motion is None else plan.motion
                 if not (
                     plan.batch
-                    and end - at >= (plan.width + 2) * BATCH
+                    and end - at >= (plan.width + 2) * least
                     and (motion == G0 or (motion == G1 and self.feed_rate > 0.0))
                 ):
                     break
                 feed = motion == G1
                 call = canon.straight_feed if feed else canon.straight_traverse
                 rows, point, error = straight_batch(
-                    call, cells, at, end, plan, cur, feed
+                    call, cells, at, end, plan, cur, feed, least
                 )
                 if error is not None:
                     raise error
