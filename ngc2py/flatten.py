@@ -327,6 +327,11 @@ class FlattenCanon(Canon):
         self._flush()
         count = len(lines)
         pos = self._pos
+        if count == 1:  # (a row between arcs, say): as _move writes one
+            move = (x[0], y[0], z[0], a[0], b[0], c[0])
+            return self._write_batch(
+                lines, [self._move("G1" if feed else "G0", move, pos)]
+            )
         rows = [[] for _ in range(count)]
         for k, column in enumerate((x, y, z, a, b, c)):
             previous = [pos[k]] + column[:-1]
