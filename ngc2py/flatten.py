@@ -229,6 +229,9 @@ class FlattenCanon(Canon):
         #: _where's last walk of the stack, and the frame and line it was made at
         self._frames_key = None
         self._frames: list = []
+        #: _where_format's last answer, and the frames it was made of
+        self._where_frames: Optional[list] = None
+        self._where_text = ""
         self._stored = {}  # coordinate system -> (offsets, rotation, inches)
         self._system = 1
         self._startup = (0.0,) * 6
@@ -405,10 +408,17 @@ class FlattenCanon(Canon):
         """Where the current data rows come from (:meth:`_where`), as a
         format of a row's line: its file and the calls that led there."""
         frames = self._generated_frames()
+        if frames is self._where_frames:  # (the same rows' run as last time)
+            return self._where_text
         file = frames[-1].file if frames else self.main_file
         callers = " <- ".join("%s:%d" % (f.file, f.line) for f in reversed(frames[:-1]))
         tail = " <- " + callers if callers else ""
-        return "%s:%%d%s" % (file.replace("%", "%%"), tail.replace("%", "%%"))
+        self._where_frames = frames
+        self._where_text = "%s:%%d%s" % (
+            file.replace("%", "%%"),
+            tail.replace("%", "%%"),
+        )
+        return self._where_text
 
     def _write_batch(self, lines, texts: List[str]) -> None:
         """A batch's blocks, each with its source comment (the batch's rows
