@@ -243,12 +243,20 @@ def draw(path: Toolpath, view: str, title: str, out, fmt: str) -> None:
             )
         )
     _lay_out(figure, axes, view, path.units, title, handles, extents)
+    bbox = "tight"
+    if dense and fmt == "png":
+        # savefig's "tight" box, found before the rasters are added (they lie
+        # within the axes): "tight" would draw them once more to find it.
+        # (A vector format lays text out at 72 dpi: there savefig finds it.)
+        figure.draw_without_rendering()
+        pad = matplotlib.rcParams["savefig.pad_inches"]
+        bbox = figure.get_tightbbox(figure.canvas.get_renderer()).padded(pad)
     if dense:
         axes.apply_aspect()  # the limits the picture will have
         for kind, flat in dense.items():
             _, colour, _, width = STYLES[kind]
             show_raster(axes, flat, colour, width, ZORDER[kind])
-    figure.savefig(out, format=fmt, bbox_inches="tight")
+    figure.savefig(out, format=fmt, bbox_inches=bbox)
     pyplot.close(figure)
 
 
