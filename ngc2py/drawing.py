@@ -188,6 +188,11 @@ def axis_labels(view: str, units: str) -> Tuple[str, str]:
     return ("%s (%s)" % (view[0].upper(), units), "%s (%s)" % (view[1].upper(), units))
 
 
+#: Formats whose tight box draw() finds before adding the raster layers
+#: (text laid out at the figure's dpi, as the picture is).
+BOX_BEFORE_RASTERS = {"png"}
+
+
 def draw(path: Toolpath, view: str, title: str, out, fmt: str) -> None:
     """Draw ``path`` seen from ``view`` and save it to ``out`` (a path or a
     binary file)."""
@@ -244,7 +249,7 @@ def draw(path: Toolpath, view: str, title: str, out, fmt: str) -> None:
         )
     _lay_out(figure, axes, view, path.units, title, handles, extents)
     bbox = "tight"
-    if dense and fmt == "png":
+    if dense and fmt in BOX_BEFORE_RASTERS:
         # savefig's "tight" box, found before the rasters are added (they lie
         # within the axes): "tight" would draw them once more to find it.
         # (A vector format lays text out at 72 dpi: there savefig finds it.)

@@ -11,6 +11,7 @@ import math
 from contextlib import redirect_stderr, redirect_stdout
 
 import numpy as np
+from PIL import Image
 import pytest
 
 import rs274 as harness
@@ -239,3 +240,29 @@ def test_a_dense_path_is_rasterised_where_its_lines_would_be_drawn(
         # within a pixel of the raster
         assert (raster & _grown(inked, 1)).sum() >= 0.99 * raster.sum()
         assert (core & _grown(raster, 1)).sum() >= 0.99 * core.sum()
+
+
+@pytest.mark.parametrize("view", ["xy", "iso"])
+def test_the_box_found_before_the_rasters_is_savefigs_tight_box(
+    tmp_path, monkeypatch, view
+):
+    """A PNG's tight box is found before the raster layers are added (so
+    that they are drawn once): the very picture savefig's "tight" makes."""
+    from ngc2py import drawing
+
+    text = ["G21 G90 G17 F500 G0 X0 Y0"]
+    for k in range(40):
+        text.append("G1 X%d Y%d" % (k % 5 * 10, (k * 7) % 30))
+        text.append("G3 X%d Y%d R25" % (k % 5 * 10 + 4, (k * 7) % 30))
+    path = toolpath_of(tmp_path, "\n".join(text + ["M2"]) + "\n")
+    monkeypatch.setattr(drawing, "RASTER_FROM", 0)
+    pictures = []
+    for formats in (drawing.BOX_BEFORE_RASTERS, set()):
+        monkeypatch.setattr(drawing, "BOX_BEFORE_RASTERS", formats)
+        out = io.BytesIO()
+        drawing.draw(path, view, "box", out, "png")
+        pictures.append(
+            np.asarray(Image.open(io.BytesIO(out.getvalue())).convert("RGBA"))
+        )
+    assert pictures[0].shape == pictures[1].shape
+    assert (pictures[0] == pictures[1]).all()
