@@ -222,6 +222,11 @@ def flat_arms(stmts: List["Stmt"]) -> List["Stmt"]:
                 out.append(FlatArm(stmt, flat_arms(stmts[i + 1 : end])))
                 i = end
                 continue
+            if deep is None and _unreadable_first(stmts[i + 1 :], stmt.key, label):
+                # no line with the label before one rs274 cannot read: the
+                # skip fails there (inside whatever holds it)
+                out.append(FlatArm(stmt, flat_arms(stmts[i + 1 :])))
+                break
         out.append(stmt)
         i += 1
     return out
@@ -247,7 +252,28 @@ def _deep_landing(
         hit = _failing_landing(stmt, key, label)
         if hit is not None:
             return (k, hit) if hit else None
+        if _unreadable_inside(stmt):
+            return None
     return None
+
+
+def _unreadable_first(stmts: List["Stmt"], key: str, label: str) -> bool:
+    """Does a skip for ``label`` through ``stmts`` meet a line rs274 cannot
+    read (however deeply nested) before any line with the label?"""
+    for stmt in walk(stmts):
+        if type(stmt) is Block and skip_error(stmt.line):
+            return True
+        if _has_label(stmt, key, label):
+            return False
+    return False
+
+
+def _unreadable_inside(stmt: "Stmt") -> bool:
+    """Does a skip passing over ``stmt`` (a construct without the label it
+    looks for) fail at a line inside it that rs274 cannot read?"""
+    if type(stmt) is Block:
+        return False
+    return first_text_error(children(stmt, False)) is not None
 
 
 def _failing_landing(stmt: "Stmt", key: str, label: str) -> Optional[List["Stmt"]]:
@@ -284,6 +310,8 @@ def _landing_rest(stmts: List["Stmt"], key: str, label: str) -> Optional[List["S
         hit = _failing_landing(stmt, key, label)
         if hit is not None:
             return hit or None
+        if _unreadable_inside(stmt):
+            return None
     return None
 
 
@@ -1109,6 +1137,9 @@ class _Builder:
                 fail.line, fail.message = line, line.error
                 return True
             if line_key != key:
+                continue
+            if word.keyword in ("break", "continue") and seen is not None and seen[0] in ("while", "do"):
+                # the loop's own break or continue: rs274 skips on from it
                 continue
             message = self._land_message(seen, line, word, key)
             if message is None:
