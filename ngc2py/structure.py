@@ -249,12 +249,33 @@ def _deep_landing(
             rest = _landing_rest(stmt.body, key, label)
             if rest is not None:
                 return k, rest + stmts[k + 1 :]
+        if isinstance(stmt, If) and stmt.end is None:
+            rest = _open_if_landing(stmt, key, label)
+            if rest is not None:
+                return k, rest + stmts[k + 1 :]
         hit = _failing_landing(stmt, key, label)
         if hit is not None:
             return (k, hit) if hit else None
         if _unreadable_inside(stmt):
             return None
     return None
+
+
+def _open_if_landing(stmt: "If", key: str, label: str) -> Optional[List["Stmt"]]:
+    """The first line with ``label`` when it stands in the last arm of an
+    if never closed (``stmt``): the statements from it to the end of that
+    arm (after it, the text goes on with what follows the if). None when
+    the line is elsewhere, or something on the way stops the skip."""
+    arms = stmt.branches + ([stmt.orelse] if stmt.orelse is not None else [])
+    if stmt.orelse is not None and stmt.orelse.line is stmt.branches[-1].line:
+        arms.pop()  # the end-of-file failure _abandon added, no line of its own
+    for arm in arms[:-1]:
+        for inner in walk(arm.body):
+            if _has_label(inner, key, label) or (
+                type(inner) is Block and skip_error(inner.line)
+            ):
+                return None
+    return _landing_rest(arms[-1].body, key, label)
 
 
 def _unreadable_first(stmts: List["Stmt"], key: str, label: str) -> bool:
@@ -305,6 +326,10 @@ def _landing_rest(stmts: List["Stmt"], key: str, label: str) -> Optional[List["S
             return None
         if isinstance(stmt, Loop) and stmt.end is None:
             rest = _landing_rest(stmt.body, key, label)
+            if rest is not None:
+                return rest + stmts[k + 1 :]
+        if isinstance(stmt, If) and stmt.end is None:
+            rest = _open_if_landing(stmt, key, label)
             if rest is not None:
                 return rest + stmts[k + 1 :]
         hit = _failing_landing(stmt, key, label)
