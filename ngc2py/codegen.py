@@ -1102,7 +1102,7 @@ class CodeGen:
         self.helper_count += 1
         name = "nest_%d" % self.helper_count
         self.helpers.append(Helper(name, stmt, list(self.loops), self.w.file_index))
-        jumps, returns = outward_exits(stmt)
+        jumps, returns = outward_exits(stmt, self.continue_flag)
         if not jumps and not returns:
             self.w.stmt("%s(m)" % name, opening_line(stmt))
             return
@@ -2222,9 +2222,13 @@ class Helper:
     file_index: int
 
 
-def outward_exits(stmt: st.Stmt) -> Tuple[List[Tuple[str, st.Loop]], bool]:
+def outward_exits(
+    stmt: st.Stmt, stale_continue: bool = False
+) -> Tuple[List[Tuple[str, st.Loop]], bool]:
     """The jumps out of ``stmt`` to loops around it, as (kind, loop) in
-    first-use order, and whether a subroutine ``return`` is inside it."""
+    first-use order, and whether a subroutine ``return`` is inside it.
+    ``stale_continue``: the code tracks rs274's ``doing_continue``, with
+    which a while-loop's break is a continue (:meth:`CodeGen.stale_continue`)."""
     inside = {id(s) for s in st.walk([stmt], into_subs=False)}
     jumps: List[Tuple[str, st.Loop]] = []
     returns = False
@@ -2232,8 +2236,12 @@ def outward_exits(stmt: st.Stmt) -> Tuple[List[Tuple[str, st.Loop]], bool]:
         if isinstance(s, st.Return):
             returns = True
         elif isinstance(s, st.Jump) and id(s.target) not in inside:
-            if not any(k == s.kind and t is s.target for k, t in jumps):
-                jumps.append((s.kind, s.target))
+            kinds = [s.kind]
+            if stale_continue and s.kind == "break" and s.target.kind == "while":
+                kinds.append("continue")
+            for kind in kinds:
+                if not any(k == kind and t is s.target for k, t in jumps):
+                    jumps.append((kind, s.target))
     return jumps, returns
 
 
