@@ -659,6 +659,12 @@ class CodeGen:
         self.break_flag = stale_break_flag(program)
         self.continue_flag = stale_continue_flag(program)
         self.if_flag = executed_if_flag(program)
+        #: can a subroutine leave rs274's executed_if flag clear?
+        self.calls_clear = self.if_flag and any(
+            clears_flag(stmt)
+            for sub in list(program.subs) + list(program.externals)
+            for stmt in st.walk(sub.body)
+        )
         self.code_functions: set = set()  # runtime.codes functions used
         self.names: set = set()
         self.shapes: Dict[Shape, int] = {}  # row shape -> index in SHAPES
@@ -1526,6 +1532,7 @@ class CodeGen:
                 then=stop,
                 later=stmt.branches[i + 1 : at + 1],
                 check=(stmt, following),
+                rest=(stmt, i + 1) if i + 1 < len(arms) else None,
             )
             stop, _ = self.skip_stop(stmt, arms, i, i + 1)
             if stop is not None:
@@ -1542,8 +1549,9 @@ class CodeGen:
         if stmt.orelse is not None:
             self.w.stmt("else:", stmt.orelse.line)
             self.nested(stmt.orelse, check=(stmt, stmt.end))
-        if self.if_flag:  # the if ends at its endif, which sets the flag
-            self.w.stmt("m.executed_if = True", stmt.end or stmt.branches[0].line)
+        if self.if_flag and stmt.end is not None:
+            # the if ends at its endif, which sets the flag
+            self.w.stmt("m.executed_if = True", stmt.end)
 
     def skip_stop(
         self, stmt: st.If, arms: List[st.Branch], first: int, end: Optional[int] = None
@@ -1585,14 +1593,74 @@ class CodeGen:
         then: Union[None, nodes.Line, List[st.Stmt]] = None,
         later: Sequence[st.Branch] = (),
         check: Optional[tuple] = None,
+        rest: Optional[Tuple[st.If, int]] = None,
     ) -> None:
         """An arm's body; ``then`` fails after it (rs274 skipping the
         arms after a taken one reads that line); ``check``: the if and the
-        line after the arm, whose label rs274 looks up (:meth:`frame_check`)."""
+        line after the arm, whose label rs274 looks up (:meth:`frame_check`);
+        ``rest``: the if and the index of the arm after this one."""
         self.w.depth += 1
         if self.if_flag:  # an arm runs: rs274's flag (structure.FlatArm)
             self.w.stmt("m.executed_if = True", branch.line)
         self.block(branch.body)
+        if rest is not None and self.may_clear(branch.body):
+            self.run_into(*rest)
+            self.w.depth -= 1
+            return
+        self.skip_tail(later, check, then)
+        self.w.depth -= 1
+
+    def run_into(self, stmt: st.If, index: int) -> None:
+        """Running code reaches the line of arm ``index`` of ``stmt`` (the
+        arm before it may have left rs274's flag clear: a call, a skip that
+        landed): with the flag clear, rs274 runs into the arm whatever the
+        condition (a true one sets the flag), and on into the next arm's
+        line; with it set, it skips to the endif (:meth:`skip_tail`)."""
+        arms = stmt.branches + ([stmt.orelse] if stmt.orelse else [])
+        arm = arms[index]
+        test = None
+        if arm is not stmt.orelse:
+            self.temp += 1
+            test = "t%d" % self.temp
+            self.w.stmt("%s = %s" % (test, self.x.condition(arm.line.oword.expr)), arm.line)
+        self.w.stmt("if not m.executed_if:", arm.line)
+        self.w.depth += 1
+        if test is not None:
+            self.w.stmt("if %s:" % test, arm.line)
+            self.w.stmt(INDENT + "m.executed_if = True", arm.line)
+        self.block(arm.body)
+        if index + 1 < len(arms):
+            self.run_into(stmt, index + 1)
+        self.w.depth -= 1
+        stop, at = self.skip_stop(stmt, arms, index)
+        size = len(self.w.out)
+        self.w.stmt("else:", arm.line)
+        self.w.depth += 1
+        self.skip_tail(stmt.branches[index + 1 : at + 1], None, stop)
+        self.w.depth -= 1
+        if len(self.w.out) == size + 1:
+            self.w.out.pop()  # nothing to do: the skip reaches the endif
+
+    def may_clear(self, body: List[st.Stmt]) -> bool:
+        """Can running ``body`` leave rs274's flag "an arm of an if has run"
+        clear (:func:`clears_flag`; a call, where a subroutine can)?"""
+        if not self.if_flag:
+            return False
+        for inner in st.walk(body, into_subs=False):
+            if clears_flag(inner):
+                return True
+            if self.calls_clear and isinstance(inner, (st.Call, st.FanucCall)):
+                return True
+        return False
+
+    def skip_tail(
+        self,
+        later: Sequence[st.Branch],
+        check: Optional[tuple],
+        then: Union[None, nodes.Line, List[st.Stmt]],
+    ) -> None:
+        """rs274 skips the arms after one that ran: it reads the later
+        elseif lines' conditions, and stops at ``then``."""
         for k, arm in enumerate(later):
             # rs274 still reads the condition of each later elseif (it
             # skips the arm, not the line): only its errors matter.
@@ -1605,7 +1673,6 @@ class CodeGen:
             self.frame_check(*check)
         if then is not None:
             self.skipped_to(then)
-        self.w.depth -= 1
 
     # -- lines read while skipping ----------------------------------------
 
@@ -2122,13 +2189,28 @@ def code_order(name: str) -> Tuple[str, float]:
 
 def executed_if_flag(program: st.Program) -> bool:
     """Must the code track rs274's ``executed_if`` (structure.FlatArm)?
-    Only programs with an else or elseif line checked at run time pay."""
+    Only programs with an else or elseif line checked at run time pay, and
+    those where something can leave the flag clear (:func:`clears_flag`)
+    while an if with more than one arm is around."""
     bodies = [program.body] + [sub.body for sub in program.externals]
-    return any(
-        isinstance(s, st.LabelCheck) and s.kind in ("else", "elseif")
-        for body in bodies
-        for s in st.walk(body)
+    stmts = [s for body in bodies for s in st.walk(body)]
+    if any(isinstance(s, st.LabelCheck) and s.kind in ("else", "elseif") for s in stmts):
+        return True
+    return any(clears_flag(s) for s in stmts) and any(
+        isinstance(s, st.If) and len(s.branches) + (s.orelse is not None) > 1
+        for s in stmts
     )
+
+
+def clears_flag(stmt: st.Stmt) -> bool:
+    """Can ``stmt`` leave rs274's flag "an arm of an if has run" clear when
+    it is done? A false if clears it and its endif sets it again, unless
+    the skip lands on a line reusing the label first (``If.landings``) and
+    runs on from there; an else or elseif run into outside its if runs on
+    with the flag clear (structure.FlatArm)."""
+    if isinstance(stmt, st.If):
+        return bool(stmt.landings)
+    return isinstance(stmt, st.LabelCheck) and stmt.kind in ("else", "elseif")
 
 
 def stale_break_flag(program: st.Program) -> bool:
