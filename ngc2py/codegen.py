@@ -1414,6 +1414,19 @@ class CodeGen:
                 return
         self.jump_to(stmt.kind, stmt.target, stmt.line)
 
+    def s_doend(self, stmt: st.DoEnd) -> None:
+        """A while line ending an outer do-loop again (structure.DoEnd):
+        true, rs274 goes back to the do line; else on with the next line."""
+        test = self.x.condition(stmt.line.oword.expr)
+        if self.break_flag:
+            test = "%s and not m.doing_break" % test
+        self.w.stmt("if %s:" % test, stmt.line)
+        self.w.depth += 1
+        self.jump_to("continue", stmt.target, stmt.line)
+        self.w.depth -= 1
+        if self.break_flag:
+            self.w.stmt("m.doing_break = False", stmt.line)
+
     def stale_continue(self, stmt: st.Jump) -> None:
         """rs274's ``doing_continue`` (runtime.loopflags) at a break or
         continue: a while-loop break with the flag set is a continue."""
@@ -2270,7 +2283,7 @@ def stale_continue_flag(program: st.Program) -> bool:
     for sub in program.externals:
         stmts.extend(st.walk(sub.body))
     sets = any(
-        isinstance(s, st.Jump) and s.kind == "continue" and s.target.kind == "do"
+        type(s) is st.Jump and s.kind == "continue" and s.target.kind == "do"
         for s in stmts
     )
     hit = any(

@@ -143,6 +143,9 @@ class Loop:
     skip_fail: Optional[Union[Fail, "LabelCheck"]] = None
     #: rs274's name of the label (``subroutine#label``).
     key: str = ""
+    #: No loop of the text: where a ``while`` line ending an earlier
+    #: do-loop (:class:`DoEnd`) jumps back to, from that do line on.
+    back: bool = False
 
 
 @dataclass
@@ -153,6 +156,15 @@ class Jump:
     line: nodes.Line
     kind: str
     target: Loop
+
+
+@dataclass
+class DoEnd(Jump):
+    """A ``while`` line whose label rs274 recorded for a finished do-loop
+    in a body around it: it ends that loop again. With its condition true
+    (and no break pending) rs274 goes back to the do line, running it all
+    again (``target``: a :attr:`Loop.back` loop from the do line to the
+    construct holding this line); else it goes on with the next line."""
 
 
 @dataclass
@@ -450,6 +462,7 @@ Stmt = Union[
     If,
     Loop,
     Jump,
+    DoEnd,
     LabelCheck,
     TopReturn,
     Return,
@@ -917,7 +930,54 @@ class _Builder:
             self._reopen_do(label, seen[3])
             self.stack.pop().node.end = line
             return
+        depth = self._outer_do(label, seen)
+        if depth is not None:
+            self._do_end(line, seen[3], depth)
+            return
         self._open_loop("while", line, word)
+
+    def _outer_do(self, label: str, seen) -> Optional[int]:
+        """Is ``label`` that of a finished do-loop in a body around this
+        one (of this subroutine, holding the open construct at the depth
+        returned)? rs274 has recorded the label for it: it ran first."""
+        if seen is None or seen[0] != "do" or seen[3].end is None or seen[3].back:
+            return None
+        if any(entry.label == label for entry in self._scope_entries()):
+            return None
+        body = seen[2]
+        if not any(stmt is seen[3] for stmt in body):
+            return None
+        if body is self.main and self.stack and not isinstance(self.stack[0].node, Sub):
+            return 0
+        for depth, entry in enumerate(self.stack[:-1]):
+            if entry.body is body and not isinstance(self.stack[depth + 1].node, Sub):
+                return depth + 1
+        return None
+
+    def _do_end(self, line: nodes.Line, first: Loop, depth: int) -> None:
+        """A ``while`` line ending the do-loop ``first`` of an outer body
+        (:meth:`_outer_do`): everything from that do-loop on to the
+        construct holding this line becomes one :attr:`Loop.back` loop,
+        which the line continues when it goes back to the do."""
+        body = self.stack[depth - 1].body if depth else self.main
+        start = next(i for i, stmt in enumerate(body) if stmt is first)
+        outer = Loop("do", first.line, body[start:], key=first.key, back=True)
+        del body[start:]
+        body.append(outer)
+        # open (with no label a line can carry) until the body around ends
+        self.stack.insert(depth, _Open("", outer, outer.body))
+        crossed = [
+            entry.node
+            for entry in self.stack[depth + 1 :]
+            if isinstance(entry.node, Loop)
+        ]
+        if crossed:
+            outer.flagged = True
+            for inner in crossed:
+                inner.exits.append(outer)
+        if first.key in self.tracked:
+            self.body.append(LabelCheck(line, first.key, "do-end"))
+        self.body.append(DoEnd(line, "continue", outer))
 
     def _close_loop(self, kind: str, line: nodes.Line, word: nodes.OWord) -> None:
         label = str(word.name)
@@ -1120,6 +1180,8 @@ class _Builder:
         there (the line is known at :meth:`finish`)."""
         node = entry.node
         key = self._key(entry.label)
+        if isinstance(node, Loop) and node.back:
+            return  # it ends where the body around it ends
         if isinstance(node, Loop):
             node.eof = self._eof_fail(key, node.line)
         elif isinstance(node, If):
@@ -1272,6 +1334,8 @@ class _Builder:
             if isinstance(entry.node, If):
                 # an arm taken, the next arm's line skips to the end
                 self._abandon(entry)
+            elif isinstance(entry.node, Loop) and entry.node.back:
+                pass  # no loop of the text (DoEnd)
             elif isinstance(entry.node, Loop) and last is not None:
                 # its break and continue lines skip to the end of the file
                 entry.node.eof = self._eof_fail(entry.node.key, entry.node.line)
@@ -1295,7 +1359,7 @@ class _Builder:
             sub.body = body[start:] + [Fail(last, eof_message(self.demarcated))]
         while self.stack:
             entry = self.stack.pop()
-            if isinstance(entry.node, Loop) and last is not None:
+            if isinstance(entry.node, Loop) and last is not None and not entry.node.back:
                 # its break and continue lines skip to the end of the file
                 entry.node.eof = Fail(last, eof_message(self.demarcated))
             elif isinstance(entry.node, If):
