@@ -861,7 +861,22 @@ class _Builder:
         if self._reopens_do(label, seen):
             self._reopen_do(label, seen[3])
             return
+        if self._inside_do(label, seen) or self._outer_do(label, seen) is not None:
+            # rs274 keeps the first do-loop's place for the label (open, or
+            # finished in a body around this one): this line does nothing,
+            # and the closing while goes back to that do line (DoEnd)
+            return
         self._open_loop("do", line, word)
+
+    def _inside_do(self, label: str, seen) -> bool:
+        """Is the innermost open construct of this scope with ``label`` the
+        do-loop that first used it (open around this line)?"""
+        if seen is None or seen[0] != "do":
+            return False
+        for entry in self._scope_entries():
+            if entry.label == label:
+                return entry.node is seen[3] and id(entry.node) not in self.dead
+        return False
 
     #: Lines a skip to their label stops at without ending an if: rs274
     #: runs a ``do`` and fails on the others (the label is the if's).
