@@ -1245,6 +1245,11 @@ class _Builder:
                 continue
             message = self._land_message(seen, line, word, key)
             if message is None:
+                if key in self.tracked and word.keyword in ("elseif", "else", "endif"):
+                    # an if's own line, where the if ran: the skip ends or
+                    # goes on there (not followed); where another opener
+                    # recorded the label (or none did), it fails there
+                    fail.check = LabelCheck(line, key, word.keyword)
                 return False
             fail.line, fail.message = line, message
             if word.keyword in ("if", "elseif", "while", "repeat"):
