@@ -840,7 +840,7 @@ class CodeGen:
             and not self.any_strand  # (see m99_loop and s_return)
         ):
             body = body[:-1]  # falling off the end is the plain endsub
-        self.x.fast = fastlocals.fast_locals(body, FAST_LOCALS_DEPTH)
+        self.x.fast = self.fast_locals(body)
         self.x.never_set = fastlocals.never_set(body)
         self.block(body)
         self.x.fast, self.x.never_set = {}, frozenset()
@@ -876,7 +876,7 @@ class CodeGen:
                     INDENT + "m.doing_continue = False  # set by a do-loop continue"
                 )
             if len(chunks) == 1:  # chunks would share the variables
-                self.x.fast = fastlocals.fast_locals(chunk, FAST_LOCALS_DEPTH)
+                self.x.fast = self.fast_locals(chunk)
                 self.x.never_set = fastlocals.never_set(chunk)
             self.block(chunk)
             self.x.fast, self.x.never_set = {}, frozenset()
@@ -1528,6 +1528,9 @@ class CodeGen:
 
     def s_if(self, stmt: st.If) -> None:
         arms = stmt.branches + ([stmt.orelse] if stmt.orelse else [])
+        if self.runs_into(stmt, arms):
+            self.arm_steps(stmt, arms)
+            return
         if self.strands(stmt):
             self.stranding.add(id(stmt))
             self.w.stmt(
@@ -1623,6 +1626,62 @@ class CodeGen:
         self.skip_tail(later, check, then)
         self.w.depth -= 1
 
+    def runs_into(self, stmt: st.If, arms: List[st.Branch]) -> bool:
+        """Can an arm of ``stmt`` other than the last leave rs274's flag
+        clear, so that it runs on into the next arm (:meth:`arm_steps`)?
+        (Not where a skip stops inside an arm or an M98 may not return:
+        there :meth:`run_into` writes the arms after such an arm again.)"""
+        if not self.if_flag or stmt.end is None or self.strands(stmt):
+            return False
+        if not any(self.may_clear(arm.body) for arm in arms[:-1]):
+            return False
+        return all(
+            self.skip_stop(stmt, arms, i, i + 1)[0] is None for i in range(len(arms))
+        )
+
+    def arm_steps(self, stmt: st.If, arms: List[st.Branch]) -> None:
+        """An if whose arms can run one into the next (:meth:`runs_into`):
+        ``arm`` is the arm to run, each arm's code runs when it is that
+        arm's number, and an arm that leaves the flag clear moves it on to
+        the next arm (reading its condition: true sets the flag), as
+        rs274 runs on into the next arm's line. Each arm written once."""
+        self.temp += 1
+        arm = "arm_%d" % self.temp
+        for i, branch in enumerate(stmt.branches):
+            keyword_ = "if" if i == 0 else "elif"
+            test = self.x.condition(branch.line.oword.expr)
+            self.w.stmt("%s %s:" % (keyword_, test), branch.line)
+            self.w.stmt(INDENT + "%s = %d" % (arm, i), branch.line)
+        self.w.stmt("else:", stmt.orelse.line if stmt.orelse else stmt.end)
+        self.w.stmt(INDENT + "%s = %d" % (arm, len(stmt.branches)), stmt.end)
+        self.w.stmt("m.executed_if = True", stmt.branches[0].line)
+        run_on = False  # can this arm be run into with the flag clear?
+        for i, branch in enumerate(arms):
+            self.w.stmt("if %s == %d:" % (arm, i), branch.line)
+            self.w.depth += 1
+            self.block(branch.body)
+            later = stmt.branches[i + 1 :]
+            run_on = i + 1 < len(arms) and (run_on or self.may_clear(branch.body))
+            if run_on:
+                nxt = arms[i + 1]
+                self.w.stmt("if not m.executed_if:", nxt.line)
+                self.w.depth += 1
+                self.w.stmt("%s = %d" % (arm, i + 1), nxt.line)
+                if nxt is not stmt.orelse:
+                    cond = self.x.condition(nxt.line.oword.expr)
+                    self.w.stmt("if %s:" % cond, nxt.line)
+                    self.w.stmt(INDENT + "m.executed_if = True", nxt.line)
+                self.w.depth -= 1
+                if any(may_fail(b.line.oword.expr) for b in later):
+                    self.w.stmt("else:", nxt.line)
+                    self.w.depth += 1
+                    self.skip_tail(later, None, None)
+                    self.w.depth -= 1
+            else:
+                self.skip_tail(later, None, None)
+            self.w.depth -= 1
+        self.w.stmt("m.executed_if = True", stmt.end)
+
     def run_into(self, stmt: st.If, index: int) -> None:
         """Running code reaches the line of arm ``index`` of ``stmt`` (the
         arm before it may have left rs274's flag clear: a call, a skip that
@@ -1653,6 +1712,17 @@ class CodeGen:
         self.w.depth -= 1
         if len(self.w.out) == size + 1:
             self.w.out.pop()  # nothing to do: the skip reaches the endif
+
+    def fast_locals(self, body: List[st.Stmt]) -> Dict[str, str]:
+        """fastlocals.fast_locals, but none where an if runs into its later
+        arms (:meth:`run_into`): that code nests deeper than the tree."""
+        if self.if_flag and any(
+            isinstance(stmt, st.If)
+            and any(self.may_clear(arm.body) for arm in stmt.branches)
+            for stmt in st.walk(body, into_subs=False)
+        ):
+            return {}
+        return fastlocals.fast_locals(body, FAST_LOCALS_DEPTH)
 
     def may_clear(self, body: List[st.Stmt]) -> bool:
         """Can running ``body`` leave rs274's flag "an arm of an if has run"

@@ -146,6 +146,9 @@ class Loop:
     #: No loop of the text: where a ``while`` line ending an earlier
     #: do-loop (:class:`DoEnd`) jumps back to, from that do line on.
     back: bool = False
+    #: A do line reusing the label of this finished do-loop of a body
+    #: around it (rs274 keeps that one's place): see _Builder.on_while.
+    reuses: Optional["Loop"] = None
 
 
 @dataclass
@@ -861,12 +864,18 @@ class _Builder:
         if self._reopens_do(label, seen):
             self._reopen_do(label, seen[3])
             return
-        if self._inside_do(label, seen) or self._outer_do(label, seen) is not None:
-            # rs274 keeps the first do-loop's place for the label (open, or
-            # finished in a body around this one): this line does nothing,
-            # and the closing while goes back to that do line (DoEnd)
+        if self._inside_do(label, seen):
+            # rs274 keeps the first do-loop's place for the label (open
+            # around this line): this line does nothing, and the closing
+            # while goes back to that do line
             return
+        outer = self._outer_do(label, seen) is not None
         self._open_loop("do", line, word)
+        if outer:
+            # the label of a finished do-loop in a body around this one:
+            # rs274 keeps that do's place; unless a break or continue needs
+            # this loop, its while line dissolves it (on_while)
+            self.stack[-1].node.reuses = seen[3]
 
     def _inside_do(self, label: str, seen) -> bool:
         """Is the innermost open construct of this scope with ``label`` the
@@ -930,6 +939,17 @@ class _Builder:
         top = self._enclosing(
             str(word.name), lambda node: isinstance(node, Loop) and node.kind == "do"
         )
+        if top is not None and self._dissolves(top.node):
+            # its do line did nothing: the body is plain code, and this
+            # line ends the first do-loop of the label again (DoEnd)
+            self.stack.pop()
+            depth = self._outer_do(str(word.name), self.labels.get(str(word.name)))
+            if depth is not None and self.body and self.body[-1] is top.node:
+                self.body.pop()
+                self.body.extend(top.node.body)
+                self._do_end(line, top.node.reuses, depth)
+                return
+            self.stack.append(top)
         if top is not None:
             top.node.end = line
             key = self._key(str(word.name))
@@ -950,6 +970,18 @@ class _Builder:
             self._do_end(line, seen[3], depth)
             return
         self._open_loop("while", line, word)
+
+    def _dissolves(self, node: Loop) -> bool:
+        """Is ``node`` a do-loop whose do line does nothing (``reuses``)
+        with no break or continue of it, ending now?"""
+        if node.reuses is None:
+            return False
+        return not any(
+            (isinstance(s, Jump) and s.target is node)
+            or (isinstance(s, LabelCheck) and s.loop is node)
+            or (isinstance(s, Loop) and node in s.exits)
+            for s in walk(node.body, into_subs=False)
+        )
 
     def _outer_do(self, label: str, seen) -> Optional[int]:
         """Is ``label`` that of a finished do-loop in a body around this
