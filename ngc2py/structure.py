@@ -884,7 +884,15 @@ class _Builder:
             return False
         for entry in self._scope_entries():
             if entry.label == label:
-                return entry.node is seen[3] and id(entry.node) not in self.dead
+                if entry.node is not seen[3] or id(entry.node) in self.dead:
+                    return False
+                # a break or continue of that loop before this line would
+                # skip to this line, not to the loop's end: a loop of its own
+                return not any(
+                    (isinstance(s, Jump) and s.target is entry.node)
+                    or (isinstance(s, LabelCheck) and s.loop is entry.node)
+                    for s in walk(entry.node.body, into_subs=False)
+                )
         return False
 
     #: Lines a skip to their label stops at without ending an if: rs274
