@@ -1837,6 +1837,10 @@ class CodeGen:
             f for f in (stmt.skip_fail, stmt.eof if stmt.kind != "do" else None) if f
         ]
         fail = min(fails, key=_fail_order) if fails else None
+        unreadable = self.skip_error([stmt.body])
+        if fail is not None and unreadable is not None:
+            if unreadable.number < _fail_order(fail):
+                fail = None  # the skip fails first there (after the loop)
         sets_break = (
             self.break_flag
             and stmt.kind == "while"
