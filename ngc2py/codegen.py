@@ -1548,7 +1548,7 @@ class CodeGen:
                 then=stop,
                 later=stmt.branches[i + 1 : at + 1],
                 check=(stmt, following),
-                rest=(stmt, i + 1) if i + 1 < len(arms) else None,
+                rest=(stmt, i + 1) if i + 1 < len(real_arms(stmt)) else None,
             )
             stop, _ = self.skip_stop(stmt, arms, i, i + 1)
             if stop is not None:
@@ -1688,7 +1688,7 @@ class CodeGen:
         landed): with the flag clear, rs274 runs into the arm whatever the
         condition (a true one sets the flag), and on into the next arm's
         line; with it set, it skips to the endif (:meth:`skip_tail`)."""
-        arms = stmt.branches + ([stmt.orelse] if stmt.orelse else [])
+        arms = real_arms(stmt)
         arm = arms[index]
         test = None
         if arm is not stmt.orelse:
@@ -2287,6 +2287,15 @@ def executed_if_flag(program: st.Program) -> bool:
         isinstance(s, st.If) and len(s.branches) + (s.orelse is not None) > 1
         for s in stmts
     )
+
+
+def real_arms(stmt: st.If) -> List[st.Branch]:
+    """The arms of ``stmt`` that have a line of their own (not the end of
+    the file an if never closed skips to: structure._Builder._abandon)."""
+    arms = stmt.branches + ([stmt.orelse] if stmt.orelse else [])
+    if stmt.orelse is not None and stmt.orelse.line is stmt.branches[-1].line:
+        arms.pop()
+    return arms
 
 
 def clears_flag(stmt: st.Stmt) -> bool:
