@@ -659,6 +659,12 @@ class CodeGen:
         self.break_flag = stale_break_flag(program)
         self.continue_flag = stale_continue_flag(program)
         self.if_flag = executed_if_flag(program)
+        #: can a subroutine leave rs274's executed_if flag clear?
+        self.calls_clear = self.if_flag and any(
+            clears_flag(stmt)
+            for sub in list(program.subs) + list(program.externals)
+            for stmt in st.walk(sub.body)
+        )
         self.code_functions: set = set()  # runtime.codes functions used
         self.names: set = set()
         self.shapes: Dict[Shape, int] = {}  # row shape -> index in SHAPES
@@ -834,7 +840,7 @@ class CodeGen:
             and not self.any_strand  # (see m99_loop and s_return)
         ):
             body = body[:-1]  # falling off the end is the plain endsub
-        self.x.fast = fastlocals.fast_locals(body, FAST_LOCALS_DEPTH)
+        self.x.fast = self.fast_locals(body)
         self.x.never_set = fastlocals.never_set(body)
         self.block(body)
         self.x.fast, self.x.never_set = {}, frozenset()
@@ -870,7 +876,7 @@ class CodeGen:
                     INDENT + "m.doing_continue = False  # set by a do-loop continue"
                 )
             if len(chunks) == 1:  # chunks would share the variables
-                self.x.fast = fastlocals.fast_locals(chunk, FAST_LOCALS_DEPTH)
+                self.x.fast = self.fast_locals(chunk)
                 self.x.never_set = fastlocals.never_set(chunk)
             self.block(chunk)
             self.x.fast, self.x.never_set = {}, frozenset()
@@ -1102,7 +1108,7 @@ class CodeGen:
         self.helper_count += 1
         name = "nest_%d" % self.helper_count
         self.helpers.append(Helper(name, stmt, list(self.loops), self.w.file_index))
-        jumps, returns = outward_exits(stmt)
+        jumps, returns = outward_exits(stmt, self.continue_flag)
         if not jumps and not returns:
             self.w.stmt("%s(m)" % name, opening_line(stmt))
             return
@@ -1408,6 +1414,19 @@ class CodeGen:
                 return
         self.jump_to(stmt.kind, stmt.target, stmt.line)
 
+    def s_doend(self, stmt: st.DoEnd) -> None:
+        """A while line ending an outer do-loop again (structure.DoEnd):
+        true, rs274 goes back to the do line; else on with the next line."""
+        test = self.x.condition(stmt.line.oword.expr)
+        if self.break_flag:
+            test = "%s and not m.doing_break" % test
+        self.w.stmt("if %s:" % test, stmt.line)
+        self.w.depth += 1
+        self.jump_to("continue", stmt.target, stmt.line)
+        self.w.depth -= 1
+        if self.break_flag:
+            self.w.stmt("m.doing_break = False", stmt.line)
+
     def stale_continue(self, stmt: st.Jump) -> None:
         """rs274's ``doing_continue`` (runtime.loopflags) at a break or
         continue: a while-loop break with the flag set is a continue."""
@@ -1509,6 +1528,9 @@ class CodeGen:
 
     def s_if(self, stmt: st.If) -> None:
         arms = stmt.branches + ([stmt.orelse] if stmt.orelse else [])
+        if self.runs_into(stmt, arms):
+            self.arm_steps(stmt, arms)
+            return
         if self.strands(stmt):
             self.stranding.add(id(stmt))
             self.w.stmt(
@@ -1526,6 +1548,7 @@ class CodeGen:
                 then=stop,
                 later=stmt.branches[i + 1 : at + 1],
                 check=(stmt, following),
+                rest=(stmt, i + 1) if i + 1 < len(real_arms(stmt)) else None,
             )
             stop, _ = self.skip_stop(stmt, arms, i, i + 1)
             if stop is not None:
@@ -1542,8 +1565,9 @@ class CodeGen:
         if stmt.orelse is not None:
             self.w.stmt("else:", stmt.orelse.line)
             self.nested(stmt.orelse, check=(stmt, stmt.end))
-        if self.if_flag:  # the if ends at its endif, which sets the flag
-            self.w.stmt("m.executed_if = True", stmt.end or stmt.branches[0].line)
+        if self.if_flag and stmt.end is not None:
+            # the if ends at its endif, which sets the flag
+            self.w.stmt("m.executed_if = True", stmt.end)
 
     def skip_stop(
         self, stmt: st.If, arms: List[st.Branch], first: int, end: Optional[int] = None
@@ -1585,14 +1609,141 @@ class CodeGen:
         then: Union[None, nodes.Line, List[st.Stmt]] = None,
         later: Sequence[st.Branch] = (),
         check: Optional[tuple] = None,
+        rest: Optional[Tuple[st.If, int]] = None,
     ) -> None:
         """An arm's body; ``then`` fails after it (rs274 skipping the
         arms after a taken one reads that line); ``check``: the if and the
-        line after the arm, whose label rs274 looks up (:meth:`frame_check`)."""
+        line after the arm, whose label rs274 looks up (:meth:`frame_check`);
+        ``rest``: the if and the index of the arm after this one."""
         self.w.depth += 1
         if self.if_flag:  # an arm runs: rs274's flag (structure.FlatArm)
             self.w.stmt("m.executed_if = True", branch.line)
         self.block(branch.body)
+        if rest is not None and self.may_clear(branch.body):
+            self.run_into(*rest)
+            self.w.depth -= 1
+            return
+        self.skip_tail(later, check, then)
+        self.w.depth -= 1
+
+    def runs_into(self, stmt: st.If, arms: List[st.Branch]) -> bool:
+        """Can an arm of ``stmt`` other than the last leave rs274's flag
+        clear, so that it runs on into the next arm (:meth:`arm_steps`)?
+        (Not where a skip stops inside an arm or an M98 may not return:
+        there :meth:`run_into` writes the arms after such an arm again.)"""
+        if not self.if_flag or stmt.end is None or self.strands(stmt):
+            return False
+        if not any(self.may_clear(arm.body) for arm in arms[:-1]):
+            return False
+        return all(
+            self.skip_stop(stmt, arms, i, i + 1)[0] is None for i in range(len(arms))
+        )
+
+    def arm_steps(self, stmt: st.If, arms: List[st.Branch]) -> None:
+        """An if whose arms can run one into the next (:meth:`runs_into`):
+        ``arm`` is the arm to run, each arm's code runs when it is that
+        arm's number, and an arm that leaves the flag clear moves it on to
+        the next arm (reading its condition: true sets the flag), as
+        rs274 runs on into the next arm's line. Each arm written once."""
+        self.temp += 1
+        arm = "arm_%d" % self.temp
+        for i, branch in enumerate(stmt.branches):
+            keyword_ = "if" if i == 0 else "elif"
+            test = self.x.condition(branch.line.oword.expr)
+            self.w.stmt("%s %s:" % (keyword_, test), branch.line)
+            self.w.stmt(INDENT + "%s = %d" % (arm, i), branch.line)
+        self.w.stmt("else:", stmt.orelse.line if stmt.orelse else stmt.end)
+        self.w.stmt(INDENT + "%s = %d" % (arm, len(stmt.branches)), stmt.end)
+        self.w.stmt("m.executed_if = True", stmt.branches[0].line)
+        run_on = False  # can this arm be run into with the flag clear?
+        for i, branch in enumerate(arms):
+            self.w.stmt("if %s == %d:" % (arm, i), branch.line)
+            self.w.depth += 1
+            self.block(branch.body)
+            later = stmt.branches[i + 1 :]
+            run_on = i + 1 < len(arms) and (run_on or self.may_clear(branch.body))
+            if run_on:
+                nxt = arms[i + 1]
+                self.w.stmt("if not m.executed_if:", nxt.line)
+                self.w.depth += 1
+                self.w.stmt("%s = %d" % (arm, i + 1), nxt.line)
+                if nxt is not stmt.orelse:
+                    cond = self.x.condition(nxt.line.oword.expr)
+                    self.w.stmt("if %s:" % cond, nxt.line)
+                    self.w.stmt(INDENT + "m.executed_if = True", nxt.line)
+                self.w.depth -= 1
+                if any(may_fail(b.line.oword.expr) for b in later):
+                    self.w.stmt("else:", nxt.line)
+                    self.w.depth += 1
+                    self.skip_tail(later, None, None)
+                    self.w.depth -= 1
+            else:
+                self.skip_tail(later, None, None)
+            self.w.depth -= 1
+        self.w.stmt("m.executed_if = True", stmt.end)
+
+    def run_into(self, stmt: st.If, index: int) -> None:
+        """Running code reaches the line of arm ``index`` of ``stmt`` (the
+        arm before it may have left rs274's flag clear: a call, a skip that
+        landed): with the flag clear, rs274 runs into the arm whatever the
+        condition (a true one sets the flag), and on into the next arm's
+        line; with it set, it skips to the endif (:meth:`skip_tail`)."""
+        arms = real_arms(stmt)
+        arm = arms[index]
+        test = None
+        if arm is not stmt.orelse:
+            self.temp += 1
+            test = "t%d" % self.temp
+            self.w.stmt("%s = %s" % (test, self.x.condition(arm.line.oword.expr)), arm.line)
+        self.w.stmt("if not m.executed_if:", arm.line)
+        self.w.depth += 1
+        if test is not None:
+            self.w.stmt("if %s:" % test, arm.line)
+            self.w.stmt(INDENT + "m.executed_if = True", arm.line)
+        self.block(arm.body)
+        if index + 1 < len(arms):
+            self.run_into(stmt, index + 1)
+        self.w.depth -= 1
+        stop, at = self.skip_stop(stmt, arms, index)
+        size = len(self.w.out)
+        self.w.stmt("else:", arm.line)
+        self.w.depth += 1
+        self.skip_tail(stmt.branches[index + 1 : at + 1], None, stop)
+        self.w.depth -= 1
+        if len(self.w.out) == size + 1:
+            self.w.out.pop()  # nothing to do: the skip reaches the endif
+
+    def fast_locals(self, body: List[st.Stmt]) -> Dict[str, str]:
+        """fastlocals.fast_locals, but none where an if runs into its later
+        arms (:meth:`run_into`): that code nests deeper than the tree."""
+        if self.if_flag and any(
+            isinstance(stmt, st.If)
+            and any(self.may_clear(arm.body) for arm in stmt.branches)
+            for stmt in st.walk(body, into_subs=False)
+        ):
+            return {}
+        return fastlocals.fast_locals(body, FAST_LOCALS_DEPTH)
+
+    def may_clear(self, body: List[st.Stmt]) -> bool:
+        """Can running ``body`` leave rs274's flag "an arm of an if has run"
+        clear (:func:`clears_flag`; a call, where a subroutine can)?"""
+        if not self.if_flag:
+            return False
+        for inner in st.walk(body, into_subs=False):
+            if clears_flag(inner):
+                return True
+            if self.calls_clear and isinstance(inner, (st.Call, st.FanucCall)):
+                return True
+        return False
+
+    def skip_tail(
+        self,
+        later: Sequence[st.Branch],
+        check: Optional[tuple],
+        then: Union[None, nodes.Line, List[st.Stmt]],
+    ) -> None:
+        """rs274 skips the arms after one that ran: it reads the later
+        elseif lines' conditions, and stops at ``then``."""
         for k, arm in enumerate(later):
             # rs274 still reads the condition of each later elseif (it
             # skips the arm, not the line): only its errors matter.
@@ -1605,7 +1756,6 @@ class CodeGen:
             self.frame_check(*check)
         if then is not None:
             self.skipped_to(then)
-        self.w.depth -= 1
 
     # -- lines read while skipping ----------------------------------------
 
@@ -1687,6 +1837,10 @@ class CodeGen:
             f for f in (stmt.skip_fail, stmt.eof if stmt.kind != "do" else None) if f
         ]
         fail = min(fails, key=_fail_order) if fails else None
+        unreadable = self.skip_error([stmt.body])
+        if fail is not None and unreadable is not None:
+            if unreadable.number < _fail_order(fail):
+                fail = None  # the skip fails first there (after the loop)
         sets_break = (
             self.break_flag
             and stmt.kind == "while"
@@ -2122,13 +2276,37 @@ def code_order(name: str) -> Tuple[str, float]:
 
 def executed_if_flag(program: st.Program) -> bool:
     """Must the code track rs274's ``executed_if`` (structure.FlatArm)?
-    Only programs with an else or elseif line checked at run time pay."""
+    Only programs with an else or elseif line checked at run time pay, and
+    those where something can leave the flag clear (:func:`clears_flag`)
+    while an if with more than one arm is around."""
     bodies = [program.body] + [sub.body for sub in program.externals]
-    return any(
-        isinstance(s, st.LabelCheck) and s.kind in ("else", "elseif")
-        for body in bodies
-        for s in st.walk(body)
+    stmts = [s for body in bodies for s in st.walk(body)]
+    if any(isinstance(s, st.LabelCheck) and s.kind in ("else", "elseif") for s in stmts):
+        return True
+    return any(clears_flag(s) for s in stmts) and any(
+        isinstance(s, st.If) and len(s.branches) + (s.orelse is not None) > 1
+        for s in stmts
     )
+
+
+def real_arms(stmt: st.If) -> List[st.Branch]:
+    """The arms of ``stmt`` that have a line of their own (not the end of
+    the file an if never closed skips to: structure._Builder._abandon)."""
+    arms = stmt.branches + ([stmt.orelse] if stmt.orelse else [])
+    if stmt.orelse is not None and stmt.orelse.line is stmt.branches[-1].line:
+        arms.pop()
+    return arms
+
+
+def clears_flag(stmt: st.Stmt) -> bool:
+    """Can ``stmt`` leave rs274's flag "an arm of an if has run" clear when
+    it is done? A false if clears it and its endif sets it again, unless
+    the skip lands on a line reusing the label first (``If.landings``) and
+    runs on from there; an else or elseif run into outside its if runs on
+    with the flag clear (structure.FlatArm)."""
+    if isinstance(stmt, st.If):
+        return bool(stmt.landings)
+    return isinstance(stmt, st.LabelCheck) and stmt.kind in ("else", "elseif")
 
 
 def stale_break_flag(program: st.Program) -> bool:
@@ -2188,7 +2366,7 @@ def stale_continue_flag(program: st.Program) -> bool:
     for sub in program.externals:
         stmts.extend(st.walk(sub.body))
     sets = any(
-        isinstance(s, st.Jump) and s.kind == "continue" and s.target.kind == "do"
+        type(s) is st.Jump and s.kind == "continue" and s.target.kind == "do"
         for s in stmts
     )
     hit = any(
@@ -2222,9 +2400,13 @@ class Helper:
     file_index: int
 
 
-def outward_exits(stmt: st.Stmt) -> Tuple[List[Tuple[str, st.Loop]], bool]:
+def outward_exits(
+    stmt: st.Stmt, stale_continue: bool = False
+) -> Tuple[List[Tuple[str, st.Loop]], bool]:
     """The jumps out of ``stmt`` to loops around it, as (kind, loop) in
-    first-use order, and whether a subroutine ``return`` is inside it."""
+    first-use order, and whether a subroutine ``return`` is inside it.
+    ``stale_continue``: the code tracks rs274's ``doing_continue``, with
+    which a while-loop's break is a continue (:meth:`CodeGen.stale_continue`)."""
     inside = {id(s) for s in st.walk([stmt], into_subs=False)}
     jumps: List[Tuple[str, st.Loop]] = []
     returns = False
@@ -2232,8 +2414,12 @@ def outward_exits(stmt: st.Stmt) -> Tuple[List[Tuple[str, st.Loop]], bool]:
         if isinstance(s, st.Return):
             returns = True
         elif isinstance(s, st.Jump) and id(s.target) not in inside:
-            if not any(k == s.kind and t is s.target for k, t in jumps):
-                jumps.append((s.kind, s.target))
+            kinds = [s.kind]
+            if stale_continue and s.kind == "break" and s.target.kind == "while":
+                kinds.append("continue")
+            for kind in kinds:
+                if not any(k == kind and t is s.target for k, t in jumps):
+                    jumps.append((kind, s.target))
     return jumps, returns
 
 

@@ -143,6 +143,12 @@ class Loop:
     skip_fail: Optional[Union[Fail, "LabelCheck"]] = None
     #: rs274's name of the label (``subroutine#label``).
     key: str = ""
+    #: No loop of the text: where a ``while`` line ending an earlier
+    #: do-loop (:class:`DoEnd`) jumps back to, from that do line on.
+    back: bool = False
+    #: A do line reusing the label of this finished do-loop of a body
+    #: around it (rs274 keeps that one's place): see _Builder.on_while.
+    reuses: Optional["Loop"] = None
 
 
 @dataclass
@@ -153,6 +159,15 @@ class Jump:
     line: nodes.Line
     kind: str
     target: Loop
+
+
+@dataclass
+class DoEnd(Jump):
+    """A ``while`` line whose label rs274 recorded for a finished do-loop
+    in a body around it: it ends that loop again. With its condition true
+    (and no break pending) rs274 goes back to the do line, running it all
+    again (``target``: a :attr:`Loop.back` loop from the do line to the
+    construct holding this line); else it goes on with the next line."""
 
 
 @dataclass
@@ -222,6 +237,11 @@ def flat_arms(stmts: List["Stmt"]) -> List["Stmt"]:
                 out.append(FlatArm(stmt, flat_arms(stmts[i + 1 : end])))
                 i = end
                 continue
+            if deep is None and _unreadable_first(stmts[i + 1 :], stmt.key, label):
+                # no line with the label before one rs274 cannot read: the
+                # skip fails there (inside whatever holds it)
+                out.append(FlatArm(stmt, flat_arms(stmts[i + 1 :])))
+                break
         out.append(stmt)
         i += 1
     return out
@@ -244,10 +264,52 @@ def _deep_landing(
             rest = _landing_rest(stmt.body, key, label)
             if rest is not None:
                 return k, rest + stmts[k + 1 :]
+        if isinstance(stmt, If) and stmt.end is None:
+            rest = _open_if_landing(stmt, key, label)
+            if rest is not None:
+                return k, rest + stmts[k + 1 :]
         hit = _failing_landing(stmt, key, label)
         if hit is not None:
             return (k, hit) if hit else None
+        if _unreadable_inside(stmt):
+            return None
     return None
+
+
+def _open_if_landing(stmt: "If", key: str, label: str) -> Optional[List["Stmt"]]:
+    """The first line with ``label`` when it stands in the last arm of an
+    if never closed (``stmt``): the statements from it to the end of that
+    arm (after it, the text goes on with what follows the if). None when
+    the line is elsewhere, or something on the way stops the skip."""
+    arms = stmt.branches + ([stmt.orelse] if stmt.orelse is not None else [])
+    if stmt.orelse is not None and stmt.orelse.line is stmt.branches[-1].line:
+        arms.pop()  # the end-of-file failure _abandon added, no line of its own
+    for arm in arms[:-1]:
+        for inner in walk(arm.body):
+            if _has_label(inner, key, label) or (
+                type(inner) is Block and skip_error(inner.line)
+            ):
+                return None
+    return _landing_rest(arms[-1].body, key, label)
+
+
+def _unreadable_first(stmts: List["Stmt"], key: str, label: str) -> bool:
+    """Does a skip for ``label`` through ``stmts`` meet a line rs274 cannot
+    read (however deeply nested) before any line with the label?"""
+    for stmt in walk(stmts):
+        if type(stmt) is Block and skip_error(stmt.line):
+            return True
+        if _has_label(stmt, key, label):
+            return False
+    return False
+
+
+def _unreadable_inside(stmt: "Stmt") -> bool:
+    """Does a skip passing over ``stmt`` (a construct without the label it
+    looks for) fail at a line inside it that rs274 cannot read?"""
+    if type(stmt) is Block:
+        return False
+    return first_text_error(children(stmt, False)) is not None
 
 
 def _failing_landing(stmt: "Stmt", key: str, label: str) -> Optional[List["Stmt"]]:
@@ -281,9 +343,15 @@ def _landing_rest(stmts: List["Stmt"], key: str, label: str) -> Optional[List["S
             rest = _landing_rest(stmt.body, key, label)
             if rest is not None:
                 return rest + stmts[k + 1 :]
+        if isinstance(stmt, If) and stmt.end is None:
+            rest = _open_if_landing(stmt, key, label)
+            if rest is not None:
+                return rest + stmts[k + 1 :]
         hit = _failing_landing(stmt, key, label)
         if hit is not None:
             return hit or None
+        if _unreadable_inside(stmt):
+            return None
     return None
 
 
@@ -397,6 +465,7 @@ Stmt = Union[
     If,
     Loop,
     Jump,
+    DoEnd,
     LabelCheck,
     TopReturn,
     Return,
@@ -795,7 +864,36 @@ class _Builder:
         if self._reopens_do(label, seen):
             self._reopen_do(label, seen[3])
             return
+        if self._inside_do(label, seen):
+            # rs274 keeps the first do-loop's place for the label (open
+            # around this line): this line does nothing, and the closing
+            # while goes back to that do line
+            return
+        outer = self._outer_do(label, seen) is not None
         self._open_loop("do", line, word)
+        if outer:
+            # the label of a finished do-loop in a body around this one:
+            # rs274 keeps that do's place; unless a break or continue needs
+            # this loop, its while line dissolves it (on_while)
+            self.stack[-1].node.reuses = seen[3]
+
+    def _inside_do(self, label: str, seen) -> bool:
+        """Is the innermost open construct of this scope with ``label`` the
+        do-loop that first used it (open around this line)?"""
+        if seen is None or seen[0] != "do":
+            return False
+        for entry in self._scope_entries():
+            if entry.label == label:
+                if entry.node is not seen[3] or id(entry.node) in self.dead:
+                    return False
+                # a break or continue of that loop before this line would
+                # skip to this line, not to the loop's end: a loop of its own
+                return not any(
+                    (isinstance(s, Jump) and s.target is entry.node)
+                    or (isinstance(s, LabelCheck) and s.loop is entry.node)
+                    for s in walk(entry.node.body, into_subs=False)
+                )
+        return False
 
     #: Lines a skip to their label stops at without ending an if: rs274
     #: runs a ``do`` and fails on the others (the label is the if's).
@@ -849,6 +947,17 @@ class _Builder:
         top = self._enclosing(
             str(word.name), lambda node: isinstance(node, Loop) and node.kind == "do"
         )
+        if top is not None and self._dissolves(top.node):
+            # its do line did nothing: the body is plain code, and this
+            # line ends the first do-loop of the label again (DoEnd)
+            self.stack.pop()
+            depth = self._outer_do(str(word.name), self.labels.get(str(word.name)))
+            if depth is not None and self.body and self.body[-1] is top.node:
+                self.body.pop()
+                self.body.extend(top.node.body)
+                self._do_end(line, top.node.reuses, depth)
+                return
+            self.stack.append(top)
         if top is not None:
             top.node.end = line
             key = self._key(str(word.name))
@@ -864,7 +973,66 @@ class _Builder:
             self._reopen_do(label, seen[3])
             self.stack.pop().node.end = line
             return
+        depth = self._outer_do(label, seen)
+        if depth is not None:
+            self._do_end(line, seen[3], depth)
+            return
         self._open_loop("while", line, word)
+
+    def _dissolves(self, node: Loop) -> bool:
+        """Is ``node`` a do-loop whose do line does nothing (``reuses``)
+        with no break or continue of it, ending now?"""
+        if node.reuses is None:
+            return False
+        return not any(
+            (isinstance(s, Jump) and s.target is node)
+            or (isinstance(s, LabelCheck) and s.loop is node)
+            or (isinstance(s, Loop) and node in s.exits)
+            for s in walk(node.body, into_subs=False)
+        )
+
+    def _outer_do(self, label: str, seen) -> Optional[int]:
+        """Is ``label`` that of a finished do-loop in a body around this
+        one (of this subroutine, holding the open construct at the depth
+        returned)? rs274 has recorded the label for it: it ran first."""
+        if seen is None or seen[0] != "do" or seen[3].end is None or seen[3].back:
+            return None
+        if any(entry.label == label for entry in self._scope_entries()):
+            return None
+        body = seen[2]
+        if not any(stmt is seen[3] for stmt in body):
+            return None
+        if body is self.main and self.stack and not isinstance(self.stack[0].node, Sub):
+            return 0
+        for depth, entry in enumerate(self.stack[:-1]):
+            if entry.body is body and not isinstance(self.stack[depth + 1].node, Sub):
+                return depth + 1
+        return None
+
+    def _do_end(self, line: nodes.Line, first: Loop, depth: int) -> None:
+        """A ``while`` line ending the do-loop ``first`` of an outer body
+        (:meth:`_outer_do`): everything from that do-loop on to the
+        construct holding this line becomes one :attr:`Loop.back` loop,
+        which the line continues when it goes back to the do."""
+        body = self.stack[depth - 1].body if depth else self.main
+        start = next(i for i, stmt in enumerate(body) if stmt is first)
+        outer = Loop("do", first.line, body[start:], key=first.key, back=True)
+        del body[start:]
+        body.append(outer)
+        # open (with no label a line can carry) until the body around ends
+        self.stack.insert(depth, _Open("", outer, outer.body))
+        crossed = [
+            entry.node
+            for entry in self.stack[depth + 1 :]
+            if isinstance(entry.node, Loop)
+        ]
+        if crossed:
+            outer.flagged = True
+            for inner in crossed:
+                inner.exits.append(outer)
+        if first.key in self.tracked:
+            self.body.append(LabelCheck(line, first.key, "do-end"))
+        self.body.append(DoEnd(line, "continue", outer))
 
     def _close_loop(self, kind: str, line: nodes.Line, word: nodes.OWord) -> None:
         label = str(word.name)
@@ -1067,6 +1235,8 @@ class _Builder:
         there (the line is known at :meth:`finish`)."""
         node = entry.node
         key = self._key(entry.label)
+        if isinstance(node, Loop) and node.back:
+            return  # it ends where the body around it ends
         if isinstance(node, Loop):
             node.eof = self._eof_fail(key, node.line)
         elif isinstance(node, If):
@@ -1110,8 +1280,16 @@ class _Builder:
                 return True
             if line_key != key:
                 continue
+            if word.keyword in ("break", "continue") and seen is not None and seen[0] in ("while", "do"):
+                # the loop's own break or continue: rs274 skips on from it
+                continue
             message = self._land_message(seen, line, word, key)
             if message is None:
+                if key in self.tracked and word.keyword in ("elseif", "else", "endif"):
+                    # an if's own line, where the if ran: the skip ends or
+                    # goes on there (not followed); where another opener
+                    # recorded the label (or none did), it fails there
+                    fail.check = LabelCheck(line, key, word.keyword)
                 return False
             fail.line, fail.message = line, message
             if word.keyword in ("if", "elseif", "while", "repeat"):
@@ -1216,6 +1394,8 @@ class _Builder:
             if isinstance(entry.node, If):
                 # an arm taken, the next arm's line skips to the end
                 self._abandon(entry)
+            elif isinstance(entry.node, Loop) and entry.node.back:
+                pass  # no loop of the text (DoEnd)
             elif isinstance(entry.node, Loop) and last is not None:
                 # its break and continue lines skip to the end of the file
                 entry.node.eof = self._eof_fail(entry.node.key, entry.node.line)
@@ -1239,7 +1419,7 @@ class _Builder:
             sub.body = body[start:] + [Fail(last, eof_message(self.demarcated))]
         while self.stack:
             entry = self.stack.pop()
-            if isinstance(entry.node, Loop) and last is not None:
+            if isinstance(entry.node, Loop) and last is not None and not entry.node.back:
                 # its break and continue lines skip to the end of the file
                 entry.node.eof = Fail(last, eof_message(self.demarcated))
             elif isinstance(entry.node, If):

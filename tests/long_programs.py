@@ -80,6 +80,7 @@ class LongWriter:
         self.level = 1
         self.max_nest = 12
         self.room = 0  # no new nesting once the body has this many lines
+        self.value_only = False  # a return value: no local names (value)
 
     # -- choices --------------------------------------------------------
     def randint(self, a: int, b: int) -> int:
@@ -123,9 +124,21 @@ class LongWriter:
     def ref(self) -> str:
         pool = ["#<_g>", "#31", "#32", "#<_h>"]
         pool += [f"#{i}" for i in range(1, self.nargs + 1)]
-        pool += [f"#<{c}>" for c in self.counters]
-        pool += [f"#<{n}>" for n in self.locals]
+        if not self.value_only:
+            pool += [f"#<{c}>" for c in self.counters]
+            pool += [f"#<{n}>" for n in self.locals]
         return self.pick(pool)
+
+    def value(self) -> str:
+        """A return or endsub value: rs274 also reads it as it reads past
+        the definition, where a local name is not defined and the value
+        is whatever its memory held (interp_namedparams.cc: defining_sub),
+        so no local names."""
+        self.value_only = True
+        try:
+            return self.expr(1)
+        finally:
+            self.value_only = False
 
     def num(self) -> str:
         v = self.randint(-300, 300) / 10
@@ -206,7 +219,7 @@ class LongWriter:
         """break / continue of some enclosing while or do, or return."""
         loops = [lp for lp in self.loops if lp[1] != "repeat"]
         if self.sub and (not loops or self.chance(3)):
-            value = self.pick(["", f" [{self.expr(1)}]"])
+            value = self.pick(["", f" [{self.value()}]"])
             guard = self.chance(2)
             self._guarded(f"o{self.sub} return{value}", guard)
             return
@@ -322,7 +335,19 @@ class LongWriter:
         self.locals = ["a", "b"]
         self.depth -= 1
         self.body(0)
-        end = f"o{name} endsub" + self.pick(["", f" [{self.expr(1)}]"])
+        if self.chance(4):
+            # last, an if whose only arm ends with a do of its label, never
+            # closed: false, the skip lands on the do and the call returns
+            # with rs274's flag "an arm of an if has run" clear, which the
+            # elseif and else lines of an if around the call then follow
+            lab = self.label()
+            self.line(f"o{lab} if {self.condition()}", oword=True)
+            self.depth += 1
+            self.plain()
+            self.line(f"o{lab} do", oword=True)
+            self.plain()
+            self.depth -= 1
+        end = f"o{name} endsub" + self.pick(["", f" [{self.value()}]"])
         self.line(end, oword=True)
         label = name.lower() if name.startswith("<") else name
         self.subs.append(Sub(label, nargs, max(self.cost, 1), self.level))

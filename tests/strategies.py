@@ -1092,15 +1092,25 @@ def lang_loop(w: LanguageWriter) -> None:
         # skip of that arm lands on the do, which runs; a while or repeat
         # fails there as a duplicate
         label = w.pick(arm_of)
+    finished_dos = [name for name, done in w.closed if done == "do"]
+    if kind != "repeat" and finished_dos and w.chance(6):
+        # the label of a finished do-loop, maybe of a body around this one:
+        # a do line there does nothing and a while line ends that do-loop
+        # again, going back to its do line (rs274 keeps its place)
+        label = w.pick(finished_dos)
     w.next_counter += 1
     counter = f"k{w.next_counter}"
     count = w.draw(st.integers(0, 3))
-    if kind == "do":
+    if kind == "do" or label in finished_dos:
         # a global counter set once at the top and never reset: a do-loop
         # whose label was used before jumps back to the first one
         # (rs274), and must still end
         counter = "_" + counter
         w.globals.append(counter)
+        if kind == "while":
+            # counted before the line too: going back to the do, the while
+            # line runs again, and must not forever
+            w.lines.append("  " * w.depth + f"#<{counter}> = [#<{counter}> + 1]")
     else:
         w.lines.append("  " * w.depth + f"#<{counter}> = 0")
     if kind == "while":
