@@ -386,8 +386,6 @@ class ArcRows:
         try:
             while at < end:
                 if in_c is not None:
-                    if pending is not None and not pending:
-                        pending.start = state[0]
                     stop = in_c(cells, at, end, *fixed, *calls)
                     if stop != at:
                         at = stop
