@@ -12,12 +12,14 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-import tempfile
 from contextlib import contextmanager
-from typing import Callable, Iterator, Optional, TextIO
 
 from runtime.canon import Canon
 from runtime.errors import GCodeError, describe
+
+TYPE_CHECKING = False  # typing and tempfile cost milliseconds at every start
+if TYPE_CHECKING:
+    from typing import Callable, Iterator, Optional, TextIO
 
 #: Exit statuses every workflow command documents.
 EXIT_OK = 0
@@ -50,6 +52,8 @@ def program_path(program: str) -> Iterator[str]:
     if program != "-":
         yield program
         return
+    import tempfile
+
     data = sys.stdin.buffer.read()
     with tempfile.TemporaryDirectory() as folder:
         path = os.path.join(folder, "stdin.ngc")

@@ -7,14 +7,16 @@ or formatted. The model is described in that module and in ``--help``.
 from __future__ import annotations
 
 import argparse
-import json
 import re
 import sys
-from typing import Dict
 
 from ngc2py.simulate import EXIT_ERROR, EXIT_OK, add_rs274_options, run_program
 from runtime.stats import DEFAULT_ACCELERATION, DEFAULT_RAPID_RATE, Model, StatsCanon
 from runtime.toolpath import MM_PER_INCH
+
+TYPE_CHECKING = False  # typing costs milliseconds at every start
+if TYPE_CHECKING:
+    from typing import Dict
 
 EPILOG = """\
 cycle time model: every move starts and ends at rest, with a trapezoidal
@@ -102,6 +104,8 @@ def command(args: argparse.Namespace) -> int:
         return EXIT_ERROR
     report = canon.report()
     if args.json:
+        import json
+
         json.dump(report, sys.stdout, indent=2)
         sys.stdout.write("\n")
     else:

@@ -235,9 +235,125 @@ static PyObject *arc_sums(PyObject *self, PyObject *const *args, Py_ssize_t narg
     return Py_BuildValue("(ddnN)", length_sum, time_sum, untimed, outside);
 }
 
+/* straight_sums(start, columns, rate, acceleration, box, rest_low,
+ * rest_high, length, time): a run of straight moves from ``start`` (nine
+ * values) through the points of ``columns`` (nine lists of floats, X .. W,
+ * in millimetres), as runtime.stats.python_straight_sums adds them up: each
+ * move's length over X Y Z (runtime.toolpath.distance: the square root of
+ * the sum of the three squares, in that order) onto ``length``, its time
+ * (move_time, of its rotary travel when X Y Z stand still) onto ``time``,
+ * and every point into the extents (``box`` and ``rest_low``/``rest_high``,
+ * updated in place). Returns (length, time, untimed); or None, having
+ * changed nothing, when a length overflows (coordinates beyond 1e150: the
+ * Python side measures those moves another way). */
+static PyObject *straight_sums(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    if (nargs != 9) {
+        PyErr_SetString(PyExc_TypeError, "straight_sums takes 9 arguments");
+        return NULL;
+    }
+    PyObject *start = args[0], *columns = args[1];
+    PyObject *box_list = args[4], *rest_low = args[5], *rest_high = args[6];
+    if (!PyTuple_CheckExact(start) || PyTuple_GET_SIZE(start) != 9 ||
+        !PyList_CheckExact(columns) || PyList_GET_SIZE(columns) != 9) {
+        PyErr_SetString(PyExc_TypeError, "straight_sums: a start of nine, nine columns");
+        return NULL;
+    }
+    if (!PyList_CheckExact(box_list) || PyList_GET_SIZE(box_list) != 6 ||
+        !PyList_CheckExact(rest_low) || PyList_GET_SIZE(rest_low) != 6 ||
+        !PyList_CheckExact(rest_high) || PyList_GET_SIZE(rest_high) != 6) {
+        PyErr_SetString(PyExc_TypeError, "straight_sums: the box and extents are lists of six");
+        return NULL;
+    }
+    PyObject *column[9];
+    Py_ssize_t count = -1;
+    for (int i = 0; i < 9; i++) {
+        column[i] = PyList_GET_ITEM(columns, i);
+        if (!PyList_CheckExact(column[i]) ||
+            (count >= 0 && PyList_GET_SIZE(column[i]) != count)) {
+            PyErr_SetString(PyExc_TypeError, "straight_sums: columns are lists of one length");
+            return NULL;
+        }
+        count = PyList_GET_SIZE(column[i]);
+    }
+    double was[9];
+    for (int i = 0; i < 9; i++) {
+        was[i] = PyFloat_AsDouble(PyTuple_GET_ITEM(start, i));
+    }
+    double rate = PyFloat_AsDouble(args[2]), acceleration = PyFloat_AsDouble(args[3]);
+    double length_sum = PyFloat_AsDouble(args[7]), time_sum = PyFloat_AsDouble(args[8]);
+    double box[6], low[6], high[6];
+    for (int k = 0; k < 6; k++) {
+        box[k] = PyFloat_AsDouble(PyList_GET_ITEM(box_list, k));
+        low[k] = PyFloat_AsDouble(PyList_GET_ITEM(rest_low, k));
+        high[k] = PyFloat_AsDouble(PyList_GET_ITEM(rest_high, k));
+    }
+    if (PyErr_Occurred()) {
+        return NULL;
+    }
+    Py_ssize_t untimed = 0;
+    for (Py_ssize_t k = 0; k < count; k++) {
+        double at[9];
+        for (int i = 0; i < 9; i++) {
+            if (item_double(column[i], k, &at[i])) {
+                return NULL;
+            }
+        }
+        for (int i = 0; i < 3; i++) {
+            if (at[i] < box[2 * i]) {
+                box[2 * i] = at[i];
+            }
+            if (at[i] > box[2 * i + 1]) {
+                box[2 * i + 1] = at[i];
+            }
+        }
+        for (int i = 0; i < 6; i++) {
+            if (at[3 + i] < low[i]) {
+                low[i] = at[3 + i];
+            }
+            if (at[3 + i] > high[i]) {
+                high[i] = at[3 + i];
+            }
+        }
+        double dx = at[0] - was[0], dy = at[1] - was[1], dz = at[2] - was[2];
+        double length = sqrt(dx * dx + dy * dy + dz * dz);
+        if (isinf(length)) {
+            Py_RETURN_NONE; /* nothing stored yet */
+        }
+        length_sum += length;
+        if (length == 0.0) {
+            /* rotary axes alone: degrees at the same numeric rate */
+            for (int i = 3; i < 6; i++) {
+                double turn = fabs(at[i] - was[i]);
+                if (turn > length) {
+                    length = turn;
+                }
+            }
+        }
+        if (length != 0.0) {
+            if (rate <= 0.0) {
+                untimed++;
+            } else {
+                time_sum += move_time(length, rate, acceleration);
+            }
+        }
+        for (int i = 0; i < 9; i++) {
+            was[i] = at[i];
+        }
+    }
+    for (int k = 0; k < 6; k++) {
+        if (store(box_list, k, box[k]) || store(rest_low, k, low[k]) ||
+            store(rest_high, k, high[k])) {
+            return NULL;
+        }
+    }
+    return Py_BuildValue("(ddn)", length_sum, time_sum, untimed);
+}
+
 static PyMethodDef methods[] = {
     {"hypot", (PyCFunction) (void (*)(void)) c_hypot, METH_FASTCALL,
      "The C library's hypot(a, b)."},
+    {"straight_sums", (PyCFunction) (void (*)(void)) straight_sums, METH_FASTCALL,
+     "Lengths, times and extents of a run of straight moves."},
     {"arc_sums", (PyCFunction) (void (*)(void)) arc_sums, METH_FASTCALL,
      "A batch of arcs' lengths and times added in order, and those outside a box"},
     {NULL, NULL, 0, NULL},

@@ -30,11 +30,14 @@ prints them; the start position counts only if the program returns to it.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from collections import namedtuple
 from functools import reduce
 from itertools import chain, repeat
 from operator import add
-from typing import Dict, Optional
+
+TYPE_CHECKING = False  # typing and dataclasses cost milliseconds at every start
+if TYPE_CHECKING:
+    from typing import Dict, Optional
 
 from runtime.fast.hole_rows import HOLE_MOVES, HOLE_SWITCHES
 from runtime.toolpath import (
@@ -61,13 +64,18 @@ DEFAULT_ACCELERATION = 500.0
 _HOLE_CALLS = HOLE_MOVES | HOLE_SWITCHES
 
 
-@dataclass(frozen=True)
-class Model:
-    """Machine limits for the cycle time estimate, in millimetres."""
+class Model(
+    namedtuple(
+        "Model",
+        "rapid_rate acceleration tool_change_time",
+        defaults=(DEFAULT_RAPID_RATE, DEFAULT_ACCELERATION, 0.0),
+    )
+):
+    """Machine limits for the cycle time estimate, in millimetres: the rapid
+    rate (mm/min), the acceleration (mm/s^2; 0 or inf: instant) and the
+    seconds a tool change takes."""
 
-    rapid_rate: float = DEFAULT_RAPID_RATE  # mm/min
-    acceleration: float = DEFAULT_ACCELERATION  # mm/s^2 (0 or inf: instant)
-    tool_change_time: float = 0.0  # seconds
+    __slots__ = ()
 
 
 def move_time(length: float, rate_per_minute: float, acceleration: float) -> float:
@@ -150,10 +158,41 @@ def python_arc_sums(
     return length, time, untimed, outside
 
 
+def python_straight_sums(
+    start, columns, rate, acceleration, box, rest_low, rest_high, length, time
+):
+    """A run of straight moves from ``start`` through the points of
+    ``columns`` (nine lists, X .. W, in millimetres). Every point goes into
+    the extents (``box`` is Extents._xyz; ``rest_low``, ``rest_high``: changed
+    in place). Returns ``(length, time, untimed)``: the totals with each
+    move's length (:func:`distance`) and time (:func:`move_time`, of its
+    rotary travel when X, Y and Z stand still) added in order, and the count
+    of moves of no usable rate. runtime._arc_stats.straight_sums does the
+    same in C."""
+    for i, column in enumerate(columns[:3]):
+        box[2 * i] = min(box[2 * i], *column)
+        box[2 * i + 1] = max(box[2 * i + 1], *column)
+    rest_low[:] = [min(low, *column) for low, column in zip(rest_low, columns[3:])]
+    rest_high[:] = [max(high, *column) for high, column in zip(rest_high, columns[3:])]
+    untimed = 0
+    for point in zip(*columns):
+        step = distance(start, point)
+        length += step
+        if step == 0.0:  # rotary axes alone: degrees at the same rate
+            step = max(abs(point[i] - start[i]) for i in (3, 4, 5))
+        if step != 0.0:
+            if rate <= 0.0:
+                untimed += 1
+            else:
+                time += move_time(step, rate, acceleration)
+        start = point
+    return length, time, untimed
+
+
 try:  # the same in C (runtime/_arc_stats.c)
-    from runtime._arc_stats import arc_sums
+    from runtime._arc_stats import arc_sums, straight_sums
 except ImportError:  # not built
-    arc_sums = python_arc_sums
+    arc_sums, straight_sums = python_arc_sums, python_straight_sums
 
 
 class StatsCanon(ToolpathCanon):
@@ -230,8 +269,7 @@ class StatsCanon(ToolpathCanon):
         start = self.position
         self.position = end
         self.extents.add(end)
-        # (math.dist of the XYZ triples, to the bit, without making them)
-        length = math.hypot(end[0] - start[0], end[1] - start[1], end[2] - start[2])
+        length = distance(start, end)
         self.counts[kind] += 1
         self.lengths[kind] += length
         if length == 0.0:
@@ -246,8 +284,8 @@ class StatsCanon(ToolpathCanon):
 
     def straight_moves(self, feed, lines, x, y, z, a, b, c, u, v, w):
         """A run of straight moves, a column at a time: the same counts,
-        lengths, extents and times as one :meth:`line` a move (lengths by
-        ``math.dist``, times added in order), with the loops in C."""
+        lengths, extents and times as one :meth:`line` a move, with the loop
+        in C where it is built (:func:`straight_sums`)."""
         if type(self).line is not StatsCanon.line:  # a subclass watches moves
             return super().straight_moves(feed, lines, x, y, z, a, b, c, u, v, w)
         count = len(lines)
@@ -259,35 +297,33 @@ class StatsCanon(ToolpathCanon):
         if self.inches:
             for i in LINEAR:
                 columns[i] = [value * MM_PER_INCH for value in columns[i]]
-        x, y, z = columns[:3]
-        start = self.position
-        ends = list(zip(x, y, z))
-        starts = [(start[0], start[1], start[2])] + ends[:-1]
-        lengths = list(map(math.dist, starts, ends))
         kind = "feed" if feed else "rapid"
-        self.counts[kind] += count
-        self.lengths[kind] = reduce(add, lengths, self.lengths[kind])
-        self.extents.add_columns(columns)
-        if 0.0 in lengths:  # rotary axes alone: degrees at the same rate
-            previous = start
-            for k, point in enumerate(zip(*columns)):
-                if lengths[k] == 0.0:
-                    lengths[k] = max(abs(point[i] - previous[i]) for i in (3, 4, 5))
-                previous = point
-        self.position = tuple(column[-1] for column in columns)
         rate = self._feed_per_minute() if feed else self.model.rapid_rate
-        moving = [length for length in lengths if length != 0.0]
-        if rate <= 0.0:
-            self.untimed_moves += len(moving)
-            return
-        self.motion_time = reduce(
-            add, move_times(moving, rate, self.model.acceleration), self.motion_time
+        extents = self.extents
+        arguments = (
+            tuple(self.position),
+            columns,
+            rate,
+            self.model.acceleration,
+            extents._xyz,
+            extents._rest_low,
+            extents._rest_high,
+            self.lengths[kind],
+            self.motion_time,
         )
+        sums = straight_sums(*arguments)
+        if sums is None:  # a length overflowed in C
+            sums = python_straight_sums(*arguments)
+        self.lengths[kind], self.motion_time, untimed = sums
+        self.untimed_moves += untimed
+        self.counts[kind] += count
+        self.position = tuple(column[-1] for column in columns)
+        extents._rest = self.position[3:]
 
     def hole_moves(self, recording, lines, first, second, axes, start):
         """Holes drilled alike (runtime.canon.Canon.hole_moves), a column at a
         time: each recorded move's end points as columns, its lengths by one
-        ``map(math.dist, ...)``, then the same counts, lengths, extents,
+        ``map(distance, ...)``, then the same counts, lengths, extents,
         times and dwells as one call a move (sums added in program order)."""
         names = {name for name, _, _ in recording}
         if self._watched or self.inches or not names <= _HOLE_CALLS:
@@ -316,7 +352,7 @@ class StatsCanon(ToolpathCanon):
         starts = [[[self.position[i]] + column[:-1] for i, column in enumerate(last)]]
         starts += ends[:-1]
         lengths = [
-            list(map(math.dist, zip(*begin[:3]), zip(*finish[:3])))
+            list(map(distance, zip(*begin[:3]), zip(*finish[:3])))
             for begin, finish in zip(starts, ends)
         ]
         timed = lengths[:]

@@ -31,8 +31,11 @@ Standard library only, like the rest of the runtime.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import List, Optional, Sequence, Tuple
+from collections import namedtuple
+
+TYPE_CHECKING = False  # typing and dataclasses cost milliseconds at every start
+if TYPE_CHECKING:
+    from typing import List, Optional, Sequence, Tuple
 
 from runtime.canon import Canon
 from runtime.nurbs import preview_points
@@ -53,24 +56,17 @@ TAU = 2.0 * math.pi
 #: An arc whose end is this close (mm) to its start is a full circle.
 FULL_CIRCLE_CHORD = 1e-9
 
-Point = Tuple[float, ...]
+Point = "Tuple[float, ...]"
 
 
-@dataclass(frozen=True)
-class Arc:
+class Arc(namedtuple("Arc", "start end axes centre sweep r0 r1 theta0")):
     """An arc or helix, in millimetres: ``start`` and ``end`` are nine-axis
     points; the arc turns about ``centre`` (in the plane) through ``sweep``
     radians, counter-clockwise if positive, in the plane given by ``axes``
-    (first, second, normal axis indexes)."""
+    (first, second, normal axis indexes); from ``r0`` to ``r1`` about it
+    (a spiral when they differ), starting at angle ``theta0``."""
 
-    start: Point
-    end: Point
-    axes: Tuple[int, int, int]
-    centre: Tuple[float, float]
-    sweep: float
-    r0: float
-    r1: float
-    theta0: float
+    __slots__ = ()
 
     @property
     def length(self) -> float:
@@ -218,9 +214,16 @@ def arc_geometry(
 
 
 def distance(a: Sequence[float], b: Sequence[float]) -> float:
-    """Straight-line distance between two points over X, Y and Z (the same
-    rounding as a batch's ``math.dist`` of the XYZ triples)."""
-    return math.dist((a[0], a[1], a[2]), (b[0], b[1], b[2]))
+    """Straight-line distance between two points over X, Y and Z: the square
+    root of the sum of the three squares, added in that order, so that C
+    (runtime._arc_stats.straight_sums) and NumPy (ngc2py.moves) get the very
+    same double; ``math.hypot`` only where the squares overflow (beyond
+    1e150), which neither of those meets."""
+    dx, dy, dz = b[0] - a[0], b[1] - a[1], b[2] - a[2]
+    length = math.sqrt(dx * dx + dy * dy + dz * dz)
+    if length == math.inf:
+        return math.hypot(dx, dy, dz)
+    return length
 
 
 class ToolpathCanon(Canon):

@@ -524,3 +524,58 @@ def test_the_c_arc_sums_give_the_python_ones_bit_for_bit(
         )
         answers.append(repr((result, lists)))  # repr: -0.0 and nan compared too
     assert answers[0] == answers[1]
+
+
+@pytest.mark.skipif(
+    stats.straight_sums is stats.python_straight_sums,
+    reason="runtime._arc_stats not built here",
+)
+@settings(max_examples=300, deadline=None)
+@given(
+    st.data(),
+    st.sampled_from([300.0, 0.0, -5.0]),
+    st.sampled_from([500.0, 0.0, math.inf, 1e-3]),
+)
+def test_the_c_straight_sums_give_the_python_ones_bit_for_bit(
+    data, rate, acceleration
+):
+    """runtime._arc_stats.straight_sums against
+    runtime.stats.python_straight_sums: the same totals, count and extents,
+    to the bit; moves of rotary axes alone and standing still included, and
+    coordinates whose squares overflow (C hands those back: None)."""
+    count = data.draw(st.integers(1, 12))
+    coordinate = (
+        st.floats(-500, 500, allow_nan=False)
+        # values of every bit, as a CAM file's (hypothesis' floats are rounder)
+        | st.randoms(use_true_random=False).map(lambda rng: rng.uniform(-500, 500))
+        | st.sampled_from([0.0, -0.0, 1.0])
+    )
+    columns = [[data.draw(coordinate) for _ in range(count)] for _ in range(3)]
+    if data.draw(st.integers(0, 9)) == 0:  # now and then, one beyond 1e150
+        columns[data.draw(st.integers(0, 2))][-1] = data.draw(
+            st.sampled_from([1e200, -1e200])
+        )
+    columns += [
+        [data.draw(st.sampled_from([0.0, 10.0, -3.5])) for _ in range(count)]
+        for _ in range(6)
+    ]
+    start = tuple(data.draw(st.sampled_from([0.0, 2.0, -1.0])) for _ in range(9))
+    box = [
+        (
+            data.draw(st.sampled_from([math.inf, 100.0, 0.0]))
+            if k % 2 == 0
+            else data.draw(st.sampled_from([-math.inf, -100.0, 0.0]))
+        )
+        for k in range(6)
+    ]
+    answers = []
+    for function in (stats.straight_sums, stats.python_straight_sums):
+        lists = [list(box), [math.inf] * 6, [-math.inf] * 6]
+        arguments = (start, [list(c) for c in columns], rate, acceleration, *lists)
+        result = function(*arguments, 10.0, 3.0)
+        if result is None:  # overflowed: nothing may have changed
+            assert lists == [list(box), [math.inf] * 6, [-math.inf] * 6]
+            assert any(abs(v) > 1e150 for column in columns[:3] for v in column)
+            result = stats.python_straight_sums(*arguments, 10.0, 3.0)
+        answers.append(repr((result, lists)))  # repr: -0.0 compared too
+    assert answers[0] == answers[1]
