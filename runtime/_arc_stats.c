@@ -87,27 +87,37 @@ static int store(PyObject *list, Py_ssize_t k, double value) {
     return number == NULL ? -1 : PyList_SetItem(list, k, number);
 }
 
-/* arc_sums(s1, s2, sn, first_end, second_end, first_axis, second_axis,
- * rotation, axis_end, rest, box, rest_low, rest_high, f, s, n, length, time,
- * rate, acceleration): a batch of arcs from the start's plane coordinates
- * (s1, s2) and normal one (sn), given as columns of arc_feed's arguments in
- * millimetres (``rest``: the six columns of A B C U V W).
+/* arc_sums(s1, s2, sn, start_rest, first_end, second_end, first_axis,
+ * second_axis, rotation, axis_end, rest, box, rest_low, rest_high, f, s, n,
+ * length, feed_length, time, rate, acceleration): a batch of arcs from the
+ * start's plane coordinates (s1, s2) and normal one (sn), given as columns
+ * of arc_feed's arguments in millimetres (``rest``: the six columns of A B
+ * C U V W; ``start_rest``: the start's six). A row of rotation 0 is a
+ * straight feed to its end (Canon.contour_moves).
  *
  * Every end goes into the extents: ``box`` (Extents._xyz, [low x, high x,
  * low y, ...]; ``f``, ``s``, ``n`` are the plane's axis indexes in it) and
- * ``rest_low``/``rest_high`` are updated in place. Returns (length, time,
- * untimed, outside): the length and time totals with each arc added in
- * order, the count of arcs of no usable rate, and the (index, sweep, r0, r1,
- * theta0) of each arc whose square of its larger radius about its centre
- * is not inside the box as it stood (the caller adds their extreme points). */
+ * ``rest_low``/``rest_high`` are updated in place. Returns (length,
+ * feed_length, time, untimed, outside, straights): the arcs' and the
+ * straight feeds' length totals and the time total with each move added in
+ * order, the count of moves of no usable rate, the (index, sweep, r0, r1,
+ * theta0) of each arc whose square of its larger radius about its centre is
+ * not inside the box as it stood (the caller adds their extreme points), and
+ * the count of straight feeds. None, having changed nothing, when a
+ * straight feed's length overflows (the Python side measures it). */
 static PyObject *arc_sums(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
-    if (nargs != 20) {
-        PyErr_SetString(PyExc_TypeError, "arc_sums takes 20 arguments");
+    if (nargs != 22) {
+        PyErr_SetString(PyExc_TypeError, "arc_sums takes 22 arguments");
         return NULL;
     }
-    PyObject *columns[6] = {args[3], args[4], args[5], args[6], args[7], args[8]};
-    PyObject *rest = args[9], *box_list = args[10];
-    PyObject *rest_low = args[11], *rest_high = args[12];
+    PyObject *start_rest = args[3];
+    PyObject *columns[6] = {args[4], args[5], args[6], args[7], args[8], args[9]};
+    PyObject *rest = args[10], *box_list = args[11];
+    PyObject *rest_low = args[12], *rest_high = args[13];
+    if (!PyTuple_CheckExact(start_rest) || PyTuple_GET_SIZE(start_rest) != 6) {
+        PyErr_SetString(PyExc_TypeError, "arc_sums: the start's A B C U V W, a tuple");
+        return NULL;
+    }
     if (!PyList_CheckExact(box_list) || PyList_GET_SIZE(box_list) != 6 ||
         !PyList_CheckExact(rest_low) || PyList_GET_SIZE(rest_low) != 6 ||
         !PyList_CheckExact(rest_high) || PyList_GET_SIZE(rest_high) != 6 ||
@@ -125,10 +135,15 @@ static PyObject *arc_sums(PyObject *self, PyObject *const *args, Py_ssize_t narg
     }
     double s1 = PyFloat_AsDouble(args[0]), s2 = PyFloat_AsDouble(args[1]);
     double sn = PyFloat_AsDouble(args[2]);
-    long f = PyLong_AsLong(args[13]), s = PyLong_AsLong(args[14]);
-    long n = PyLong_AsLong(args[15]);
-    double length_sum = PyFloat_AsDouble(args[16]), time_sum = PyFloat_AsDouble(args[17]);
-    double rate = PyFloat_AsDouble(args[18]), acceleration = PyFloat_AsDouble(args[19]);
+    long f = PyLong_AsLong(args[14]), s = PyLong_AsLong(args[15]);
+    long n = PyLong_AsLong(args[16]);
+    double length_sum = PyFloat_AsDouble(args[17]), feed_sum = PyFloat_AsDouble(args[18]);
+    double time_sum = PyFloat_AsDouble(args[19]);
+    double rate = PyFloat_AsDouble(args[20]), acceleration = PyFloat_AsDouble(args[21]);
+    double turned[3]; /* A B C where the move begins */
+    for (int k = 0; k < 3; k++) {
+        turned[k] = PyFloat_AsDouble(PyTuple_GET_ITEM(start_rest, k));
+    }
     double box[6], low[6], high[6];
     for (int k = 0; k < 6; k++) {
         box[k] = PyFloat_AsDouble(PyList_GET_ITEM(box_list, k));
@@ -151,7 +166,7 @@ static PyObject *arc_sums(PyObject *self, PyObject *const *args, Py_ssize_t narg
     if (outside == NULL) {
         return NULL;
     }
-    Py_ssize_t untimed = 0;
+    Py_ssize_t untimed = 0, straights = 0;
     for (Py_ssize_t k = 0; k < count; k++) {
         double e1, e2, c1, c2, en;
         if (item_double(columns[0], k, &e1) || item_double(columns[1], k, &e2) ||
@@ -164,6 +179,62 @@ static PyObject *arc_sums(PyObject *self, PyObject *const *args, Py_ssize_t narg
         if (rotation == -1 && PyErr_Occurred()) {
             Py_DECREF(outside);
             return NULL;
+        }
+        double now[3]; /* A B C at the end */
+        for (int i = 0; i < 3; i++) {
+            if (item_double(PyList_GET_ITEM(rest, i), k, &now[i])) {
+                Py_DECREF(outside);
+                return NULL;
+            }
+        }
+        if (rotation == 0) {
+            /* a straight feed: runtime.toolpath.distance over X Y Z, then
+             * StatsCanon._straight's time */
+            double at[3], d[3];
+            at[f] = e1;
+            at[s] = e2;
+            at[n] = en;
+            d[f] = e1 - s1;
+            d[s] = e2 - s2;
+            d[n] = en - sn;
+            double length = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            if (isinf(length)) {
+                Py_DECREF(outside);
+                Py_RETURN_NONE; /* nothing stored yet */
+            }
+            for (int i = 0; i < 3; i++) {
+                if (at[i] < box[2 * i]) {
+                    box[2 * i] = at[i];
+                }
+                if (at[i] > box[2 * i + 1]) {
+                    box[2 * i + 1] = at[i];
+                }
+            }
+            feed_sum += length;
+            straights++;
+            if (length == 0.0) {
+                /* rotary axes alone: degrees at the same numeric rate */
+                for (int i = 0; i < 3; i++) {
+                    double turn = fabs(now[i] - turned[i]);
+                    if (turn > length) {
+                        length = turn;
+                    }
+                }
+            }
+            if (length != 0.0) {
+                if (rate <= 0.0) {
+                    untimed++;
+                } else {
+                    time_sum += move_time(length, rate, acceleration);
+                }
+            }
+            s1 = e1;
+            s2 = e2;
+            sn = en;
+            for (int i = 0; i < 3; i++) {
+                turned[i] = now[i];
+            }
+            continue;
         }
         /* arc_geometry */
         double theta0 = atan2(s2 - c2, s1 - c1);
@@ -224,6 +295,9 @@ static PyObject *arc_sums(PyObject *self, PyObject *const *args, Py_ssize_t narg
         s1 = e1;
         s2 = e2;
         sn = en;
+        for (int i = 0; i < 3; i++) {
+            turned[i] = now[i];
+        }
     }
     for (int k = 0; k < 6; k++) {
         if (store(box_list, k, box[k]) || store(rest_low, k, low[k]) ||
@@ -232,7 +306,8 @@ static PyObject *arc_sums(PyObject *self, PyObject *const *args, Py_ssize_t narg
             return NULL;
         }
     }
-    return Py_BuildValue("(ddnN)", length_sum, time_sum, untimed, outside);
+    return Py_BuildValue("(dddnNn)", length_sum, feed_sum, time_sum, untimed, outside,
+                         straights);
 }
 
 /* straight_sums(start, columns, rate, acceleration, box, rest_low,

@@ -119,6 +119,41 @@ class Canon:
         for _ in starmap(self.arc_feed, zip(*columns, axis_end, a, b, c, u, v, w)):
             pass
 
+    def contour_moves(
+        self,
+        axes,
+        lines,
+        first_end,
+        second_end,
+        first_axis,
+        second_axis,
+        rotation,
+        axis_end,
+        a,
+        b,
+        c,
+        u,
+        v,
+        w,
+    ):
+        """A contour: arcs and the plain straight feeds between them, in the
+        columns of :meth:`arc_moves`, a straight feed being a row of
+        ``rotation`` 0 (its end point in the ends' columns; its centre
+        columns mean nothing). ``axes`` are the plane's (first, second,
+        normal) axis indexes among the nine. Only a canon that overrides
+        this gets contours, in place of its ``arc_moves`` batches (fewer and
+        longer: the lines between a contour's arcs no longer cut it); by
+        default, one ``arc_feed`` or ``straight_feed`` a row."""
+        f, s, n = axes
+        columns = (first_axis, second_axis, rotation, axis_end, a, b, c, u, v, w)
+        for k, values in enumerate(zip(*columns)):
+            if values[2]:
+                self.arc_feed(first_end[k], second_end[k], *values)
+            else:
+                point = [0.0, 0.0, 0.0, *values[4:]]
+                point[f], point[s], point[n] = first_end[k], second_end[k], values[3]
+                self.straight_feed(*point)
+
     def hole_moves(self, recording, lines, first, second, axes, start):
         """Holes of a canned cycle drilled alike (runtime.fast.hole_rows):
         ``recording`` is one hole's calls, ``(name, arguments, where)``,
@@ -231,7 +266,7 @@ class NullCanon(Canon):
 
 
 #: The batch methods: not calls of their own but runs of the calls above.
-BATCHES = ("straight_moves", "arc_moves", "hole_moves")
+BATCHES = ("straight_moves", "arc_moves", "contour_moves", "hole_moves")
 
 
 def _call_names() -> Tuple[str, ...]:

@@ -107,55 +107,69 @@ def move_times(lengths, rate_per_minute: float, acceleration: float):
 
 
 def python_arc_sums(
-    s1, s2, sn, first_end, second_end, first_axis, second_axis, rotation,
-    axis_end, rest, box, rest_low, rest_high, f, s, n, length, time, rate,
-    acceleration,
+    s1, s2, sn, start_rest, first_end, second_end, first_axis, second_axis,
+    rotation, axis_end, rest, box, rest_low, rest_high, f, s, n, length,
+    feed_length, time, rate, acceleration,
 ):  # fmt: skip
     """A batch of arcs from (s1, s2, sn), the start's plane and normal
     coordinates, as columns of arc_feed's arguments (``rest``: the six of
-    A B C U V W). Every end goes into the extents (``box`` is Extents._xyz,
-    ``f s n`` the plane's axes in it; ``rest_low``, ``rest_high``: changed in
-    place). Returns ``(length, time, untimed, outside)``: the totals with each
-    arc's length (:func:`helix_length`) and time (:meth:`StatsCanon._time`)
-    added in order, the count of arcs of no usable rate, and the ``(index,
-    sweep, r0, r1, theta0)`` of each arc whose square of its larger radius
-    about its centre is not inside the box. runtime._arc_stats.arc_sums does
-    the same in C."""
+    A B C U V W; ``start_rest``: the start's); a row of rotation 0 is a
+    straight feed (Canon.contour_moves). Every end goes into the extents
+    (``box`` is Extents._xyz, ``f s n`` the plane's axes in it; ``rest_low``,
+    ``rest_high``: changed in place). Returns ``(length, feed_length, time,
+    untimed, outside, straights)``: the arcs' and the straight feeds' length
+    totals and the time total with each move's length (:func:`helix_length`,
+    :func:`distance`) and time (:meth:`StatsCanon._time`) added in order, the
+    count of moves of no usable rate, the ``(index, sweep, r0, r1, theta0)``
+    of each arc whose square of its larger radius about its centre is not
+    inside the box, and the count of straight feeds.
+    runtime._arc_stats.arc_sums does the same in C."""
     rest_low[:] = [min(low, *column) for low, column in zip(rest_low, rest)]
     rest_high[:] = [max(high, *column) for high, column in zip(rest_high, rest)]
-    untimed = 0
+    untimed = straights = 0
     outside = []
     start, end = [0.0, 0.0], [0.0, 0.0]
     plane = (0, 1, 2)
     at = [0.0, 0.0, 0.0]
+    was = [0.0, 0.0, 0.0]
+    turned = start_rest[:3]
     ends = zip(first_end, second_end, first_axis, second_axis, rotation, axis_end)
     for k, (e1, e2, c1, c2, turns, en) in enumerate(ends):
-        start[0], start[1], end[0], end[1] = s1, s2, e1, e2
-        sweep, r0, r1, theta0 = arc_geometry(start, end, plane, (c1, c2), turns)
-        # the end into the box, then whether the arc is inside it: the box
-        # only grows and holds no point off the path, so an arc inside it is
-        # inside the final one
         at[f], at[s], at[n] = e1, e2, en
         for i in range(3):
             box[2 * i] = min(box[2 * i], at[i])
             box[2 * i + 1] = max(box[2 * i + 1], at[i])
-        radius = r0 if r0 > r1 else r1
-        if not (
-            box[2 * f] <= c1 - radius
-            and c1 + radius <= box[2 * f + 1]
-            and box[2 * s] <= c2 - radius
-            and c2 + radius <= box[2 * s + 1]
-        ):
-            outside.append((k, sweep, r0, r1, theta0))
-        step = helix_length(sweep, r0, r1, en - sn)
-        length += step
+        now = rest[0][k], rest[1][k], rest[2][k]
+        if not turns:  # a straight feed
+            was[f], was[s], was[n] = s1, s2, sn
+            step = distance(was, at)
+            feed_length += step
+            straights += 1
+            if step == 0.0:  # rotary axes alone: degrees at the same rate
+                step = max(abs(now[i] - turned[i]) for i in range(3))
+        else:
+            start[0], start[1], end[0], end[1] = s1, s2, e1, e2
+            sweep, r0, r1, theta0 = arc_geometry(start, end, plane, (c1, c2), turns)
+            # whether the arc is inside the box with its end: the box only
+            # grows and holds no point off the path, so an arc inside it is
+            # inside the final one
+            radius = r0 if r0 > r1 else r1
+            if not (
+                box[2 * f] <= c1 - radius
+                and c1 + radius <= box[2 * f + 1]
+                and box[2 * s] <= c2 - radius
+                and c2 + radius <= box[2 * s + 1]
+            ):
+                outside.append((k, sweep, r0, r1, theta0))
+            step = helix_length(sweep, r0, r1, en - sn)
+            length += step
         if step != 0.0:
             if rate <= 0.0:
                 untimed += 1
             else:
                 time += move_time(step, rate, acceleration)
-        s1, s2, sn = e1, e2, en
-    return length, time, untimed, outside
+        s1, s2, sn, turned = e1, e2, en, now
+    return length, feed_length, time, untimed, outside, straights
 
 
 def python_straight_sums(
@@ -405,37 +419,54 @@ class StatsCanon(ToolpathCanon):
             self.dwell_time = reduce(add, dwells * count, self.dwell_time)
         self.position = tuple(column[-1] for column in ends[-1])
 
-    def arc_moves(self, lines, first_end, second_end, first_axis, second_axis, *rest):
-        """A batch of arcs (runtime.canon.Canon.arc_moves): the same counts,
-        lengths, extents and times as one :meth:`arc` an arc. Every end goes
-        into the extents at once; an arc adds more (its extreme points) only
-        when the square of its radius about its centre is not inside them
-        (the box only grows, so that is the same box as arc by arc)."""
+    def arc_moves(self, lines, *columns):
+        """A batch of arcs (runtime.canon.Canon.arc_moves): as a contour of
+        arcs alone (:meth:`contour_moves`)."""
         axes = PLANE_AXES.get(self.plane)
-        # Row by row: a subclass watching arcs, a UVW plane, inch conversions.
-        if type(self).arc is not StatsCanon.arc or axes is None or self.inches:
-            return super().arc_moves(
-                lines, first_end, second_end, first_axis, second_axis, *rest
-            )
-        if self.first_units is None:
-            self.first_units = False
-        f, s, n = axes
-        rotation, axis_end, *other = rest
-        other = list(other)
+        if axes is None:  # a UVW plane: row by row
+            return super().arc_moves(lines, *columns)
+        self.contour_moves(axes, lines, *columns)
+
+    def contour_moves(self, axes, lines, first_end, second_end, first_axis, *rest):
+        """Arcs and the straight feeds between them (runtime.canon.Canon.
+        contour_moves): the same counts, lengths, extents and times as one
+        :meth:`arc` an arc and one :meth:`straight_feed` a line, the loop in
+        C where it is built (:func:`arc_sums`). Every end goes into the
+        extents at once; an arc adds more (its extreme points) only when the
+        square of its radius about its centre is not inside them (the box
+        only grows, so that is the same box as move by move)."""
+        columns = (first_end, second_end, first_axis) + rest
+        watched = type(self).line is not StatsCanon.line
+        # Row by row: a subclass watching moves, inch conversions.
+        if watched or type(self).arc is not StatsCanon.arc or self.inches:
+            return super().contour_moves(axes, lines, *columns)
         count = len(lines)
         if not count:
             return
+        if self.first_units is None:
+            self.first_units = False
+        f, s, n = axes
+        second_axis, rotation, axis_end, *other = rest
+        other = list(other)
         start = self.position
         extents = self.extents
-        extents.add(start)
-        self.counts["arc"] += count
-        self.lengths["arc"], self.motion_time, untimed, outside = arc_sums(
-            start[f], start[s], start[n],
+        if rotation[0]:  # (an arc's start is one of its points)
+            extents.add(start)
+        rate = self._feed_per_minute()
+        arguments = [
+            start[f], start[s], start[n], tuple(start[3:]),
             first_end, second_end, first_axis, second_axis, rotation, axis_end,
             other, extents._xyz, extents._rest_low, extents._rest_high, f, s, n,
-            self.lengths["arc"], self.motion_time,
-            self._feed_per_minute(), self.model.acceleration,
-        )  # fmt: skip
+            self.lengths["arc"], self.lengths["feed"], self.motion_time,
+            rate, self.model.acceleration,
+        ]  # fmt: skip
+        sums = arc_sums(*arguments)
+        if sums is None:  # a straight feed's length overflowed in C
+            sums = python_arc_sums(*arguments)
+        arc_length, feed_length, self.motion_time, untimed, outside, straights = sums
+        self.lengths["arc"], self.lengths["feed"] = arc_length, feed_length
+        self.counts["arc"] += count - straights
+        self.counts["feed"] += straights
         self.untimed_moves += untimed
         end = [0.0] * 9
         end[f], end[s], end[n] = first_end[-1], second_end[-1], axis_end[-1]

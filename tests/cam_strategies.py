@@ -282,16 +282,16 @@ def arc_chain(draw, plane: str, numbered: bool, line: int, places: int = 4) -> l
             start = end if not (radius_format and error == 1) else start
         # a contour's line between arcs, now and then (G0 or G1, one axis
         # or both): the next arc names its motion again
-        after_line = not uniform and draw(st.integers(0, 2)) == 0
+        # (in a uniform chain, a CAM post's G1 of both axes: one more shape)
+        after_line = draw(st.integers(0, 3 if uniform else 2)) == 0
         if after_line:
             step = draw(st.sampled_from([(1.5, 0.0), (0.0, -2.25), (3.0, 4.0)]))
+            if uniform:
+                step = (step[0] + 0.5, step[1] - 0.5)
             start = [float(_text(v + d, places)) for v, d in zip(start, step)]
             moved = [a + _text(v, places) for a, v, d in zip(axes, start, step) if d]
-            lines.append(
-                " ".join(
-                    number(k + 1) + [draw(st.sampled_from(["G1", "G0", "G01"]))] + moved
-                )
-            )
+            motion = "G1" if uniform else draw(st.sampled_from(["G1", "G0", "G01"]))
+            lines.append(" ".join(number(k + 1) + [motion] + moved))
     if absolute:
         lines.append("G91.1")
     return lines

@@ -272,6 +272,30 @@ class _LineBatches(_Batches):
         super()._record(name, args)
 
 
+class _Contours(_Batches):
+    """Takes contours (contour_moves: arcs and the straight feeds between
+    them): records each arc as _Batches does and each straight feed as the
+    call it stands for, so that a contour records what arcs and calls do."""
+
+    def contour_moves(self, axes, lines, *columns):
+        start = list(self.machine.current)
+        if self.end is not None:  # the machine is at the batch's start
+            assert tuple(start) == self.end, (lines[0], start, self.end)
+        assert axes == arc_rows.PLANE_AXES[self.machine.plane]
+        p1, p2, p3 = axes
+        for line, *args in zip(lines, *columns):
+            if args[4] == 0:
+                point = [0.0] * 9
+                point[p1], point[p2], point[p3] = args[0], args[1], args[5]
+                point[3:] = args[6:]
+                RecordingCanon._record(self, "straight_feed", tuple(point))
+            else:
+                self._record("arc", (line, tuple(start), *args))
+            start[p1], start[p2], start[p3] = args[0], args[1], args[5]
+            start[3:] = args[6:]
+        self.end = tuple(start)
+
+
 def _batched(code: str, kind=_Batches):
     from runtime import Machine, start
 
@@ -313,3 +337,18 @@ def test_a_canon_reading_lines_finds_them_as_the_python_loop_sets_them(text):
     with pytest.MonkeyPatch.context() as patch:
         _python_only(patch)
         assert _batched(code, _LineBatches) == fast
+
+
+@needs_c
+@settings(PROFILE, max_examples=PROFILE.max_examples * 2)
+@given(cam_strategies.arc_programs())
+def test_a_contour_holds_the_lines_between_arcs_the_python_loop_calls(text):
+    """For a canon taking contours, the C loop holds plain G1 rows between
+    arcs with them (rotation 0): the same moves, in the same order with the
+    same calls between them, as the Python loop's arcs and straight_feed
+    calls."""
+    code = compile_text(text, "arcs.ngc")
+    fast = _batched(code, _Contours)
+    with pytest.MonkeyPatch.context() as patch:
+        _python_only(patch)
+        assert _batched(code, _Contours) == fast

@@ -402,6 +402,8 @@ class _OneCallAMove(StatsCanon):
 
     straight_moves = Canon.straight_moves
     arc_moves = Canon.arc_moves
+    contour_moves = Canon.contour_moves
+    hole_moves = Canon.hole_moves
 
     def __init__(self) -> None:
         super().__init__()
@@ -460,14 +462,21 @@ def test_long_runs_of_moves_reach_stats_in_columns():
     assert calls and sum(calls) >= 50
 
 
+#: A coordinate for the C-against-Python tests: hypothesis' floats (round
+#: ones, edges) and values of every bit, as a CAM file's.
+_COORDINATE = (
+    st.floats(-500, 500, allow_nan=False)
+    | st.randoms(use_true_random=False).map(lambda rng: rng.uniform(-500, 500))
+    | st.sampled_from([0.0, -0.0, 1.0])
+)
+
+
 def _arc_batch(draw_values):
-    """A batch of arcs for arc_sums, from a list of drawn numbers."""
-    coordinate = st.floats(-500, 500, allow_nan=False) | st.sampled_from(
-        [0.0, -0.0, 1.0]
-    )
+    """A contour for arc_sums (arcs, and straight feeds: rotation 0), from
+    a list of drawn numbers."""
     count = draw_values(st.integers(1, 12))
-    columns = [[draw_values(coordinate) for _ in range(count)] for _ in range(4)]
-    rotation = [draw_values(st.sampled_from([-3, -1, 1, 2])) for _ in range(count)]
+    columns = [[draw_values(_COORDINATE) for _ in range(count)] for _ in range(4)]
+    rotation = [draw_values(st.sampled_from([-3, -1, 0, 1, 2])) for _ in range(count)]
     axis_end = [draw_values(st.sampled_from([0.0, 2.5, -1.0])) for _ in range(count)]
     rest = [
         [draw_values(st.sampled_from([0.0, 10.0, -3.5])) for _ in range(count)]
@@ -490,8 +499,13 @@ def test_the_c_arc_sums_give_the_python_ones_bit_for_bit(
     data, axes, rate, acceleration
 ):
     """runtime._arc_stats.arc_sums against runtime.stats.python_arc_sums:
-    the same totals, count, arcs outside the box and extents, to the bit."""
+    the same totals, counts, arcs outside the box and extents, to the bit;
+    straight feeds of rotary axes alone and of coordinates whose squares
+    overflow (C hands those back: None, nothing changed) included."""
     columns, rotation, axis_end, rest = _arc_batch(data.draw)
+    if data.draw(st.integers(0, 9)) == 0:  # now and then, one beyond 1e150
+        rotation[-1] = 0
+        columns[0][-1] = data.draw(st.sampled_from([1e200, -1e200]))
     f, s, n = axes
     box = [
         (
@@ -501,14 +515,16 @@ def test_the_c_arc_sums_give_the_python_ones_bit_for_bit(
         )
         for k in range(6)
     ]
+    start_rest = tuple(data.draw(st.sampled_from([0.0, 10.0])) for _ in range(6))
     low, high = [math.inf] * 6, [-math.inf] * 6
     answers = []
     for function in (stats.arc_sums, stats.python_arc_sums):
         lists = [list(box), list(low), list(high)]
-        result = function(
+        arguments = (
             1.5,
             -2.0,
             0.25,
+            start_rest,
             *columns,
             rotation,
             axis_end,
@@ -518,10 +534,16 @@ def test_the_c_arc_sums_give_the_python_ones_bit_for_bit(
             s,
             n,
             10.0,
+            7.0,
             3.0,
             rate,
             acceleration,
         )
+        result = function(*arguments)
+        if result is None:  # overflowed: nothing may have changed
+            assert lists == [list(box), list(low), list(high)]
+            assert 0 in rotation
+            result = stats.python_arc_sums(*arguments)
         answers.append(repr((result, lists)))  # repr: -0.0 and nan compared too
     assert answers[0] == answers[1]
 
@@ -544,13 +566,7 @@ def test_the_c_straight_sums_give_the_python_ones_bit_for_bit(
     to the bit; moves of rotary axes alone and standing still included, and
     coordinates whose squares overflow (C hands those back: None)."""
     count = data.draw(st.integers(1, 12))
-    coordinate = (
-        st.floats(-500, 500, allow_nan=False)
-        # values of every bit, as a CAM file's (hypothesis' floats are rounder)
-        | st.randoms(use_true_random=False).map(lambda rng: rng.uniform(-500, 500))
-        | st.sampled_from([0.0, -0.0, 1.0])
-    )
-    columns = [[data.draw(coordinate) for _ in range(count)] for _ in range(3)]
+    columns = [[data.draw(_COORDINATE) for _ in range(count)] for _ in range(3)]
     if data.draw(st.integers(0, 9)) == 0:  # now and then, one beyond 1e150
         columns[data.draw(st.integers(0, 2))][-1] = data.draw(
             st.sampled_from([1e200, -1e200])

@@ -459,7 +459,7 @@ static int hand_over(PyObject *pending, held_t *held, PyObject *line_machine,
 
 /* rows(cells, at, end, known, straight, geometry, state, arc_feed,
  * straight_feed, straight_traverse, set_block_number, set_feed_rate[,
- * pending, explicit_only, machine, straight_moves]): ArcRows.run's loop for the rows of a
+ * pending, explicit_only, machine, straight_moves, contours]): ArcRows.run's loop for the rows of a
  * contour (arcs and the plain lines between them), for a canon that takes
  * each move as a call (the trace): their N and F words too, as the Python
  * loop makes them. ``known`` maps a row's shape cell to its arc recipe
@@ -476,7 +476,9 @@ static int hand_over(PyObject *pending, held_t *held, PyObject *line_machine,
  * arcs without N or F in an explicit G2/G3 are taken and, given
  * ``straight_moves`` (else None), the plain straight rows without N or F
  * between them, each as a batch of one (as runtime.fast.rows would hand it
- * over: the canon sees its line as a batch's).
+ * over: the canon sees its line as a batch's). With ``contours`` (a canon
+ * taking Canon.contour_moves), a plain G1 row without N or F is held too,
+ * as a row of rotation 0, instead of cutting the batch.
  *
  * ``state`` is ArcRows.run's list [point, motion, row, N, feed rate, F
  * given, ...]: on return, even with an exception from a canon call, it holds
@@ -484,15 +486,16 @@ static int hand_over(PyObject *pending, held_t *held, PyObject *line_machine,
  * (the Python loop's ``row``; unchanged when there was none). Returns where
  * it stopped. */
 static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
-    if (nargs != 12 && nargs != 16) {
-        PyErr_SetString(PyExc_TypeError, "rows takes 12 or 16 arguments");
+    if (nargs != 12 && nargs != 17) {
+        PyErr_SetString(PyExc_TypeError, "rows takes 12 or 17 arguments");
         return NULL;
     }
-    PyObject *pending = nargs == 16 ? args[12] : NULL;
-    int explicit_only = nargs == 16 ? PyObject_IsTrue(args[13]) : 0;
-    PyObject *line_machine = nargs == 16 && args[14] != Py_None ? args[14] : NULL;
-    PyObject *straight_moves = nargs == 16 && args[15] != Py_None ? args[15] : NULL;
-    if (explicit_only < 0) {
+    PyObject *pending = nargs == 17 ? args[12] : NULL;
+    int explicit_only = nargs == 17 ? PyObject_IsTrue(args[13]) : 0;
+    PyObject *line_machine = nargs == 17 && args[14] != Py_None ? args[14] : NULL;
+    PyObject *straight_moves = nargs == 17 && args[15] != Py_None ? args[15] : NULL;
+    int contours = nargs == 17 ? PyObject_IsTrue(args[16]) : 0;
+    if (explicit_only < 0 || contours < 0) {
         return NULL;
     }
     held_t columns, *held = NULL;
@@ -634,7 +637,10 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
         /* the calls: N, F, then the move (as the Python loop makes them) */
         int other = n == block_n ? 0 : PyObject_RichCompareBool(n, block_n, Py_NE);
         PyObject *result = NULL;
-        if (held != NULL && (line != NULL || other != 0 || f_at >= 0)) {
+        /* a contour's straight feed, held with its arcs */
+        int held_line = contours && held != NULL && line != NULL && code == G_1 &&
+                        other == 0 && f_at < 0;
+        if (held != NULL && ((line != NULL && !held_line) || other != 0 || f_at >= 0)) {
             /* calls of this row's own: the held arcs go to the canon first */
             if (other < 0 || hand_over(pending, held, line_machine, PyList_GET_ITEM(cells, at))) {
                 Py_DECREF(point);
@@ -668,7 +674,30 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
             }
             Py_DECREF(result);
         }
-        if (line != NULL && explicit_only) {
+        if (held_line) {
+            PyObject *zero = PyFloat_FromDouble(0.0);
+            PyObject *straight_row = PyLong_FromLong(0);
+            result = NULL;
+            if (zero && straight_row) {
+                call[0] = PyList_GET_ITEM(point, g.p1);
+                call[1] = PyList_GET_ITEM(point, g.p2);
+                call[2] = zero;
+                call[3] = zero;
+                call[4] = straight_row;
+                call[5] = PyList_GET_ITEM(point, g.p3);
+                for (int k = 3; k < 9; k++) {
+                    call[3 + k] = PyList_GET_ITEM(point, k);
+                }
+                if (PyList_GET_SIZE(held->column[0]) == 0 &&
+                    PyObject_SetAttrString(pending, "start", cur) < 0) {
+                    result = NULL; /* (where the batch begins) */
+                } else {
+                    result = hold(held, PyList_GET_ITEM(cells, at), call);
+                }
+            }
+            Py_XDECREF(zero);
+            Py_XDECREF(straight_row);
+        } else if (line != NULL && explicit_only) {
             result = one_row_batch(straight_moves, code == G_1, PyList_GET_ITEM(cells, at), point);
         } else if (line != NULL) {
             result = PyObject_Vectorcall(code == G_1 ? straight_feed : straight_traverse,

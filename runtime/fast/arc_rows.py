@@ -210,9 +210,11 @@ def _publish(machine, line: int, cur, motion_mode, block_n) -> None:
 class _Pending:
     """Arc rows held for one ``arc_moves`` call (a canon that defines it):
     ``columns``, the G-code lines then arc_feed's arguments, as the call
-    takes them, of arcs from ``start``."""
+    takes them, of arcs from ``start``. For a canon that takes contours
+    (``Canon.contour_moves``; ``contours`` true), the C loop holds the plain
+    straight feeds between the arcs too, as rows of rotation 0."""
 
-    __slots__ = ("machine", "arc_moves", "columns", "start")
+    __slots__ = ("machine", "arc_moves", "columns", "start", "contours")
 
     #: the line, then arc_feed's twelve arguments
     WIDTH = 13
@@ -220,10 +222,16 @@ class _Pending:
     @classmethod
     def for_canon(cls, machine) -> "Optional[_Pending]":
         canon = machine.canon
-        if type(canon) is TraceCanon or type(canon).arc_moves is Canon.arc_moves:
+        kind = type(canon)
+        contours = kind.contour_moves is not Canon.contour_moves
+        if kind is TraceCanon or (kind.arc_moves is Canon.arc_moves and not contours):
             return None
         pending = cls()
         pending.machine, pending.arc_moves = machine, canon.arc_moves
+        # (a canon reading lines sees each straight row's: not held)
+        pending.contours = contours and not canon.reads_lines
+        if pending.contours:
+            pending.arc_moves = canon.contour_moves
         pending.columns = [[] for _ in range(cls.WIDTH)]
         pending.start = machine.current
         return pending
@@ -249,7 +257,10 @@ class _Pending:
         machine.params.position = self.start
         # new lists: the canon may keep the ones it is given
         columns, self.columns = self.columns, [[] for _ in range(self.WIDTH)]
-        self.arc_moves(*columns)
+        if self.contours:
+            self.arc_moves(PLANE_AXES[machine.plane], *columns)
+        else:
+            self.arc_moves(*columns)
 
 
 class ArcRows:
@@ -375,6 +386,7 @@ class ArcRows:
             # batch of one (runtime.fast.rows.BatchesOnly.plain_rows)
             takes_rows = type(canon).straight_moves is not Canon.straight_moves
             extra += (canon.straight_moves if context[2] and takes_rows else None,)
+            extra += (pending.contours,)
         elif type(canon) is TraceCanon and not context[2]:  # (not arcs only)
             extra = ()
         else:
