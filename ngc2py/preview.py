@@ -57,7 +57,9 @@ from __future__ import annotations
 import operator
 import re
 import time
+from functools import partial
 from itertools import chain, repeat, starmap
+from operator import itemgetter
 from typing import Any, List, Optional, Sequence, Tuple
 
 from runtime.arcs import INVERSE_TIME, UNITS_PER_MINUTE, UNITS_PER_REVOLUTION
@@ -102,16 +104,18 @@ def strerror(code: int) -> str:
     return _last_error
 
 
-class LineCode:
-    """What ``next_line`` receives: ``gcode.linecode``'s fields."""
+class LineCode(tuple):
+    """What ``next_line`` receives: ``gcode.linecode``'s fields. A tuple
+    underneath, so that a batch makes its lines' in C (:class:`_RowCode`)."""
 
-    __slots__ = ("gcodes", "mcodes", "settings")
+    __slots__ = ()
 
-    def __init__(self, gcodes: Tuple[int, ...], mcodes: Tuple[int, ...], settings):
-        self.gcodes = gcodes
-        self.mcodes = mcodes
-        self.settings = settings
+    def __new__(cls, gcodes: Tuple[int, ...], mcodes: Tuple[int, ...], settings):
+        return tuple.__new__(cls, (gcodes, mcodes, settings))
 
+    gcodes = property(itemgetter(0))
+    mcodes = property(itemgetter(1))
+    settings = property(itemgetter(2))
     sequence_number = property(lambda self: self.gcodes[0])
     feed_rate = property(lambda self: self.settings[1])
     speed = property(lambda self: self.settings[2])
@@ -135,6 +139,23 @@ class LineCode:
 
     def __repr__(self) -> str:
         return "<linecode %d %r %r>" % (self.sequence_number, self.gcodes, self.mcodes)
+
+
+class _RowCode(LineCode):
+    """A batch row's LineCode, made without a Python call (:func:`_row_codes`):
+    (sequence number, line, the modes after the line's own as
+    :meth:`PreviewMachine.line_state` gives them); its fields are joined
+    when read."""
+
+    __slots__ = ()
+
+    gcodes = property(lambda self: (self[0],) + self[2][0])
+    mcodes = property(lambda self: (self[1],) + self[2][1])
+    settings = property(lambda self: (float(self[1]),) + self[2][2])
+
+
+#: _RowCode of (number, line, modes) tuples, in C
+_row_code = partial(tuple.__new__, _RowCode)
 
 
 class PreviewCanon(Canon):
@@ -303,14 +324,8 @@ class PreviewCanon(Canon):
                 raise KeyboardInterrupt("Load aborted")
         gcodes, mcodes, settings = machine.active
         codes = [LineCode((numbers[0],) + gcodes[1:], mcodes, settings)]
-        codes += [
-            LineCode(
-                (number,) + gcodes[1:],
-                (line,) + mcodes[1:],
-                (float(line),) + settings[1:],
-            )
-            for number, line in zip(numbers[1:], lines)
-        ]
+        state = repeat((gcodes[1:], mcodes[1:], settings[1:]))
+        codes += map(_row_code, zip(numbers[1:], lines, state))
         calls = [zip(repeat(target.next_line), codes)]
         calls += [zip(repeat(method), *steps) for method, steps in columns]
         for _ in starmap(_call, chain.from_iterable(zip(*calls))):
@@ -339,14 +354,11 @@ class PreviewCanon(Canon):
                 raise KeyboardInterrupt("Load aborted")
         skipped = self.skipped
         numbers = [line - skipped if line > skipped else line for line in lines]
-        codes = [
-            LineCode(
-                (number,) + modes[motion][0],
-                (line,) + modes[motion][1],
-                (float(line),) + modes[motion][2],
-            )
-            for number, motion, line in zip(numbers[1:], motions, lines)
-        ]
+        if len(modes) == 1:
+            states = repeat(modes[motions[0]])
+        else:
+            states = map(modes.__getitem__, motions)
+        codes = list(map(_row_code, zip(numbers[1:], lines, states)))
         if numbers[0] != self.last_sequence:
             g, m, s = machine.active
             codes.insert(0, LineCode((numbers[0],) + g[1:], m, s))

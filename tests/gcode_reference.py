@@ -34,6 +34,7 @@ class Recorder:
             if name == "next_line":
                 line = args[0]
                 args = (line.sequence_number, list(line.gcodes), list(line.mcodes))
+                args += (line.feed_rate, line.speed)
             self.calls.append([name, list(args)])
 
         return method

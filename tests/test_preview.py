@@ -83,6 +83,7 @@ class Recorder:
             if name == "next_line":
                 line = args[0]
                 args = (line.sequence_number, list(line.gcodes), list(line.mcodes))
+                args += (line.feed_rate, line.speed)
             self.calls.append([name, list(args)])
 
         return method
@@ -133,11 +134,11 @@ def _comparable(call):
     name, args = call
     if name != "next_line":
         return call
-    sequence, gcodes, mcodes = args
+    sequence, gcodes, mcodes, feed_rate, speed = args
     codes = [list(gcodes), list(mcodes)]
     for which, index in _BLOCK_FIELDS:
         codes[which - 1][index] = None
-    return [name, [sequence] + codes]
+    return [name, [sequence] + codes + [feed_rate, speed]]
 
 
 def _final_line_after_error(calls):
