@@ -284,6 +284,40 @@ class PreviewCanon(Canon):
             zip(e1, e2, c1, c2, rotation, normal, a, b, c, u, v, w),
         )
 
+    def contour_moves(self, axes, lines, *columns):
+        """A contour (runtime.canon.Canon.contour_moves): arcs and the plain
+        G1 rows between them, announced line by line as :meth:`arc_moves`
+        and :meth:`straight_moves` do, in one batch."""
+        machine = self.machine
+        rotation = columns[4]
+        if self.motion_line is not None or not isinstance(machine, PreviewMachine):
+            return super().contour_moves(axes, lines, *columns)
+        if 0 not in rotation:
+            return self.arc_moves(lines, *columns)
+        target = self.target
+        arc_feed, straight_feed = target.arc_feed, target.straight_feed
+        k = 1.0 if machine.inches else MM_PER_INCH  # (divided by, as _pose does)
+        f, s, n = axes
+        motions, calls, arguments = [], [], []
+        pose = None
+        for e1, e2, c1, c2, turn, en, a, b, c, u, v, w in zip(*columns):
+            if turn:
+                motions.append(G3 if turn > 0 else G2)
+                calls.append(arc_feed)
+                arguments.append(
+                    (e1 / k, e2 / k, c1 / k, c2 / k, turn, en / k,
+                     a, b, c, u / k, v / k, w / k)
+                )  # fmt: skip
+            else:
+                pose = [0.0, 0.0, 0.0, a, b, c, u, v, w]
+                pose[f], pose[s], pose[n] = e1, e2, en
+                motions.append(G1)
+                calls.append(straight_feed)
+                arguments.append(self._pose(*pose))
+        if pose is not None:  # the module's own position: the last line's end
+            self._pos = tuple(pose)
+        self._announce_batch(lines, motions, calls, iter(arguments))
+
     def hole_moves(self, recording, lines, first, second, axes, start):
         """Holes drilled alike (runtime.canon.Canon.hole_moves): each hole's
         line announced as its first call would announce it (with the modes
@@ -342,7 +376,8 @@ class PreviewCanon(Canon):
     def _announce_batch(self, lines, motions, call, arguments) -> None:
         """``call(*arguments[k])`` for each line of a batch, each line
         announced first with the modes the line before left: those of
-        ``motions[k - 1]``, its motion mode, since nothing else changes."""
+        ``motions[k - 1]``, its motion mode, since nothing else changes.
+        ``call`` is one method, or a list of one a line (a contour's)."""
         machine = self.machine
         target = self.target
         next_line = target.next_line
@@ -362,11 +397,12 @@ class PreviewCanon(Canon):
         if numbers[0] != self.last_sequence:
             g, m, s = machine.active
             codes.insert(0, LineCode((numbers[0],) + g[1:], m, s))
-        else:  # the first row's line was announced already
-            call(*next(arguments))
-        for code, values in zip(codes, arguments):
+        methods = iter(call) if isinstance(call, list) else repeat(call)
+        if numbers[0] == self.last_sequence:  # announced already
+            next(methods)(*next(arguments))
+        for code, method, values in zip(codes, methods, arguments):
             next_line(code)
-            call(*values)
+            method(*values)
         self.last_sequence = numbers[-1]
         last = lines[-1]
         gcodes, mcodes, settings = modes[motions[-1]]
