@@ -364,6 +364,36 @@ class FlattenCanon(Canon):
         self._check_arc_start(self.machine.current, pos)
         self._write_batch(lines, self._arc_texts(columns, pos))
 
+    def contour_moves(self, axes, lines, *columns):
+        """A contour (runtime.canon.Canon.contour_moves): its arcs written a
+        run at a time as :meth:`arc_moves` writes them, the G1 lines between
+        them as :meth:`straight_moves` writes one, in one batch."""
+        if self._pitch is not None or not self.started or self.ended:
+            return super().contour_moves(axes, lines, *columns)
+        self._flush()
+        pos = self._pos
+        rotation = columns[4]
+        if rotation[0]:  # (only the first arc can start away from the last end)
+            self._check_arc_start(self.machine.current, pos)
+        f, s, n = axes
+        texts = []
+        count, at = len(lines), 0
+        while at < count:
+            if rotation[at]:  # a run of arcs, to the next line or the end
+                stop = at + 1
+                while stop < count and rotation[stop]:
+                    stop += 1
+                run = [column[at:stop] for column in columns]
+                texts += self._arc_texts(run, pos)
+                at = stop
+                continue
+            e1, e2, _, _, _, en, a, b, c = (column[at] for column in columns[:9])
+            move = [0.0, 0.0, 0.0, a, b, c]
+            move[f], move[s], move[n] = e1, e2, en
+            texts.append(self._move("G1", move, pos))
+            at += 1
+        self._write_batch(lines, texts)
+
     def hole_moves(self, recording, lines, first, second, axes, start):
         """Holes drilled alike (runtime.canon.Canon.hole_moves): each hole a
         block of its own, its calls written as :meth:`_flush` writes them,
