@@ -424,9 +424,57 @@ static PyObject *straight_sums(PyObject *self, PyObject *const *args, Py_ssize_t
     return Py_BuildValue("(ddn)", length_sum, time_sum, untimed);
 }
 
+/* distances(x0, y0, z0, x1, y1, z1): for each k, the length over X Y Z from
+ * (x0[k], y0[k], z0[k]) to (x1[k], y1[k], z1[k]) as runtime.toolpath.distance
+ * works it out (six lists of floats of one length): a list; or None when a
+ * length overflows (the Python side measures those). */
+static PyObject *distances(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    if (nargs != 6) {
+        PyErr_SetString(PyExc_TypeError, "distances takes 6 arguments");
+        return NULL;
+    }
+    Py_ssize_t count = -1;
+    for (int i = 0; i < 6; i++) {
+        if (!PyList_CheckExact(args[i]) ||
+            (count >= 0 && PyList_GET_SIZE(args[i]) != count)) {
+            PyErr_SetString(PyExc_TypeError, "distances: six lists of one length");
+            return NULL;
+        }
+        count = PyList_GET_SIZE(args[i]);
+    }
+    PyObject *lengths = PyList_New(count);
+    if (lengths == NULL) {
+        return NULL;
+    }
+    for (Py_ssize_t k = 0; k < count; k++) {
+        double v[6];
+        for (int i = 0; i < 6; i++) {
+            if (item_double(args[i], k, &v[i])) {
+                Py_DECREF(lengths);
+                return NULL;
+            }
+        }
+        double dx = v[3] - v[0], dy = v[4] - v[1], dz = v[5] - v[2];
+        double length = sqrt(dx * dx + dy * dy + dz * dz);
+        if (isinf(length)) {
+            Py_DECREF(lengths);
+            Py_RETURN_NONE;
+        }
+        PyObject *number = PyFloat_FromDouble(length);
+        if (number == NULL) {
+            Py_DECREF(lengths);
+            return NULL;
+        }
+        PyList_SET_ITEM(lengths, k, number);
+    }
+    return lengths;
+}
+
 static PyMethodDef methods[] = {
     {"hypot", (PyCFunction) (void (*)(void)) c_hypot, METH_FASTCALL,
      "The C library's hypot(a, b)."},
+    {"distances", (PyCFunction) (void (*)(void)) distances, METH_FASTCALL,
+     "The X Y Z lengths between the points of two triples of columns."},
     {"straight_sums", (PyCFunction) (void (*)(void)) straight_sums, METH_FASTCALL,
      "Lengths, times and extents of a run of straight moves."},
     {"arc_sums", (PyCFunction) (void (*)(void)) arc_sums, METH_FASTCALL,

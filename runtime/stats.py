@@ -203,10 +203,18 @@ def python_straight_sums(
     return length, time, untimed
 
 
+def python_distances(x0, y0, z0, x1, y1, z1):
+    """:func:`distance` from each point of the columns (x0, y0, z0) to the
+    same point of (x1, y1, z1): a list. runtime._arc_stats.distances does
+    the same in C."""
+    return list(map(distance, zip(x0, y0, z0), zip(x1, y1, z1)))
+
+
 try:  # the same in C (runtime/_arc_stats.c)
-    from runtime._arc_stats import arc_sums, straight_sums
+    from runtime._arc_stats import arc_sums, distances, straight_sums
 except ImportError:  # not built
     arc_sums, straight_sums = python_arc_sums, python_straight_sums
+    distances = python_distances
 
 
 class StatsCanon(ToolpathCanon):
@@ -337,7 +345,7 @@ class StatsCanon(ToolpathCanon):
     def hole_moves(self, recording, lines, first, second, axes, start):
         """Holes drilled alike (runtime.canon.Canon.hole_moves), a column at a
         time: each recorded move's end points as columns, its lengths by one
-        ``map(distance, ...)``, then the same counts, lengths, extents,
+        :func:`distances`, then the same counts, lengths, extents,
         times and dwells as one call a move (sums added in program order)."""
         names = {name for name, _, _ in recording}
         if self._watched or self.inches or not names <= _HOLE_CALLS:
@@ -366,7 +374,7 @@ class StatsCanon(ToolpathCanon):
         starts = [[[self.position[i]] + column[:-1] for i, column in enumerate(last)]]
         starts += ends[:-1]
         lengths = [
-            list(map(distance, zip(*begin[:3]), zip(*finish[:3])))
+            distances(*begin[:3], *finish[:3]) or python_distances(*begin[:3], *finish[:3])
             for begin, finish in zip(starts, ends)
         ]
         timed = lengths[:]

@@ -595,3 +595,25 @@ def test_the_c_straight_sums_give_the_python_ones_bit_for_bit(
             result = stats.python_straight_sums(*arguments, 10.0, 3.0)
         answers.append(repr((result, lists)))  # repr: -0.0 compared too
     assert answers[0] == answers[1]
+
+
+@pytest.mark.skipif(
+    stats.distances is stats.python_distances,
+    reason="runtime._arc_stats not built here",
+)
+@settings(max_examples=200, deadline=None)
+@given(st.data())
+def test_the_c_distances_give_the_python_ones_bit_for_bit(data):
+    """runtime._arc_stats.distances against runtime.stats.python_distances
+    (a hole batch's move lengths): the same doubles; None from C where a
+    square overflows."""
+    count = data.draw(st.integers(0, 10))
+    columns = [[data.draw(_COORDINATE) for _ in range(count)] for _ in range(6)]
+    if count and data.draw(st.integers(0, 9)) == 0:
+        columns[data.draw(st.integers(0, 5))][-1] = 1e200
+    got = stats.distances(*columns)
+    want = stats.python_distances(*columns)
+    if got is None:
+        assert any(abs(v) > 1e150 for column in columns for v in column)
+    else:
+        assert repr(got) == repr(want)
