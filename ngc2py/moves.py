@@ -161,25 +161,41 @@ class Recorder(ToolpathCanon):
         """Arcs as ``Canon.arc_moves`` gives them (arc_feed's arguments as
         columns: first_end, second_end, first_axis, second_axis, rotation,
         axis_end, a, b, c, u, v, w)."""
+        if self.plane not in PLANE_AXES:
+            return super().arc_moves(lines, *columns)
+        self.contour_moves(PLANE_AXES[self.plane], lines, *columns)
+
+    def contour_moves(self, axes, lines, *columns):
+        """Arcs and the G1 lines between them as ``Canon.contour_moves``
+        gives them (a line: rotation 0): a row each, as arc_feed and
+        straight_feed make them."""
         rows = len(lines)
         if not rows:
             return
-        if self.plane not in PLANE_AXES:
-            return super().arc_moves(lines, *columns)
         first_end, second_end, first_axis, second_axis, rotation, axis_end = columns[:6]
         a, b, c, u, v, w = columns[6:]
         self._begin(self.position, rows)
-        first, second, normal = PLANE_AXES[self.plane]
+        first, second, normal = axes
         lengths = [first_end, second_end, axis_end, first_axis, second_axis, u, v, w]
         if self.inches:
             lengths = [[value * MM_PER_INCH for value in column] for column in lengths]
         e1, e2, en, c1, c2, u, v, w = lengths
         columns = [None, None, None, a, b, c, u, v, w]
         columns[first], columns[second], columns[normal] = e1, e2, en
-        self._rows(ARC, lines, self._rate)
+        if 0 in rotation:  # lines among the arcs: no centre, no normal
+            nan = math.nan
+            c1 = [value if turns else nan for value, turns in zip(c1, rotation)]
+            c2 = [value if turns else nan for value, turns in zip(c2, rotation)]
+            self.kinds.extend([ARC if turns else FEED for turns in rotation])
+            self.normal.extend([normal if turns else -1 for turns in rotation])
+        else:
+            self.kinds.extend(repeat(ARC, rows))
+            self.normal.extend(repeat(normal, rows))
+        self.lines.extend(lines)
+        self.tools.extend(repeat(self._current_tool(), rows))
+        self.feeds.extend(repeat(self._rate, rows))
         self.ends.extend(chain.from_iterable(zip(*columns)))
         self.centre.extend(chain.from_iterable(zip(c1, c2)))
-        self.normal.extend(repeat(normal, rows))
         self.turns.extend(rotation)
         self.position = self._last = tuple(column[-1] for column in columns)
 

@@ -228,8 +228,8 @@ class _Pending:
             return None
         pending = cls()
         pending.machine, pending.arc_moves = machine, canon.arc_moves
-        # (a canon reading lines sees each straight row's: not held)
-        pending.contours = contours and not canon.reads_lines
+        # (a canon reading lines has each held row's in the batch's lines)
+        pending.contours = contours
         if pending.contours:
             pending.arc_moves = canon.contour_moves
         pending.columns = [[] for _ in range(cls.WIDTH)]
