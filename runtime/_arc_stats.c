@@ -47,6 +47,41 @@ static double move_time(double length, double rate, double acceleration) {
     return 2.0 * sqrt(length / acceleration);
 }
 
+/* A point's X Y Z (``at``) into the box [low x, high x, low y, ...]. */
+static void into_box(double *box, const double *at) {
+    for (int i = 0; i < 3; i++) {
+        if (at[i] < box[2 * i]) {
+            box[2 * i] = at[i];
+        }
+        if (at[i] > box[2 * i + 1]) {
+            box[2 * i + 1] = at[i];
+        }
+    }
+}
+
+/* A straight move's time (StatsCanon._straight) onto *time_sum, from its X
+ * Y Z ``length`` and, when that is 0, its rotary travel from A B C ``was``
+ * to ``now``: degrees at the same numeric rate; a move of no usable rate
+ * counted in *untimed. */
+static void time_straight(double length, const double *was, const double *now, double rate,
+                          double acceleration, double *time_sum, Py_ssize_t *untimed) {
+    if (length == 0.0) {
+        for (int i = 0; i < 3; i++) {
+            double turn = fabs(now[i] - was[i]);
+            if (turn > length) {
+                length = turn;
+            }
+        }
+    }
+    if (length != 0.0) {
+        if (rate <= 0.0) {
+            (*untimed)++;
+        } else {
+            *time_sum += move_time(length, rate, acceleration);
+        }
+    }
+}
+
 static int item_double(PyObject *list, Py_ssize_t k, double *out) {
     *out = PyFloat_AsDouble(PyList_GET_ITEM(list, k));
     return *out == -1.0 && PyErr_Occurred();
@@ -202,32 +237,10 @@ static PyObject *arc_sums(PyObject *self, PyObject *const *args, Py_ssize_t narg
                 Py_DECREF(outside);
                 Py_RETURN_NONE; /* nothing stored yet */
             }
-            for (int i = 0; i < 3; i++) {
-                if (at[i] < box[2 * i]) {
-                    box[2 * i] = at[i];
-                }
-                if (at[i] > box[2 * i + 1]) {
-                    box[2 * i + 1] = at[i];
-                }
-            }
+            into_box(box, at);
             feed_sum += length;
             straights++;
-            if (length == 0.0) {
-                /* rotary axes alone: degrees at the same numeric rate */
-                for (int i = 0; i < 3; i++) {
-                    double turn = fabs(now[i] - turned[i]);
-                    if (turn > length) {
-                        length = turn;
-                    }
-                }
-            }
-            if (length != 0.0) {
-                if (rate <= 0.0) {
-                    untimed++;
-                } else {
-                    time_sum += move_time(length, rate, acceleration);
-                }
-            }
+            time_straight(length, turned, now, rate, acceleration, &time_sum, &untimed);
             s1 = e1;
             s2 = e2;
             sn = en;
@@ -263,14 +276,7 @@ static PyObject *arc_sums(PyObject *self, PyObject *const *args, Py_ssize_t narg
         at[f] = e1;
         at[s] = e2;
         at[n] = en;
-        for (int i = 0; i < 3; i++) {
-            if (at[i] < box[2 * i]) {
-                box[2 * i] = at[i];
-            }
-            if (at[i] > box[2 * i + 1]) {
-                box[2 * i + 1] = at[i];
-            }
-        }
+        into_box(box, at);
         double radius = r0 > r1 ? r0 : r1;
         if (!(box[2 * f] <= c1 - radius && c1 + radius <= box[2 * f + 1] &&
               box[2 * s] <= c2 - radius && c2 + radius <= box[2 * s + 1])) {
@@ -373,14 +379,7 @@ static PyObject *straight_sums(PyObject *self, PyObject *const *args, Py_ssize_t
                 return NULL;
             }
         }
-        for (int i = 0; i < 3; i++) {
-            if (at[i] < box[2 * i]) {
-                box[2 * i] = at[i];
-            }
-            if (at[i] > box[2 * i + 1]) {
-                box[2 * i + 1] = at[i];
-            }
-        }
+        into_box(box, at);
         for (int i = 0; i < 6; i++) {
             if (at[3 + i] < low[i]) {
                 low[i] = at[3 + i];
@@ -395,22 +394,7 @@ static PyObject *straight_sums(PyObject *self, PyObject *const *args, Py_ssize_t
             Py_RETURN_NONE; /* nothing stored yet */
         }
         length_sum += length;
-        if (length == 0.0) {
-            /* rotary axes alone: degrees at the same numeric rate */
-            for (int i = 3; i < 6; i++) {
-                double turn = fabs(at[i] - was[i]);
-                if (turn > length) {
-                    length = turn;
-                }
-            }
-        }
-        if (length != 0.0) {
-            if (rate <= 0.0) {
-                untimed++;
-            } else {
-                time_sum += move_time(length, rate, acceleration);
-            }
-        }
+        time_straight(length, was + 3, at + 3, rate, acceleration, &time_sum, &untimed);
         for (int i = 0; i < 9; i++) {
             was[i] = at[i];
         }

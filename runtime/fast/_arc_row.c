@@ -674,38 +674,16 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
             }
             Py_DECREF(result);
         }
-        if (held_line) {
-            PyObject *zero = PyFloat_FromDouble(0.0);
-            PyObject *straight_row = PyLong_FromLong(0);
-            result = NULL;
-            if (zero && straight_row) {
-                call[0] = PyList_GET_ITEM(point, g.p1);
-                call[1] = PyList_GET_ITEM(point, g.p2);
-                call[2] = zero;
-                call[3] = zero;
-                call[4] = straight_row;
-                call[5] = PyList_GET_ITEM(point, g.p3);
-                for (int k = 3; k < 9; k++) {
-                    call[3 + k] = PyList_GET_ITEM(point, k);
-                }
-                if (PyList_GET_SIZE(held->column[0]) == 0 &&
-                    PyObject_SetAttrString(pending, "start", cur) < 0) {
-                    result = NULL; /* (where the batch begins) */
-                } else {
-                    result = hold(held, PyList_GET_ITEM(cells, at), call);
-                }
-            }
-            Py_XDECREF(zero);
-            Py_XDECREF(straight_row);
-        } else if (line != NULL && explicit_only) {
+        if (line != NULL && !held_line && explicit_only) {
             result = one_row_batch(straight_moves, code == G_1, PyList_GET_ITEM(cells, at), point);
-        } else if (line != NULL) {
+        } else if (line != NULL && !held_line) {
             result = PyObject_Vectorcall(code == G_1 ? straight_feed : straight_traverse,
                                          &PyList_GET_ITEM(point, 0), 9, NULL);
         } else {
+            /* an arc (a contour's line held with them: rotation 0, no centre) */
             PyObject *centre1 = PyFloat_FromDouble(c1);
             PyObject *centre2 = PyFloat_FromDouble(c2);
-            PyObject *rotation = PyLong_FromLong(code == G_2 ? -1 : 1);
+            PyObject *rotation = PyLong_FromLong(held_line ? 0 : code == G_2 ? -1 : 1);
             result = NULL;
             if (centre1 && centre2 && rotation) {
                 call[0] = PyList_GET_ITEM(point, g.p1);
