@@ -335,23 +335,35 @@ class FlattenCanon(Canon):
             return self._write_batch(
                 lines, [self._move("G1" if feed else "G0", move, pos)]
             )
-        rows = [[] for _ in range(count)]
+        # a column of words for each axis that moves: an axis moving on
+        # every row (a CAM file's X and Y) is written a column at a time
+        words, gaps = [], False
         for k, column in enumerate((x, y, z, a, b, c)):
             previous = [pos[k]] + column[:-1]
             # not same(): the bits differ (a zero's sign counts too)
-            moved = map(ne, _bits(column), _bits(previous))
-            changed = [i for i, differs in enumerate(moved) if differs]
-            if changed:
-                texts = _numbers([column[i] for i in changed])
-                letter = AXES6[k]
-                for i, text in zip(changed, texts):
-                    rows[i].append(letter + text)
+            moved = list(map(ne, _bits(column), _bits(previous)))
             pos[k] = column[-1]
-        for i in range(count):
-            if not rows[i]:  # a move to where it is: still one axis word
-                rows[i].append("X" + number(x[i]))
+            letter = AXES6[k]
+            if all(moved):
+                words.append([letter + text for text in _numbers(column)])
+            elif any(moved):
+                changed = [i for i, differs in enumerate(moved) if differs]
+                texts = _numbers([column[i] for i in changed])
+                some = [""] * count
+                for i, text in zip(changed, texts):
+                    some[i] = letter + text
+                words.append(some)
+                gaps = True
         code = "G1 " if feed else "G0 "
-        self._write_batch(lines, [code + " ".join(words) for words in rows])
+        if words and not gaps:
+            self._write_batch(lines, [code + " ".join(row) for row in zip(*words)])
+            return
+        rows = [" ".join(filter(None, row)) for row in zip(*words)] or [""] * count
+        # (a move to where it is: still one axis word)
+        texts = [
+            code + (row or "X" + number(x[i])) for i, row in enumerate(rows)
+        ]
+        self._write_batch(lines, texts)
 
     def arc_moves(self, lines, *columns):
         """A run of plain arcs (arc_feed's arguments as columns), each a
