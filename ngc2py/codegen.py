@@ -1233,6 +1233,12 @@ class CodeGen:
             self.w.depth += 1
             self.fail_skipped(unreadable)
             self.w.depth -= 1
+        elif stmt.eof is not None:
+            # the skip runs to the end of the file
+            self.w.stmt("else:", line)
+            self.w.depth += 1
+            self.statement(stmt.eof)
+            self.w.depth -= 1
 
     def s_topreturn(self, stmt: st.TopReturn) -> None:
         self.w.comment(stmt.line)

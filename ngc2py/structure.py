@@ -184,6 +184,10 @@ class LabelCheck:
     #: A break or continue of this do-loop: rs274 skips to its closing
     #: ``while`` line, checked here (``do-end``) before the jump.
     loop: Optional["Loop"] = None
+    #: An else or elseif with no later line of its label before the end
+    #: of the file: where an arm has run, rs274 skips to the end of the
+    #: file and fails there (this failure; see :func:`flat_arms`).
+    eof: Optional["Fail"] = None
 
 
 @dataclass
@@ -205,6 +209,9 @@ class FlatArm:
     #: that follows (``body`` ends with it): what rs274 runs after its skip
     #: lands there, from that line on (the loop is never entered).
     landing: Optional[List["Stmt"]] = None
+    #: No line with the label up to the end of the file: the skip fails
+    #: there (:attr:`LabelCheck.eof`).
+    eof: Optional["Fail"] = None
 
 
 def flat_arms(stmts: List["Stmt"]) -> List["Stmt"]:
@@ -241,6 +248,11 @@ def flat_arms(stmts: List["Stmt"]) -> List["Stmt"]:
                 # no line with the label before one rs274 cannot read: the
                 # skip fails there (inside whatever holds it)
                 out.append(FlatArm(stmt, flat_arms(stmts[i + 1 :])))
+                break
+            if deep is None and stmt.eof is not None:
+                # no line with the label up to the end of the file: the
+                # skip fails there (or on the way, _later_landing)
+                out.append(FlatArm(stmt, flat_arms(stmts[i + 1 :]), eof=stmt.eof))
                 break
         out.append(stmt)
         i += 1
@@ -625,6 +637,8 @@ class _Builder:
         # sub lines in an if or loop whose definition never ends: (name,
         # the failure of reading it, known at a line or at the end)
         self.orphans: List[Tuple[str, Fail]] = []
+        # else/elseif lines of reused labels fitting no open if (_arms_to_eof)
+        self.arm_checks: List[LabelCheck] = []
 
     # -- helpers ----------------------------------------------------------
 
@@ -1109,6 +1123,8 @@ class _Builder:
         seen = self.labels.get(label)
         if key in self.tracked:
             self.body.append(LabelCheck(line, key, word.keyword))
+            if word.keyword in ("else", "elseif"):
+                self.arm_checks.append(self.body[-1])
             if word.keyword in ("break", "continue") and seen is not None:
                 # passed: the label is a finished loop's, and rs274 skips
                 # forward to its next line (as below)
@@ -1385,10 +1401,28 @@ class _Builder:
 
     # -- end of file ------------------------------------------------------
 
+    def _arms_to_eof(self) -> None:
+        """An else or elseif line of a reused label that fits no open if
+        (a skip landed in a do-loop of the label) with no line of its label
+        after it in the file: where an arm has run, rs274 skips from it to
+        the end of the file (past whatever holds the line), and fails
+        there, or at a line it cannot read on the way."""
+        for check in self.arm_checks:
+            line = check.line
+            if any(
+                number > line.number
+                and key == check.key
+                and (later.file or "") == (line.file or "")
+                for number, key, later, _, _ in self.labelled
+            ):
+                continue
+            check.eof = self._eof_fail(check.key, line)
+
     def finish(
         self, last: Optional[nodes.Line], closing: Optional[nodes.Line] = None
     ) -> None:
         """The end of the file (``closing``: the closing ``%`` line)."""
+        self._arms_to_eof()
         while self.stack:
             entry = self.stack.pop()
             if isinstance(entry.node, If):
