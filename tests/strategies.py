@@ -1038,6 +1038,13 @@ def lang_landing_if(w: LanguageWriter) -> None:
         w.emit(f"o{label} else{closer_words(w)}", slash_ok=False)
         lang_body(w)
     w.open_ifs.pop()
+    if w.chance(6):
+        # no endif: the do is never closed either, and the later elseif
+        # and else lines have no line with the label after them (the
+        # label is not used again): after an arm has run, rs274 skips
+        # from them past whatever construct ends the do (its closing
+        # line, a return, the program end) to the end of the file
+        return
     w.emit(f"o{label} endif{closer_words(w)}", slash_ok=False)
     w.closed.append((label, "if"))
 
