@@ -947,6 +947,10 @@ class _Builder:
         outer = Loop("do", first.line, self.body[start:], key=first.key)
         del self.body[start:]
         self.body.append(outer)
+        # the labels of the openers moved stand in the new loop's body now
+        for name, seen in self.labels.items():
+            if seen[2] is self.body and any(stmt is seen[3] for stmt in outer.body):
+                self.labels[name] = seen[:2] + (outer.body, seen[3])
         # rs274 still knows the label by the first do: a later do or while
         # with it loops back there, so it wraps this loop in turn.
         seen = self.labels.get(label)
