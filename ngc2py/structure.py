@@ -1333,11 +1333,44 @@ class _Builder:
         label = str(word.name)
         seen = self.labels.get(label)
         if seen is None:
+            if self._unreachable():
+                # never run (and no skip for a label no line has used yet
+                # lands here): rs274 records the label at the first opener
+                # that does run, a later one
+                return
             self.labels[label] = (word.keyword, line.number, self.body, node)
             return
         key = self._key(label)
         self._track(key, seen)
         self.body.insert(len(self.body) - 1, LabelCheck(line, key, word.keyword))
+
+    def _unreachable(self) -> bool:
+        """Does an unconditional break, continue or return come before
+        this line in its body or in a body around it (of this subroutine
+        or the main program)? Then running code never reaches the line."""
+        entries = self._scope_entries()
+        bodies = [entry.body for entry in entries]
+        if len(entries) == len(self.stack):
+            bodies.append(self.main)
+        else:
+            bodies.append(self.stack[-len(entries) - 1].body)  # the subroutine's
+        for body in bodies:
+            for stmt in body:
+                if type(stmt) is Return:
+                    return True
+                if type(stmt) is Jump and not self._landed_after(stmt):
+                    return True
+        return False
+
+    def _landed_after(self, jump: "Jump") -> bool:
+        """Does a line with the label of ``jump`` come after it (so far)?
+        Its skip stops there, and running code goes on from that line."""
+        label = str(jump.line.oword.name)
+        key = self._key(label)
+        return any(
+            number > jump.line.number and line_key == key
+            for number, line_key, _, _, _ in self.labelled
+        )
 
     def _track(self, key: str, seen: tuple) -> bool:
         """From now on, look ``key`` up at run time: the opener first seen
