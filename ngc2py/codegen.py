@@ -1428,10 +1428,34 @@ class CodeGen:
             test = "%s and not m.doing_break" % test
         self.w.stmt("if %s:" % test, stmt.line)
         self.w.depth += 1
+        for inner in stmt.resume:
+            # back into an earlier construct: its do-loop, its closing line
+            self.statement(inner)
         self.jump_to("continue", stmt.target, stmt.line)
         self.w.depth -= 1
         if self.break_flag:
             self.w.stmt("m.doing_break = False", stmt.line)
+
+    def s_ifend(self, stmt: st.IfEnd) -> None:
+        """An endif run into again (structure.DoEnd.resume)."""
+        if self.if_flag:
+            self.w.stmt("m.executed_if = True", stmt.line)
+
+    def s_again(self, stmt: st.Again) -> None:
+        """A loop's closing line run into again (structure.DoEnd.resume)."""
+        loop = stmt.loop
+        if loop.kind == "while":
+            self.statement(loop)  # the endwhile goes back to the while line
+            return
+        test = self.x.condition(loop.end.oword.expr)
+        if self.break_flag:
+            test = "%s and not m.doing_break" % test
+        self.w.stmt("if %s:" % test, loop.end)
+        self.w.depth += 1
+        self.statement(loop)
+        self.w.depth -= 1
+        if self.break_flag:
+            self.w.stmt("m.doing_break = False", loop.end)
 
     def stale_continue(self, stmt: st.Jump) -> None:
         """rs274's ``doing_continue`` (runtime.loopflags) at a break or

@@ -167,7 +167,32 @@ class DoEnd(Jump):
     in a body around it: it ends that loop again. With its condition true
     (and no break pending) rs274 goes back to the do line, running it all
     again (``target``: a :attr:`Loop.back` loop from the do line to the
-    construct holding this line); else it goes on with the next line."""
+    construct holding this line); else it goes on with the next line.
+
+    The do-loop may also end an earlier construct of this line's body (the
+    last statement of its last arm, or of its loop body): going back runs
+    ``resume`` (the do-loop, then what the construct's closing line does,
+    :meth:`_Builder._back_into`) before ``target`` goes on after it."""
+
+    resume: List["Stmt"] = field(default_factory=list)
+
+
+@dataclass
+class IfEnd:
+    """The endif line of an if run into again (:attr:`DoEnd.resume`):
+    rs274's flag "an arm has run" is set."""
+
+    line: nodes.Line
+
+
+@dataclass
+class Again:
+    """The closing line of a loop run into again (:attr:`DoEnd.resume`):
+    a do-loop's while line goes back to its do line when its condition is
+    true; a while-loop's endwhile goes back to its while line. ``loop``
+    then runs as it does where it stands."""
+
+    loop: "Loop"
 
 
 @dataclass
@@ -478,6 +503,8 @@ Stmt = Union[
     Loop,
     Jump,
     DoEnd,
+    IfEnd,
+    Again,
     LabelCheck,
     TopReturn,
     Return,
@@ -995,7 +1022,67 @@ class _Builder:
         if depth is not None:
             self._do_end(line, seen[3], depth)
             return
+        if self._back_into(line, label, seen):
+            return
         self._open_loop("while", line, word)
+
+    def _back_into(self, line: nodes.Line, label: str, seen) -> bool:
+        """A ``while`` line whose label rs274 recorded for a do-loop that
+        ends an earlier construct of this body: the last statement of its
+        last arm (an if closed by its endif), or of its body (a closed do
+        or while loop). True, rs274 goes back to that do line: it runs the
+        do-loop, then the construct's closing line (the endif; the loop's
+        while or endwhile line, which may run the loop again), then what
+        follows up to this line again (a :class:`DoEnd` with ``resume``).
+        Only where the do-loop's own jumps stay inside it (else False)."""
+        if seen is None or seen[0] != "do":
+            return False
+        first = seen[3]
+        if any(entry.label == label for entry in self._scope_entries()):
+            return False
+        if first.exits or not _self_contained(first):
+            return False
+        for index, stmt in enumerate(self.body):
+            closing = self._closing_after(stmt, first)
+            if closing is not None:
+                break
+        else:
+            return False
+        outer = Loop("do", first.line, self.body[index + 1 :], key=first.key, back=True)
+        del self.body[index + 1 :]
+        self.body.append(outer)
+        self.stack.append(_Open("", outer, outer.body))
+        if first.key in self.tracked:
+            self.body.append(LabelCheck(line, first.key, "do-end"))
+        self.body.append(DoEnd(line, "continue", outer, resume=[first] + closing))
+        return True
+
+    def _closing_after(self, stmt: Stmt, first: Loop) -> Optional[List[Stmt]]:
+        """When ``first`` is the last statement of the last arm of the if
+        ``stmt`` (closed), or of the body of the do or while loop ``stmt``
+        (closed): what its closing line does when run into again."""
+        if isinstance(stmt, If) and stmt.end is not None and id(stmt) not in self.dead:
+            arm = stmt.orelse or stmt.branches[-1]
+            if not arm.body or arm.body[-1] is not first:
+                return None
+            key = self._key(str(stmt.end.oword.name))
+            if key in self.tracked:
+                return [LabelCheck(stmt.end, key, "endif")]
+            return [IfEnd(stmt.end)]
+        if (
+            isinstance(stmt, Loop)
+            and stmt.kind in ("do", "while")
+            and stmt.end is not None
+            and not stmt.back
+            and stmt.reuses is None
+            and id(stmt) not in self.dead
+            and stmt.body
+            and stmt.body[-1] is first
+        ):
+            if stmt.kind == "do" and stmt.key in self.tracked:
+                return [LabelCheck(stmt.end, stmt.key, "do-end"), Again(stmt)]
+            return [Again(stmt)]
+        return None
 
     def _dissolves(self, node: Loop) -> bool:
         """Is ``node`` a do-loop whose do line does nothing (``reuses``)
@@ -1583,6 +1670,24 @@ def children(stmt: Stmt, into_subs: bool = True) -> List[List[Stmt]]:
     if isinstance(stmt, Define) and into_subs:
         return [stmt.sub.body]
     return []
+
+
+def _self_contained(loop: Loop) -> bool:
+    """Do the break and continue lines inside ``loop`` all aim at it or at
+    loops inside it (so it can run anywhere: :meth:`_Builder._back_into`)?"""
+    inner = {id(loop)}
+    stmts = list(walk(loop.body, False))
+    inner.update(id(stmt) for stmt in stmts if isinstance(stmt, Loop))
+    for stmt in stmts:
+        if isinstance(stmt, (DoEnd, Define)):
+            return False
+        if isinstance(stmt, Jump) and id(stmt.target) not in inner:
+            return False
+        if isinstance(stmt, Loop) and any(id(e) not in inner for e in stmt.exits):
+            return False
+        if isinstance(stmt, LabelCheck) and stmt.loop is not None and id(stmt.loop) not in inner:
+            return False
+    return True
 
 
 def walk(stmts: List[Stmt], into_subs: bool = True) -> Iterator[Stmt]:
