@@ -1441,11 +1441,31 @@ class CodeGen:
         if self.if_flag:
             self.w.stmt("m.executed_if = True", stmt.line)
 
+    def s_armagain(self, stmt: st.ArmAgain) -> None:
+        """A later arm's line run into again (structure.DoEnd.resume)."""
+        line = stmt.line
+        test = None
+        if line.oword.keyword == "elseif":
+            self.temp += 1
+            test = "t%d" % self.temp
+            self.w.stmt("%s = %s" % (test, self.x.condition(line.oword.expr)), line)
+        self.w.stmt("if not m.executed_if:", line)
+        self.w.depth += 1
+        if test is not None:
+            self.w.stmt("if %s:" % test, line)
+            self.w.depth += 1
+            self.w.stmt("m.executed_if = True", line)
+            self.w.depth -= 1
+        self.block(stmt.body)
+        self.w.depth -= 1
+
     def s_again(self, stmt: st.Again) -> None:
         """A loop's closing line run into again (structure.DoEnd.resume)."""
         loop = stmt.loop
-        if loop.kind == "while":
-            self.statement(loop)  # the endwhile goes back to the while line
+        if loop.kind != "do":
+            # the endwhile (endrepeat) goes back to the while (repeat) line,
+            # which tests its condition (counts anew: a finished repeat)
+            self.statement(loop)
             return
         test = self.x.condition(loop.end.oword.expr)
         if self.break_flag:
@@ -1500,6 +1520,23 @@ class CodeGen:
     def do_test(self, loop: st.Loop) -> None:
         """``if not <cond>: break`` for the closing ``while`` of a do-loop
         (which also ends the loop, once, after a while-loop's break)."""
+        if loop.back_into is not None:
+            # true, rs274 goes back into an earlier construct (structure
+            # Loop.back_into); either way this loop ends here
+            outer, resume = loop.back_into
+            test = self.x.condition(loop.end.oword.expr)
+            if self.break_flag:
+                test += " and not m.doing_break"
+            self.w.stmt("if %s:" % test, loop.end)
+            self.w.depth += 1
+            for inner in resume:
+                self.statement(inner)
+            self.jump_to("continue", outer, loop.end)
+            self.w.depth -= 1
+            if self.break_flag:
+                self.w.stmt("m.doing_break = False", loop.end)
+            self.w.stmt("break", loop.end)
+            return
         test = "not %s" % self.x.condition(loop.end.oword.expr)
         if self.break_flag:
             test += " or m.doing_break"
@@ -2313,6 +2350,11 @@ def executed_if_flag(program: st.Program) -> bool:
     stmts = [s for body in bodies for s in st.walk(body)]
     if any(isinstance(s, st.LabelCheck) and s.kind in ("else", "elseif") for s in stmts):
         return True
+    if any(
+        isinstance(s, st.DoEnd) and any(isinstance(r, st.ArmAgain) for r in s.resume)
+        for s in stmts
+    ):
+        return True  # later arms run into again
     return any(clears_flag(s) for s in stmts) and any(
         isinstance(s, st.If) and len(s.branches) + (s.orelse is not None) > 1
         for s in stmts

@@ -149,6 +149,10 @@ class Loop:
     #: A do line reusing the label of this finished do-loop of a body
     #: around it (rs274 keeps that one's place): see _Builder.on_while.
     reuses: Optional["Loop"] = None
+    #: Its while line true goes back into an earlier construct: (the
+    #: :attr:`back` loop it continues, what runs first: DoEnd.resume);
+    #: see _Builder._loop_back_into.
+    back_into: Optional[tuple] = None
 
 
 @dataclass
@@ -186,11 +190,23 @@ class IfEnd:
 
 
 @dataclass
+class ArmAgain:
+    """An elseif or else line of an if run into again after an earlier arm
+    (:attr:`DoEnd.resume`), and its arm: as :class:`FlatArm`, where an arm
+    has run rs274 skips on to the next line of the if; else it runs on (an
+    elseif whatever its condition, a true one setting the flag)."""
+
+    line: nodes.Line
+    body: List["Stmt"]
+
+
+@dataclass
 class Again:
     """The closing line of a loop run into again (:attr:`DoEnd.resume`):
     a do-loop's while line goes back to its do line when its condition is
-    true; a while-loop's endwhile goes back to its while line. ``loop``
-    then runs as it does where it stands."""
+    true; a while-loop's endwhile goes back to its while line, a repeat
+    loop's endrepeat to its repeat line (a finished repeat counts anew).
+    ``loop`` then runs as it does where it stands."""
 
     loop: "Loop"
 
@@ -504,6 +520,7 @@ Stmt = Union[
     Jump,
     DoEnd,
     IfEnd,
+    ArmAgain,
     Again,
     LabelCheck,
     TopReturn,
@@ -910,7 +927,7 @@ class _Builder:
             # around this line): this line does nothing, and the closing
             # while goes back to that do line
             return
-        outer = self._outer_do(label, seen) is not None
+        outer = self._outer_do(label, seen) is not None or self._resumable(label, seen)
         self._open_loop("do", line, word)
         if outer:
             # the label of a finished do-loop in a body around this one:
@@ -1002,6 +1019,16 @@ class _Builder:
                 self.body.extend(top.node.body)
                 self._do_end(line, top.node.reuses, depth)
                 return
+            if depth is None and self.body and self.body[-1] is top.node:
+                # the first do-loop of the label stands in an earlier
+                # construct of this body: back into it
+                self.body.pop()
+                count = len(self.body)
+                self.body.extend(top.node.body)
+                if self._back_into(line, str(word.name), self.labels.get(str(word.name))):
+                    return
+                del self.body[count:]
+                self.body.append(top.node)
             self.stack.append(top)
         if top is not None:
             top.node.end = line
@@ -1009,6 +1036,10 @@ class _Builder:
             if key in self.tracked:
                 top.node.body.append(LabelCheck(line, key, "do-end"))
             self.stack.pop()
+            if top.node.reuses is not None and self._outer_do(
+                str(word.name), self.labels.get(str(word.name))
+            ) is None:
+                self._loop_back_into(top.node)
             return
         label = str(word.name)
         seen = self.labels.get(label)
@@ -1026,62 +1057,164 @@ class _Builder:
             return
         self._open_loop("while", line, word)
 
+    def _resumable(self, label: str, seen) -> bool:
+        """Is ``label`` that of a do-loop in an earlier construct of this
+        body that a while line can go back into (:meth:`_back_into`)?"""
+        if seen is None or seen[0] != "do":
+            return False
+        if any(entry.label == label for entry in self._scope_entries()):
+            return False
+        return any(self._resume(stmt, seen[3]) for stmt in self.body)
+
     def _back_into(self, line: nodes.Line, label: str, seen) -> bool:
-        """A ``while`` line whose label rs274 recorded for a do-loop that
-        ends an earlier construct of this body: the last statement of its
-        last arm (an if closed by its endif), or of its body (a closed do
-        or while loop). True, rs274 goes back to that do line: it runs the
-        do-loop, then the construct's closing line (the endif; the loop's
-        while or endwhile line, which may run the loop again), then what
-        follows up to this line again (a :class:`DoEnd` with ``resume``).
-        Only where the do-loop's own jumps stay inside it (else False)."""
+        """A ``while`` line whose label rs274 recorded for a do-loop inside
+        an earlier construct of this body or of a body around it (an if
+        closed by its endif, a closed do or while loop, however deeply).
+        True, rs274 goes back to that do line: it runs the rest of each body
+        from the do-loop on and each closing line again (an endif sets the
+        arm flag, later arm lines consult it, a loop's while or endwhile
+        line may run the loop again), then what follows up to this line
+        again: a :class:`DoEnd` with ``resume``, continuing a
+        :attr:`Loop.back` loop from after that construct (as
+        :meth:`_do_end`). Only where the jumps on the way stay inside what
+        runs again (else False: not followed)."""
         if seen is None or seen[0] != "do":
             return False
         first = seen[3]
         if any(entry.label == label for entry in self._scope_entries()):
             return False
-        if first.exits or not _self_contained(first):
+        found = self._resume_point(first)
+        if found is None:
             return False
-        for index, stmt in enumerate(self.body):
-            closing = self._closing_after(stmt, first)
-            if closing is not None:
-                break
-        else:
-            return False
-        outer = Loop("do", first.line, self.body[index + 1 :], key=first.key, back=True)
-        del self.body[index + 1 :]
-        self.body.append(outer)
-        self.stack.append(_Open("", outer, outer.body))
+        depth, index, resume = found
+        body = self.stack[depth - 1].body if depth else self.main
+        outer = Loop("do", first.line, body[index + 1 :], key=first.key, back=True)
+        del body[index + 1 :]
+        body.append(outer)
+        # open (with no label a line can carry) until the body around ends
+        self.stack.insert(depth, _Open("", outer, outer.body))
+        crossed = [entry.node for entry in self.stack[depth + 1 :] if isinstance(entry.node, Loop)]
+        if crossed:
+            outer.flagged = True
+            for inner in crossed:
+                inner.exits.append(outer)
         if first.key in self.tracked:
             self.body.append(LabelCheck(line, first.key, "do-end"))
-        self.body.append(DoEnd(line, "continue", outer, resume=[first] + closing))
+        self.body.append(DoEnd(line, "continue", outer, resume=resume))
         return True
 
-    def _closing_after(self, stmt: Stmt, first: Loop) -> Optional[List[Stmt]]:
-        """When ``first`` is the last statement of the last arm of the if
-        ``stmt`` (closed), or of the body of the do or while loop ``stmt``
-        (closed): what its closing line does when run into again."""
-        if isinstance(stmt, If) and stmt.end is not None and id(stmt) not in self.dead:
-            arm = stmt.orelse or stmt.branches[-1]
-            if not arm.body or arm.body[-1] is not first:
+    def _loop_back_into(self, loop: Loop) -> None:
+        """A do-loop whose do line does nothing (``reuses``: the label's
+        first do-loop stands in an earlier construct), kept as a loop for
+        its break lines, just closed: where its while line is true, rs274
+        goes back into that construct (:meth:`_back_into`), then runs on to
+        this loop again (``Loop.back_into``: codegen's do test). A break
+        ends the loop as usual. Only where no continue of it comes from a
+        loop inside it, and the jumps on the way back stay inside what
+        runs again."""
+        if any(
+            isinstance(inner, Loop)
+            and any(isinstance(s, Jump) and s.target is loop for s in walk(inner.body, False))
+            for inner in walk(loop.body, False)
+        ):
+            return
+        found = self._resume_point(loop.reuses)
+        if found is None:
+            return
+        depth, index, resume = found
+        body = self.stack[depth - 1].body if depth else self.main
+        outer = Loop("do", loop.reuses.line, body[index + 1 :], key=loop.key, back=True)
+        del body[index + 1 :]
+        body.append(outer)
+        self.stack.insert(depth, _Open("", outer, outer.body))
+        outer.flagged = True
+        for entry in self.stack[depth + 1 :]:
+            if isinstance(entry.node, Loop):
+                entry.node.exits.append(outer)
+        loop.exits.append(outer)
+        loop.back_into = (outer, resume)
+
+    def _resume_point(self, first: Loop) -> Optional[Tuple[int, int, List[Stmt]]]:
+        """The earlier construct holding ``first`` in this body or a body
+        around it (of this subroutine or the main program): (the depth of
+        that body as :meth:`_do_end` counts it, the construct's index in
+        it, what runs going back to ``first``: :meth:`_resume`)."""
+        for depth in range(len(self.stack), -1, -1):
+            if depth == 0 and self.stack and isinstance(self.stack[0].node, Sub):
                 return None
-            key = self._key(str(stmt.end.oword.name))
-            if key in self.tracked:
-                return [LabelCheck(stmt.end, key, "endif")]
-            return [IfEnd(stmt.end)]
+            body = self.stack[depth - 1].body if depth else self.main
+            stop = len(body) - (depth < len(self.stack))  # not the open one
+            for index in range(stop):
+                resume = self._resume(body[index], first)
+                if resume is not None:
+                    return depth, index, resume
+            if depth and isinstance(self.stack[depth - 1].node, Sub):
+                return None
+        return None
+
+    def _resume(self, stmt: Stmt, first: Loop) -> Optional[List[Stmt]]:
+        """When ``first`` stands in an arm of the if ``stmt`` (closed), or in
+        the body of the do or while loop ``stmt`` (closed), however deeply:
+        what runs going back to it, from it to the end of that arm or body
+        (and of each construct between), then what each closing line does
+        when run into again. None elsewhere, or where a break or continue
+        on the way aims outside the statements run."""
+        if isinstance(stmt, If) and id(stmt) not in self.dead:
+            arms = stmt.branches + ([stmt.orelse] if stmt.orelse else [])
+            if stmt.orelse is not None and stmt.orelse.line is stmt.branches[-1].line:
+                arms.pop()  # the end-of-file failure _abandon added
+            for k, arm in enumerate(arms):
+                head = self._resume_in(arm.body, first)
+                if head is None:
+                    continue
+                if not head:
+                    return None
+                if stmt.end is None:
+                    # ended by an outer closing line (abandoned): from its
+                    # last arm rs274 runs on into that line
+                    return head if k == len(arms) - 1 else None
+                key = self._key(str(stmt.end.oword.name))
+                closing: List[Stmt] = list(head)
+                for later in arms[k + 1 :]:
+                    if key in self.tracked:
+                        closing.append(LabelCheck(later.line, key, later.line.oword.keyword))
+                    closing.append(ArmAgain(later.line, later.body))
+                if key in self.tracked:
+                    return closing + [LabelCheck(stmt.end, key, "endif")]
+                return closing + [IfEnd(stmt.end)]
+            return None
         if (
             isinstance(stmt, Loop)
-            and stmt.kind in ("do", "while")
-            and stmt.end is not None
+            and (stmt.kind in ("do", "while", "repeat") or stmt.end is None)
             and not stmt.back
             and stmt.reuses is None
             and id(stmt) not in self.dead
-            and stmt.body
-            and stmt.body[-1] is first
         ):
+            head = self._resume_in(stmt.body, first)
+            if not head:
+                return None
+            if stmt.end is None:
+                return head  # abandoned: rs274 runs on into the outer line
             if stmt.kind == "do" and stmt.key in self.tracked:
-                return [LabelCheck(stmt.end, stmt.key, "do-end"), Again(stmt)]
-            return [Again(stmt)]
+                return head + [LabelCheck(stmt.end, stmt.key, "do-end"), Again(stmt)]
+            return head + [Again(stmt)]
+        return None
+
+    def _resume_in(self, body: List[Stmt], first: Loop) -> Optional[List[Stmt]]:
+        """What runs going back to ``first`` in ``body`` (see :meth:`_resume`)
+        to the end of ``body``; None when it is not there, [] when it is
+        there but cannot be followed."""
+        for j, inner in enumerate(body):
+            if inner is first:
+                head = [first]
+            elif isinstance(inner, (If, Loop)) and any(s is first for s in walk([inner], False)):
+                head = self._resume(inner, first) or []
+            else:
+                continue
+            rest = body[j + 1 :]
+            if not head or not _self_contained(head[:1] + rest):
+                return []
+            return head + rest
         return None
 
     def _dissolves(self, node: Loop) -> bool:
@@ -1672,12 +1805,11 @@ def children(stmt: Stmt, into_subs: bool = True) -> List[List[Stmt]]:
     return []
 
 
-def _self_contained(loop: Loop) -> bool:
-    """Do the break and continue lines inside ``loop`` all aim at it or at
-    loops inside it (so it can run anywhere: :meth:`_Builder._back_into`)?"""
-    inner = {id(loop)}
-    stmts = list(walk(loop.body, False))
-    inner.update(id(stmt) for stmt in stmts if isinstance(stmt, Loop))
+def _self_contained(body: List[Stmt]) -> bool:
+    """Do the break and continue lines in ``body`` all aim at loops of it
+    (so it can run anywhere: :meth:`_Builder._back_into`)?"""
+    stmts = list(walk(body, False))
+    inner = {id(stmt) for stmt in stmts if isinstance(stmt, Loop)}
     for stmt in stmts:
         if isinstance(stmt, (DoEnd, Define)):
             return False
