@@ -1046,6 +1046,17 @@ class _Builder:
         if self._reopens_do(label, seen):
             # rs274 takes it for the end of that do-loop: it loops back to
             # the first ``do``, or goes on into what follows.
+            start = next(i for i, stmt in enumerate(self.body) if stmt is seen[3])
+            if any(
+                any(stmt is check for check in self.arm_checks)
+                for stmt in self.body[start + 1 :]
+            ):
+                # an else or elseif line between, run into: where an arm
+                # has run it skips past this line to the next of its label
+                # (structure.FlatArm), so this line is a jump back (DoEnd)
+                # in the statements after it, not the end of a loop
+                self._do_end(line, seen[3], len(self.stack))
+                return
             self._reopen_do(label, seen[3])
             self.stack.pop().node.end = line
             return
