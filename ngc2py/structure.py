@@ -683,6 +683,9 @@ class _Builder:
         self.orphans: List[Tuple[str, Fail]] = []
         # else/elseif lines of reused labels fitting no open if (_arms_to_eof)
         self.arm_checks: List[LabelCheck] = []
+        # breaks of finished do-loops skipping past a while line: (that
+        # line, the loop standing for the skip: _break_to_do_end)
+        self.skips_to: List[tuple] = []
 
     # -- helpers ----------------------------------------------------------
 
@@ -779,6 +782,13 @@ class _Builder:
         landing = self._landing_if(word)
         body, start = self.body, len(self.body)
         handler(line, word)
+        while self.skips_to and self.skips_to[-1][0] is line:
+            # the line a break skips past is written: the skip ends here
+            _, node = self.skips_to.pop()
+            while self.stack and self.stack[-1].node is not node:
+                self.stack.pop()
+            if self.stack:
+                self.stack.pop()
         if landing is not None and body[start:]:
             node = landing.node
             arm = len(node.branches) - (node.orelse is None)
@@ -1399,12 +1409,44 @@ class _Builder:
             message = NO_MATCHING_END % ((line.number, line.text) + found)
         self.fail(line, message)
 
+    def _break_to_do_end(self, fail: Fail, line: nodes.Line, word: nodes.OWord) -> bool:
+        """A break of a finished do-loop (``fail``) whose skip lands on a
+        while line of the label (``line``), which ends that do-loop: the
+        break pending, rs274 does not loop back, and goes on after the
+        line. Where the break stands in this body (or in ifs in it), the
+        statements from it to the line become a loop run once that the
+        break leaves (the line itself, run into, ends the do-loop as
+        usual). False elsewhere: not followed."""
+        seen = self.labels.get(str(word.name))
+        if seen is None or seen[0] != "do" or fail.line is None:
+            return False
+        if fail.line.oword is None or fail.line.oword.keyword != "break":
+            return False
+        for index, stmt in enumerate(self.body):
+            holder = self.body if stmt is fail else _holder(stmt, fail)
+            if holder is not None:
+                break
+        else:
+            return False
+        skip = Loop("do", fail.line, self.body[index:], key="")
+        del self.body[index:]
+        self.body.append(skip)
+        if holder is self.body:
+            holder = skip.body
+        position = next(k for k, inner in enumerate(holder) if inner is fail)
+        holder[position] = Jump(fail.line, "break", skip)
+        self.stack.append(_Open("", skip, skip.body))
+        self.skips_to.append((line, skip))
+        return True
+
     def _land(self, fail: Fail, line: nodes.Line, word: nodes.OWord) -> None:
         """A break or continue of a finished loop (``fail``): rs274 takes it
         for a real one and skips forward to the next line with the label,
         ``line``, which it then executes as what it is. Where that fails
         whatever the run, ``fail`` becomes that failure (a do, an endwhile
         of the while or another break or continue would carry on: left)."""
+        if word.keyword == "while" and self._break_to_do_end(fail, line, word):
+            return
         message = self._land_message(self.labels.get(str(word.name)), line, word)
         if message is None:
             return
@@ -1814,6 +1856,21 @@ def children(stmt: Stmt, into_subs: bool = True) -> List[List[Stmt]]:
     if isinstance(stmt, Define) and into_subs:
         return [stmt.sub.body]
     return []
+
+
+def _holder(stmt: Stmt, target: Stmt) -> Optional[List[Stmt]]:
+    """The statement list holding ``target`` in an arm of the if ``stmt``,
+    however deep (not inside a loop); else None."""
+    if isinstance(stmt, If):
+        arms = stmt.branches + ([stmt.orelse] if stmt.orelse else [])
+        for arm in arms:
+            if any(inner is target for inner in arm.body):
+                return arm.body
+            for inner in arm.body:
+                found = _holder(inner, target) if isinstance(inner, If) else None
+                if found is not None:
+                    return found
+    return None
 
 
 def _self_contained(body: List[Stmt]) -> bool:

@@ -106,15 +106,9 @@ def test_a_skip_lands_on_a_do_inside_a_nested_if():
 
 
 # Shapes the language campaign found that ngc2py does not follow yet (issue
-# 14, seed 15002/15003), as strict known gaps with minimal programs:
+# 14, seed 15002/15003), as strict known gaps with minimal programs (a break of a finished do-loop
+# landing on its while line was one: structure._Builder._break_to_do_end):
 KNOWN_GAPS = {
-    # a break of a finished do-loop: rs274 skips forward to the loop's next
-    # while line, which ends the do-loop (the break pending, it does not
-    # loop back) and goes on; ngc2py fails at the break
-    "stale_break_lands_on_do_end": (
-        "#<_n> = 0\no101 do\n  #<_n> = [#<_n> + 1]\no101 while [0]\no101 break\n"
-        "(DEBUG, skipped)\no101 while [1]\n(DEBUG, after n=#<_n>)\nM2\n"
-    ),
     # a while line whose label is a do-loop's inside an earlier loop that a
     # break of that loop leaves: it ends that do-loop (false: goes on);
     # ngc2py opens a new while loop (structure._Builder._back_into follows
