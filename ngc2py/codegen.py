@@ -695,6 +695,9 @@ class CodeGen:
         #: Writing where a skip lands (skipped_to): the loops it enters;
         #: a jump to any other loop names a label rs274 never recorded.
         self.landing_loops: Optional[set] = None
+        #: loops a break leaves while code goes back into them -> the back
+        #: loop it continues (structure.DoEnd.leaves)
+        self.resumed: Dict[int, st.Loop] = {}
 
     # -- entry point ------------------------------------------------------
 
@@ -1396,6 +1399,20 @@ class CodeGen:
             # rs274 skips to the loop's closing while, which clears the flag
             # (set by this break, or left over from a while-loop's).
             self.w.stmt("m.doing_break = False", stmt.line)
+        if stmt.target.skip:
+            # a skip to a later do line of the label (structure Loop.skip)
+            if stmt.flag == "break" and self.break_flag:
+                self.w.stmt("m.doing_break = True", stmt.line)
+            if stmt.flag == "continue" and self.continue_flag:
+                self.w.stmt("m.doing_continue = True", stmt.line)
+            self.jump_to("break", stmt.target, stmt.line)
+            return
+        outer = self.resumed.get(id(stmt.target))
+        if outer is not None:
+            # gone back into the loop this break leaves: what follows it
+            # is the start of ``outer`` (structure.DoEnd.leaves)
+            self.jump_to("continue", outer, stmt.line)
+            return
         self.frame_check(stmt.target, stmt.line)
         if self.continue_flag:
             self.stale_continue(stmt)
@@ -1428,13 +1445,21 @@ class CodeGen:
             test = "%s and not m.doing_break" % test
         self.w.stmt("if %s:" % test, stmt.line)
         self.w.depth += 1
-        for inner in stmt.resume:
-            # back into an earlier construct: its do-loop, its closing line
-            self.statement(inner)
+        self.resume(stmt.resume, stmt.leaves, stmt.target)
         self.jump_to("continue", stmt.target, stmt.line)
         self.w.depth -= 1
         if self.break_flag:
             self.w.stmt("m.doing_break = False", stmt.line)
+
+    def resume(self, stmts: List[st.Stmt], leaves: List[st.Loop], outer: st.Loop) -> None:
+        """Back into an earlier construct (structure.DoEnd.resume): a break
+        of a loop it ``leaves`` continues ``outer``, which starts after it."""
+        saved = dict(self.resumed)
+        for loop in leaves:
+            self.resumed[id(loop)] = outer
+        for inner in stmts:
+            self.statement(inner)
+        self.resumed = saved
 
     def s_ifend(self, stmt: st.IfEnd) -> None:
         """An endif run into again (structure.DoEnd.resume)."""
@@ -1523,14 +1548,13 @@ class CodeGen:
         if loop.back_into is not None:
             # true, rs274 goes back into an earlier construct (structure
             # Loop.back_into); either way this loop ends here
-            outer, resume = loop.back_into
+            outer, resume, leaves = loop.back_into
             test = self.x.condition(loop.end.oword.expr)
             if self.break_flag:
                 test += " and not m.doing_break"
             self.w.stmt("if %s:" % test, loop.end)
             self.w.depth += 1
-            for inner in resume:
-                self.statement(inner)
+            self.resume(resume, leaves, outer)
             self.jump_to("continue", outer, loop.end)
             self.w.depth -= 1
             if self.break_flag:
@@ -1556,6 +1580,8 @@ class CodeGen:
     def check_exits(self, loop: st.Loop, enclosing: Optional[st.Loop]) -> None:
         """After ``loop``: act on flags set by labelled jumps inside it."""
         for target in loop.exits:
+            if id(target) in self.resumed:
+                continue  # its break continues the loop gone back from
             if not self.in_function(target):
                 continue  # the jump returned from this nesting helper
             flag = self.flag(target)
@@ -2438,7 +2464,8 @@ def stale_continue_flag(program: st.Program) -> bool:
     for sub in program.externals:
         stmts.extend(st.walk(sub.body))
     sets = any(
-        type(s) is st.Jump and s.kind == "continue" and s.target.kind == "do"
+        type(s) is st.Jump
+        and (s.kind == "continue" and s.target.kind == "do" or s.flag == "continue")
         for s in stmts
     )
     hit = any(

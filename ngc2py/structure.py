@@ -149,9 +149,13 @@ class Loop:
     #: A do line reusing the label of this finished do-loop of a body
     #: around it (rs274 keeps that one's place): see _Builder.on_while.
     reuses: Optional["Loop"] = None
+    #: No loop of the text: the statements a break or continue skips over
+    #: to a later line of its label where rs274 goes on (a do line), run
+    #: once; its jumps (Jump.flag) leave it (_Builder._jumps_land_here).
+    skip: bool = False
     #: Its while line true goes back into an earlier construct: (the
-    #: :attr:`back` loop it continues, what runs first: DoEnd.resume);
-    #: see _Builder._loop_back_into.
+    #: :attr:`back` loop it continues, what runs first, the loop a break
+    #: there leaves: DoEnd.resume, DoEnd.leaves); see _Builder._loop_back_into.
     back_into: Optional[tuple] = None
 
 
@@ -163,6 +167,9 @@ class Jump:
     line: nodes.Line
     kind: str
     target: Loop
+    #: A jump to a :attr:`Loop.skip` loop: the keyword of the line (break
+    #: or continue), whose rs274 flag it sets.
+    flag: str = ""
 
 
 @dataclass
@@ -179,6 +186,8 @@ class DoEnd(Jump):
     :meth:`_Builder._back_into`) before ``target`` goes on after it."""
 
     resume: List["Stmt"] = field(default_factory=list)
+    #: A loop a break in ``resume`` leaves: it continues ``target``.
+    leaves: List["Loop"] = field(default_factory=list)
 
 
 @dataclass
@@ -929,6 +938,7 @@ class _Builder:
     def on_do(self, line: nodes.Line, word: nodes.OWord) -> None:
         label = str(word.name)
         seen = self.labels.get(label)
+        self._jumps_land_here(label, seen, line)
         if self._reopens_do(label, seen):
             self._reopen_do(label, seen[3])
             return
@@ -944,6 +954,54 @@ class _Builder:
             # rs274 keeps that do's place; unless a break or continue needs
             # this loop, its while line dissolves it (on_while)
             self.stack[-1].node.reuses = seen[3]
+
+    def _jumps_land_here(self, label: str, seen, line: nodes.Line) -> None:
+        """A do line inside the open do-loop that first used its label,
+        after break or continue lines of that loop in this body (or in ifs
+        in it): their skip stops at this line (the next with the label),
+        where rs274 goes on (the do line does nothing). The statements from
+        the first of them to here become a loop run once that they leave
+        (``Loop.skip``), setting rs274's flag as the jump would."""
+        if seen is None or seen[0] != "do" or not self.stack:
+            return
+        loop = seen[3]
+        for entry in self._scope_entries():
+            if entry.label == label:
+                if entry.node is not loop or id(loop) in self.dead:
+                    return
+                break
+            if isinstance(entry.node, Loop):
+                return  # a loop between: its own end comes first
+        else:
+            return
+        key = self._key(label)
+        between = [
+            number for number, line_key, _, _, _ in self.labelled
+            if line_key == key and number < line.number
+        ]
+        jumps = []
+        for index, stmt in enumerate(self.body):
+            candidates = [stmt] if type(stmt) is Jump else [
+                inner for inner in walk([stmt], False) if type(inner) is Jump
+            ]
+            for jump in candidates:
+                if jump.target is not loop or any(n > jump.line.number for n in between):
+                    continue
+                holder = self.body if jump is stmt else _holder(stmt, jump)
+                if holder is not None:
+                    jumps.append((index, jump))
+        if not jumps:
+            return
+        start = jumps[0][0]
+        skip = Loop("do", jumps[0][1].line, self.body[start:], key="", skip=True)
+        del self.body[start:]
+        self.body.append(skip)
+        for _, jump in jumps:
+            holder = skip.body if any(s is jump for s in skip.body) else None
+            if holder is None:
+                holder = next(h for h in (_holder(s, jump) for s in skip.body) if h is not None)
+            position = next(k for k, inner in enumerate(holder) if inner is jump)
+            holder[position] = Jump(jump.line, "break", skip, flag=jump.kind)
 
     def _inside_do(self, label: str, seen) -> bool:
         """Is the innermost open construct of this scope with ``label`` the
@@ -1109,6 +1167,7 @@ class _Builder:
             return False
         depth, index, resume = found
         body = self.stack[depth - 1].body if depth else self.main
+        left = body[index]
         outer = Loop("do", first.line, body[index + 1 :], key=first.key, back=True)
         del body[index + 1 :]
         body.append(outer)
@@ -1119,10 +1178,27 @@ class _Builder:
             outer.flagged = True
             for inner in crossed:
                 inner.exits.append(outer)
+        leaves = self._leaving(left, resume, outer)
         if first.key in self.tracked:
             self.body.append(LabelCheck(line, first.key, "do-end"))
-        self.body.append(DoEnd(line, "continue", outer, resume=resume))
+        self.body.append(DoEnd(line, "continue", outer, resume=resume, leaves=leaves))
         return True
+
+    def _leaving(self, left: Stmt, resume: List[Stmt], outer: Loop) -> List[Loop]:
+        """A break of the loop ``left`` (the construct gone back into) in
+        ``resume`` leaves it: what follows it is the start of ``outer``, so
+        it continues ``outer`` (codegen), and the loops it crosses there
+        check ``outer``'s flag too."""
+        if not isinstance(left, Loop):
+            return []
+        stmts = list(walk(resume, False))
+        if not any(isinstance(s, Jump) and s.target is left for s in stmts):
+            return []
+        outer.flagged = True
+        for inner in stmts:
+            if isinstance(inner, Loop) and left in inner.exits and outer not in inner.exits:
+                inner.exits.append(outer)
+        return [left]
 
     def _loop_back_into(self, loop: Loop) -> None:
         """A do-loop whose do line does nothing (``reuses``: the label's
@@ -1144,6 +1220,7 @@ class _Builder:
             return
         depth, index, resume = found
         body = self.stack[depth - 1].body if depth else self.main
+        left = body[index]
         outer = Loop("do", loop.reuses.line, body[index + 1 :], key=loop.key, back=True)
         del body[index + 1 :]
         body.append(outer)
@@ -1153,7 +1230,7 @@ class _Builder:
             if isinstance(entry.node, Loop):
                 entry.node.exits.append(outer)
         loop.exits.append(outer)
-        loop.back_into = (outer, resume)
+        loop.back_into = (outer, resume, self._leaving(left, resume, outer))
 
     def _resume_point(self, first: Loop) -> Optional[Tuple[int, int, List[Stmt]]]:
         """The earlier construct holding ``first`` in this body or a body
@@ -1166,14 +1243,17 @@ class _Builder:
             body = self.stack[depth - 1].body if depth else self.main
             stop = len(body) - (depth < len(self.stack))  # not the open one
             for index in range(stop):
-                resume = self._resume(body[index], first)
+                leaves = body[index] if isinstance(body[index], Loop) else None
+                resume = self._resume(body[index], first, leaves)
                 if resume is not None:
                     return depth, index, resume
             if depth and isinstance(self.stack[depth - 1].node, Sub):
                 return None
         return None
 
-    def _resume(self, stmt: Stmt, first: Loop) -> Optional[List[Stmt]]:
+    def _resume(
+        self, stmt: Stmt, first: Loop, leaves: Optional[Loop] = None
+    ) -> Optional[List[Stmt]]:
         """When ``first`` stands in an arm of the if ``stmt`` (closed), or in
         the body of the do or while loop ``stmt`` (closed), however deeply:
         what runs going back to it, from it to the end of that arm or body
@@ -1185,7 +1265,7 @@ class _Builder:
             if stmt.orelse is not None and stmt.orelse.line is stmt.branches[-1].line:
                 arms.pop()  # the end-of-file failure _abandon added
             for k, arm in enumerate(arms):
-                head = self._resume_in(arm.body, first)
+                head = self._resume_in(arm.body, first, leaves)
                 if head is None:
                     continue
                 if not head:
@@ -1211,7 +1291,7 @@ class _Builder:
             and stmt.reuses is None
             and id(stmt) not in self.dead
         ):
-            head = self._resume_in(stmt.body, first)
+            head = self._resume_in(stmt.body, first, leaves)
             if not head:
                 return None
             if stmt.end is None:
@@ -1221,7 +1301,9 @@ class _Builder:
             return head + [Again(stmt)]
         return None
 
-    def _resume_in(self, body: List[Stmt], first: Loop) -> Optional[List[Stmt]]:
+    def _resume_in(
+        self, body: List[Stmt], first: Loop, leaves: Optional[Loop] = None
+    ) -> Optional[List[Stmt]]:
         """What runs going back to ``first`` in ``body`` (see :meth:`_resume`)
         to the end of ``body``; None when it is not there, [] when it is
         there but cannot be followed."""
@@ -1229,11 +1311,11 @@ class _Builder:
             if inner is first:
                 head = [first]
             elif isinstance(inner, (If, Loop)) and any(s is first for s in walk([inner], False)):
-                head = self._resume(inner, first) or []
+                head = self._resume(inner, first, leaves) or []
             else:
                 continue
             rest = body[j + 1 :]
-            if not head or not _self_contained(head[:1] + rest):
+            if not head or not _self_contained(head[:1] + rest, leaves):
                 return []
             return head + rest
         return None
@@ -1873,15 +1955,20 @@ def _holder(stmt: Stmt, target: Stmt) -> Optional[List[Stmt]]:
     return None
 
 
-def _self_contained(body: List[Stmt]) -> bool:
+def _self_contained(body: List[Stmt], leaves: Optional[Loop] = None) -> bool:
     """Do the break and continue lines in ``body`` all aim at loops of it
-    (so it can run anywhere: :meth:`_Builder._back_into`)?"""
+    (so it can run anywhere: :meth:`_Builder._back_into`), or break
+    ``leaves`` (the loop around it all, which running again they leave)?"""
     stmts = list(walk(body, False))
     inner = {id(stmt) for stmt in stmts if isinstance(stmt, Loop)}
+    if leaves is not None:
+        inner.add(id(leaves))
     for stmt in stmts:
         if isinstance(stmt, (DoEnd, Define)):
             return False
         if isinstance(stmt, Jump) and id(stmt.target) not in inner:
+            return False
+        if isinstance(stmt, Jump) and stmt.target is leaves and stmt.kind != "break":
             return False
         if isinstance(stmt, Loop) and any(id(e) not in inner for e in stmt.exits):
             return False

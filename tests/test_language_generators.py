@@ -106,17 +106,11 @@ def test_a_skip_lands_on_a_do_inside_a_nested_if():
 
 
 # Shapes the language campaign found that ngc2py does not follow yet (issue
-# 14, seed 15002/15003), as strict known gaps with minimal programs (a break of a finished do-loop
-# landing on its while line was one: structure._Builder._break_to_do_end):
+# 14, seeds 15002-15003), as strict known gaps with minimal programs. (Two
+# more were: a break of a finished do-loop landing on its while line, and a
+# while line ending a do-loop an outer break leaves; see
+# structure._Builder._break_to_do_end and DoEnd.leaves.)
 KNOWN_GAPS = {
-    # a while line whose label is a do-loop's inside an earlier loop that a
-    # break of that loop leaves: it ends that do-loop (false: goes on);
-    # ngc2py opens a new while loop (structure._Builder._back_into follows
-    # only jumps that stay inside what runs again)
-    "do_end_of_do_left_by_outer_break": (
-        "#<k1> = 0\no101 while [#<k1> LT 1]\n  o102 do\n    o101 break\n"
-        "o101 endwhile\no102 while [0]\n(DEBUG, after)\nM2\n"
-    ),
     # an else run into in a do-loop of its label, the next line with the
     # label after the construct that ended the do-loop: where an arm has
     # run, rs274 skips there; ngc2py runs the else arm
