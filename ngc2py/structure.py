@@ -1521,6 +1521,33 @@ class _Builder:
         self.skips_to.append((line, skip))
         return True
 
+    def _jump_to_do(self, fail: Fail) -> bool:
+        """A break or continue of a finished loop (``fail``) whose skip
+        lands on a do line of the label, where rs274 goes on (the do line
+        does nothing): where the jump stands in this body (or in ifs in
+        it), the statements from it to the do line become a loop run once
+        that it leaves, setting rs274's flag as the jump would (as
+        :meth:`_jumps_land_here`). False elsewhere: not followed."""
+        if fail.line is None or fail.line.oword is None:
+            return False
+        kind = fail.line.oword.keyword
+        if kind not in ("break", "continue"):
+            return False
+        for index, stmt in enumerate(self.body):
+            holder = self.body if stmt is fail else _holder(stmt, fail)
+            if holder is not None:
+                break
+        else:
+            return False
+        skip = Loop("do", fail.line, self.body[index:], key="", skip=True)
+        del self.body[index:]
+        self.body.append(skip)
+        if holder is self.body:
+            holder = skip.body
+        position = next(k for k, inner in enumerate(holder) if inner is fail)
+        holder[position] = Jump(fail.line, "break", skip, flag=kind)
+        return True
+
     def _land(self, fail: Fail, line: nodes.Line, word: nodes.OWord) -> None:
         """A break or continue of a finished loop (``fail``): rs274 takes it
         for a real one and skips forward to the next line with the label,
@@ -1528,6 +1555,8 @@ class _Builder:
         whatever the run, ``fail`` becomes that failure (a do, an endwhile
         of the while or another break or continue would carry on: left)."""
         if word.keyword == "while" and self._break_to_do_end(fail, line, word):
+            return
+        if word.keyword == "do" and self._jump_to_do(fail):
             return
         message = self._land_message(self.labels.get(str(word.name)), line, word)
         if message is None:
