@@ -695,6 +695,9 @@ class CodeGen:
         #: Writing where a skip lands (skipped_to): the loops it enters;
         #: a jump to any other loop names a label rs274 never recorded.
         self.landing_loops: Optional[set] = None
+        #: loops a break leaves while code goes back into them -> the back
+        #: loop it continues (structure.DoEnd.leaves)
+        self.resumed: Dict[int, st.Loop] = {}
 
     # -- entry point ------------------------------------------------------
 
@@ -1233,6 +1236,12 @@ class CodeGen:
             self.w.depth += 1
             self.fail_skipped(unreadable)
             self.w.depth -= 1
+        elif stmt.eof is not None:
+            # the skip runs to the end of the file
+            self.w.stmt("else:", line)
+            self.w.depth += 1
+            self.statement(stmt.eof)
+            self.w.depth -= 1
 
     def s_topreturn(self, stmt: st.TopReturn) -> None:
         self.w.comment(stmt.line)
@@ -1390,6 +1399,20 @@ class CodeGen:
             # rs274 skips to the loop's closing while, which clears the flag
             # (set by this break, or left over from a while-loop's).
             self.w.stmt("m.doing_break = False", stmt.line)
+        if stmt.target.skip:
+            # a skip to a later do line of the label (structure Loop.skip)
+            if stmt.flag == "break" and self.break_flag:
+                self.w.stmt("m.doing_break = True", stmt.line)
+            if stmt.flag == "continue" and self.continue_flag:
+                self.w.stmt("m.doing_continue = True", stmt.line)
+            self.jump_to("break", stmt.target, stmt.line)
+            return
+        outer = self.resumed.get(id(stmt.target))
+        if outer is not None:
+            # gone back into the loop this break leaves: what follows it
+            # is the start of ``outer`` (structure.DoEnd.leaves)
+            self.jump_to("continue", outer, stmt.line)
+            return
         self.frame_check(stmt.target, stmt.line)
         if self.continue_flag:
             self.stale_continue(stmt)
@@ -1422,10 +1445,62 @@ class CodeGen:
             test = "%s and not m.doing_break" % test
         self.w.stmt("if %s:" % test, stmt.line)
         self.w.depth += 1
+        self.resume(stmt.resume, stmt.leaves, stmt.target)
         self.jump_to("continue", stmt.target, stmt.line)
         self.w.depth -= 1
         if self.break_flag:
             self.w.stmt("m.doing_break = False", stmt.line)
+
+    def resume(self, stmts: List[st.Stmt], leaves: List[st.Loop], outer: st.Loop) -> None:
+        """Back into an earlier construct (structure.DoEnd.resume): a break
+        of a loop it ``leaves`` continues ``outer``, which starts after it."""
+        saved = dict(self.resumed)
+        for loop in leaves:
+            self.resumed[id(loop)] = outer
+        for inner in stmts:
+            self.statement(inner)
+        self.resumed = saved
+
+    def s_ifend(self, stmt: st.IfEnd) -> None:
+        """An endif run into again (structure.DoEnd.resume)."""
+        if self.if_flag:
+            self.w.stmt("m.executed_if = True", stmt.line)
+
+    def s_armagain(self, stmt: st.ArmAgain) -> None:
+        """A later arm's line run into again (structure.DoEnd.resume)."""
+        line = stmt.line
+        test = None
+        if line.oword.keyword == "elseif":
+            self.temp += 1
+            test = "t%d" % self.temp
+            self.w.stmt("%s = %s" % (test, self.x.condition(line.oword.expr)), line)
+        self.w.stmt("if not m.executed_if:", line)
+        self.w.depth += 1
+        if test is not None:
+            self.w.stmt("if %s:" % test, line)
+            self.w.depth += 1
+            self.w.stmt("m.executed_if = True", line)
+            self.w.depth -= 1
+        self.block(stmt.body)
+        self.w.depth -= 1
+
+    def s_again(self, stmt: st.Again) -> None:
+        """A loop's closing line run into again (structure.DoEnd.resume)."""
+        loop = stmt.loop
+        if loop.kind != "do":
+            # the endwhile (endrepeat) goes back to the while (repeat) line,
+            # which tests its condition (counts anew: a finished repeat)
+            self.statement(loop)
+            return
+        test = self.x.condition(loop.end.oword.expr)
+        if self.break_flag:
+            test = "%s and not m.doing_break" % test
+        self.w.stmt("if %s:" % test, loop.end)
+        self.w.depth += 1
+        self.statement(loop)
+        self.w.depth -= 1
+        if self.break_flag:
+            self.w.stmt("m.doing_break = False", loop.end)
 
     def stale_continue(self, stmt: st.Jump) -> None:
         """rs274's ``doing_continue`` (runtime.loopflags) at a break or
@@ -1470,6 +1545,22 @@ class CodeGen:
     def do_test(self, loop: st.Loop) -> None:
         """``if not <cond>: break`` for the closing ``while`` of a do-loop
         (which also ends the loop, once, after a while-loop's break)."""
+        if loop.back_into is not None:
+            # true, rs274 goes back into an earlier construct (structure
+            # Loop.back_into); either way this loop ends here
+            outer, resume, leaves = loop.back_into
+            test = self.x.condition(loop.end.oword.expr)
+            if self.break_flag:
+                test += " and not m.doing_break"
+            self.w.stmt("if %s:" % test, loop.end)
+            self.w.depth += 1
+            self.resume(resume, leaves, outer)
+            self.jump_to("continue", outer, loop.end)
+            self.w.depth -= 1
+            if self.break_flag:
+                self.w.stmt("m.doing_break = False", loop.end)
+            self.w.stmt("break", loop.end)
+            return
         test = "not %s" % self.x.condition(loop.end.oword.expr)
         if self.break_flag:
             test += " or m.doing_break"
@@ -1489,6 +1580,8 @@ class CodeGen:
     def check_exits(self, loop: st.Loop, enclosing: Optional[st.Loop]) -> None:
         """After ``loop``: act on flags set by labelled jumps inside it."""
         for target in loop.exits:
+            if id(target) in self.resumed:
+                continue  # its break continues the loop gone back from
             if not self.in_function(target):
                 continue  # the jump returned from this nesting helper
             flag = self.flag(target)
@@ -2283,6 +2376,11 @@ def executed_if_flag(program: st.Program) -> bool:
     stmts = [s for body in bodies for s in st.walk(body)]
     if any(isinstance(s, st.LabelCheck) and s.kind in ("else", "elseif") for s in stmts):
         return True
+    if any(
+        isinstance(s, st.DoEnd) and any(isinstance(r, st.ArmAgain) for r in s.resume)
+        for s in stmts
+    ):
+        return True  # later arms run into again
     return any(clears_flag(s) for s in stmts) and any(
         isinstance(s, st.If) and len(s.branches) + (s.orelse is not None) > 1
         for s in stmts
@@ -2366,7 +2464,8 @@ def stale_continue_flag(program: st.Program) -> bool:
     for sub in program.externals:
         stmts.extend(st.walk(sub.body))
     sets = any(
-        type(s) is st.Jump and s.kind == "continue" and s.target.kind == "do"
+        type(s) is st.Jump
+        and (s.kind == "continue" and s.target.kind == "do" or s.flag == "continue")
         for s in stmts
     )
     hit = any(

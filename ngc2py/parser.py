@@ -348,7 +348,10 @@ class _LineReader:
 
     def read_m98(self) -> None:
         """``M98 P.. [L..]``: rs274 skips three characters for ``m98`` and
-        reads the rest of the line as ordinary items."""
+        reads the rest of the line as ordinary items. It does so in read_o,
+        before it asks whether it is skipping: a line it cannot read fails
+        even in an arm not taken or a definition (``oword_unread``)."""
+        self.block.oword_unread = True
         self.pos += 3
         while self.pos < len(self.text):
             self.read_item()
@@ -361,6 +364,7 @@ class _LineReader:
             _oword_number(program.value),
             expr=None if repeat is None else repeat.value,
         )
+        self.block.oword_unread = False
 
     def m99_call_error(self) -> Optional[str]:
         """What reading ``M99`` as a return fails with: after the three

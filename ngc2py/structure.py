@@ -149,6 +149,14 @@ class Loop:
     #: A do line reusing the label of this finished do-loop of a body
     #: around it (rs274 keeps that one's place): see _Builder.on_while.
     reuses: Optional["Loop"] = None
+    #: No loop of the text: the statements a break or continue skips over
+    #: to a later line of its label where rs274 goes on (a do line), run
+    #: once; its jumps (Jump.flag) leave it (_Builder._jumps_land_here).
+    skip: bool = False
+    #: Its while line true goes back into an earlier construct: (the
+    #: :attr:`back` loop it continues, what runs first, the loop a break
+    #: there leaves: DoEnd.resume, DoEnd.leaves); see _Builder._loop_back_into.
+    back_into: Optional[tuple] = None
 
 
 @dataclass
@@ -159,6 +167,9 @@ class Jump:
     line: nodes.Line
     kind: str
     target: Loop
+    #: A jump to a :attr:`Loop.skip` loop: the keyword of the line (break
+    #: or continue), whose rs274 flag it sets.
+    flag: str = ""
 
 
 @dataclass
@@ -167,7 +178,46 @@ class DoEnd(Jump):
     in a body around it: it ends that loop again. With its condition true
     (and no break pending) rs274 goes back to the do line, running it all
     again (``target``: a :attr:`Loop.back` loop from the do line to the
-    construct holding this line); else it goes on with the next line."""
+    construct holding this line); else it goes on with the next line.
+
+    The do-loop may also end an earlier construct of this line's body (the
+    last statement of its last arm, or of its loop body): going back runs
+    ``resume`` (the do-loop, then what the construct's closing line does,
+    :meth:`_Builder._back_into`) before ``target`` goes on after it."""
+
+    resume: List["Stmt"] = field(default_factory=list)
+    #: A loop a break in ``resume`` leaves: it continues ``target``.
+    leaves: List["Loop"] = field(default_factory=list)
+
+
+@dataclass
+class IfEnd:
+    """The endif line of an if run into again (:attr:`DoEnd.resume`):
+    rs274's flag "an arm has run" is set."""
+
+    line: nodes.Line
+
+
+@dataclass
+class ArmAgain:
+    """An elseif or else line of an if run into again after an earlier arm
+    (:attr:`DoEnd.resume`), and its arm: as :class:`FlatArm`, where an arm
+    has run rs274 skips on to the next line of the if; else it runs on (an
+    elseif whatever its condition, a true one setting the flag)."""
+
+    line: nodes.Line
+    body: List["Stmt"]
+
+
+@dataclass
+class Again:
+    """The closing line of a loop run into again (:attr:`DoEnd.resume`):
+    a do-loop's while line goes back to its do line when its condition is
+    true; a while-loop's endwhile goes back to its while line, a repeat
+    loop's endrepeat to its repeat line (a finished repeat counts anew).
+    ``loop`` then runs as it does where it stands."""
+
+    loop: "Loop"
 
 
 @dataclass
@@ -184,6 +234,10 @@ class LabelCheck:
     #: A break or continue of this do-loop: rs274 skips to its closing
     #: ``while`` line, checked here (``do-end``) before the jump.
     loop: Optional["Loop"] = None
+    #: An else or elseif with no later line of its label before the end
+    #: of the file: where an arm has run, rs274 skips to the end of the
+    #: file and fails there (this failure; see :func:`flat_arms`).
+    eof: Optional["Fail"] = None
 
 
 @dataclass
@@ -205,6 +259,9 @@ class FlatArm:
     #: that follows (``body`` ends with it): what rs274 runs after its skip
     #: lands there, from that line on (the loop is never entered).
     landing: Optional[List["Stmt"]] = None
+    #: No line with the label up to the end of the file: the skip fails
+    #: there (:attr:`LabelCheck.eof`).
+    eof: Optional["Fail"] = None
 
 
 def flat_arms(stmts: List["Stmt"]) -> List["Stmt"]:
@@ -241,6 +298,11 @@ def flat_arms(stmts: List["Stmt"]) -> List["Stmt"]:
                 # no line with the label before one rs274 cannot read: the
                 # skip fails there (inside whatever holds it)
                 out.append(FlatArm(stmt, flat_arms(stmts[i + 1 :])))
+                break
+            if deep is None and stmt.eof is not None:
+                # no line with the label up to the end of the file: the
+                # skip fails there (or on the way, _later_landing)
+                out.append(FlatArm(stmt, flat_arms(stmts[i + 1 :]), eof=stmt.eof))
                 break
         out.append(stmt)
         i += 1
@@ -466,6 +528,9 @@ Stmt = Union[
     Loop,
     Jump,
     DoEnd,
+    IfEnd,
+    ArmAgain,
+    Again,
     LabelCheck,
     TopReturn,
     Return,
@@ -625,6 +690,11 @@ class _Builder:
         # sub lines in an if or loop whose definition never ends: (name,
         # the failure of reading it, known at a line or at the end)
         self.orphans: List[Tuple[str, Fail]] = []
+        # else/elseif lines of reused labels fitting no open if (_arms_to_eof)
+        self.arm_checks: List[LabelCheck] = []
+        # breaks of finished do-loops skipping past a while line: (that
+        # line, the loop standing for the skip: _break_to_do_end)
+        self.skips_to: List[tuple] = []
 
     # -- helpers ----------------------------------------------------------
 
@@ -721,6 +791,13 @@ class _Builder:
         landing = self._landing_if(word)
         body, start = self.body, len(self.body)
         handler(line, word)
+        while self.skips_to and self.skips_to[-1][0] is line:
+            # the line a break skips past is written: the skip ends here
+            _, node = self.skips_to.pop()
+            while self.stack and self.stack[-1].node is not node:
+                self.stack.pop()
+            if self.stack:
+                self.stack.pop()
         if landing is not None and body[start:]:
             node = landing.node
             arm = len(node.branches) - (node.orelse is None)
@@ -861,6 +938,7 @@ class _Builder:
     def on_do(self, line: nodes.Line, word: nodes.OWord) -> None:
         label = str(word.name)
         seen = self.labels.get(label)
+        self._jumps_land_here(label, seen, line)
         if self._reopens_do(label, seen):
             self._reopen_do(label, seen[3])
             return
@@ -869,13 +947,61 @@ class _Builder:
             # around this line): this line does nothing, and the closing
             # while goes back to that do line
             return
-        outer = self._outer_do(label, seen) is not None
+        outer = self._outer_do(label, seen) is not None or self._resumable(label, seen)
         self._open_loop("do", line, word)
         if outer:
             # the label of a finished do-loop in a body around this one:
             # rs274 keeps that do's place; unless a break or continue needs
             # this loop, its while line dissolves it (on_while)
             self.stack[-1].node.reuses = seen[3]
+
+    def _jumps_land_here(self, label: str, seen, line: nodes.Line) -> None:
+        """A do line inside the open do-loop that first used its label,
+        after break or continue lines of that loop in this body (or in ifs
+        in it): their skip stops at this line (the next with the label),
+        where rs274 goes on (the do line does nothing). The statements from
+        the first of them to here become a loop run once that they leave
+        (``Loop.skip``), setting rs274's flag as the jump would."""
+        if seen is None or seen[0] != "do" or not self.stack:
+            return
+        loop = seen[3]
+        for entry in self._scope_entries():
+            if entry.label == label:
+                if entry.node is not loop or id(loop) in self.dead:
+                    return
+                break
+            if isinstance(entry.node, Loop):
+                return  # a loop between: its own end comes first
+        else:
+            return
+        key = self._key(label)
+        between = [
+            number for number, line_key, _, _, _ in self.labelled
+            if line_key == key and number < line.number
+        ]
+        jumps = []
+        for index, stmt in enumerate(self.body):
+            candidates = [stmt] if type(stmt) is Jump else [
+                inner for inner in walk([stmt], False) if type(inner) is Jump
+            ]
+            for jump in candidates:
+                if jump.target is not loop or any(n > jump.line.number for n in between):
+                    continue
+                holder = self.body if jump is stmt else _holder(stmt, jump)
+                if holder is not None:
+                    jumps.append((index, jump))
+        if not jumps:
+            return
+        start = jumps[0][0]
+        skip = Loop("do", jumps[0][1].line, self.body[start:], key="", skip=True)
+        del self.body[start:]
+        self.body.append(skip)
+        for _, jump in jumps:
+            holder = skip.body if any(s is jump for s in skip.body) else None
+            if holder is None:
+                holder = next(h for h in (_holder(s, jump) for s in skip.body) if h is not None)
+            position = next(k for k, inner in enumerate(holder) if inner is jump)
+            holder[position] = Jump(jump.line, "break", skip, flag=jump.kind)
 
     def _inside_do(self, label: str, seen) -> bool:
         """Is the innermost open construct of this scope with ``label`` the
@@ -933,6 +1059,10 @@ class _Builder:
         outer = Loop("do", first.line, self.body[start:], key=first.key)
         del self.body[start:]
         self.body.append(outer)
+        # the labels of the openers moved stand in the new loop's body now
+        for name, seen in self.labels.items():
+            if seen[2] is self.body and any(stmt is seen[3] for stmt in outer.body):
+                self.labels[name] = seen[:2] + (outer.body, seen[3])
         # rs274 still knows the label by the first do: a later do or while
         # with it loops back there, so it wraps this loop in turn.
         seen = self.labels.get(label)
@@ -957,6 +1087,16 @@ class _Builder:
                 self.body.extend(top.node.body)
                 self._do_end(line, top.node.reuses, depth)
                 return
+            if depth is None and self.body and self.body[-1] is top.node:
+                # the first do-loop of the label stands in an earlier
+                # construct of this body: back into it
+                self.body.pop()
+                count = len(self.body)
+                self.body.extend(top.node.body)
+                if self._back_into(line, str(word.name), self.labels.get(str(word.name))):
+                    return
+                del self.body[count:]
+                self.body.append(top.node)
             self.stack.append(top)
         if top is not None:
             top.node.end = line
@@ -964,12 +1104,27 @@ class _Builder:
             if key in self.tracked:
                 top.node.body.append(LabelCheck(line, key, "do-end"))
             self.stack.pop()
+            if top.node.reuses is not None and self._outer_do(
+                str(word.name), self.labels.get(str(word.name))
+            ) is None:
+                self._loop_back_into(top.node)
             return
         label = str(word.name)
         seen = self.labels.get(label)
         if self._reopens_do(label, seen):
             # rs274 takes it for the end of that do-loop: it loops back to
             # the first ``do``, or goes on into what follows.
+            start = next(i for i, stmt in enumerate(self.body) if stmt is seen[3])
+            if any(
+                any(stmt is check for check in self.arm_checks)
+                for stmt in self.body[start + 1 :]
+            ):
+                # an else or elseif line between, run into: where an arm
+                # has run it skips past this line to the next of its label
+                # (structure.FlatArm), so this line is a jump back (DoEnd)
+                # in the statements after it, not the end of a loop
+                self._do_end(line, seen[3], len(self.stack))
+                return
             self._reopen_do(label, seen[3])
             self.stack.pop().node.end = line
             return
@@ -977,7 +1132,193 @@ class _Builder:
         if depth is not None:
             self._do_end(line, seen[3], depth)
             return
+        if self._back_into(line, label, seen):
+            return
         self._open_loop("while", line, word)
+
+    def _resumable(self, label: str, seen) -> bool:
+        """Is ``label`` that of a do-loop in an earlier construct of this
+        body that a while line can go back into (:meth:`_back_into`)?"""
+        if seen is None or seen[0] != "do":
+            return False
+        if any(entry.label == label for entry in self._scope_entries()):
+            return False
+        return any(self._resume(stmt, seen[3]) for stmt in self.body)
+
+    def _back_into(self, line: nodes.Line, label: str, seen) -> bool:
+        """A ``while`` line whose label rs274 recorded for a do-loop inside
+        an earlier construct of this body or of a body around it (an if
+        closed by its endif, a closed do or while loop, however deeply).
+        True, rs274 goes back to that do line: it runs the rest of each body
+        from the do-loop on and each closing line again (an endif sets the
+        arm flag, later arm lines consult it, a loop's while or endwhile
+        line may run the loop again), then what follows up to this line
+        again: a :class:`DoEnd` with ``resume``, continuing a
+        :attr:`Loop.back` loop from after that construct (as
+        :meth:`_do_end`). Only where the jumps on the way stay inside what
+        runs again (else False: not followed)."""
+        if seen is None or seen[0] != "do":
+            return False
+        first = seen[3]
+        if any(entry.label == label for entry in self._scope_entries()):
+            return False
+        found = self._resume_point(first)
+        if found is None:
+            return False
+        depth, index, resume = found
+        body = self.stack[depth - 1].body if depth else self.main
+        left = body[index]
+        outer = Loop("do", first.line, body[index + 1 :], key=first.key, back=True)
+        del body[index + 1 :]
+        body.append(outer)
+        # open (with no label a line can carry) until the body around ends
+        self.stack.insert(depth, _Open("", outer, outer.body))
+        crossed = [entry.node for entry in self.stack[depth + 1 :] if isinstance(entry.node, Loop)]
+        if crossed:
+            outer.flagged = True
+            for inner in crossed:
+                inner.exits.append(outer)
+        leaves = self._leaving(left, resume, outer)
+        if first.key in self.tracked:
+            self.body.append(LabelCheck(line, first.key, "do-end"))
+        self.body.append(DoEnd(line, "continue", outer, resume=resume, leaves=leaves))
+        return True
+
+    def _leaving(self, left: Stmt, resume: List[Stmt], outer: Loop) -> List[Loop]:
+        """A break of the loop ``left`` (the construct gone back into) in
+        ``resume`` leaves it: what follows it is the start of ``outer``, so
+        it continues ``outer`` (codegen), and the loops it crosses there
+        check ``outer``'s flag too."""
+        if not isinstance(left, Loop):
+            return []
+        stmts = list(walk(resume, False))
+        if not any(isinstance(s, Jump) and s.target is left for s in stmts):
+            return []
+        outer.flagged = True
+        for inner in stmts:
+            if isinstance(inner, Loop) and left in inner.exits and outer not in inner.exits:
+                inner.exits.append(outer)
+        return [left]
+
+    def _loop_back_into(self, loop: Loop) -> None:
+        """A do-loop whose do line does nothing (``reuses``: the label's
+        first do-loop stands in an earlier construct), kept as a loop for
+        its break lines, just closed: where its while line is true, rs274
+        goes back into that construct (:meth:`_back_into`), then runs on to
+        this loop again (``Loop.back_into``: codegen's do test). A break
+        ends the loop as usual. Only where no continue of it comes from a
+        loop inside it, and the jumps on the way back stay inside what
+        runs again."""
+        if any(
+            isinstance(inner, Loop)
+            and any(isinstance(s, Jump) and s.target is loop for s in walk(inner.body, False))
+            for inner in walk(loop.body, False)
+        ):
+            return
+        found = self._resume_point(loop.reuses)
+        if found is None:
+            return
+        depth, index, resume = found
+        body = self.stack[depth - 1].body if depth else self.main
+        left = body[index]
+        outer = Loop("do", loop.reuses.line, body[index + 1 :], key=loop.key, back=True)
+        del body[index + 1 :]
+        body.append(outer)
+        self.stack.insert(depth, _Open("", outer, outer.body))
+        outer.flagged = True
+        for entry in self.stack[depth + 1 :]:
+            if isinstance(entry.node, Loop):
+                entry.node.exits.append(outer)
+        loop.exits.append(outer)
+        loop.back_into = (outer, resume, self._leaving(left, resume, outer))
+
+    def _resume_point(self, first: Loop) -> Optional[Tuple[int, int, List[Stmt]]]:
+        """The earlier construct holding ``first`` in this body or a body
+        around it (of this subroutine or the main program): (the depth of
+        that body as :meth:`_do_end` counts it, the construct's index in
+        it, what runs going back to ``first``: :meth:`_resume`)."""
+        for depth in range(len(self.stack), -1, -1):
+            if depth == 0 and self.stack and isinstance(self.stack[0].node, Sub):
+                return None
+            body = self.stack[depth - 1].body if depth else self.main
+            stop = len(body) - (depth < len(self.stack))  # not the open one
+            for index in range(stop):
+                leaves = body[index] if isinstance(body[index], Loop) else None
+                resume = self._resume(body[index], first, leaves)
+                if resume is not None:
+                    return depth, index, resume
+            if depth and isinstance(self.stack[depth - 1].node, Sub):
+                return None
+        return None
+
+    def _resume(
+        self, stmt: Stmt, first: Loop, leaves: Optional[Loop] = None
+    ) -> Optional[List[Stmt]]:
+        """When ``first`` stands in an arm of the if ``stmt`` (closed), or in
+        the body of the do or while loop ``stmt`` (closed), however deeply:
+        what runs going back to it, from it to the end of that arm or body
+        (and of each construct between), then what each closing line does
+        when run into again. None elsewhere, or where a break or continue
+        on the way aims outside the statements run."""
+        if isinstance(stmt, If) and id(stmt) not in self.dead:
+            arms = stmt.branches + ([stmt.orelse] if stmt.orelse else [])
+            if stmt.orelse is not None and stmt.orelse.line is stmt.branches[-1].line:
+                arms.pop()  # the end-of-file failure _abandon added
+            for k, arm in enumerate(arms):
+                head = self._resume_in(arm.body, first, leaves)
+                if head is None:
+                    continue
+                if not head:
+                    return None
+                if stmt.end is None:
+                    # ended by an outer closing line (abandoned): from its
+                    # last arm rs274 runs on into that line
+                    return head if k == len(arms) - 1 else None
+                key = self._key(str(stmt.end.oword.name))
+                closing: List[Stmt] = list(head)
+                for later in arms[k + 1 :]:
+                    if key in self.tracked:
+                        closing.append(LabelCheck(later.line, key, later.line.oword.keyword))
+                    closing.append(ArmAgain(later.line, later.body))
+                if key in self.tracked:
+                    return closing + [LabelCheck(stmt.end, key, "endif")]
+                return closing + [IfEnd(stmt.end)]
+            return None
+        if (
+            isinstance(stmt, Loop)
+            and (stmt.kind in ("do", "while", "repeat") or stmt.end is None)
+            and not stmt.back
+            and stmt.reuses is None
+            and id(stmt) not in self.dead
+        ):
+            head = self._resume_in(stmt.body, first, leaves)
+            if not head:
+                return None
+            if stmt.end is None:
+                return head  # abandoned: rs274 runs on into the outer line
+            if stmt.kind == "do" and stmt.key in self.tracked:
+                return head + [LabelCheck(stmt.end, stmt.key, "do-end"), Again(stmt)]
+            return head + [Again(stmt)]
+        return None
+
+    def _resume_in(
+        self, body: List[Stmt], first: Loop, leaves: Optional[Loop] = None
+    ) -> Optional[List[Stmt]]:
+        """What runs going back to ``first`` in ``body`` (see :meth:`_resume`)
+        to the end of ``body``; None when it is not there, [] when it is
+        there but cannot be followed."""
+        for j, inner in enumerate(body):
+            if inner is first:
+                head = [first]
+            elif isinstance(inner, (If, Loop)) and any(s is first for s in walk([inner], False)):
+                head = self._resume(inner, first, leaves) or []
+            else:
+                continue
+            rest = body[j + 1 :]
+            if not head or not _self_contained(head[:1] + rest, leaves):
+                return []
+            return head + rest
+        return None
 
     def _dissolves(self, node: Loop) -> bool:
         """Is ``node`` a do-loop whose do line does nothing (``reuses``)
@@ -1109,6 +1450,8 @@ class _Builder:
         seen = self.labels.get(label)
         if key in self.tracked:
             self.body.append(LabelCheck(line, key, word.keyword))
+            if word.keyword in ("else", "elseif"):
+                self.arm_checks.append(self.body[-1])
             if word.keyword in ("break", "continue") and seen is not None:
                 # passed: the label is a finished loop's, and rs274 skips
                 # forward to its next line (as below)
@@ -1148,12 +1491,73 @@ class _Builder:
             message = NO_MATCHING_END % ((line.number, line.text) + found)
         self.fail(line, message)
 
+    def _break_to_do_end(self, fail: Fail, line: nodes.Line, word: nodes.OWord) -> bool:
+        """A break of a finished do-loop (``fail``) whose skip lands on a
+        while line of the label (``line``), which ends that do-loop: the
+        break pending, rs274 does not loop back, and goes on after the
+        line. Where the break stands in this body (or in ifs in it), the
+        statements from it to the line become a loop run once that the
+        break leaves (the line itself, run into, ends the do-loop as
+        usual). False elsewhere: not followed."""
+        seen = self.labels.get(str(word.name))
+        if seen is None or seen[0] != "do" or fail.line is None:
+            return False
+        if fail.line.oword is None or fail.line.oword.keyword != "break":
+            return False
+        for index, stmt in enumerate(self.body):
+            holder = self.body if stmt is fail else _holder(stmt, fail)
+            if holder is not None:
+                break
+        else:
+            return False
+        skip = Loop("do", fail.line, self.body[index:], key="")
+        del self.body[index:]
+        self.body.append(skip)
+        if holder is self.body:
+            holder = skip.body
+        position = next(k for k, inner in enumerate(holder) if inner is fail)
+        holder[position] = Jump(fail.line, "break", skip)
+        self.stack.append(_Open("", skip, skip.body))
+        self.skips_to.append((line, skip))
+        return True
+
+    def _jump_to_do(self, fail: Fail) -> bool:
+        """A break or continue of a finished loop (``fail``) whose skip
+        lands on a do line of the label, where rs274 goes on (the do line
+        does nothing): where the jump stands in this body (or in ifs in
+        it), the statements from it to the do line become a loop run once
+        that it leaves, setting rs274's flag as the jump would (as
+        :meth:`_jumps_land_here`). False elsewhere: not followed."""
+        if fail.line is None or fail.line.oword is None:
+            return False
+        kind = fail.line.oword.keyword
+        if kind not in ("break", "continue"):
+            return False
+        for index, stmt in enumerate(self.body):
+            holder = self.body if stmt is fail else _holder(stmt, fail)
+            if holder is not None:
+                break
+        else:
+            return False
+        skip = Loop("do", fail.line, self.body[index:], key="", skip=True)
+        del self.body[index:]
+        self.body.append(skip)
+        if holder is self.body:
+            holder = skip.body
+        position = next(k for k, inner in enumerate(holder) if inner is fail)
+        holder[position] = Jump(fail.line, "break", skip, flag=kind)
+        return True
+
     def _land(self, fail: Fail, line: nodes.Line, word: nodes.OWord) -> None:
         """A break or continue of a finished loop (``fail``): rs274 takes it
         for a real one and skips forward to the next line with the label,
         ``line``, which it then executes as what it is. Where that fails
         whatever the run, ``fail`` becomes that failure (a do, an endwhile
         of the while or another break or continue would carry on: left)."""
+        if word.keyword == "while" and self._break_to_do_end(fail, line, word):
+            return
+        if word.keyword == "do" and self._jump_to_do(fail):
+            return
         message = self._land_message(self.labels.get(str(word.name)), line, word)
         if message is None:
             return
@@ -1313,11 +1717,44 @@ class _Builder:
         label = str(word.name)
         seen = self.labels.get(label)
         if seen is None:
+            if self._unreachable():
+                # never run (and no skip for a label no line has used yet
+                # lands here): rs274 records the label at the first opener
+                # that does run, a later one
+                return
             self.labels[label] = (word.keyword, line.number, self.body, node)
             return
         key = self._key(label)
         self._track(key, seen)
         self.body.insert(len(self.body) - 1, LabelCheck(line, key, word.keyword))
+
+    def _unreachable(self) -> bool:
+        """Does an unconditional break, continue or return come before
+        this line in its body or in a body around it (of this subroutine
+        or the main program)? Then running code never reaches the line."""
+        entries = self._scope_entries()
+        bodies = [entry.body for entry in entries]
+        if len(entries) == len(self.stack):
+            bodies.append(self.main)
+        else:
+            bodies.append(self.stack[-len(entries) - 1].body)  # the subroutine's
+        for body in bodies:
+            for stmt in body:
+                if type(stmt) is Return:
+                    return True
+                if type(stmt) is Jump and not self._landed_after(stmt):
+                    return True
+        return False
+
+    def _landed_after(self, jump: "Jump") -> bool:
+        """Does a line with the label of ``jump`` come after it (so far)?
+        Its skip stops there, and running code goes on from that line."""
+        label = str(jump.line.oword.name)
+        key = self._key(label)
+        return any(
+            number > jump.line.number and line_key == key
+            for number, line_key, _, _, _ in self.labelled
+        )
 
     def _track(self, key: str, seen: tuple) -> bool:
         """From now on, look ``key`` up at run time: the opener first seen
@@ -1385,10 +1822,28 @@ class _Builder:
 
     # -- end of file ------------------------------------------------------
 
+    def _arms_to_eof(self) -> None:
+        """An else or elseif line of a reused label that fits no open if
+        (a skip landed in a do-loop of the label) with no line of its label
+        after it in the file: where an arm has run, rs274 skips from it to
+        the end of the file (past whatever holds the line), and fails
+        there, or at a line it cannot read on the way."""
+        for check in self.arm_checks:
+            line = check.line
+            if any(
+                number > line.number
+                and key == check.key
+                and (later.file or "") == (line.file or "")
+                for number, key, later, _, _ in self.labelled
+            ):
+                continue
+            check.eof = self._eof_fail(check.key, line)
+
     def finish(
         self, last: Optional[nodes.Line], closing: Optional[nodes.Line] = None
     ) -> None:
         """The end of the file (``closing``: the closing ``%`` line)."""
+        self._arms_to_eof()
         while self.stack:
             entry = self.stack.pop()
             if isinstance(entry.node, If):
@@ -1512,6 +1967,43 @@ def children(stmt: Stmt, into_subs: bool = True) -> List[List[Stmt]]:
     if isinstance(stmt, Define) and into_subs:
         return [stmt.sub.body]
     return []
+
+
+def _holder(stmt: Stmt, target: Stmt) -> Optional[List[Stmt]]:
+    """The statement list holding ``target`` in an arm of the if ``stmt``,
+    however deep (not inside a loop); else None."""
+    if isinstance(stmt, If):
+        arms = stmt.branches + ([stmt.orelse] if stmt.orelse else [])
+        for arm in arms:
+            if any(inner is target for inner in arm.body):
+                return arm.body
+            for inner in arm.body:
+                found = _holder(inner, target) if isinstance(inner, If) else None
+                if found is not None:
+                    return found
+    return None
+
+
+def _self_contained(body: List[Stmt], leaves: Optional[Loop] = None) -> bool:
+    """Do the break and continue lines in ``body`` all aim at loops of it
+    (so it can run anywhere: :meth:`_Builder._back_into`), or break
+    ``leaves`` (the loop around it all, which running again they leave)?"""
+    stmts = list(walk(body, False))
+    inner = {id(stmt) for stmt in stmts if isinstance(stmt, Loop)}
+    if leaves is not None:
+        inner.add(id(leaves))
+    for stmt in stmts:
+        if isinstance(stmt, (DoEnd, Define)):
+            return False
+        if isinstance(stmt, Jump) and id(stmt.target) not in inner:
+            return False
+        if isinstance(stmt, Jump) and stmt.target is leaves and stmt.kind != "break":
+            return False
+        if isinstance(stmt, Loop) and any(id(e) not in inner for e in stmt.exits):
+            return False
+        if isinstance(stmt, LabelCheck) and stmt.loop is not None and id(stmt.loop) not in inner:
+            return False
+    return True
 
 
 def walk(stmts: List[Stmt], into_subs: bool = True) -> Iterator[Stmt]:

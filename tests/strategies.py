@@ -979,6 +979,10 @@ def lang_plain(w: LanguageWriter) -> None:
         # O-word lines rs274 cannot read: it reads the O-word even of a
         # line it skips over (an untaken arm, a definition)
         bad = ["o[1 call", "o9 foo", "o7777", "o<s0> return [1", "o9 endif G1"]
+        # and M98 lines it cannot read: read_o reads them in full before
+        # it asks whether it skips (not ones whose values fail: rs274
+        # evaluates those while it skips too, which ngc2py does not follow)
+        bad += ["M98 L2", "M98 P1.5", "N7 M98 P100 Q"]
         if w.depth:
             # a definition that never ends, where rs274 may skip it
             bad.append("o<nowhere> sub")
@@ -1038,6 +1042,13 @@ def lang_landing_if(w: LanguageWriter) -> None:
         w.emit(f"o{label} else{closer_words(w)}", slash_ok=False)
         lang_body(w)
     w.open_ifs.pop()
+    if w.chance(6):
+        # no endif: the do is never closed either, and the later elseif
+        # and else lines have no line with the label after them (the
+        # label is not used again): after an arm has run, rs274 skips
+        # from them past whatever construct ends the do (its closing
+        # line, a return, the program end) to the end of the file
+        return
     w.emit(f"o{label} endif{closer_words(w)}", slash_ok=False)
     w.closed.append((label, "if"))
 
