@@ -1504,19 +1504,9 @@ class _Builder:
             return False
         if fail.line.oword is None or fail.line.oword.keyword != "break":
             return False
-        for index, stmt in enumerate(self.body):
-            holder = self.body if stmt is fail else _holder(stmt, fail)
-            if holder is not None:
-                break
-        else:
+        skip = self._run_once_from(fail, None)
+        if skip is None:
             return False
-        skip = Loop("do", fail.line, self.body[index:], key="")
-        del self.body[index:]
-        self.body.append(skip)
-        if holder is self.body:
-            holder = skip.body
-        position = next(k for k, inner in enumerate(holder) if inner is fail)
-        holder[position] = Jump(fail.line, "break", skip)
         self.stack.append(_Open("", skip, skip.body))
         self.skips_to.append((line, skip))
         return True
@@ -1533,20 +1523,28 @@ class _Builder:
         kind = fail.line.oword.keyword
         if kind not in ("break", "continue"):
             return False
+        return self._run_once_from(fail, kind) is not None
+
+    def _run_once_from(self, fail: Fail, flag: Optional[str]) -> Optional[Loop]:
+        """Where ``fail`` (a jump's line) stands in this body, or in ifs in
+        it: the statements from it on become a loop run once (returned),
+        which the jump, now in ``fail``'s place, leaves (a landing jump with
+        rs274's ``flag`` to set, or None for a plain break of it). None,
+        nothing changed, where ``fail`` is not there."""
         for index, stmt in enumerate(self.body):
             holder = self.body if stmt is fail else _holder(stmt, fail)
             if holder is not None:
                 break
         else:
-            return False
-        skip = Loop("do", fail.line, self.body[index:], key="", skip=True)
+            return None
+        skip = Loop("do", fail.line, self.body[index:], key="", skip=flag is not None)
         del self.body[index:]
         self.body.append(skip)
         if holder is self.body:
             holder = skip.body
         position = next(k for k, inner in enumerate(holder) if inner is fail)
-        holder[position] = Jump(fail.line, "break", skip, flag=kind)
-        return True
+        holder[position] = Jump(fail.line, "break", skip, flag=flag or "")
+        return skip
 
     def _land(self, fail: Fail, line: nodes.Line, word: nodes.OWord) -> None:
         """A break or continue of a finished loop (``fail``): rs274 takes it
