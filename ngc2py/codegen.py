@@ -1208,21 +1208,7 @@ class CodeGen:
         """See structure.FlatArm: rs274 reads an elseif's condition, checks
         the label, then skips to the next line with it if an arm has run."""
         line = stmt.check.line
-        test = None
-        if stmt.check.kind == "elseif":
-            self.temp += 1
-            test = "t%d" % self.temp
-            self.w.stmt("%s = %s" % (test, self.x.condition(line.oword.expr)), line)
-        self.s_labelcheck(stmt.check)
-        self.w.stmt("if not m.executed_if:", line)
-        self.w.depth += 1
-        if test is not None:
-            self.w.stmt("if %s:" % test, line)
-            self.w.depth += 1
-            self.w.stmt("m.executed_if = True", line)
-            self.w.depth -= 1
-        self.block(stmt.body)
-        self.w.depth -= 1
+        self._arm_run_into(line, stmt.check.kind, stmt.body, stmt.check)
         if stmt.landing is not None:
             # the skip lands inside a loop never closed, never entered
             self.w.stmt("else:", line)
@@ -1468,12 +1454,20 @@ class CodeGen:
 
     def s_armagain(self, stmt: st.ArmAgain) -> None:
         """A later arm's line run into again (structure.DoEnd.resume)."""
-        line = stmt.line
+        self._arm_run_into(stmt.line, stmt.line.oword.keyword, stmt.body)
+
+    def _arm_run_into(self, line, keyword: str, body, check=None) -> None:
+        """An elseif or else line run into outside its if: an elseif's
+        condition read first (then its label checked, given ``check``);
+        ``body`` runs where no arm has run, an elseif's only when true
+        (which sets rs274's flag)."""
         test = None
-        if line.oword.keyword == "elseif":
+        if keyword == "elseif":
             self.temp += 1
             test = "t%d" % self.temp
             self.w.stmt("%s = %s" % (test, self.x.condition(line.oword.expr)), line)
+        if check is not None:
+            self.s_labelcheck(check)
         self.w.stmt("if not m.executed_if:", line)
         self.w.depth += 1
         if test is not None:
@@ -1481,7 +1475,7 @@ class CodeGen:
             self.w.depth += 1
             self.w.stmt("m.executed_if = True", line)
             self.w.depth -= 1
-        self.block(stmt.body)
+        self.block(body)
         self.w.depth -= 1
 
     def s_again(self, stmt: st.Again) -> None:
