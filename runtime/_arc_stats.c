@@ -122,6 +122,29 @@ static int store(PyObject *list, Py_ssize_t k, double value) {
     return number == NULL ? -1 : PyList_SetItem(list, k, number);
 }
 
+/* The extents' three lists of six (Extents._xyz, _rest_low, _rest_high)
+ * into C arrays, and back: 0, or -1 with an exception. */
+static int read_extents(PyObject *box_list, PyObject *rest_low, PyObject *rest_high,
+                        double *box, double *low, double *high) {
+    for (int k = 0; k < 6; k++) {
+        box[k] = PyFloat_AsDouble(PyList_GET_ITEM(box_list, k));
+        low[k] = PyFloat_AsDouble(PyList_GET_ITEM(rest_low, k));
+        high[k] = PyFloat_AsDouble(PyList_GET_ITEM(rest_high, k));
+    }
+    return PyErr_Occurred() ? -1 : 0;
+}
+
+static int write_extents(PyObject *box_list, PyObject *rest_low, PyObject *rest_high,
+                         const double *box, const double *low, const double *high) {
+    for (int k = 0; k < 6; k++) {
+        if (store(box_list, k, box[k]) || store(rest_low, k, low[k]) ||
+            store(rest_high, k, high[k])) {
+            return -1;
+        }
+    }
+    return 0;
+}
+
 /* arc_sums(s1, s2, sn, start_rest, first_end, second_end, first_axis,
  * second_axis, rotation, axis_end, rest, box, rest_low, rest_high, f, s, n,
  * length, feed_length, time, rate, acceleration): a batch of arcs from the
@@ -180,12 +203,7 @@ static PyObject *arc_sums(PyObject *self, PyObject *const *args, Py_ssize_t narg
         turned[k] = PyFloat_AsDouble(PyTuple_GET_ITEM(start_rest, k));
     }
     double box[6], low[6], high[6];
-    for (int k = 0; k < 6; k++) {
-        box[k] = PyFloat_AsDouble(PyList_GET_ITEM(box_list, k));
-        low[k] = PyFloat_AsDouble(PyList_GET_ITEM(rest_low, k));
-        high[k] = PyFloat_AsDouble(PyList_GET_ITEM(rest_high, k));
-    }
-    if (PyErr_Occurred()) {
+    if (read_extents(box_list, rest_low, rest_high, box, low, high)) {
         return NULL;
     }
     if (f < 0 || f > 2 || s < 0 || s > 2 || n < 0 || n > 2) {
@@ -305,12 +323,9 @@ static PyObject *arc_sums(PyObject *self, PyObject *const *args, Py_ssize_t narg
             turned[i] = now[i];
         }
     }
-    for (int k = 0; k < 6; k++) {
-        if (store(box_list, k, box[k]) || store(rest_low, k, low[k]) ||
-            store(rest_high, k, high[k])) {
-            Py_DECREF(outside);
-            return NULL;
-        }
+    if (write_extents(box_list, rest_low, rest_high, box, low, high)) {
+        Py_DECREF(outside);
+        return NULL;
     }
     return Py_BuildValue("(dddnNn)", length_sum, feed_sum, time_sum, untimed, outside,
                          straights);
@@ -363,12 +378,7 @@ static PyObject *straight_sums(PyObject *self, PyObject *const *args, Py_ssize_t
     double rate = PyFloat_AsDouble(args[2]), acceleration = PyFloat_AsDouble(args[3]);
     double length_sum = PyFloat_AsDouble(args[7]), time_sum = PyFloat_AsDouble(args[8]);
     double box[6], low[6], high[6];
-    for (int k = 0; k < 6; k++) {
-        box[k] = PyFloat_AsDouble(PyList_GET_ITEM(box_list, k));
-        low[k] = PyFloat_AsDouble(PyList_GET_ITEM(rest_low, k));
-        high[k] = PyFloat_AsDouble(PyList_GET_ITEM(rest_high, k));
-    }
-    if (PyErr_Occurred()) {
+    if (read_extents(box_list, rest_low, rest_high, box, low, high)) {
         return NULL;
     }
     Py_ssize_t untimed = 0;
@@ -399,11 +409,8 @@ static PyObject *straight_sums(PyObject *self, PyObject *const *args, Py_ssize_t
             was[i] = at[i];
         }
     }
-    for (int k = 0; k < 6; k++) {
-        if (store(box_list, k, box[k]) || store(rest_low, k, low[k]) ||
-            store(rest_high, k, high[k])) {
-            return NULL;
-        }
+    if (write_extents(box_list, rest_low, rest_high, box, low, high)) {
+        return NULL;
     }
     return Py_BuildValue("(ddn)", length_sum, time_sum, untimed);
 }
