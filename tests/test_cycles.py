@@ -92,7 +92,10 @@ def cycle_tables(draw) -> str:
     replays): X/Y/Z/R/P/Q/L/F in changing layouts, G90 or G91, G98 or G99,
     mm or inches, in every plane, every drilling cycle (taps, G87's offsets,
     G88's stop), a start below the R plane, the same hole twice, now and
-    then a row whose R falls below its Z (rs274's error, at that row)."""
+    then a row whose R falls below its Z (rs274's error, at that row), and
+    lines between rows that change a mode but keep the cycle (distance mode,
+    retract mode, feed, speed): the first hole after such a line may begin
+    at another level than the next ones."""
     plane, first, second, hole = draw(
         st.sampled_from(
             [("G17", "X", "Y", "Z"), ("G18", "Z", "X", "Y"), ("G19", "Y", "Z", "X")]
@@ -160,6 +163,10 @@ def cycle_tables(draw) -> str:
         elif extra == 5 and draw(st.integers(0, 2)) == 0:
             # a P, Q or L the cycle may not use (rs274's error, at that row)
             row.append(draw(st.sampled_from(["P0.2", "Q0.5", "L1"])))
+        if draw(st.integers(0, 7)) == 0:
+            lines.append(
+                draw(st.sampled_from(["G90", "G91", "G98", "G99", "F200", "S800"]))
+            )
         lines.append(" ".join(row))
     if draw(st.booleans()):
         lines.append("(debug, at #5420 #5421 #5422)")  # the last hole, published

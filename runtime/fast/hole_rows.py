@@ -202,10 +202,11 @@ class HoleRows:
         return known[key]
 
     def run(self, cells: List[str], at: int, end: int) -> int:
-        """After a cycle row the reference path drilled: drill the rows from
+        """While a canned cycle is the modal motion: drill the rows from
         ``cells[at]`` while they are holes of the plane's axes alone, the
         first by the reference path (recorded), the others by replaying it;
-        returns where it stopped."""
+        returns where it stopped (``at``: nothing done, the row is not
+        such a hole or the reference path must decide)."""
         machine = self.machine
         plane = machine.plane
         if at >= end or machine.distance_incremental or plane not in _HOLE_AXES:
@@ -409,7 +410,8 @@ class HoleRows:
         values = cells[at + 2 : at + 2 + plan.width]
         words = dict(zip(plan.letters, map(float, values)))
         before = _snapshot(machine)
-        start = machine.current[ia], machine.current[ib]
+        origin = machine.current
+        start = origin[ia], origin[ib]
         canon = machine.canon
         recording = machine.canon = _Recording(canon)
         try:
@@ -422,6 +424,14 @@ class HoleRows:
         hole = final[ia], final[ib]
         if hole == start:
             return False  # which moves are at the hole is not to be told
+        if any(
+            after != was
+            for axis, (after, was) in enumerate(zip(final, origin))
+            if axis not in (ia, ib)
+        ):
+            # it ended off the level it began at (the first hole after the
+            # tool came from elsewhere): the next hole begins elsewhere
+            return False
         calls, recorded = [], []
         for name, args in recording.calls:
             move = None

@@ -240,8 +240,14 @@ def run_rows(
             if stop != at:
                 at = stop
                 continue
-            machine.line = line = int(cells[at])
             plan = plans[int(cells[at + 1])]
+            if plan.cycle:
+                # the first row of hole words is the one the replay records
+                stop = holes(cells, at, end)
+                if stop != at:
+                    at = stop
+                    continue
+            machine.line = line = int(cells[at])
             start = at + 2
             at = start + plan.width
             n = None
