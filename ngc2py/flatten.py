@@ -44,8 +44,10 @@ import argparse
 import math
 from array import array
 from math import hypot
-from operator import add, ne, sub
+from itertools import groupby
+from operator import add, eq, ne, sub
 import os
+import re
 import sys
 from decimal import Decimal
 from typing import List, Optional, Sequence, Tuple
@@ -124,14 +126,24 @@ MM_PER_INCH = 25.4
 
 
 #: The calls of a hole (besides its set_block_number) that
-#: FlattenCanon.hole_moves writes: moves, dwells and the path-control modes a
-#: cycle sets around its moves, none of which changes what later lines mean.
+#: FlattenCanon.hole_moves writes: moves, dwells, the path-control modes a
+#: cycle sets around its moves, and the spindle, override and stop switches
+#: of the tapping and boring cycles; none of them changes what later lines
+#: mean (what _texts keeps: units, plane, the current point).
 _HOLE_CALLS = {
     "straight_traverse",
     "straight_feed",
     "dwell",
     "set_motion_control_mode",
     "set_naivecam_tolerance",
+    "stop_spindle_turning",
+    "start_spindle_clockwise",
+    "start_spindle_counterclockwise",
+    "enable_feed_override",
+    "disable_feed_override",
+    "enable_speed_override",
+    "disable_speed_override",
+    "program_stop",
 }
 
 
@@ -195,6 +207,28 @@ def _offset(start: float, centre: float) -> Optional[float]:
             return guess
         guess = math.nextafter(guess, math.inf if start + guess < centre else -math.inf)
     return None
+
+
+def _hole_calls(recording, axes, here, before) -> List[tuple]:
+    """The calls of a recorded hole (runtime.canon.Canon.hole_moves) for
+    the hole at ``here`` after the one at ``before``."""
+    ia, ib = axes
+    calls = []
+    for name, args, at in recording[1:]:
+        if at is not None:
+            args = list(args)
+            args[ia], args[ib] = here if at == "hole" else before
+        calls.append((name, args))
+    return calls
+
+
+#: Stand-ins for a hole's two coordinates, the hole before's, and its line,
+#: while FlattenCanon._hole_template makes a hole's text: numbers no two of
+#: whose texts hold one another.
+_STAND_INS = (7777777.015625, 6666666.046875, 5555555.078125, 4444444.109375)
+_STAND_IN_LINE = 987654321987
+_STAND_IN_TEXTS = tuple(map(repr, _STAND_INS)) + ("%d" % _STAND_IN_LINE,)
+_STAND_IN_SPLIT = re.compile("(%s)" % "|".join(map(re.escape, _STAND_IN_TEXTS)))
 
 
 class _Group:
@@ -360,9 +394,7 @@ class FlattenCanon(Canon):
             return
         rows = [" ".join(filter(None, row)) for row in zip(*words)] or [""] * count
         # (a move to where it is: still one axis word)
-        texts = [
-            code + (row or "X" + number(x[i])) for i, row in enumerate(rows)
-        ]
+        texts = [code + (row or "X" + number(x[i])) for i, row in enumerate(rows)]
         self._write_batch(lines, texts)
 
     def arc_moves(self, lines, *columns):
@@ -430,21 +462,100 @@ class FlattenCanon(Canon):
             return
         self.set_block_number(recording[0][1][0])  # (the block before, written)
         group, self._group = self._group, None
-        ia, ib = axes
         prefix = "N%s " % group.n if group.n is not None else ""
-        where = self._where_format()
-        before = start
-        for line, here in zip(lines, zip(first, second)):
-            calls = []
-            for name, args, at in recording[1:]:
-                if at is not None:
-                    args = list(args)
-                    args[ia], args[ib] = here if at == "hole" else before
-                calls.append((name, args))
-            self._write_block(self._texts(group, calls), prefix, "  ; " + where % line)
-            before = here
+        where = "  ; " + self._where_format()
+        ia, ib = axes
+        pos = self._pos
+        # A hole's text differs from the one before's only by its two
+        # coordinates and its line, and by whether each coordinate moved at
+        # all (a move writes the axes that changed): one template for each
+        # of those four cases (_hole_template), filled in for every hole.
+        # The first starts where the recorded hole left the tool; if the
+        # flat program's point is not known to be there, it is written as
+        # _flush writes a block, and the template starts after it.
+        first_texts, second_texts = _numbers(first), _numbers(second)
+        firsts, seconds = _bits([start[0]] + first), _bits([start[1]] + second)
+        begin = 0
+        if not (same(pos[ia], start[0]) and same(pos[ib], start[1])):
+            here = (first[0], second[0])
+            calls = _hole_calls(recording, axes, here, start)
+            self._write_block(self._texts(group, calls), prefix, where % lines[0])
+            begin = 1
+        columns = (
+            first_texts,
+            second_texts,
+            _numbers(start[:1]) + first_texts,
+            _numbers(start[1:2]) + second_texts,
+            lines,
+        )
+        cases = groupby(
+            zip(map(eq, firsts[1:], firsts[:-1]), map(eq, seconds[1:], seconds[:-1]))
+        )
+        templates: dict = {}
+        texts: List[str] = []
+        k = 0
+        for case, run in cases:
+            stop = k + len(list(run))
+            at, k = max(k, begin), stop
+            if at >= stop:
+                continue
+            made = templates.get(case)
+            if made is None:
+                made = templates[case] = self._hole_template(
+                    group, recording, axes, case, prefix, where
+                )
+            if made is False:  # (a line too long to be sure of: hole by hole)
+                if texts:
+                    self.lines.extend("\n".join(texts).split("\n"))
+                    texts = []
+                for j in range(at, stop):
+                    before = start if j == 0 else (first[j - 1], second[j - 1])
+                    calls = _hole_calls(recording, axes, (first[j], second[j]), before)
+                    self._write_block(
+                        self._texts(group, calls), prefix, where % lines[j]
+                    )
+                continue
+            template, slots = made
+            texts += map(template.__mod__, zip(*[columns[j][at:stop] for j in slots]))
+        if texts:
+            self.lines.extend("\n".join(texts).split("\n"))
+        pos[ia], pos[ib] = first[-1], second[-1]
         # (what the holes leave of parameters is written before the next block)
         self._after_batch = True
+
+    def _hole_template(self, group, recording, axes, case, prefix: str, where: str):
+        """The lines of a hole of a batch as one %-template, and its slots'
+        values (0, 1: the hole's coordinates as text; 2, 3: the hole
+        before's; 4: the hole's line), for ``case``: whether each coordinate
+        is the one before. Made by :meth:`_texts` on stand-in values
+        (_STAND_INS), from where the hole before left the tool; False where a
+        stand-in's text is met elsewhere (in an argument, the comment) or a
+        line is long enough that real numbers could change where its
+        comment goes (_write_block)."""
+        marks = _STAND_IN_TEXTS
+        comment = where % _STAND_IN_LINE
+        written = [prefix, where]
+        for _, args, _ in recording:
+            written += [repr(value) for value in args if type(value) is float]
+        if _STAND_IN_SPLIT.search(" ".join(written)):
+            return False
+        ia, ib = axes
+        pos = self._pos
+        saved = pos[:]
+        before = _STAND_INS[2:]
+        here = tuple(b if kept else h for kept, b, h in zip(case, before, _STAND_INS))
+        pos[ia], pos[ib] = before
+        try:
+            texts = self._texts(group, _hole_calls(recording, axes, here, before))
+        finally:
+            pos[:] = saved
+        if any(len(prefix + text + comment) > MAX_LINE - 60 for text in texts):
+            return False
+        pieces = _STAND_IN_SPLIT.split(
+            "\n".join(prefix + text + comment for text in texts).replace("%", "%%")
+        )
+        # the text between stand-ins, and which value each stand-in is
+        return "%s".join(pieces[0::2]), tuple(marks.index(m) for m in pieces[1::2])
 
     def _where_format(self) -> str:
         """Where the current data rows come from (:meth:`_where`), as a

@@ -393,7 +393,9 @@ def test_a_batch_of_arcs_is_written_as_one_arc_at_a_time(data, plane, inches, ab
     columns += [[data.draw(value) for _ in range(count)] for _ in range(7)]
     for k in range(count):  # centres nearby, some exactly at a whole offset
         if data.draw(st.booleans()):
-            columns[2][k] = columns[0][k] + data.draw(st.sampled_from([3.0, -7.5, 0.25]))
+            columns[2][k] = columns[0][k] + data.draw(
+                st.sampled_from([3.0, -7.5, 0.25])
+            )
             columns[3][k] = columns[1][k] + data.draw(st.sampled_from([1.0, -2.0]))
     pos = [data.draw(value | st.just(UNKNOWN)) for _ in range(6)]
     answers = []
@@ -412,18 +414,14 @@ def test_a_batch_of_arcs_is_written_as_one_arc_at_a_time(data, plane, inches, ab
     assert answers[0] == answers[1]
 
 
-@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(text=test_cycles.cycle_tables())
-def test_holes_in_batches_are_written_as_hole_by_hole(text, tmp_path_factory):
-    """FlattenCanon.hole_moves (each hole's block written from the recorded
-    hole's calls) writes the very text of the holes replayed call by call,
-    line comments included; a hole with other calls goes call by call."""
+def _flat_by_batches_and_hole_by_hole(text, folder, name="holes.ngc"):
+    """flatten's text of ``text`` with FlattenCanon.hole_moves, and with
+    the protocol's default (the recorded calls again, hole by hole)."""
     from ngc2py import flatten as flat
     from runtime.canon import Canon
     from runtime.errors import GCodeError
 
-    folder = tmp_path_factory.mktemp("holes")
-    program = folder / "holes.ngc"
+    program = folder / name
     program.write_text(text)
     answers = []
     for batches in (True, False):
@@ -435,4 +433,51 @@ def test_holes_in_batches_are_written_as_hole_by_hole(text, tmp_path_factory):
                 answers.append(flat.flatten(str(program)))
             except (GCodeError, flat.FlattenError) as error:
                 answers.append(type(error).__name__ + str(error))
+    return answers
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(text=test_cycles.cycle_tables())
+def test_holes_in_batches_are_written_as_hole_by_hole(text, tmp_path_factory):
+    """FlattenCanon.hole_moves (each hole's text made from a template of the
+    recorded hole's calls) writes the very text of the holes replayed call
+    by call, line comments included; a hole with other calls goes call by
+    call."""
+    answers = _flat_by_batches_and_hole_by_hole(text, tmp_path_factory.mktemp("holes"))
     assert answers[0] == answers[1]
+
+
+#: A table of holes (as long as the code generator writes as a row table):
+#: both coordinates moving, one, none.
+HOLES = (
+    "G21 G90 G17 F300\nG0 Z{clear}\nG98 G81 X1 Y1 Z-2 R1\n"
+    + "".join("X%g Y%g\n" % (2 + k // 2, 2 + k // 3) for k in range(60))
+    + "G80\nM2\n"
+)
+
+
+@pytest.mark.parametrize(
+    "clear, name",
+    [
+        ("10", "holes.ngc"),
+        # a number of the program's that is one of the template's stand-ins
+        ("7777777.015625", "holes.ngc"),
+        # a name so long that a hole's line comment could move to its own line
+        ("10", "h" * 190 + ".ngc"),
+    ],
+)
+def test_holes_whose_template_cannot_be_trusted_go_hole_by_hole(clear, name, tmp_path):
+    """Where a hole's template could be wrong (a stand-in's text is the
+    program's own, a line near the length at which its comment moves),
+    flatten writes those holes call by call: the same text."""
+    from ngc2py import flatten as flat
+
+    answers = _flat_by_batches_and_hole_by_hole(
+        HOLES.format(clear=clear), tmp_path, name
+    )
+    assert answers[0] == answers[1]
+    for move in ("X5 Y4", "Y3", "X6"):  # both coordinates moving, Y alone, X alone
+        assert re.search(r"^G0 %s\b" % move, answers[0], re.M)
+    assert (clear in answers[0]) and not any(
+        text in answers[0].replace("Z" + clear, "") for text in flat._STAND_IN_TEXTS
+    )

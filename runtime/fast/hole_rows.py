@@ -29,6 +29,8 @@ row (``hole_replayed``); the canon sees each row begin as it did, by the
 
 from __future__ import annotations
 
+from itertools import repeat, takewhile
+
 from runtime.canon import Canon, TraceCanon, trace_rows
 from runtime.cycles import CyclesMixin
 
@@ -373,20 +375,28 @@ class HoleRows:
             firsts: List[float] = []
             seconds: List[float] = []
             while at < end and len(lines) < _MOST:
-                hole = known.get(cells[at + 1], False)
+                key = cells[at + 1]
+                hole = known.get(key, False)
                 if hole is False:
-                    hole = self._hole_words(machine.plane, cells[at + 1])
+                    hole = self._hole_words(machine.plane, key)
                 if hole is None:
                     break
                 first, second, stride = hole
+                # the run of rows of this shape, a column at a time
+                stop = min(end, at + stride * (_MOST - len(lines)))
+                count = len(list(takewhile(key.__eq__, cells[at + 1 : stop : stride])))
+                stop = at + count * stride
+                lines += map(int, cells[at:stop:stride])
                 if first >= 0:
-                    aa = float(cells[at + 2 + first])
+                    firsts += map(float, cells[at + 2 + first : stop : stride])
+                else:
+                    firsts += repeat(aa, count)
                 if second >= 0:
-                    bb = float(cells[at + 2 + second])
-                lines.append(int(cells[at]))
-                firsts.append(aa)
-                seconds.append(bb)
-                at += stride
+                    seconds += map(float, cells[at + 2 + second : stop : stride])
+                else:
+                    seconds += repeat(bb, count)
+                aa, bb = firsts[-1], seconds[-1]
+                at = stop
             if not lines:
                 break
             machine.line = lines[-1]
