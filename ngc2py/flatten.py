@@ -45,12 +45,14 @@ import math
 from array import array
 from math import hypot
 from itertools import groupby
-from operator import add, eq, ne, sub
+from operator import add, eq, itemgetter, ne, sub
 import os
 import re
 import sys
-from decimal import Decimal
-from typing import List, Optional, Sequence, Tuple
+
+TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
+if TYPE_CHECKING:
+    from typing import List, Optional, Sequence, Tuple
 
 from runtime.canon import CALLS, Canon
 from runtime.errors import g_code_frames_of_stack
@@ -158,20 +160,45 @@ def number(value: float) -> str:
         return "%d" % value if value or str(value)[0] != "-" else "-0"
     text = repr(value)
     if "e" in text or "E" in text:
+        from decimal import Decimal  # here: seldom needed, costly to import
+
         text = format(Decimal(text), "f")
     return text
 
 
-def _numbers(values: Sequence[float]) -> List[str]:
-    """:func:`number` of each of ``values``: repr without its ``.0`` for
-    the integral ones, which is what number() writes below 1e15."""
-    if not values:
-        return []
+def _python_words(prefix: str, values: Sequence[float]) -> Optional[List[str]]:
+    """``prefix`` + repr of each of ``values`` without the ``.0`` of the
+    integral ones (what number() writes below 1e15); None where a value
+    needs number() itself (an exponent, nan, inf, 1e15 or more)."""
     texts = list(map(repr, values))
     joined = "".join(texts)  # (one look for exponents, nan and inf)
     if "e" in joined or "n" in joined or max(values) >= 1e15 or min(values) <= -1e15:
-        return list(map(number, values))
-    return [text[:-2] if text.endswith(".0") else text for text in texts]
+        return None
+    return [prefix + (text[:-2] if text.endswith(".0") else text) for text in texts]
+
+
+try:  # the same, in C (runtime/_fast_format.c); optional
+    from runtime._fast_format import words as _fast_words
+except ImportError:  # pragma: no cover - the extension was not built
+    _fast_words = None
+
+
+def _words(prefix: str, values: Sequence[float]) -> List[str]:
+    """``prefix`` + :func:`number` of each of ``values``, a column at a time."""
+    if not values:
+        return []
+    if _fast_words is not None:
+        made = _fast_words(prefix, values if type(values) is list else list(values))
+    else:
+        made = _python_words(prefix, values)
+    if made is None:
+        return [prefix + number(value) for value in values]
+    return made
+
+
+def _numbers(values: Sequence[float]) -> List[str]:
+    """:func:`number` of each of ``values``."""
+    return _words("", values)
 
 
 def _bits(values: Sequence[float]) -> memoryview:
@@ -373,24 +400,28 @@ class FlattenCanon(Canon):
         # every row (a CAM file's X and Y) is written a column at a time
         words, gaps = [], False
         for k, column in enumerate((x, y, z, a, b, c)):
-            previous = [pos[k]] + column[:-1]
+            bits = array("d", column)
             # not same(): the bits differ (a zero's sign counts too)
-            moved = list(map(ne, _bits(column), _bits(previous)))
+            if bits.tobytes() == array("d", (pos[k],)).tobytes() * count:
+                continue  # (an axis the run leaves alone: one look)
+            previous = [pos[k]] + column[:-1]
+            moved = list(map(ne, memoryview(bits).cast("B").cast("Q"), _bits(previous)))
             pos[k] = column[-1]
             letter = AXES6[k]
             if all(moved):
-                words.append([letter + text for text in _numbers(column)])
+                words.append(_words(letter, column))
             elif any(moved):
                 changed = [i for i, differs in enumerate(moved) if differs]
-                texts = _numbers([column[i] for i in changed])
+                texts = _words(letter, [column[i] for i in changed])
                 some = [""] * count
                 for i, text in zip(changed, texts):
-                    some[i] = letter + text
+                    some[i] = text
                 words.append(some)
                 gaps = True
         code = "G1 " if feed else "G0 "
         if words and not gaps:
-            self._write_batch(lines, [code + " ".join(row) for row in zip(*words)])
+            words[0] = list(map(code.__add__, words[0]))
+            self._write_batch(lines, list(map(" ".join, zip(*words))))
             return
         rows = [" ".join(filter(None, row)) for row in zip(*words)] or [""] * count
         # (a move to where it is: still one axis word)
@@ -409,19 +440,28 @@ class FlattenCanon(Canon):
         self._write_batch(lines, self._arc_texts(columns, pos))
 
     def contour_moves(self, axes, lines, *columns):
-        """A contour (runtime.canon.Canon.contour_moves): its arcs written a
-        run at a time as :meth:`arc_moves` writes them, the G1 lines between
-        them as :meth:`straight_moves` writes one, in one batch."""
+        """A contour (runtime.canon.Canon.contour_moves): its arcs written
+        as :meth:`arc_moves` writes them, the G1 lines between them as
+        :meth:`straight_moves` writes one, in one batch."""
         if self._pitch is not None or not self.started or self.ended:
             return super().contour_moves(axes, lines, *columns)
         self._flush()
         pos = self._pos
-        rotation = columns[4]
-        if rotation[0]:  # (only the first arc can start away from the last end)
+        if columns[4][0]:  # (only the first arc can start away from the last end)
             self._check_arc_start(self.machine.current, pos)
+        texts = self._contour_texts(axes, columns, pos)
+        if texts is None:
+            texts = self._contour_runs(axes, columns, pos)
+        self._write_batch(lines, texts)
+
+    def _contour_runs(self, axes, columns, pos: List[float]) -> List[str]:
+        """A contour's text a run of arcs at a time (:meth:`_arc_texts`)
+        and a line at a time (:meth:`_move`): where :meth:`_contour_texts`
+        steps aside."""
+        rotation = columns[4]
         f, s, n = axes
         texts = []
-        count, at = len(lines), 0
+        count, at = len(rotation), 0
         while at < count:
             if rotation[at]:  # a run of arcs, to the next line or the end
                 stop = at + 1
@@ -436,7 +476,7 @@ class FlattenCanon(Canon):
             move[f], move[s], move[n] = e1, e2, en
             texts.append(self._move("G1", move, pos))
             at += 1
-        self._write_batch(lines, texts)
+        return texts
 
     def hole_moves(self, recording, lines, first, second, axes, start):
         """Holes drilled alike (runtime.canon.Canon.hole_moves): each hole a
@@ -578,8 +618,12 @@ class FlattenCanon(Canon):
         share a file and a call stack)."""
         out = self.lines
         where = "  ; " + self._where_format()
-        for line, text in zip(lines, texts):
-            comment = where % line
+        comments = list(map(where.__mod__, lines))
+        if texts and max(map(len, texts)) + max(map(len, comments)) <= MAX_LINE:
+            out += map(add, texts, comments)
+            self._after_batch = True
+            return
+        for text, comment in zip(texts, comments):
             if len(text) + len(comment) > MAX_LINE:
                 out.append(comment.strip())
                 out.append(text)
@@ -851,20 +895,95 @@ class FlattenCanon(Canon):
                     "or YZ plane): plain G-code cannot start it there"
                 )
 
+    def _contour_texts(self, axes, columns, pos: List[float]) -> Optional[List[str]]:
+        """A contour's text with all its arcs written in one go
+        (:meth:`_arc_words`, each arc starting where the row before ended),
+        its lines as :meth:`_move` writes them; None (nothing written) where
+        an arc is one _arc treats apart, or the axes are not the plane's."""
+        plane = ARC_AXES.get(self._plane)
+        index = _AXIS_INDEX
+        if plane is None or tuple(axes) != tuple(index[letter] for letter in plane[:3]):
+            return None
+        f, s, n = axes
+        rotation = columns[4]
+        arcs = [i for i, turns in enumerate(rotation) if turns]
+        if not arcs:
+            return None
+        # where each row starts: where the row before ended
+        befores = [
+            [pos[axis]] + columns[k][:-1] for k, axis in ((0, f), (1, s), (5, n))
+        ]
+        befores += [[pos[3 + k]] + columns[6 + k][:-1] for k in range(3)]
+        pick = itemgetter(*arcs) if len(arcs) > 1 else lambda column: (column[arcs[0]],)
+        texts: List[Optional[str]] = [None] * len(rotation)
+        made = self._arc_words(
+            [list(pick(column)) for column in columns[:9]],
+            [list(pick(befores[0])), list(pick(befores[1]))],
+            [list(pick(column)) for column in befores[3:]],
+        )
+        if made is None:
+            return None
+        for i, text in zip(arcs, made):
+            texts[i] = text
+        moves = [i for i, turns in enumerate(rotation) if not turns]
+        if moves:
+            # G1 lines, from where the row before ended: the axis words that
+            # change, a column at a time, as _move writes them
+            pick = itemgetter(*moves) if len(moves) > 1 else lambda c: (c[moves[0]],)
+            ends = [columns[0], columns[1], columns[5], *columns[6:9]]
+            order = (f, s, n, 3, 4, 5)  # (the axis of each of ends and befores)
+            words = []
+            for k in sorted(range(6), key=order.__getitem__):
+                now, was = list(pick(ends[k])), list(pick(befores[k]))
+                moved = list(map(ne, _bits(now), _bits(was)))
+                if any(moved):
+                    column = [""] * len(moves)
+                    changed = [j for j, differs in enumerate(moved) if differs]
+                    letter = AXES6[order[k]]
+                    for j, text in zip(
+                        changed, _words(letter, [now[j] for j in changed])
+                    ):
+                        column[j] = text
+                    words.append(column)
+            rows = [" ".join(filter(None, row)) for row in zip(*words)]
+            xs = pick(ends[order.index(0)])
+            for j, i in enumerate(moves):
+                # (a move to where it is: still one axis word)
+                row = rows[j] if rows else ""
+                texts[i] = "G1 " + (row or "X" + number(xs[j]))
+        pos[f], pos[s], pos[n] = columns[0][-1], columns[1][-1], columns[5][-1]
+        pos[3:6] = [column[-1] for column in columns[6:9]]
+        return texts
+
     def _arc_texts(self, columns, pos: List[float]) -> List[str]:
         """:meth:`_arc` of each arc of a batch (arc_feed's arguments as
         columns), a column of numbers at a time: the very same text. Arcs
         _arc treats apart (no centre, a radius under the tolerance, a centre
         no relative offset gives exactly) make the whole batch go arc by arc."""
-        first_end, second_end, first_c, second_c, rotation, axis_end = columns[:6]
         plane = ARC_AXES.get(self._plane)
-        if plane is None or not first_end:
-            return [self._arc(args, pos) for args in zip(*columns)]
-        first, second, axis, first_letter, second_letter = plane
-        index = _AXIS_INDEX
-        i1, i2, i3 = index[first], index[second], index[axis]
-        starts1 = [pos[i1]] + first_end[:-1]
-        starts2 = [pos[i2]] + second_end[:-1]
+        first_end, second_end = columns[:2]
+        if plane is not None and first_end:
+            index = _AXIS_INDEX
+            i1, i2 = index[plane[0]], index[plane[1]]
+            starts = ([pos[i1]] + first_end[:-1], [pos[i2]] + second_end[:-1])
+            befores = [[pos[3 + k]] + columns[6 + k][:-1] for k in range(3)]
+            texts = self._arc_words(columns, starts, befores)
+            if texts is not None:
+                pos[i1], pos[i2] = first_end[-1], second_end[-1]
+                pos[index[plane[2]]] = columns[5][-1]
+                pos[3:6] = [column[-1] for column in columns[6:9]]
+                return texts
+        return [self._arc(args, pos) for args in zip(*columns)]
+
+    def _arc_words(self, columns, starts, befores) -> Optional[List[str]]:
+        """The text of arcs (arc_feed's arguments as columns) that start at
+        ``starts`` (columns of the plane's two axes) where the A, B and C
+        axes were ``befores``, as :meth:`_arc` writes each; None where an arc
+        is one _arc treats apart (no centre, a radius under the tolerance, a
+        centre no relative offset gives exactly)."""
+        first_end, second_end, first_c, second_c, rotation, axis_end = columns[:6]
+        first, second, axis, first_letter, second_letter = ARC_AXES[self._plane]
+        starts1, starts2 = starts
         offsets1 = list(map(sub, first_c, starts1))
         offsets2 = list(map(sub, second_c, starts2))
         tolerance = RADIUS_TOLERANCE_INCH * (1.0 if self._inches else MM_PER_INCH)
@@ -881,47 +1000,43 @@ class FlattenCanon(Canon):
             )
             < tolerance
         ):
-            return [self._arc(args, pos) for args in zip(*columns)]
-        # the batch's numbers in one column: five of its values an arc
-        count = len(first_end)
-        texts = _numbers(first_end + second_end + axis_end + offsets1 + offsets2)
+            return None
         words = [
-            [letter + text for text in texts[k * count : (k + 1) * count]]
-            for k, letter in enumerate((first, second, axis))
+            _words(first, first_end),
+            _words(second, second_end),
+            _words(axis, axis_end),
         ]
+        gaps = False
         for k, letter in enumerate("ABC"):
-            column = columns[6 + k]
-            if (
-                array("d", column).tobytes()
-                == array("d", pos[3 + k : 4 + k]).tobytes() * count
-            ):
+            column, previous = columns[6 + k], befores[k]
+            if array("d", column).tobytes() == array("d", previous).tobytes():
                 continue  # (the usual case: the axis does not move)
-            previous = [pos[3 + k]] + column[:-1]
             changed = [
                 i
                 for i, differs in enumerate(map(ne, _bits(column), _bits(previous)))
                 if differs
             ]
-            if changed:
-                moved = [""] * count
-                for i, text in zip(changed, _numbers([column[i] for i in changed])):
-                    moved[i] = letter + text
-                words.append(moved)
-        for k, letter in ((3, first_letter), (4, second_letter)):
-            words.append([letter + text for text in texts[k * count : (k + 1) * count]])
+            moved = [""] * len(column)
+            for i, text in zip(changed, _words(letter, [column[i] for i in changed])):
+                moved[i] = text
+            words.append(moved)
+            gaps = True
+        words.append(_words(first_letter, offsets1))
+        words.append(_words(second_letter, offsets2))
         codes = ["G3" if turns > 0 else "G2" for turns in rotation]
         if any(abs(turns) != 1 for turns in rotation):
             words.append(
                 ["" if abs(turns) == 1 else "P%d" % abs(turns) for turns in rotation]
             )
+            gaps = True
         if self._ijk_absolute:
             codes[0], self._ijk_absolute = "G91.1 " + codes[0], False
-        pos[i1], pos[i2], pos[i3] = first_end[-1], second_end[-1], axis_end[-1]
-        pos[3:6] = [column[-1] for column in columns[6:9]]
-        return [
-            " ".join([code] + [word for word in row if word])
-            for code, row in zip(codes, zip(*words))
-        ]
+        if gaps:
+            return [
+                " ".join([code] + [word for word in row if word])
+                for code, row in zip(codes, zip(*words))
+            ]
+        return list(map(" ".join, zip(codes, *words)))
 
     def _arc(self, args: Sequence, pos: List[float]) -> str:
         first_end, second_end, first_c, second_c, rotation, axis_end = args[:6]
@@ -1392,8 +1507,6 @@ def register(commands) -> None:
 
 
 def main(args) -> int:
-    from pathlib import Path
-
     from ngc2py.cache import write_atomic
     from ngc2py.progress import spinner
     from runtime.errors import GCodeError
@@ -1419,5 +1532,5 @@ def main(args) -> int:
     if args.output == "-":
         sys.stdout.write(text)
     else:
-        write_atomic(Path(args.output), text)
+        write_atomic(args.output, text)
     return 0

@@ -568,11 +568,119 @@ static PyTypeObject TraceLinesType = {
     .tp_members = trace_members,
 };
 
+/*
+ * words(prefix, values): [prefix + text of each value], where a value's text
+ * is Python's repr of it without the ".0" of an integral one (what
+ * ngc2py.flatten.number writes for ordinary numbers); None, at once, where
+ * a value is not a float, not finite, 1e15 or more in size, or would be
+ * written with an exponent: the caller then uses number() itself.
+ */
+/* Python's repr of x without an integral's ".0" into out (room for 32), when
+ * x has at most four decimals: x == n / 10000 for an integer n, |x| < 1e11.
+ * Then that decimal reads back as x (the division, like reading the text,
+ * rounds correctly once), and no shorter one does: the 1e-4 grid is finer
+ * than the doubles near x, so two of its decimals never read back alike.
+ * Returns the length, or 0 where x is not such a number. */
+static int grid_text(double x, char *out) {
+    if (!(fabs(x) < 1e11)) {
+        return 0;
+    }
+    double n = nearbyint(x * 10000.0);
+    if (n / 10000.0 != x) {
+        return 0;
+    }
+    unsigned long long v = (unsigned long long) fabs(n);
+    char text[40];
+    char *end = text + sizeof(text), *start = end;
+    unsigned long long fraction = v % 10000;
+    if (fraction) {
+        int places = 4;
+        while (fraction % 10 == 0) {
+            fraction /= 10;
+            places--;
+        }
+        for (int k = 0; k < places; k++) {
+            *--start = (char) ('0' + fraction % 10);
+            fraction /= 10;
+        }
+        *--start = '.';
+    }
+    start -= digits_of(v / 10000, start);
+    if (signbit(x)) {  /* -0.0 too: repr writes "-0.0" */
+        *--start = '-';
+    }
+    int length = (int) (end - start);
+    memcpy(out, start, (size_t) length);
+    return length;
+}
+
+static PyObject *words(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    if (nargs != 2 || !PyUnicode_Check(args[0]) || !PyList_Check(args[1])) {
+        PyErr_SetString(PyExc_TypeError, "words(prefix: str, values: list)");
+        return NULL;
+    }
+    PyObject *prefix = args[0], *values = args[1];
+    if (!PyUnicode_IS_ASCII(prefix)) {
+        Py_RETURN_NONE;
+    }
+    Py_ssize_t plen = PyUnicode_GET_LENGTH(prefix);
+    const char *pdata = (const char *) PyUnicode_1BYTE_DATA(prefix);
+    Py_ssize_t count = PyList_GET_SIZE(values);
+    PyObject *out = PyList_New(count);
+    if (!out) {
+        return NULL;
+    }
+    for (Py_ssize_t i = 0; i < count; i++) {
+        PyObject *item = PyList_GET_ITEM(values, i);
+        if (!PyFloat_CheckExact(item)) {
+            Py_DECREF(out);
+            Py_RETURN_NONE;
+        }
+        double v = PyFloat_AS_DOUBLE(item);
+        if (!isfinite(v) || fabs(v) >= 1e15) {
+            Py_DECREF(out);
+            Py_RETURN_NONE;
+        }
+        char grid[40];
+        char *text = grid;
+        Py_ssize_t tlen = grid_text(v, grid);
+        if (!tlen) {  /* more than four decimals: Python's own digits */
+            text = PyOS_double_to_string(v, 'r', 0, 0, NULL);
+            if (!text) {
+                Py_DECREF(out);
+                return NULL;
+            }
+            if (strchr(text, 'e')) {
+                PyMem_Free(text);
+                Py_DECREF(out);
+                Py_RETURN_NONE;
+            }
+            tlen = (Py_ssize_t) strlen(text);
+        }
+        PyObject *word = PyUnicode_New(plen + tlen, 127);
+        if (word) {
+            memcpy(PyUnicode_1BYTE_DATA(word), pdata, (size_t) plen);
+            memcpy(PyUnicode_1BYTE_DATA(word) + plen, text, (size_t) tlen);
+        }
+        if (text != grid) {
+            PyMem_Free(text);
+        }
+        if (!word) {
+            Py_DECREF(out);
+            return NULL;
+        }
+        PyList_SET_ITEM(out, i, word);
+    }
+    return out;
+}
+
 static PyMethodDef methods[] = {
     {"percent", (PyCFunction) (void (*)(void)) percent, METH_FASTCALL,
      "percent(template, args): template % args, faster for %s, %d and %.4f."},
     {"percent_rows", (PyCFunction) (void (*)(void)) percent_rows, METH_FASTCALL,
      "percent_rows(template, columns): ''.join(template % row for row in zip(*columns))"},
+    {"words", (PyCFunction) (void (*)(void)) words, METH_FASTCALL,
+     "words(prefix, values): [prefix + the shortest decimal of each float], or None."},
     {NULL, NULL, 0, NULL},
 };
 

@@ -40,7 +40,12 @@ _LIBC = ctypes.CDLL(ctypes.util.find_library("c"))
 def same_as_python(template: str, args: tuple) -> None:
     """percent() is Python's ``%``, but for a NaN, which it prints as C's
     printf does (``-nan`` with the sign bit set: rs274's trace)."""
-    if template == "%.4f" and args and isinstance(args[0], float) and math.isnan(args[0]):
+    if (
+        template == "%.4f"
+        and args
+        and isinstance(args[0], float)
+        and math.isnan(args[0])
+    ):
         assert percent(template, args) == c_printf(template, args[0])
         return
     try:
@@ -264,3 +269,42 @@ def test_rows_of_trace_lines():
     assert percent_rows(template, columns) == "".join(
         template % row for row in zip(*columns)
     )
+
+
+# --- words(prefix, values): flatten's numbers, a column at a time ----------
+
+#: Numbers as G-code writes them: at most four decimals (words' quick path),
+#: next to and beyond its edges, and any double at all.
+_WORD_VALUES = (
+    st.integers(-(10**15), 10**15).map(lambda n: n / 10000)
+    | st.integers(-(10**15), 10**15).map(lambda n: n / 10000 + 1e-9)
+    | st.sampled_from(
+        [0.0, -0.0, 1e-4, -1e-4, 5e-5, 1e11, 1e11 - 1e-4, 1e15, 0.1 + 0.2]
+    )
+    | st.integers(min_value=0, max_value=2**64 - 1).map(any_double)
+)
+
+
+@settings(max_examples=500)
+@given(st.lists(_WORD_VALUES, max_size=12), st.sampled_from(["", "X", "G1 Y", "é"]))
+@example([1.0, -0.0, 0.5, 1234.5678, -0.0001], "X")
+def test_words_are_flattens_numbers(values, prefix):
+    """words() writes each value as ngc2py.flatten.number does, after the
+    prefix, or answers None (an exponent, not finite, 1e15 or more, a
+    prefix that is not ASCII) and leaves it to number(); so does its
+    Python twin."""
+    from ngc2py.flatten import _python_words, _words, number
+    from runtime._fast_format import words
+
+    if not all(map(math.isfinite, values)):  # (no move goes there)
+        assert words(prefix, list(values)) is None
+        assert _python_words(prefix, values) is None
+        return
+    expected = [prefix + number(value) for value in values]
+    assert _words(prefix, values) == expected
+    for made in (words(prefix, list(values)), values and _python_words(prefix, values)):
+        assert made is None or made == expected
+    plain = all(
+        math.isfinite(v) and abs(v) < 1e15 and "e" not in repr(v) for v in values
+    )
+    assert (words(prefix, list(values)) is not None) == (plain and prefix.isascii())

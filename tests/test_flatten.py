@@ -414,6 +414,85 @@ def test_a_batch_of_arcs_is_written_as_one_arc_at_a_time(data, plane, inches, ab
     assert answers[0] == answers[1]
 
 
+@settings(max_examples=300, deadline=None)
+@given(st.data(), st.sampled_from(["XY", "XZ", "YZ"]), st.booleans())
+def test_a_contour_is_written_as_a_run_of_arcs_and_a_line_at_a_time(
+    data, plane, absolute
+):
+    """FlattenCanon._contour_texts (all of a contour's arcs in one go, its
+    lines a column at a time) writes the very text of _contour_runs (a run
+    of arcs, then a line, ...) and leaves the same point and IJK mode."""
+    from ngc2py.flatten import ARC_AXES, UNKNOWN, FlattenCanon, FlattenError
+
+    value = (
+        st.floats(-1e4, 1e4, allow_nan=False)
+        | st.sampled_from([0.0, -0.0, 1.0, 2.5e-7, 0.1])
+        | st.integers(-50, 50).map(float)
+    )
+    axes = ["XYZABC".index(letter) for letter in ARC_AXES[plane][:3]]
+    pos = [data.draw(value | st.just(UNKNOWN)) for _ in range(6)]
+    # the point before the contour on a column's axis (ends: 0, 1, 5; A B C)
+    pos_of = {
+        0: pos[axes[0]],
+        1: pos[axes[1]],
+        5: pos[axes[2]],
+        6: pos[3],
+        7: pos[4],
+        8: pos[5],
+    }.get
+    count = data.draw(st.integers(1, 8))
+    rotation = [data.draw(st.sampled_from([-2, -1, 0, 0, 1, 3])) for _ in range(count)]
+    columns = [[data.draw(value) for _ in range(count)] for _ in range(4)]
+    columns.append(rotation)
+    columns += [[data.draw(value) for _ in range(count)] for _ in range(7)]
+    for k in range(count):
+        if data.draw(st.booleans()):  # an axis that stays, and -0.0 after 0.0
+            column = columns[data.draw(st.sampled_from([0, 1, 5, 6, 7, 8]))]
+            column[k] = column[k - 1] if k else data.draw(st.sampled_from([0.0, -0.0]))
+        if not rotation[k] and data.draw(st.integers(0, 3)) == 0:
+            for j in (0, 1, 5, 6, 7, 8):  # a line to where it is: still one word
+                was = columns[j][k - 1] if k else pos_of(j)
+                columns[j][k] = was if was == was else columns[j][k]  # (not UNKNOWN)
+        if data.draw(st.booleans()):  # centres nearby, some at a whole offset
+            columns[2][k] = columns[0][k] + data.draw(st.sampled_from([3.0, -7.5]))
+            columns[3][k] = columns[1][k] + data.draw(st.sampled_from([1.0, -2.0]))
+    answers = []
+    for whole in (True, False):
+        canon = FlattenCanon()
+        canon._plane, canon._ijk_absolute = plane, absolute
+        where = list(pos)
+        try:
+            texts = None
+            if whole:
+                texts = canon._contour_texts(axes, [list(c) for c in columns], where)
+            if texts is None:  # (stepped aside: the same as the runs, surely)
+                where = list(pos)
+                texts = canon._contour_runs(axes, [list(c) for c in columns], where)
+        except FlattenError as error:
+            texts = str(error)
+        answers.append((texts, repr(where), canon._ijk_absolute))
+    assert answers[0] == answers[1]
+
+
+def test_a_contour_line_to_where_it_is_still_writes_an_axis_word():
+    """A contour's G1 line that moves nowhere is written "G1 X<x>", as
+    _move writes one, by the whole contour's path as by the runs'."""
+    from ngc2py.flatten import FlattenCanon
+
+    # XY: an arc (counterclockwise) from (0, 0) to (2, 0) about (1, 0.5),
+    # then a line to (2, 0)
+    columns = [[2.0, 2.0], [0.0, 0.0], [1.0, 0.0], [0.5, 0.0], [1, 0], [-1.0, -1.0]]
+    columns += [[0.0, 0.0] for _ in range(6)]
+    texts = []
+    for method in ("_contour_texts", "_contour_runs"):
+        canon = FlattenCanon()
+        canon._plane = "XY"
+        texts.append(
+            getattr(canon, method)((0, 1, 2), columns, [0.0, 0.0, -1.0, 0.0, 0.0, 0.0])
+        )
+    assert texts[0] == texts[1] == ["G3 X2 Y0 Z-1 I1 J0.5", "G1 X2"]
+
+
 def _flat_by_batches_and_hole_by_hole(text, folder, name="holes.ngc"):
     """flatten's text of ``text`` with FlattenCanon.hole_moves, and with
     the protocol's default (the recorded calls again, hole by hole)."""
