@@ -337,3 +337,32 @@ def test_holes_are_replayed(monkeypatch):
         )
     )
     assert recorded == [True]
+
+
+class _CountingMachine(Machine):
+    """Keeps something of its own for each row it drills (a count) and does
+    not declare it in ``replayed_fields``: no hole may be replayed past it."""
+
+    def cycle_row(self, line: int, words) -> bool:
+        done = super().cycle_row(line, words)
+        if done:
+            self.drilled = getattr(self, "drilled", 0) + 1
+        return done
+
+
+def test_a_hole_that_changes_the_machine_is_not_replayed():
+    """runtime.fast.hole_rows replays a recorded hole only where it changed
+    nothing of the machine but its position: a machine field that changes
+    with each row keeps every row on the reference path, drilled and
+    counted."""
+    rows = "\n".join("X%d Y%d" % (k, k % 3) for k in range(2, 40))
+    text = cam_sized(
+        "G21 G17 F100\nG0 Z5\nG99 G81 X1 Y1 Z-1 R2\n" + rows + "\nG80\nM2\n"
+    )
+    namespace: dict = {"__name__": "holes"}
+    exec(compile(compile_text(text, "holes.ngc"), "holes.py", "exec"), namespace)
+    canon = RecordingCanon()
+    machine = _CountingMachine(canon)
+    start(machine, namespace["main"])
+    assert machine.drilled == 38
+    assert canon.calls == _without_replay(_cycle_calls, text)[0]

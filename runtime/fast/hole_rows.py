@@ -31,7 +31,7 @@ from __future__ import annotations
 
 from itertools import repeat, takewhile
 
-from runtime.canon import Canon, TraceCanon, trace_rows
+from runtime.canon import CALLS, Canon, TraceCanon, trace_rows
 from runtime.cycles import CyclesMixin
 
 TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
@@ -86,7 +86,9 @@ _AT_START = "start"
 
 class _Recording:
     """Stands for the canon while one hole is drilled: each call is made
-    on the canon and kept as (name, positional arguments)."""
+    on the canon and kept as (name, positional arguments). The canonical
+    calls are methods of the class (_recorder), made once; anything else
+    is the canon's own."""
 
     __slots__ = ("canon", "calls", "keywords")
 
@@ -107,6 +109,22 @@ class _Recording:
             return method(*args, **keywords)
 
         return record
+
+
+def _recorder(name: str):
+    def record(self, *args, **keywords):
+        self.calls.append((name, args))
+        if keywords:
+            self.keywords = True
+        return getattr(self.canon, name)(*args, **keywords)
+
+    record.__name__ = name
+    return record
+
+
+for _name in CALLS:
+    setattr(_Recording, _name, _recorder(_name))
+del _name
 
 
 def _template(scratch, recorded: List[tuple], column: str):
@@ -144,14 +162,15 @@ def _snapshot(machine) -> tuple:
 def _only_position_changed(before: tuple, machine) -> bool:
     fields, world_before = before
     after = vars(machine)
-    if after.keys() != fields.keys():
-        return False
-    replayed = type(machine).replayed_fields
-    for name, value in after.items():
-        old = fields[name]
-        if old is not value and name not in _SET_BY_REPLAY and old != value:
-            if name not in replayed:
-                return False
+    if after != fields:  # (compared in one go; then without what may change)
+        if after.keys() != fields.keys():
+            return False
+        probe = dict(after)
+        for name in _SET_BY_REPLAY | type(machine).replayed_fields:
+            if name in fields:
+                probe[name] = fields[name]
+        if probe != fields:
+            return False
     world = machine.world
     for name, old in zip(type(world).__slots__, world_before):
         if name != "position" and old != getattr(world, name):
