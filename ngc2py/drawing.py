@@ -193,6 +193,15 @@ def axis_labels(view: str, units: str) -> Tuple[str, str]:
 BOX_BEFORE_RASTERS = {"png"}
 
 
+def prepare() -> None:
+    """Import what :func:`draw` uses (most of a small picture's time)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib import collections, colors, lines, pyplot  # noqa: F401
+    from PIL import Image, ImageDraw  # noqa: F401
+
+
 def draw(path: Toolpath, view: str, title: str, out, fmt: str) -> None:
     """Draw ``path`` seen from ``view`` and save it to ``out`` (a path or a
     binary file)."""

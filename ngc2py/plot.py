@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import importlib.util
 import io
 import os
 import sys
@@ -79,19 +80,16 @@ def picture_format(args: argparse.Namespace) -> str:
 def command(args: argparse.Namespace) -> int:
     try:
         fmt = picture_format(args)
-        importlib.import_module("matplotlib")  # fail before running the program
-    except (ValueError, ImportError) as error:
+        importlib.util.find_spec("matplotlib") or importlib.import_module("matplotlib")
+    except (ValueError, ImportError) as error:  # fail before running the program
         sys.stderr.write("ngc2py plot: %s\n" % error)
         return EXIT_ERROR
-    from ngc2py.drawing import draw
-    from ngc2py.moves import record
+    from ngc2py.drawing import draw, prepare
 
-    recorder, status, report = record(args)
+    status, report, path = _record_beside(args, prepare)
     sys.stderr.write(report)
     if status != EXIT_OK:
         return EXIT_ERROR
-    path = recorder.toolpath()
-    del recorder  # its arrays were copied: half the memory back
     title = "standard input" if args.program == "-" else os.path.basename(args.program)
     if args.output == "-":
         buffer = io.BytesIO()
@@ -110,6 +108,69 @@ def command(args: argparse.Namespace) -> int:
         )
         return EXIT_ERROR
     return EXIT_OK
+
+
+def _recorded(args: argparse.Namespace):
+    """Run the program: (exit status, rs274's stderr text, the Toolpath or
+    None after an error)."""
+    from ngc2py.moves import record
+
+    recorder, status, report = record(args)
+    return status, report, recorder.toolpath() if status == EXIT_OK else None
+
+
+def _record_beside(args: argparse.Namespace, prepare):
+    """:func:`_recorded`, run in a child process while this one runs
+    ``prepare`` (importing matplotlib: a third of a second, as long as a
+    100k-move program takes), the toolpath handed back through a pipe.
+    Where there is no fork, or the child hands nothing back (it died), the
+    program runs here, after ``prepare``: the same answer, later."""
+    fork = getattr(os, "fork", None)
+    if fork is None or args.program == "-":  # (standard input is read once)
+        prepare()
+        return _recorded(args)
+    import pickle
+
+    sys.stdout.flush()
+    sys.stderr.flush()
+    read, write = os.pipe()
+    child = fork()
+    if child == 0:  # pragma: no cover - runs in the child (coverage: the parent)
+        os.close(read)
+        # what the program prints is handed back too, and written by the
+        # parent where it would have been (its stdout may be a test's buffer)
+        printed = sys.stdout, sys.stderr = io.StringIO(), io.StringIO()
+        try:
+            result = ("done", _recorded(args))
+        except BaseException as error:  # noqa: BLE001 - handed to the parent
+            result = ("raised", error)
+        texts = tuple(stream.getvalue() for stream in printed)
+        try:
+            with os.fdopen(write, "wb") as out:
+                try:
+                    pickle.dump(result + texts, out, protocol=pickle.HIGHEST_PROTOCOL)
+                except Exception:  # noqa: BLE001 - an error that does not pickle
+                    error = RuntimeError(repr(result[1]))
+                    pickle.dump(("raised", error) + texts, out)
+        finally:
+            os._exit(0)
+    os.close(write)
+    try:
+        prepare()
+        with os.fdopen(read, "rb") as handed:
+            try:
+                how, what, out_text, err_text = pickle.load(handed)
+            except (EOFError, pickle.UnpicklingError):
+                how = None  # the child died: run the program here
+    finally:
+        os.waitpid(child, 0)
+    if how is None:
+        return _recorded(args)
+    sys.stdout.write(out_text)
+    sys.stderr.write(err_text)
+    if how == "raised":
+        raise what
+    return what
 
 
 __all__ = ["FORMATS", "VIEWS", "command", "register"]

@@ -266,3 +266,76 @@ def test_the_box_found_before_the_rasters_is_savefigs_tight_box(
         )
     assert pictures[0].shape == pictures[1].shape
     assert (pictures[0] == pictures[1]).all()
+
+
+# --- the program runs beside matplotlib's import (ngc2py.plot._record_beside)
+
+
+def _plot_bytes(tmp_path, name: str, text: str):
+    program = tmp_path / "p.ngc"
+    program.write_text(text)
+    out = tmp_path / name
+    with scratch_run(program) as s:
+        rc, printed, err = main(["plot", s.program.name, "-o", str(out)])
+    return rc, printed, err, out.read_bytes() if out.exists() else None
+
+
+PRINTING = "G0 X3\n(PRINT,hello)\n(DEBUG,x=#5420)\nG2 X0 Y3 R3 F100\nG1 Y9\nM2\n"
+
+
+def test_the_program_run_beside_the_import_draws_what_it_draws_here(
+    tmp_path, monkeypatch
+):
+    """In a child process (while matplotlib is imported) or here (no fork):
+    the same picture, the same exit status and the same printed text."""
+    import os
+    import sys
+
+    from ngc2py import plot
+
+    recorded = plot._recorded
+
+    def printing(args):  # (the plot prints nothing of its own while it runs)
+        (tmp_path / "ran_in").write_text(str(os.getpid()))
+        print("printed while it ran")
+        sys.stderr.write("and on stderr\n")
+        return recorded(args)
+
+    monkeypatch.setattr(plot, "_recorded", printing)
+    beside = _plot_bytes(tmp_path, "beside.png", PRINTING)
+    assert (tmp_path / "ran_in").read_text() != str(os.getpid())  # in a child
+    monkeypatch.delattr(plot.os, "fork")
+    here = _plot_bytes(tmp_path, "here.png", PRINTING)
+    assert beside == here
+    assert beside[0] == 0 and beside[3].startswith(b"\x89PNG")
+    assert beside[1:3] == ("printed while it ran\n", "and on stderr\n")
+
+
+def test_a_child_that_dies_leaves_the_program_to_run_here(tmp_path, monkeypatch):
+    """A child that hands nothing back (killed, crashed): the program runs
+    in this process, and the picture is the same."""
+    import os
+
+    from ngc2py import plot
+
+    expected = _plot_bytes(tmp_path, "expected.png", PRINTING)
+    parent, recorded = os.getpid(), plot._recorded
+
+    def dying(args):
+        if os.getpid() != parent:
+            os._exit(9)
+        return recorded(args)
+
+    monkeypatch.setattr(plot, "_recorded", dying)
+    assert _plot_bytes(tmp_path, "again.png", PRINTING) == expected
+
+
+def test_an_error_raised_in_the_child_is_raised_here(tmp_path, monkeypatch):
+    from ngc2py import plot
+
+    def failing(args):
+        raise KeyboardInterrupt("stopped")
+
+    monkeypatch.setattr(plot, "_recorded", failing)
+    with pytest.raises(KeyboardInterrupt, match="stopped"):
+        _plot_bytes(tmp_path, "no.png", PRINTING)
