@@ -44,7 +44,7 @@ import argparse
 import math
 from array import array
 from math import hypot
-from itertools import groupby
+from itertools import groupby, repeat
 from operator import add, eq, itemgetter, ne, sub
 import os
 import re
@@ -223,10 +223,27 @@ def same(a: float, b: float) -> bool:
     return a == b and math.copysign(1.0, a) == math.copysign(1.0, b)
 
 
+def _short_offsets(starts: List[float], centres: List[float]) -> List[float]:
+    """centre - start for each arc, or its four decimals where those give
+    the very centre when added to the start (_offset's first choice)."""
+    exact = list(map(sub, centres, starts))
+    short = list(map(round, exact, repeat(4)))
+    return [
+        s if total == centre else e
+        for s, e, total, centre in zip(short, exact, map(add, starts, short), centres)
+    ]
+
+
 def _offset(start: float, centre: float) -> Optional[float]:
     """An offset that rs274 adds to ``start`` to get exactly ``centre``, or
     None (unknown start; or -0.0, which no sum of non-zeros gives)."""
     guess = centre - start
+    if centre:
+        # four decimals where they give the very centre (as the program
+        # most likely wrote it: I-17.303, not I-17.302999999999997)
+        short = round(guess, 4)
+        if start + short == centre:
+            return short
     if start + guess == centre and centre:  # the usual case, at once
         return guess
     for _ in range(4):
@@ -984,8 +1001,8 @@ class FlattenCanon(Canon):
         first_end, second_end, first_c, second_c, rotation, axis_end = columns[:6]
         first, second, axis, first_letter, second_letter = ARC_AXES[self._plane]
         starts1, starts2 = starts
-        offsets1 = list(map(sub, first_c, starts1))
-        offsets2 = list(map(sub, second_c, starts2))
+        offsets1 = _short_offsets(starts1, first_c)
+        offsets2 = _short_offsets(starts2, second_c)
         tolerance = RADIUS_TOLERANCE_INCH * (1.0 if self._inches else MM_PER_INCH)
         if (
             # rs274 adds I/J/K to the start point: each offset must give back

@@ -304,6 +304,18 @@ def test_numbers_round_trip_in_plain_decimal():
         assert float(number(value)) == value and "e" not in number(value)
 
 
+def test_an_arc_centre_offset_is_written_as_the_program_most_likely_wrote_it():
+    """Four decimals where added to the start they give the very centre
+    (rs274 adds I/J/K to the start), every digit where they do not."""
+    from ngc2py.flatten import _offset, _short_offsets
+
+    assert _offset(0.1, 0.1 + 0.2) == 0.2  # not 0.20000000000000004
+    assert 0.1 + _offset(0.1, 0.1 + 0.2) == 0.1 + 0.2
+    near = 1.0 + 2.0**-40  # no four decimals give it
+    assert _offset(1.0, near) == near - 1.0
+    assert _short_offsets([0.1, 1.0], [0.1 + 0.2, near]) == [0.2, near - 1.0]
+
+
 def test_a_failing_program_is_not_flattened(tmp_path):
     rc, out, err = run_flatten(tmp_path, "G0 X1\nG1 X[1/0]\nM2\n")
     assert rc == 1 and out == ""
@@ -370,6 +382,26 @@ def test_what_no_plain_g_code_can_say_is_refused_by_name(tmp_path):
     )
 
 
+def _centres_a_short_offset_away(data, columns, pos, plane: str) -> None:
+    """Now and then an arc's centre four decimals from where it starts (the
+    row before's end), as a program's I and J put it: the offset flatten
+    writes is then those four decimals."""
+    from ngc2py.flatten import ARC_AXES
+
+    first, second = ("XYZABC".index(letter) for letter in ARC_AXES[plane][:2])
+    for k in range(len(columns[0])):
+        if data.draw(st.integers(0, 2)) == 0:
+            starts = (
+                (columns[0][k - 1], columns[1][k - 1])
+                if k
+                else (pos[first], pos[second])
+            )
+            for column, start in zip(columns[2:4], starts):
+                if start == start:  # (not from an UNKNOWN point)
+                    offset = data.draw(st.sampled_from([0.2, -17.303, 2.3456]))
+                    column[k] = start + offset
+
+
 @settings(max_examples=300, deadline=None)
 @given(
     st.data(),
@@ -398,6 +430,7 @@ def test_a_batch_of_arcs_is_written_as_one_arc_at_a_time(data, plane, inches, ab
             )
             columns[3][k] = columns[1][k] + data.draw(st.sampled_from([1.0, -2.0]))
     pos = [data.draw(value | st.just(UNKNOWN)) for _ in range(6)]
+    _centres_a_short_offset_away(data, columns, pos, plane)
     answers = []
     for batch in (True, False):
         canon = FlattenCanon()
@@ -456,6 +489,7 @@ def test_a_contour_is_written_as_a_run_of_arcs_and_a_line_at_a_time(
         if data.draw(st.booleans()):  # centres nearby, some at a whole offset
             columns[2][k] = columns[0][k] + data.draw(st.sampled_from([3.0, -7.5]))
             columns[3][k] = columns[1][k] + data.draw(st.sampled_from([1.0, -2.0]))
+    _centres_a_short_offset_away(data, columns, pos, plane)
     answers = []
     for whole in (True, False):
         canon = FlattenCanon()
