@@ -44,7 +44,7 @@ import argparse
 import math
 from array import array
 from math import hypot
-from itertools import groupby, repeat
+from itertools import groupby
 from operator import add, eq, itemgetter, ne, sub
 import os
 import re
@@ -223,15 +223,38 @@ def same(a: float, b: float) -> bool:
     return a == b and math.copysign(1.0, a) == math.copysign(1.0, b)
 
 
-def _short_offsets(starts: List[float], centres: List[float]) -> List[float]:
-    """centre - start for each arc, or its four decimals where those give
-    the very centre when added to the start (_offset's first choice)."""
+def _python_short_offsets(starts: List[float], centres: List[float]) -> List[float]:
+    """centre - start for each arc, or its four decimals (_short) where
+    those added to the start give the very centre: _offset's first choice."""
     exact = list(map(sub, centres, starts))
-    short = list(map(round, exact, repeat(4)))
+    short = list(map(_short, exact))
     return [
         s if total == centre else e
         for s, e, total, centre in zip(short, exact, map(add, starts, short), centres)
     ]
+
+
+def _short(offset: float) -> float:
+    """``offset`` to four decimals: round half to even at the fourth, as C's
+    nearbyint(offset * 10000) / 10000 (runtime._fast_format.short_offsets)."""
+    if not math.isfinite(offset):
+        return offset
+    # (copysign: a zero keeps its sign, as C's does)
+    return math.copysign(round(offset * 10000.0) / 10000.0, offset)
+
+
+try:  # the same, in C; optional
+    from runtime._fast_format import short_offsets as _fast_short_offsets
+except ImportError:  # pragma: no cover - the extension was not built
+    _fast_short_offsets = None
+
+
+def _short_offsets(starts: List[float], centres: List[float]) -> List[float]:
+    if _fast_short_offsets is not None:
+        made = _fast_short_offsets(list(starts), list(centres))
+        if made is not None:
+            return made
+    return _python_short_offsets(starts, centres)
 
 
 def _offset(start: float, centre: float) -> Optional[float]:
@@ -241,7 +264,7 @@ def _offset(start: float, centre: float) -> Optional[float]:
     if centre:
         # four decimals where they give the very centre (as the program
         # most likely wrote it: I-17.303, not I-17.302999999999997)
-        short = round(guess, 4)
+        short = _short(guess)
         if start + short == centre:
             return short
     if start + guess == centre and centre:  # the usual case, at once
@@ -1041,7 +1064,7 @@ class FlattenCanon(Canon):
         words.append(_words(first_letter, offsets1))
         words.append(_words(second_letter, offsets2))
         codes = ["G3" if turns > 0 else "G2" for turns in rotation]
-        if any(abs(turns) != 1 for turns in rotation):
+        if rotation.count(1) + rotation.count(-1) != len(rotation):
             words.append(
                 ["" if abs(turns) == 1 else "P%d" % abs(turns) for turns in rotation]
             )

@@ -674,6 +674,42 @@ static PyObject *words(PyObject *self, PyObject *const *args, Py_ssize_t nargs) 
     return out;
 }
 
+/*
+ * short_offsets(starts, centres): for each arc, centre - start, or that
+ * rounded to four decimals (nearbyint(x * 10000) / 10000, as the Python
+ * twin in ngc2py/flatten.py rounds) where adding it to the start gives the
+ * very centre back; None where a value is not a float.
+ */
+static PyObject *short_offsets(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    if (nargs != 2 || !PyList_Check(args[0]) || !PyList_Check(args[1]) ||
+        PyList_GET_SIZE(args[0]) != PyList_GET_SIZE(args[1])) {
+        PyErr_SetString(PyExc_TypeError, "short_offsets(starts: list, centres: list)");
+        return NULL;
+    }
+    Py_ssize_t count = PyList_GET_SIZE(args[0]);
+    PyObject *out = PyList_New(count);
+    if (!out) {
+        return NULL;
+    }
+    for (Py_ssize_t i = 0; i < count; i++) {
+        PyObject *s = PyList_GET_ITEM(args[0], i), *c = PyList_GET_ITEM(args[1], i);
+        if (!PyFloat_CheckExact(s) || !PyFloat_CheckExact(c)) {
+            Py_DECREF(out);
+            Py_RETURN_NONE;
+        }
+        double start = PyFloat_AS_DOUBLE(s), centre = PyFloat_AS_DOUBLE(c);
+        double exact = centre - start;
+        double shorter = nearbyint(exact * 10000.0) / 10000.0;
+        PyObject *value = PyFloat_FromDouble(start + shorter == centre ? shorter : exact);
+        if (!value) {
+            Py_DECREF(out);
+            return NULL;
+        }
+        PyList_SET_ITEM(out, i, value);
+    }
+    return out;
+}
+
 static PyMethodDef methods[] = {
     {"percent", (PyCFunction) (void (*)(void)) percent, METH_FASTCALL,
      "percent(template, args): template % args, faster for %s, %d and %.4f."},
@@ -681,6 +717,8 @@ static PyMethodDef methods[] = {
      "percent_rows(template, columns): ''.join(template % row for row in zip(*columns))"},
     {"words", (PyCFunction) (void (*)(void)) words, METH_FASTCALL,
      "words(prefix, values): [prefix + the shortest decimal of each float], or None."},
+    {"short_offsets", (PyCFunction) (void (*)(void)) short_offsets, METH_FASTCALL,
+     "short_offsets(starts, centres): each centre - start, four decimals where they do."},
     {NULL, NULL, 0, NULL},
 };
 

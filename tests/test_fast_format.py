@@ -308,3 +308,31 @@ def test_words_are_flattens_numbers(values, prefix):
         math.isfinite(v) and abs(v) < 1e15 and "e" not in repr(v) for v in values
     )
     assert (words(prefix, list(values)) is not None) == (plain and prefix.isascii())
+
+
+@settings(max_examples=300)
+@given(
+    st.lists(
+        st.tuples(_WORD_VALUES, _WORD_VALUES | st.sampled_from([0.2, -17.303, 2.3456])),
+        max_size=10,
+    ),
+    st.data(),
+)
+def test_short_offsets_in_c_are_its_python_twin(pairs, data):
+    """short_offsets(starts, centres) gives, to the bit, what flatten's
+    Python twin gives: each centre - start, or its four decimals where
+    added to the start they give the very centre back."""
+    from ngc2py.flatten import _python_short_offsets
+    from runtime._fast_format import short_offsets
+
+    starts = [start for start, _ in pairs]
+    # a centre: any value, or one a short offset from its start
+    centres = [
+        start + offset if data.draw(st.booleans()) else offset
+        for start, offset in pairs
+    ]
+    made, twin = short_offsets(starts, centres), _python_short_offsets(starts, centres)
+    assert [struct.pack("<d", v) for v in made] == [struct.pack("<d", v) for v in twin]
+    for start, centre, offset in zip(starts, centres, made):
+        if start + offset == centre and offset != centre - start:
+            assert offset == round(offset, 4)  # shortened only to four decimals
