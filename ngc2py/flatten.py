@@ -322,6 +322,8 @@ class FlattenCanon(Canon):
     def __init__(self, main_file: str = "") -> None:
         self.machine = None
         self.main_file = main_file
+        #: the flat program's lines; an item may hold several (a hole's, made
+        #: from one template), joined by newlines as text() joins them all
         self.lines: List[str] = []
         self.started = False
         self.ended = False
@@ -586,7 +588,7 @@ class FlattenCanon(Canon):
                 )
             if made is False:  # (a line too long to be sure of: hole by hole)
                 if texts:
-                    self.lines.extend("\n".join(texts).split("\n"))
+                    self.lines += texts
                     texts = []
                 for j in range(at, stop):
                     before = start if j == 0 else (first[j - 1], second[j - 1])
@@ -598,7 +600,7 @@ class FlattenCanon(Canon):
             template, slots = made
             texts += map(template.__mod__, zip(*[columns[j][at:stop] for j in slots]))
         if texts:
-            self.lines.extend("\n".join(texts).split("\n"))
+            self.lines += texts
         pos[ia], pos[ib] = first[-1], second[-1]
         # (what the holes leave of parameters is written before the next block)
         self._after_batch = True
