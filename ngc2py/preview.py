@@ -234,12 +234,26 @@ class PreviewCanon(Canon):
         self._call("set_feed_rate", self._length(rate))
 
     def straight_traverse(self, x, y, z, a, b, c, u, v, w):
-        self._pos = (x, y, z, a, b, c, u, v, w)
-        self._motion("straight_traverse", *self._pose(x, y, z, a, b, c, u, v, w))
+        self._straight(self.target.straight_traverse, x, y, z, a, b, c, u, v, w)
 
     def straight_feed(self, x, y, z, a, b, c, u, v, w):
+        self._straight(self.target.straight_feed, x, y, z, a, b, c, u, v, w)
+
+    def _straight(self, call, x, y, z, a, b, c, u, v, w):
+        """A straight move: :meth:`_motion` of its :meth:`_pose`, written
+        out (a loop's every move comes here)."""
         self._pos = (x, y, z, a, b, c, u, v, w)
-        self._motion("straight_feed", *self._pose(x, y, z, a, b, c, u, v, w))
+        machine = self.machine
+        sequence = machine.line if self.motion_line is None else self.motion_line
+        if sequence > self.skipped:
+            sequence -= self.skipped
+        if sequence != self.last_sequence:
+            self.new_line(self.motion_line)
+        if machine.inches:
+            call(x, y, z, a, b, c, u, v, w)
+        else:
+            k = MM_PER_INCH
+            call(x / k, y / k, z / k, a, b, c, u / k, v / k, w / k)
 
     def straight_moves(self, feed, lines, x, y, z, a, b, c, u, v, w):
         """A batch of plain rows (runtime.fast.rows.BatchesOnly: one move a line,
@@ -481,6 +495,22 @@ class PreviewCanon(Canon):
         self._call("user_defined_function", number, p, q)
 
 
+class _LineState:
+    """What a line of one plain move leaves as ``PreviewMachine.active``
+    (gcodes, mcodes, settings, each with the line first), made into those
+    tuples when it is read (unpacked)."""
+
+    __slots__ = ("line", "state")
+
+    def __init__(self, line: int, state: tuple) -> None:
+        self.line, self.state = line, state
+
+    def __iter__(self):
+        gcodes, mcodes, settings = self.state
+        line = self.line
+        return iter(((line,) + gcodes, (line,) + mcodes, (float(line),) + settings))
+
+
 class PreviewMachine(BatchesOnly, Machine):
     """The machine as the gcode module's interpreter sees it: it starts in
     inches, asks the canon about block delete line by line, and records
@@ -625,12 +655,8 @@ class PreviewMachine(BatchesOnly, Machine):
 
     def _line_ended(self, line, before) -> None:
         if self.active is before:  # the fast path took it: no block wrote the state
-            gcodes, mcodes, settings = self.line_state(self.motion_mode)
-            self.active = (
-                (line,) + gcodes,
-                (line,) + mcodes,
-                (float(line),) + settings,
-            )
+            # made into tuples only if read: a loop's line is announced once
+            self.active = _LineState(line, self.line_state(self.motion_mode))
 
     replayed_fields = frozenset(("active",))
 

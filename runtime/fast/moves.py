@@ -20,7 +20,7 @@ that is true when none of the cases that make a straight move more than
 
 The flag is recomputed by :meth:`refresh_plain` after every general block
 (only a general block can change those modes), and written nowhere else
-(but by :meth:`_plain_line`, for the one line a batches-only machine runs
+(but by runtime.fast.rows.BatchesOnly._single_line, for the one line a batches-only machine runs
 on the fast path). :meth:`move` checks it and
 the few value-dependent conditions (a negative F, a zero feed rate for G1,
 a modal motion other than G0/G1) and otherwise falls back to
@@ -109,7 +109,7 @@ class FastPathMixin:
         """Recompute ``_plain`` from the modes (see the module docstring):
         the one place it is derived. A batches-only machine (runtime.fast.rows)
         keeps it in ``_batchable``, its lines taking the fast path one at a
-        time (:meth:`_plain_line`)."""
+        time (runtime.fast.rows.BatchesOnly._single_line)."""
         plain = (
             not self.distance_incremental
             and not self.lathe_diameter
@@ -126,15 +126,6 @@ class FastPathMixin:
             self._batchable, self._plain = plain, False
         else:
             self._plain = plain
-
-    def _plain_line(self, run, *args, **words):
-        """``run(*args, **words)``, one line of a batches-only machine whose
-        modes are plain (``_batchable``), on the fast path."""
-        self._plain = True
-        try:
-            return run(*args, **words)
-        finally:
-            self._plain = False
 
     def announce_block(self, n: Optional[str]) -> None:
         """Tell the canon the N number of the line now executing."""

@@ -294,7 +294,11 @@ class BatchesOnly:
             # the general path (a G7x profile's lines go to its reader)
             return run(line, *args, **words)
         token = self._line_begins(line, words.get("n"))
-        self._plain_line(run, line, *args, **words)
+        self._plain = True  # the fast path, for this line only
+        try:
+            run(line, *args, **words)
+        finally:
+            self._plain = False
         self._line_ended(line, token)
 
     def _line_begins(self, line: int, n: Optional[str]):
