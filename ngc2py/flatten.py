@@ -56,6 +56,7 @@ if TYPE_CHECKING:
 
 from runtime.canon import CALLS, Canon
 from runtime.errors import g_code_frames_of_stack
+from runtime.fast.hole_rows import HOLE_MOVES, HOLE_SWITCHES
 
 AXES6 = "XYZABC"
 SYSTEM_CODES = ("G54", "G55", "G56", "G57", "G58", "G59", "G59.1", "G59.2", "G59.3")
@@ -128,25 +129,12 @@ MM_PER_INCH = 25.4
 
 
 #: The calls of a hole (besides its set_block_number) that
-#: FlattenCanon.hole_moves writes: moves, dwells, the path-control modes a
-#: cycle sets around its moves, and the spindle, override and stop switches
-#: of the tapping and boring cycles; none of them changes what later lines
+#: FlattenCanon.hole_moves writes from a template: every call a recorded hole
+#: may hold (runtime.fast.hole_rows: moves, dwells, the path-control modes a
+#: cycle sets around its moves, the spindle, override and stop switches of
+#: the tapping and boring cycles); none of them changes what later lines
 #: mean (what _texts keeps: units, plane, the current point).
-_HOLE_CALLS = {
-    "straight_traverse",
-    "straight_feed",
-    "dwell",
-    "set_motion_control_mode",
-    "set_naivecam_tolerance",
-    "stop_spindle_turning",
-    "start_spindle_clockwise",
-    "start_spindle_counterclockwise",
-    "enable_feed_override",
-    "disable_feed_override",
-    "enable_speed_override",
-    "disable_speed_override",
-    "program_stop",
-}
+_HOLE_CALLS = (HOLE_MOVES | HOLE_SWITCHES) - {"set_block_number"}
 
 
 class FlattenError(Exception):

@@ -183,15 +183,21 @@ def test_tables_of_cycle_rows_match_rs274(text):
     check_same(text, "run")
 
 
+def _main_of(text: str):
+    """The ``main`` of ``text`` compiled (as holes.ngc)."""
+    namespace: dict = {"__name__": "holes"}
+    exec(compile(compile_text(text, "holes.ngc"), "holes.py", "exec"), namespace)
+    return namespace["main"]
+
+
 def _cycle_calls(text: str, canon_class=RecordingCanon):
     """The calls a recording canon gets from ``text``, with the N numbers,
     the error (or None) and the machine's last point."""
-    namespace: dict = {"__name__": "holes"}
-    exec(compile(compile_text(text, "holes.ngc"), "holes.py", "exec"), namespace)
+    main = _main_of(text)
     canon = canon_class()
     machine = Machine(canon)
     try:
-        start(machine, namespace["main"])
+        start(machine, main)
         error = None
     except GCodeError as raised:
         error = str(raised)
@@ -242,11 +248,10 @@ def test_holes_in_batches_give_a_canon_the_reference_calls(text):
 def _stats_report(text: str):
     from runtime.stats import StatsCanon
 
-    namespace: dict = {"__name__": "holes"}
-    exec(compile(compile_text(text, "holes.ngc"), "holes.py", "exec"), namespace)
+    main = _main_of(text)
     canon = StatsCanon()
     try:
-        start(Machine(canon), namespace["main"])
+        start(Machine(canon), main)
         error = None
     except GCodeError as raised:
         error = str(raised)
@@ -273,21 +278,19 @@ def test_holes_go_to_a_batch_canon_in_batches():
     text = cam_sized(
         "G21 G17 F100\nG0 Z5\nG99 G82 X1 Y1 Z-1 R2 P0.5\n" + rows + "\nG80\nM2\n"
     )
-    namespace: dict = {"__name__": "holes"}
-    exec(compile(compile_text(text, "holes.ngc"), "holes.py", "exec"), namespace)
+    main = _main_of(text)
     canon = _HoleBatches()
-    start(Machine(canon), namespace["main"])
+    start(Machine(canon), main)
     assert canon.batches == 1
     assert sum(name == "dwell" for name, _ in canon.calls) == 39
 
 
 def _cycle_trace(text: str) -> tuple:
-    namespace: dict = {"__name__": "holes"}
-    exec(compile(compile_text(text, "holes.ngc"), "holes.py", "exec"), namespace)
+    main = _main_of(text)
     out = io.StringIO()
     canon = TraceCanon(out)
     try:
-        start(Machine(canon), namespace["main"])
+        start(Machine(canon), main)
         error = None
     except GCodeError as raised:
         error = str(raised)
@@ -359,10 +362,9 @@ def test_a_hole_that_changes_the_machine_is_not_replayed():
     text = cam_sized(
         "G21 G17 F100\nG0 Z5\nG99 G81 X1 Y1 Z-1 R2\n" + rows + "\nG80\nM2\n"
     )
-    namespace: dict = {"__name__": "holes"}
-    exec(compile(compile_text(text, "holes.ngc"), "holes.py", "exec"), namespace)
+    main = _main_of(text)
     canon = RecordingCanon()
     machine = _CountingMachine(canon)
-    start(machine, namespace["main"])
+    start(machine, main)
     assert machine.drilled == 38
     assert canon.calls == _without_replay(_cycle_calls, text)[0]
