@@ -1448,6 +1448,19 @@ class _Builder:
         label = str(word.name)
         key = self._key(label)
         seen = self.labels.get(label)
+        reads = len(self.body)
+        try:
+            self._label_checks(line, word, label, key, seen)
+        finally:
+            if word.keyword == "elseif":
+                # rs274 reads an elseif's condition (interp_read.cc read_o)
+                # before it looks the label up (convert_control_functions):
+                # a condition that fails to evaluate is the error
+                for stmt in self.body[reads:]:
+                    if isinstance(stmt, Fail) and stmt.reads is None:
+                        stmt.reads = word.expr
+
+    def _label_checks(self, line, word, label, key, seen) -> None:
         if key in self.tracked:
             self.body.append(LabelCheck(line, key, word.keyword))
             if word.keyword in ("else", "elseif"):
@@ -1470,6 +1483,10 @@ class _Builder:
             # it is undefined. Run time decides.
             if self._track(key, seen):
                 self.body.append(LabelCheck(line, key, word.keyword))
+                if word.keyword in ("else", "elseif"):
+                    # where the if ran, this is an arm line run into: where
+                    # an arm has run it skips to the next line of its label
+                    self.arm_checks.append(self.body[-1])
                 return
         if word.keyword == "endif":
             message = NO_MATCHING_ENDIF % ((line.number, key) + found + (line.text,))
