@@ -1185,6 +1185,9 @@ class CodeGen:
         self.w.depth -= 1
 
     def s_labelcheck(self, stmt: st.LabelCheck) -> None:
+        if stmt.leave is not None:
+            self._arm_skipping_out(stmt)
+            return
         reads = stmt.kind in ("if", "while", "repeat") or (
             stmt.kind == "do-end" and stmt.loop is None  # a do-loop's while line
         )
@@ -1477,6 +1480,32 @@ class CodeGen:
             self.w.depth -= 1
         self.block(body)
         self.w.depth -= 1
+
+    def _arm_skipping_out(self, stmt: st.LabelCheck) -> None:
+        """An else or elseif run into whose next line of its label follows
+        the construct holding it (structure.LabelCheck.leave): where an arm
+        has run rs274 skips there, out of it; else it runs on (a true
+        elseif sets the flag)."""
+        line = stmt.line
+        test = None
+        if stmt.kind == "elseif":
+            self.temp += 1
+            test = "t%d" % self.temp
+            self.w.stmt("%s = %s" % (test, self.x.condition(line.oword.expr)), line)
+        leave, stmt.leave = stmt.leave, None
+        try:
+            self.s_labelcheck(stmt)
+        finally:
+            stmt.leave = leave
+        self.w.stmt("if m.executed_if:", line)
+        self.w.depth += 1
+        self.jump_to("break", leave, line)
+        self.w.depth -= 1
+        if test is not None:
+            self.w.stmt("if %s:" % test, line)
+            self.w.depth += 1
+            self.w.stmt("m.executed_if = True", line)
+            self.w.depth -= 1
 
     def s_again(self, stmt: st.Again) -> None:
         """A loop's closing line run into again (structure.DoEnd.resume)."""

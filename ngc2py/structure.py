@@ -238,6 +238,11 @@ class LabelCheck:
     #: of the file: where an arm has run, rs274 skips to the end of the
     #: file and fails there (this failure; see :func:`flat_arms`).
     eof: Optional["Fail"] = None
+    #: An else or elseif whose next line of its label stands after the
+    #: construct holding it: where an arm has run, rs274 skips there, out
+    #: of that construct; this run-once loop, ending before that line, is
+    #: what the skip leaves (_Builder._arm_skips_out).
+    leave: Optional["Loop"] = None
 
 
 @dataclass
@@ -787,6 +792,7 @@ class _Builder:
             if not line.is_blank:
                 self.body.append(Block(line))
             return
+        self._arm_skips_out(line, word)
         handler = getattr(self, "on_" + word.keyword)
         landing = self._landing_if(word)
         body, start = self.body, len(self.body)
@@ -1836,6 +1842,70 @@ class _Builder:
         return True
 
     # -- end of file ------------------------------------------------------
+
+    def _arm_skips_out(self, line: nodes.Line, word: nodes.OWord) -> None:
+        """``line`` is the next line of the label of an else or elseif line
+        run into inside an earlier construct of this body (a loop, an if,
+        however deep): where an arm has run, rs274 skips from that line to
+        this one, out of the construct, reading what lies between (no
+        closing line on the way acts, no loop goes round again). The
+        statements from that construct on become a loop run once
+        (:attr:`LabelCheck.leave`) that the skip leaves; where no arm has
+        run, the code runs on as written, to this line."""
+        if not isinstance(word.name, str) or not self.arm_checks:
+            return
+        key = self._key(str(word.name))
+        for check in self.arm_checks:
+            if check.key != key or check.leave is not None or check.eof is not None:
+                continue
+            start = check.line.number
+            if (check.line.file or "") != (line.file or "") or start >= line.number:
+                continue
+            if any(
+                start < number < line.number
+                and (later.file or "") == (line.file or "")
+                and (found == key or found is None)
+                for number, found, later, _, _ in self.labelled
+            ):
+                continue  # it lands earlier, or fails on the way (unreadable)
+            index = next(
+                (
+                    i
+                    for i, stmt in enumerate(self.body)
+                    if stmt is not check and any(s is check for s in walk([stmt], False))
+                ),
+                None,
+            )
+            if index is None:
+                continue  # in this body itself (flat_arms), or not in it
+            crossed = [
+                stmt
+                for stmt in walk(self.body[index:], False)
+                if isinstance(stmt, Loop) and any(s is check for s in walk([stmt], False))
+            ]
+            skip = Loop("do", check.line, self.body[index:], key="")
+            del self.body[index:]
+            self.body.append(skip)
+            self._wrapped_jumps(skip)
+            if crossed:
+                skip.flagged = True
+                for loop in crossed:
+                    loop.exits.append(skip)
+            check.leave = skip
+
+    def _wrapped_jumps(self, skip: Loop) -> None:
+        """Jumps inside the new loop ``skip`` to loops around it now cross it
+        too: they leave it by their target's flag (Loop.exits)."""
+        inside = {id(stmt) for stmt in walk(skip.body, False) if isinstance(stmt, Loop)}
+        for stmt in walk(skip.body, False):
+            if isinstance(stmt, Jump) and id(stmt.target) not in inside:
+                stmt.target.flagged = True
+                if stmt.target not in skip.exits:
+                    skip.exits.append(stmt.target)
+            if isinstance(stmt, Loop):
+                for target in stmt.exits:
+                    if id(target) not in inside and target not in skip.exits:
+                        skip.exits.append(target)
 
     def _arms_to_eof(self) -> None:
         """An else or elseif line of a reused label that fits no open if

@@ -106,18 +106,12 @@ def test_a_skip_lands_on_a_do_inside_a_nested_if():
 
 
 # Shapes the language campaign found that ngc2py does not follow yet (issue
-# 14, seeds 15002-15003), as strict known gaps with minimal programs. (Two
-# more were: a break of a finished do-loop landing on its while line, and a
-# while line ending a do-loop an outer break leaves; see
-# structure._Builder._break_to_do_end and DoEnd.leaves.)
+# 14, seeds 15002-15003), as strict known gaps with minimal programs. (Three
+# more were: a break of a finished do-loop landing on its while line, a
+# while line ending a do-loop an outer break leaves, and an else run into
+# whose skip lands after the construct holding it; see
+# structure._Builder._break_to_do_end, DoEnd.leaves and _arm_skips_out.)
 KNOWN_GAPS = {
-    # an else run into in a do-loop of its label, the next line with the
-    # label after the construct that ended the do-loop: where an arm has
-    # run, rs274 skips there; ngc2py runs the else arm
-    "else_skip_lands_after_outer_endif": (
-        "o101 if [1]\n  o102 if [1]\n    o102 do\n    G0 X1\n  o102 else\n    G0 X2\n"
-        "o101 endif\no102 endif\nG0 X3\nM2\n"
-    ),
     # rs274 reads (evaluates) an M98 line in full even where it skips it
     "m98_values_read_while_skipping": "o101 if [0]\n  M98 P1 X[1/#2]\no101 endif\nG0 X3\nM2\n",
 }
