@@ -788,6 +788,37 @@ class _Builder:
             # character after O-word"; in the main flow the line's own error
             self.on_m99(line, word)
             return
+        if (
+            word is not None
+            and word.keyword == "elseif"
+            and line.error is not None
+            and not line.oword_unread
+            and self._enclosing(str(word.name), lambda node: isinstance(node, If))
+        ):
+            # An elseif of an open if whose condition cannot be read: rs274
+            # reads it wherever it reaches the line, running into it or
+            # skipping to its label (an arm not taken, or after one that
+            # ran), so every way through the if ends here, failing.
+            self.on_endif(line, word)
+            self.body.append(Block(line))
+            return
+        if (
+            word is not None
+            and word.keyword == "while"
+            and line.error is not None
+            and not line.oword_unread
+            and self._enclosing(str(word.name), _plain_do)
+        ):
+            # The while line of an open do-loop whose condition cannot be
+            # read: running into it, or skipping to it (a break or continue
+            # of the loop), rs274 reads the condition and fails. The loop
+            # runs once; its break and continue lines leave it for the line.
+            loop = self.stack.pop().node
+            for stmt in walk(loop.body, False):
+                if isinstance(stmt, Jump) and stmt.target is loop:
+                    stmt.kind = "break"
+            self.body.append(Block(line))
+            return
         if word is None or line.error is not None:
             if not line.is_blank:
                 self.body.append(Block(line))
@@ -2052,6 +2083,18 @@ def children(stmt: Stmt, into_subs: bool = True) -> List[List[Stmt]]:
     if isinstance(stmt, Define) and into_subs:
         return [stmt.sub.body]
     return []
+
+
+def _plain_do(node) -> bool:
+    """A do-loop of the text, with nothing reused or run again."""
+    return (
+        isinstance(node, Loop)
+        and node.kind == "do"
+        and node.reuses is None
+        and not node.back
+        and not node.skip
+        and node.back_into is None
+    )
 
 
 def _holder(stmt: Stmt, target: Stmt) -> Optional[List[Stmt]]:
