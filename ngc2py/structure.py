@@ -1796,7 +1796,52 @@ class _Builder:
                     return True
                 if type(stmt) is Jump and not self._landed_after(stmt):
                     return True
-        return False
+        return any(self._never_entered(entry) for entry in entries)
+
+    def _never_entered(self, entry: _Open) -> bool:
+        """Is the open construct ``entry`` one running code never enters
+        (a repeat of none, a while whose condition is a false constant, an
+        arm whose condition is, or one after an arm whose condition is a
+        true constant)? Unless a skip for an earlier label can land inside
+        it: a line in it with a label used before its opener."""
+        node = entry.node
+        if isinstance(node, Loop):
+            if node.back or node.skip or node.reuses is not None or node.line.oword is None:
+                return False
+            value = _constant(node.line.oword.expr)
+            if value is None or node.kind not in ("while", "repeat"):
+                return False
+            if (value > 0.0 if node.kind == "repeat" else value != 0.0):
+                return False
+            start = node.line
+        elif isinstance(node, If):
+            arms = node.branches + ([node.orelse] if node.orelse else [])
+            index = next((k for k, arm in enumerate(arms) if arm.body is entry.body), None)
+            if index is None:
+                return False
+            values = [_constant(arm.line.oword.expr) for arm in node.branches[:index]]
+            if any(value is not None and value != 0.0 for value in values):
+                start = node.branches[0].line  # an arm before always runs
+            elif index < len(node.branches):
+                value = _constant(node.branches[index].line.oword.expr)
+                if value is None or value != 0.0:
+                    return False
+                start = node.branches[index].line
+            else:
+                return False
+        else:
+            return False
+        earlier = {key for number, key, _, _, _ in self.labelled if number <= start.number}
+        own = set()
+        if isinstance(node, If):  # its arm lines: where its skips land, no further
+            own = {arm.line.number for arm in node.branches}
+            if node.orelse is not None:
+                own.add(node.orelse.line.number)
+        return not any(
+            key in earlier
+            for number, key, _, _, _ in self.labelled
+            if number > start.number and number not in own
+        )
 
     def _landed_after(self, jump: "Jump") -> bool:
         """Does a line with the label of ``jump`` come after it (so far)?
@@ -2083,6 +2128,33 @@ def children(stmt: Stmt, into_subs: bool = True) -> List[List[Stmt]]:
     if isinstance(stmt, Define) and into_subs:
         return [stmt.sub.body]
     return []
+
+
+def _constant(expr: Optional[nodes.Expr]) -> Optional[float]:
+    """The value of a condition or count made of numbers alone (compared,
+    combined), or None. Comparisons are decided only where rs274's
+    tolerance cannot matter."""
+    if isinstance(expr, nodes.Num):
+        return expr.value
+    if isinstance(expr, nodes.Bracket):
+        return _constant(expr.inner)
+    if not isinstance(expr, nodes.Binary):
+        return None
+    a, b = _constant(expr.left), _constant(expr.right)
+    if a is None or b is None:
+        return None
+    if expr.op in ("eq", "ne", "gt", "ge", "lt", "le"):
+        if a != b and abs(a - b) < 1e-3:
+            return None
+        result = {
+            "eq": a == b, "ne": a != b, "gt": a > b, "ge": a >= b, "lt": a < b, "le": a <= b
+        }[expr.op]
+        return 1.0 if result else 0.0
+    if expr.op == "and":
+        return 1.0 if a != 0.0 and b != 0.0 else 0.0
+    if expr.op == "or":
+        return 1.0 if a != 0.0 or b != 0.0 else 0.0
+    return None
 
 
 def _plain_do(node) -> bool:
