@@ -1007,7 +1007,10 @@ def lang_if(w: LanguageWriter) -> None:
     arms = 1 + w.draw(st.integers(0, 2))
     for arm in range(arms):
         if arm:
-            w.emit(f"o{label} elseif {w.condition()}{closer_words(w)}", slash_ok=False)
+            # now and then one rs274 cannot read: it reads it wherever it
+            # reaches the line, also where a skip to the label lands
+            condition = w.pick(_UNREADABLE) if w.chance(25) else w.condition()
+            w.emit(f"o{label} elseif {condition}{closer_words(w)}", slash_ok=False)
         lang_body(w)
     if w.chance(2):
         w.emit(f"o{label} else{closer_words(w)}", slash_ok=False)
@@ -1015,6 +1018,10 @@ def lang_if(w: LanguageWriter) -> None:
     w.open_ifs.pop()
     w.emit(f"o{label} endif{closer_words(w)}", slash_ok=False)
     w.closed.append((label, "if"))
+
+
+#: conditions rs274 cannot read (what it computed before the error first)
+_UNREADABLE = ["[[#<", "[#1 + ]", "[1/#3 + [#<]"]
 
 
 def lang_landing_if(w: LanguageWriter) -> None:
@@ -1094,6 +1101,47 @@ def lang_stray_label(w: LanguageWriter) -> None:
     w.closed.append((other, kind))
 
 
+def lang_stray_arm(w: LanguageWriter) -> None:
+    """An else or elseif line of an if that has ended: rs274 takes it for an
+    arm line run into (an elseif reads its condition first, which may
+    fail). Where an arm has run it skips to the next line of its label:
+    out of the construct holding it (a loop, an if), or to the end of the
+    file when none follows; where none has, it runs on."""
+    ifs = [label for label, kind in w.closed if kind == "if"]
+    if not ifs:
+        lang_plain(w)
+        return
+    label = w.pick(ifs)
+    holder = w.pick(["", "repeat", "while", "if"])
+    other = ""
+    if holder:
+        w.next_label += 1
+        other = str(w.next_label)
+    if holder == "repeat":
+        w.emit(f"o{other} repeat [{w.draw(st.integers(0, 2))}]", slash_ok=False)
+    elif holder == "while":
+        w.next_counter += 1
+        counter = f"k{w.next_counter}"
+        w.lines.append("  " * w.depth + f"#<{counter}> = 0")
+        w.emit(f"o{other} while [#<{counter}> LT 2]", slash_ok=False)
+        w.lines.append("  " * (w.depth + 1) + f"#<{counter}> = [#<{counter}> + 1]")
+    elif holder == "if":
+        w.emit(f"o{other} if {w.condition()}", slash_ok=False)
+    w.depth += bool(holder)
+    if w.chance(2):
+        w.emit(f"o{label} else", slash_ok=False)
+    else:
+        w.emit(f"o{label} elseif {w.condition()}", slash_ok=False)
+    lang_statement(w)
+    w.depth -= bool(holder)
+    if holder:
+        w.emit(f"o{other} end{holder}", slash_ok=False)
+        w.closed.append((other, holder))
+    if not w.chance(3):
+        lang_statement(w)
+        w.emit(f"o{label} endif", slash_ok=False)
+
+
 def lang_loop(w: LanguageWriter) -> None:
     kind = w.pick(["while", "do", "repeat"])
     label = w.label()
@@ -1146,6 +1194,9 @@ def lang_loop(w: LanguageWriter) -> None:
     unclosed = w.chance(25)
     if kind == "while" and not unclosed:
         w.emit(f"o{label} endwhile{closer_words(w)}", slash_ok=False)
+    elif kind == "do" and not unclosed and w.chance(25):
+        # a break or continue skips to it, and fails reading it
+        w.emit(f"o{label} while [#<{counter}> LT [{count} +]]", slash_ok=False)
     elif kind == "do" and not unclosed:
         w.emit(f"o{label} while [#<{counter}> LT {count}]{closer_words(w)}", slash_ok=False)
     elif kind == "repeat" and not unclosed:
@@ -1206,6 +1257,8 @@ def lang_statement(w: LanguageWriter) -> None:
         if w.chance(3):
             # a skip landing inside another construct
             options += [lang_landing_if, lang_stray_label]
+        if w.closed and w.chance(4):
+            options += [lang_stray_arm]
     if w.loops or w.sub:
         options += [lang_jump, lang_guarded_jump]
     if w.loops:
