@@ -1659,10 +1659,14 @@ class CodeGen:
             following = arms[i + 1].line if i + 1 < len(arms) else stmt.end
             # rs274 skips the arms after a taken one: where it stops
             stop, at = self.skip_stop(stmt, arms, i + 1)
+            later = list(stmt.branches[i + 1 : at + 1])
+            if stop is None and stmt.orelse is not None:
+                # past the else line too, reading elseif lines after it
+                later += _after_else(stmt.orelse.body)
             self.nested(
                 branch,
                 then=stop,
-                later=stmt.branches[i + 1 : at + 1],
+                later=later,
                 check=(stmt, following),
                 rest=(stmt, i + 1) if i + 1 < len(real_arms(stmt)) else None,
             )
@@ -1723,7 +1727,7 @@ class CodeGen:
         self,
         branch: st.Branch,
         then: Union[None, nodes.Line, List[st.Stmt]] = None,
-        later: Sequence[st.Branch] = (),
+        later: Sequence[Union[st.Branch, st.ArmAgain]] = (),
         check: Optional[tuple] = None,
         rest: Optional[Tuple[st.If, int]] = None,
     ) -> None:
@@ -1854,7 +1858,7 @@ class CodeGen:
 
     def skip_tail(
         self,
-        later: Sequence[st.Branch],
+        later: Sequence[Union[st.Branch, st.ArmAgain]],
         check: Optional[tuple],
         then: Union[None, nodes.Line, List[st.Stmt]],
     ) -> None:
@@ -2400,7 +2404,8 @@ def executed_if_flag(program: st.Program) -> bool:
     if any(isinstance(s, st.LabelCheck) and s.kind in ("else", "elseif") for s in stmts):
         return True
     if any(
-        isinstance(s, st.DoEnd) and any(isinstance(r, st.ArmAgain) for r in s.resume)
+        isinstance(s, st.ArmAgain)
+        or (isinstance(s, st.DoEnd) and any(isinstance(r, st.ArmAgain) for r in s.resume))
         for s in stmts
     ):
         return True  # later arms run into again
@@ -2408,6 +2413,19 @@ def executed_if_flag(program: st.Program) -> bool:
         isinstance(s, st.If) and len(s.branches) + (s.orelse is not None) > 1
         for s in stmts
     )
+
+
+def _after_else(body: List[st.Stmt]) -> List[st.ArmAgain]:
+    """The elseif lines after the else line of an if (structure.ArmAgain,
+    each in the arm of the one before), in text order."""
+    found = []
+    while True:
+        arm = next((s for s in body if isinstance(s, st.ArmAgain)), None)
+        if arm is None:
+            return found
+        if arm.line.oword.keyword == "elseif":
+            found.append(arm)
+        body = arm.body
 
 
 def real_arms(stmt: st.If) -> List[st.Branch]:

@@ -943,8 +943,22 @@ class _Builder:
         self._label_error(line, word)
         return None
 
+    def _after_else(self, top: _Open, line: nodes.Line) -> bool:
+        """An elseif or else line after the else line of its if: whether
+        an arm ran or rs274 skipped to the else, its flag is set, so it
+        skips from here to the next line of the label; the arm runs only
+        where the flag was cleared since (:class:`ArmAgain`)."""
+        if top.node.orelse is None:
+            return False
+        arm = ArmAgain(line, [])
+        top.body.append(arm)
+        top.body = arm.body
+        return True
+
     def on_elseif(self, line: nodes.Line, word: nodes.OWord) -> None:
         top = self._if_arm(line, word)
+        if top is not None and self._after_else(top, line):
+            return
         if top is not None:
             branch = Branch(line)
             top.node.branches.append(branch)
@@ -952,6 +966,8 @@ class _Builder:
 
     def on_else(self, line: nodes.Line, word: nodes.OWord) -> None:
         top = self._if_arm(line, word)
+        if top is not None and self._after_else(top, line):
+            return
         if top is not None:
             top.node.orelse = Branch(line)
             top.body = top.node.orelse.body
@@ -2127,6 +2143,8 @@ def children(stmt: Stmt, into_subs: bool = True) -> List[List[Stmt]]:
         return [stmt.body]
     if isinstance(stmt, Define) and into_subs:
         return [stmt.sub.body]
+    if isinstance(stmt, ArmAgain):
+        return [stmt.body]
     return []
 
 
