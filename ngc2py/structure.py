@@ -1512,6 +1512,18 @@ class _Builder:
                 for stmt in self.body[reads:]:
                     if isinstance(stmt, Fail) and stmt.reads is None:
                         stmt.reads = word.expr
+        failing = [s for s in self.body[reads:] if isinstance(s, (Fail, LabelCheck))]
+        if failing and word.keyword not in ("break", "continue"):
+            # A while or repeat loop of this label around the line: ending by
+            # its condition or count, rs274 skips forward to its label and
+            # lands here first, failing as when running into it.
+            for entry in self._scope_entries():
+                node = entry.node
+                if entry.label == label and isinstance(node, Loop):
+                    if node.kind in ("while", "repeat") and not (node.back or node.skip):
+                        if node.skip_fail is None:
+                            node.skip_fail = failing[-1]
+                    break
 
     def _label_checks(self, line, word, label, key, seen) -> None:
         if key in self.tracked:
