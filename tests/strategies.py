@@ -1015,6 +1015,10 @@ def lang_if(w: LanguageWriter) -> None:
     if w.chance(2):
         w.emit(f"o{label} else{closer_words(w)}", slash_ok=False)
         lang_body(w)
+        if w.chance(15):
+            # an arm line after the else: rs274 always skips its arm
+            w.emit(f"o{label} " + w.pick(["else", f"elseif {w.condition()}"]), slash_ok=False)
+            lang_body(w)
     w.open_ifs.pop()
     w.emit(f"o{label} endif{closer_words(w)}", slash_ok=False)
     w.closed.append((label, "if"))
@@ -1112,6 +1116,8 @@ def lang_stray_arm(w: LanguageWriter) -> None:
         lang_plain(w)
         return
     label = w.pick(ifs)
+    # not reused before the landing chosen here (see the end)
+    w.closed = [entry for entry in w.closed if entry[0] != label]
     holder = w.pick(["", "repeat", "while", "if"])
     other = ""
     if holder:
@@ -1140,6 +1146,10 @@ def lang_stray_arm(w: LanguageWriter) -> None:
     if not w.chance(3):
         lang_statement(w)
         w.emit(f"o{label} endif", slash_ok=False)
+        w.closed.append((label, "if"))
+    # else no later line of the label: the skip runs to the end of the file
+    # (a later construct reusing the label would be a landing inside it,
+    # lang_landing_if's and lang_stray_label's business)
 
 
 def lang_loop(w: LanguageWriter) -> None:
@@ -1184,6 +1194,17 @@ def lang_loop(w: LanguageWriter) -> None:
     w.loops.append((label, kind))
     w.counters.append(counter)
     lang_body(w)
+    if kind != "do" and w.chance(30):
+        # a closing line of another kind with the loop's label, in an if
+        # never taken: running out, the loop skips to it, and fails there
+        w.depth += 1
+        w.next_label += 1
+        w.emit(f"o{w.next_label} if [0]", slash_ok=False)
+        closer = "endrepeat" if kind == "while" else "endwhile"
+        line = f"  o{label} " + w.pick([closer, "else", "endif", "elseif [#<_unset> GT 0]"])
+        w.emit(line, slash_ok=False)
+        w.emit(f"o{w.next_label} endif", slash_ok=False)
+        w.depth -= 1
     if kind != "repeat" and w.chance(2):
         # the usual last statement: a guarded break or continue
         w.depth += 1
