@@ -1622,6 +1622,7 @@ class _Builder:
         skip = Loop("do", fail.line, self.body[index:], key="", skip=flag is not None)
         del self.body[index:]
         self.body.append(skip)
+        self._moved_into(skip)
         if holder is self.body:
             holder = skip.body
         position = next(k for k, inner in enumerate(holder) if inner is fail)
@@ -1990,12 +1991,20 @@ class _Builder:
             skip = Loop("do", check.line, self.body[index:], key="")
             del self.body[index:]
             self.body.append(skip)
+            self._moved_into(skip)
             self._wrapped_jumps(skip)
             if crossed:
                 skip.flagged = True
                 for loop in crossed:
                     loop.exits.append(skip)
             check.leave = skip
+
+    def _moved_into(self, loop: Loop) -> None:
+        """Statements of this body now stand in ``loop``'s: so do the
+        labels of the openers among them (a later line finds them there)."""
+        for name, seen in self.labels.items():
+            if seen[2] is self.body and any(stmt is seen[3] for stmt in loop.body):
+                self.labels[name] = seen[:2] + (loop.body, seen[3])
 
     def _wrapped_jumps(self, skip: Loop) -> None:
         """Jumps inside the new loop ``skip`` to loops around it now cross it
