@@ -1974,6 +1974,11 @@ class CodeGen:
             # a break line of this loop on the way sets doing_break
             self.w.stmt("m.doing_break = True", stmt.line)
         if fail is not None:
+            if isinstance(fail, st.LabelCheck) and fail.kind == "elseif":
+                expr = fail.line.oword.expr
+                if may_fail(expr):
+                    # landing on it, rs274 reads the condition first
+                    self.w.stmt(self.x.condition(expr), fail.line)
             self.statement(fail)
         self.w.depth -= 1
 
