@@ -1167,6 +1167,11 @@ class CodeGen:
 
     def s_block(self, stmt: st.Block) -> None:
         line = stmt.line
+        if type(line) is RowRun:
+            # the parser's run of row lines, met one statement at a time
+            # (lines run again going back into a construct): as data rows
+            self.block([stmt])
+            return
         if line.fanuc_alt is None:
             self.line_block(line)
             return
