@@ -1942,6 +1942,16 @@ class _Builder:
             # looked at. Those closing lines are its, not the outer one's.
             dead = If([Branch(line)]) if word.keyword == "if" else Loop(word.keyword, line)
             body = dead.branches[0].body if isinstance(dead, If) else dead.body
+            outer = next(e.node for e in self._scope_entries() if e.label == label)
+            if (
+                isinstance(outer, Loop)
+                and outer.kind in ("while", "repeat")
+                and not (outer.back or outer.skip)
+                and outer.skip_fail is None
+            ):
+                # ending by its condition or count, the loop skips forward
+                # to its label and lands here first (Loop.skip_fail)
+                outer.skip_fail = failure()
             self.stack.append(_Open(label, dead, body))
             self.dead.add(id(dead))
         return True
