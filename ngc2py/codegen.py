@@ -1966,6 +1966,20 @@ class CodeGen:
         if fail is not None and unreadable is not None:
             if unreadable.number < _fail_order(fail):
                 fail = None  # the skip fails first there (after the loop)
+        landing = stmt.landing
+        if landing is not None and (
+            (fail is not None and _fail_order(fail) < _first_line(landing))
+            or (unreadable is not None and unreadable.number < _first_line(landing))
+        ):
+            landing = None  # the skip stops earlier
+        if landing is not None:
+            # it stops at a do line of its label in the body, and rs274
+            # goes on from there (the loops around it never entered)
+            self.w.stmt("else:", stmt.line)
+            self.w.depth += 1
+            self.skipped_to(landing)
+            self.w.depth -= 1
+            return
         sets_break = (
             self.break_flag
             and stmt.kind == "while"

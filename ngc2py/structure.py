@@ -157,6 +157,10 @@ class Loop:
     #: :attr:`back` loop it continues, what runs first, the loop a break
     #: there leaves: DoEnd.resume, DoEnd.leaves); see _Builder._loop_back_into.
     back_into: Optional[tuple] = None
+    #: A do line reusing this while or repeat loop's label in its body:
+    #: ending by its condition or count, rs274 skips forward to it and goes
+    #: on from there (the statements from it on, as If.landings).
+    landing: Optional[List["Stmt"]] = None
 
 
 @dataclass
@@ -826,6 +830,7 @@ class _Builder:
         self._arm_skips_out(line, word)
         handler = getattr(self, "on_" + word.keyword)
         landing = self._landing_if(word)
+        loop_landing = self._landing_loop(line, word)
         body, start = self.body, len(self.body)
         handler(line, word)
         while self.skips_to and self.skips_to[-1][0] is line:
@@ -839,6 +844,8 @@ class _Builder:
             node = landing.node
             arm = len(node.branches) - (node.orelse is None)
             node.landings.setdefault(arm, body[start:])
+        if loop_landing is not None and body[start:] and loop_landing.landing is None:
+            loop_landing.landing = body[start:]
 
     # -- subroutines ------------------------------------------------------
 
@@ -1089,6 +1096,35 @@ class _Builder:
         for entry in self._scope_entries():
             if entry.label == label:
                 return entry if isinstance(entry.node, If) else None
+        return None
+
+    def _landing_loop(self, line: nodes.Line, word: nodes.OWord) -> Optional[Loop]:
+        """The open while or repeat loop whose end skip would stop at this
+        do line, standing directly in its body, unless a line of the label
+        before it stops it first. (A do inside a construct opened in the
+        body is not followed: running on from it, rs274 meets the closing
+        lines of openers it skipped.)"""
+        if word.keyword != "do":
+            return None
+        label = str(word.name)
+        for entry in self._scope_entries():
+            if entry.label == label:
+                node = entry.node
+                if (
+                    node is self.stack[-1].node  # (not inside a construct it skipped)
+                    and isinstance(node, Loop)
+                    and node.kind in ("while", "repeat")
+                    and not (node.back or node.skip)
+                    and node.skip_fail is None
+                    and node.eof is None
+                    and not any(
+                        node.line.number < number < line.number
+                        and key == self._key(label)
+                        for number, key, _, _, _ in self.labelled
+                    )
+                ):
+                    return node
+                return None
         return None
 
     def _reopens_do(self, label: str, seen) -> bool:
