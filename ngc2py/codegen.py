@@ -1189,13 +1189,17 @@ class CodeGen:
         self.line_block(line)
         self.w.depth -= 1
 
-    def s_labelcheck(self, stmt: st.LabelCheck) -> None:
+    def s_labelcheck(self, stmt: st.LabelCheck, condition_read: bool = False) -> None:
+        """``condition_read``: an elseif's condition was read just before."""
         if stmt.leave is not None:
             self._arm_skipping_out(stmt)
             return
         reads = stmt.kind in ("if", "while", "repeat") or (
             stmt.kind == "do-end" and stmt.loop is None  # a do-loop's while line
         )
+        # an elseif line run into where no skip of its label stops (the
+        # next such line stands inside another construct): read all the same
+        reads = reads or (stmt.kind == "elseif" and not condition_read)
         expr = stmt.line.oword.expr if reads else None
         if expr is not None and may_fail(expr):
             # rs274 reads the condition (and fails there) before the label
@@ -1249,7 +1253,7 @@ class CodeGen:
             self.w.stmt(self.x.condition(stmt.reads), stmt.line)
         if stmt.check is not None:
             # a reused label: the opener rs274 recorded names the failure
-            self.s_labelcheck(stmt.check)
+            self.s_labelcheck(stmt.check, condition_read=stmt.reads is not None)
         self.w.comment(stmt.line)
         call = fail_call(stmt.line.number, stmt.message)
         if stmt.finish:
@@ -1475,7 +1479,7 @@ class CodeGen:
             test = "t%d" % self.temp
             self.w.stmt("%s = %s" % (test, self.x.condition(line.oword.expr)), line)
         if check is not None:
-            self.s_labelcheck(check)
+            self.s_labelcheck(check, condition_read=True)
         self.w.stmt("if not m.executed_if:", line)
         self.w.depth += 1
         if test is not None:
@@ -1499,7 +1503,7 @@ class CodeGen:
             self.w.stmt("%s = %s" % (test, self.x.condition(line.oword.expr)), line)
         leave, stmt.leave = stmt.leave, None
         try:
-            self.s_labelcheck(stmt)
+            self.s_labelcheck(stmt, condition_read=True)
         finally:
             stmt.leave = leave
         self.w.stmt("if m.executed_if:", line)
@@ -1993,12 +1997,7 @@ class CodeGen:
             # a break line of this loop on the way sets doing_break
             self.w.stmt("m.doing_break = True", stmt.line)
         if fail is not None:
-            if isinstance(fail, st.LabelCheck) and fail.kind == "elseif":
-                expr = fail.line.oword.expr
-                if may_fail(expr):
-                    # landing on it, rs274 reads the condition first
-                    self.w.stmt(self.x.condition(expr), fail.line)
-            self.statement(fail)
+            self.statement(fail)  # (an elseif's condition read first)
         self.w.depth -= 1
 
     # -- ordinary lines ---------------------------------------------------
