@@ -2150,6 +2150,14 @@ def _wrong_lines(w: JobWriter) -> list:
         f"G1 X1 D{w.pick(w.mill_tools())}",  # D with nothing to use it
         "G43.1 X0.1 Y0.1",  # Y offsets are not allowed
         "$1 S200 M3",  # a spindle that does not exist
+        # O-word lines as rs274 reads them (tests/test_language_generators):
+        # an else after its if ended (an arm ran: it skips to the end of the
+        # file), an elseif's condition read before its label, one that
+        # cannot be read where a skip lands, a second else
+        f"o9001 if [1]\nG0 Z{fmt(s)}\no9001 endif\no9001 else\nG0 Z{fmt(2 * s)}",
+        "o9002 elseif [#<_not_set> GT 0]",
+        f"o9003 if [0]\nG0 Z{fmt(s)}\no9003 elseif [[#<\no9003 endif",
+        f"o9004 if [0]\no9004 else\nG0 Z{fmt(s)}\no9004 else\nG0 Z{fmt(3 * s)}\no9004 endif",
     ]
 
 
