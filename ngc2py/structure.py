@@ -823,6 +823,24 @@ class _Builder:
                     stmt.kind = "break"
             self.body.append(Block(line))
             return
+        if (
+            word is not None
+            and word.keyword in ("if", "while", "repeat")
+            and line.error is not None
+            and line.error != AFTER_OWORD
+            and not line.oword_unread
+        ):
+            landing = self._landing_if(word)
+            if landing is not None:
+                # an opener with an open if's label whose condition cannot be
+                # read: skipping an arm of that if, rs274 stops here, reads the
+                # condition and fails (If.landings), as when running into it
+                start = len(self.body)
+                self.body.append(Block(line))
+                node = landing.node
+                arm = len(node.branches) - (node.orelse is None)
+                node.landings.setdefault(arm, self.body[start:])
+                return
         if word is None or line.error is not None:
             if not line.is_blank:
                 self.body.append(Block(line))
