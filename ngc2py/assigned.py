@@ -74,6 +74,9 @@ def known_before(stmts: List[st.Stmt], known: Known, out: Dict[int, Known]) -> K
                 _note(out, getattr(fail, "line", None), known)
             known_before(stmt.body, known, out)
             _note(out, stmt.end, known)
+        elif isinstance(stmt, st.ArmAgain):
+            _note(out, stmt.line, known)
+            known_before(stmt.body, known, out)  # may not run
         elif isinstance(stmt, st.Define):
             for line in st.definition_values(stmt.sub):
                 _note(out, line, known)

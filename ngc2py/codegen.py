@@ -1167,6 +1167,11 @@ class CodeGen:
 
     def s_block(self, stmt: st.Block) -> None:
         line = stmt.line
+        if type(line) is RowRun:
+            # the parser's run of row lines, met one statement at a time
+            # (lines run again going back into a construct): as data rows
+            self.block([stmt])
+            return
         if line.fanuc_alt is None:
             self.line_block(line)
             return
@@ -1184,10 +1189,17 @@ class CodeGen:
         self.line_block(line)
         self.w.depth -= 1
 
-    def s_labelcheck(self, stmt: st.LabelCheck) -> None:
+    def s_labelcheck(self, stmt: st.LabelCheck, condition_read: bool = False) -> None:
+        """``condition_read``: an elseif's condition was read just before."""
+        if stmt.leave is not None:
+            self._arm_skipping_out(stmt)
+            return
         reads = stmt.kind in ("if", "while", "repeat") or (
             stmt.kind == "do-end" and stmt.loop is None  # a do-loop's while line
         )
+        # an elseif line run into where no skip of its label stops (the
+        # next such line stands inside another construct): read all the same
+        reads = reads or (stmt.kind == "elseif" and not condition_read)
         expr = stmt.line.oword.expr if reads else None
         if expr is not None and may_fail(expr):
             # rs274 reads the condition (and fails there) before the label
@@ -1241,7 +1253,7 @@ class CodeGen:
             self.w.stmt(self.x.condition(stmt.reads), stmt.line)
         if stmt.check is not None:
             # a reused label: the opener rs274 recorded names the failure
-            self.s_labelcheck(stmt.check)
+            self.s_labelcheck(stmt.check, condition_read=stmt.reads is not None)
         self.w.comment(stmt.line)
         call = fail_call(stmt.line.number, stmt.message)
         if stmt.finish:
@@ -1467,7 +1479,7 @@ class CodeGen:
             test = "t%d" % self.temp
             self.w.stmt("%s = %s" % (test, self.x.condition(line.oword.expr)), line)
         if check is not None:
-            self.s_labelcheck(check)
+            self.s_labelcheck(check, condition_read=True)
         self.w.stmt("if not m.executed_if:", line)
         self.w.depth += 1
         if test is not None:
@@ -1477,6 +1489,32 @@ class CodeGen:
             self.w.depth -= 1
         self.block(body)
         self.w.depth -= 1
+
+    def _arm_skipping_out(self, stmt: st.LabelCheck) -> None:
+        """An else or elseif run into whose next line of its label follows
+        the construct holding it (structure.LabelCheck.leave): where an arm
+        has run rs274 skips there, out of it; else it runs on (a true
+        elseif sets the flag)."""
+        line = stmt.line
+        test = None
+        if stmt.kind == "elseif":
+            self.temp += 1
+            test = "t%d" % self.temp
+            self.w.stmt("%s = %s" % (test, self.x.condition(line.oword.expr)), line)
+        leave, stmt.leave = stmt.leave, None
+        try:
+            self.s_labelcheck(stmt, condition_read=True)
+        finally:
+            stmt.leave = leave
+        self.w.stmt("if m.executed_if:", line)
+        self.w.depth += 1
+        self.jump_to("break", leave, line)
+        self.w.depth -= 1
+        if test is not None:
+            self.w.stmt("if %s:" % test, line)
+            self.w.depth += 1
+            self.w.stmt("m.executed_if = True", line)
+            self.w.depth -= 1
 
     def s_again(self, stmt: st.Again) -> None:
         """A loop's closing line run into again (structure.DoEnd.resume)."""
@@ -1630,10 +1668,14 @@ class CodeGen:
             following = arms[i + 1].line if i + 1 < len(arms) else stmt.end
             # rs274 skips the arms after a taken one: where it stops
             stop, at = self.skip_stop(stmt, arms, i + 1)
+            later = list(stmt.branches[i + 1 : at + 1])
+            if stop is None and stmt.orelse is not None:
+                # past the else line too, reading elseif lines after it
+                later += _after_else(stmt.orelse.body)
             self.nested(
                 branch,
                 then=stop,
-                later=stmt.branches[i + 1 : at + 1],
+                later=later,
                 check=(stmt, following),
                 rest=(stmt, i + 1) if i + 1 < len(real_arms(stmt)) else None,
             )
@@ -1694,7 +1736,7 @@ class CodeGen:
         self,
         branch: st.Branch,
         then: Union[None, nodes.Line, List[st.Stmt]] = None,
-        later: Sequence[st.Branch] = (),
+        later: Sequence[Union[st.Branch, st.ArmAgain]] = (),
         check: Optional[tuple] = None,
         rest: Optional[Tuple[st.If, int]] = None,
     ) -> None:
@@ -1825,7 +1867,7 @@ class CodeGen:
 
     def skip_tail(
         self,
-        later: Sequence[st.Branch],
+        later: Sequence[Union[st.Branch, st.ArmAgain]],
         check: Optional[tuple],
         then: Union[None, nodes.Line, List[st.Stmt]],
     ) -> None:
@@ -1928,6 +1970,20 @@ class CodeGen:
         if fail is not None and unreadable is not None:
             if unreadable.number < _fail_order(fail):
                 fail = None  # the skip fails first there (after the loop)
+        landing = stmt.landing
+        if landing is not None and (
+            (fail is not None and _fail_order(fail) < _first_line(landing))
+            or (unreadable is not None and unreadable.number < _first_line(landing))
+        ):
+            landing = None  # the skip stops earlier
+        if landing is not None:
+            # it stops at a do line of its label in the body, and rs274
+            # goes on from there (the loops around it never entered)
+            self.w.stmt("else:", stmt.line)
+            self.w.depth += 1
+            self.skipped_to(landing)
+            self.w.depth -= 1
+            return
         sets_break = (
             self.break_flag
             and stmt.kind == "while"
@@ -1941,7 +1997,7 @@ class CodeGen:
             # a break line of this loop on the way sets doing_break
             self.w.stmt("m.doing_break = True", stmt.line)
         if fail is not None:
-            self.statement(fail)
+            self.statement(fail)  # (an elseif's condition read first)
         self.w.depth -= 1
 
     # -- ordinary lines ---------------------------------------------------
@@ -2371,7 +2427,8 @@ def executed_if_flag(program: st.Program) -> bool:
     if any(isinstance(s, st.LabelCheck) and s.kind in ("else", "elseif") for s in stmts):
         return True
     if any(
-        isinstance(s, st.DoEnd) and any(isinstance(r, st.ArmAgain) for r in s.resume)
+        isinstance(s, st.ArmAgain)
+        or (isinstance(s, st.DoEnd) and any(isinstance(r, st.ArmAgain) for r in s.resume))
         for s in stmts
     ):
         return True  # later arms run into again
@@ -2379,6 +2436,19 @@ def executed_if_flag(program: st.Program) -> bool:
         isinstance(s, st.If) and len(s.branches) + (s.orelse is not None) > 1
         for s in stmts
     )
+
+
+def _after_else(body: List[st.Stmt]) -> List[st.ArmAgain]:
+    """The elseif lines after the else line of an if (structure.ArmAgain,
+    each in the arm of the one before), in text order."""
+    found = []
+    while True:
+        arm = next((s for s in body if isinstance(s, st.ArmAgain)), None)
+        if arm is None:
+            return found
+        if arm.line.oword.keyword == "elseif":
+            found.append(arm)
+        body = arm.body
 
 
 def real_arms(stmt: st.If) -> List[st.Branch]:

@@ -280,6 +280,10 @@ def _lines(stmts: List[st.Stmt]) -> Iterator[object]:
                 yield from _lines(stmt.orelse.body)
             yield from _line(stmt.end)
             continue
+        if isinstance(stmt, st.ArmAgain):
+            yield from _line(stmt.line)
+            yield from _lines(stmt.body)
+            continue
         if isinstance(stmt, st.Loop):
             yield from _line(stmt.line)
             for fail in (stmt.eof, stmt.skip_fail):  # lines read elsewhere

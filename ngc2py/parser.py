@@ -717,7 +717,9 @@ def read_any_line(
     """Read one line with rs274's readers (``normalised`` is ``text``'s)."""
     block_delete = normalised.text.startswith("/")
     if normalised.error:
-        return Line(number, text, file, block_delete, error=normalised.error)
+        # rs274 fails in close_and_downcase, before it looks for a block
+        # delete slash: the line fails with block delete on too
+        return Line(number, text, file, False, error=normalised.error)
     reader = _LineReader(normalised.text, normalised.columns, axes)
     error = None
     try:

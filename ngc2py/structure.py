@@ -157,6 +157,10 @@ class Loop:
     #: :attr:`back` loop it continues, what runs first, the loop a break
     #: there leaves: DoEnd.resume, DoEnd.leaves); see _Builder._loop_back_into.
     back_into: Optional[tuple] = None
+    #: A do line reusing this while or repeat loop's label in its body:
+    #: ending by its condition or count, rs274 skips forward to it and goes
+    #: on from there (the statements from it on, as If.landings).
+    landing: Optional[List["Stmt"]] = None
 
 
 @dataclass
@@ -238,6 +242,11 @@ class LabelCheck:
     #: of the file: where an arm has run, rs274 skips to the end of the
     #: file and fails there (this failure; see :func:`flat_arms`).
     eof: Optional["Fail"] = None
+    #: An else or elseif whose next line of its label stands after the
+    #: construct holding it: where an arm has run, rs274 skips there, out
+    #: of that construct; this run-once loop, ending before that line, is
+    #: what the skip leaves (_Builder._arm_skips_out).
+    leave: Optional["Loop"] = None
 
 
 @dataclass
@@ -783,12 +792,63 @@ class _Builder:
             # character after O-word"; in the main flow the line's own error
             self.on_m99(line, word)
             return
+        if (
+            word is not None
+            and word.keyword == "elseif"
+            and line.error is not None
+            and not line.oword_unread
+            and self._enclosing(str(word.name), lambda node: isinstance(node, If))
+        ):
+            # An elseif of an open if whose condition cannot be read: rs274
+            # reads it wherever it reaches the line, running into it or
+            # skipping to its label (an arm not taken, or after one that
+            # ran), so every way through the if ends here, failing.
+            self.on_endif(line, word)
+            self.body.append(Block(line))
+            return
+        if (
+            word is not None
+            and word.keyword == "while"
+            and line.error is not None
+            and not line.oword_unread
+            and self._enclosing(str(word.name), _plain_do)
+        ):
+            # The while line of an open do-loop whose condition cannot be
+            # read: running into it, or skipping to it (a break or continue
+            # of the loop), rs274 reads the condition and fails. The loop
+            # runs once; its break and continue lines leave it for the line.
+            loop = self.stack.pop().node
+            for stmt in walk(loop.body, False):
+                if isinstance(stmt, Jump) and stmt.target is loop:
+                    stmt.kind = "break"
+            self.body.append(Block(line))
+            return
+        if (
+            word is not None
+            and word.keyword in ("if", "while", "repeat")
+            and line.error is not None
+            and line.error != AFTER_OWORD
+            and not line.oword_unread
+        ):
+            landing = self._landing_if(word)
+            if landing is not None:
+                # an opener with an open if's label whose condition cannot be
+                # read: skipping an arm of that if, rs274 stops here, reads the
+                # condition and fails (If.landings), as when running into it
+                start = len(self.body)
+                self.body.append(Block(line))
+                node = landing.node
+                arm = len(node.branches) - (node.orelse is None)
+                node.landings.setdefault(arm, self.body[start:])
+                return
         if word is None or line.error is not None:
             if not line.is_blank:
                 self.body.append(Block(line))
             return
+        self._arm_skips_out(line, word)
         handler = getattr(self, "on_" + word.keyword)
         landing = self._landing_if(word)
+        loop_landing = self._landing_loop(line, word)
         body, start = self.body, len(self.body)
         handler(line, word)
         while self.skips_to and self.skips_to[-1][0] is line:
@@ -802,6 +862,8 @@ class _Builder:
             node = landing.node
             arm = len(node.branches) - (node.orelse is None)
             node.landings.setdefault(arm, body[start:])
+        if loop_landing is not None and body[start:] and loop_landing.landing is None:
+            loop_landing.landing = body[start:]
 
     # -- subroutines ------------------------------------------------------
 
@@ -906,8 +968,22 @@ class _Builder:
         self._label_error(line, word)
         return None
 
+    def _after_else(self, top: _Open, line: nodes.Line) -> bool:
+        """An elseif or else line after the else line of its if: whether
+        an arm ran or rs274 skipped to the else, its flag is set, so it
+        skips from here to the next line of the label; the arm runs only
+        where the flag was cleared since (:class:`ArmAgain`)."""
+        if top.node.orelse is None:
+            return False
+        arm = ArmAgain(line, [])
+        top.body.append(arm)
+        top.body = arm.body
+        return True
+
     def on_elseif(self, line: nodes.Line, word: nodes.OWord) -> None:
         top = self._if_arm(line, word)
+        if top is not None and self._after_else(top, line):
+            return
         if top is not None:
             branch = Branch(line)
             top.node.branches.append(branch)
@@ -915,6 +991,8 @@ class _Builder:
 
     def on_else(self, line: nodes.Line, word: nodes.OWord) -> None:
         top = self._if_arm(line, word)
+        if top is not None and self._after_else(top, line):
+            return
         if top is not None:
             top.node.orelse = Branch(line)
             top.body = top.node.orelse.body
@@ -1036,6 +1114,35 @@ class _Builder:
         for entry in self._scope_entries():
             if entry.label == label:
                 return entry if isinstance(entry.node, If) else None
+        return None
+
+    def _landing_loop(self, line: nodes.Line, word: nodes.OWord) -> Optional[Loop]:
+        """The open while or repeat loop whose end skip would stop at this
+        do line, standing directly in its body, unless a line of the label
+        before it stops it first. (A do inside a construct opened in the
+        body is not followed: running on from it, rs274 meets the closing
+        lines of openers it skipped.)"""
+        if word.keyword != "do":
+            return None
+        label = str(word.name)
+        for entry in self._scope_entries():
+            if entry.label == label:
+                node = entry.node
+                if (
+                    node is self.stack[-1].node  # (not inside a construct it skipped)
+                    and isinstance(node, Loop)
+                    and node.kind in ("while", "repeat")
+                    and not (node.back or node.skip)
+                    and node.skip_fail is None
+                    and node.eof is None
+                    and not any(
+                        node.line.number < number < line.number
+                        and key == self._key(label)
+                        for number, key, _, _, _ in self.labelled
+                    )
+                ):
+                    return node
+                return None
         return None
 
     def _reopens_do(self, label: str, seen) -> bool:
@@ -1448,6 +1555,31 @@ class _Builder:
         label = str(word.name)
         key = self._key(label)
         seen = self.labels.get(label)
+        reads = len(self.body)
+        try:
+            self._label_checks(line, word, label, key, seen)
+        finally:
+            if word.keyword == "elseif":
+                # rs274 reads an elseif's condition (interp_read.cc read_o)
+                # before it looks the label up (convert_control_functions):
+                # a condition that fails to evaluate is the error
+                for stmt in self.body[reads:]:
+                    if isinstance(stmt, Fail) and stmt.reads is None:
+                        stmt.reads = word.expr
+        failing = [s for s in self.body[reads:] if isinstance(s, (Fail, LabelCheck))]
+        if failing and word.keyword not in ("break", "continue"):
+            # A while or repeat loop of this label around the line: ending by
+            # its condition or count, rs274 skips forward to its label and
+            # lands here first, failing as when running into it.
+            for entry in self._scope_entries():
+                node = entry.node
+                if entry.label == label and isinstance(node, Loop):
+                    if node.kind in ("while", "repeat") and not (node.back or node.skip):
+                        if node.skip_fail is None:
+                            node.skip_fail = failing[-1]
+                    break
+
+    def _label_checks(self, line, word, label, key, seen) -> None:
         if key in self.tracked:
             self.body.append(LabelCheck(line, key, word.keyword))
             if word.keyword in ("else", "elseif"):
@@ -1470,6 +1602,10 @@ class _Builder:
             # it is undefined. Run time decides.
             if self._track(key, seen):
                 self.body.append(LabelCheck(line, key, word.keyword))
+                if word.keyword in ("else", "elseif"):
+                    # where the if ran, this is an arm line run into: where
+                    # an arm has run it skips to the next line of its label
+                    self.arm_checks.append(self.body[-1])
                 return
         if word.keyword == "endif":
             message = NO_MATCHING_ENDIF % ((line.number, key) + found + (line.text,))
@@ -1540,6 +1676,7 @@ class _Builder:
         skip = Loop("do", fail.line, self.body[index:], key="", skip=flag is not None)
         del self.body[index:]
         self.body.append(skip)
+        self._moved_into(skip)
         if holder is self.body:
             holder = skip.body
         position = next(k for k, inner in enumerate(holder) if inner is fail)
@@ -1742,7 +1879,52 @@ class _Builder:
                     return True
                 if type(stmt) is Jump and not self._landed_after(stmt):
                     return True
-        return False
+        return any(self._never_entered(entry) for entry in entries)
+
+    def _never_entered(self, entry: _Open) -> bool:
+        """Is the open construct ``entry`` one running code never enters
+        (a repeat of none, a while whose condition is a false constant, an
+        arm whose condition is, or one after an arm whose condition is a
+        true constant)? Unless a skip for an earlier label can land inside
+        it: a line in it with a label used before its opener."""
+        node = entry.node
+        if isinstance(node, Loop):
+            if node.back or node.skip or node.reuses is not None or node.line.oword is None:
+                return False
+            value = _constant(node.line.oword.expr)
+            if value is None or node.kind not in ("while", "repeat"):
+                return False
+            if (value > 0.0 if node.kind == "repeat" else value != 0.0):
+                return False
+            start = node.line
+        elif isinstance(node, If):
+            arms = node.branches + ([node.orelse] if node.orelse else [])
+            index = next((k for k, arm in enumerate(arms) if arm.body is entry.body), None)
+            if index is None:
+                return False
+            values = [_constant(arm.line.oword.expr) for arm in node.branches[:index]]
+            if any(value is not None and value != 0.0 for value in values):
+                start = node.branches[0].line  # an arm before always runs
+            elif index < len(node.branches):
+                value = _constant(node.branches[index].line.oword.expr)
+                if value is None or value != 0.0:
+                    return False
+                start = node.branches[index].line
+            else:
+                return False
+        else:
+            return False
+        earlier = {key for number, key, _, _, _ in self.labelled if number <= start.number}
+        own = set()
+        if isinstance(node, If):  # its arm lines: where its skips land, no further
+            own = {arm.line.number for arm in node.branches}
+            if node.orelse is not None:
+                own.add(node.orelse.line.number)
+        return not any(
+            key in earlier
+            for number, key, _, _, _ in self.labelled
+            if number > start.number and number not in own
+        )
 
     def _landed_after(self, jump: "Jump") -> bool:
         """Does a line with the label of ``jump`` come after it (so far)?
@@ -1814,11 +1996,93 @@ class _Builder:
             # looked at. Those closing lines are its, not the outer one's.
             dead = If([Branch(line)]) if word.keyword == "if" else Loop(word.keyword, line)
             body = dead.branches[0].body if isinstance(dead, If) else dead.body
+            outer = next(e.node for e in self._scope_entries() if e.label == label)
+            if (
+                isinstance(outer, Loop)
+                and outer.kind in ("while", "repeat")
+                and not (outer.back or outer.skip)
+                and outer.skip_fail is None
+            ):
+                # ending by its condition or count, the loop skips forward
+                # to its label and lands here first (Loop.skip_fail)
+                outer.skip_fail = failure()
             self.stack.append(_Open(label, dead, body))
             self.dead.add(id(dead))
         return True
 
     # -- end of file ------------------------------------------------------
+
+    def _arm_skips_out(self, line: nodes.Line, word: nodes.OWord) -> None:
+        """``line`` is the next line of the label of an else or elseif line
+        run into inside an earlier construct of this body (a loop, an if,
+        however deep): where an arm has run, rs274 skips from that line to
+        this one, out of the construct, reading what lies between (no
+        closing line on the way acts, no loop goes round again). The
+        statements from that construct on become a loop run once
+        (:attr:`LabelCheck.leave`) that the skip leaves; where no arm has
+        run, the code runs on as written, to this line."""
+        if not isinstance(word.name, str) or not self.arm_checks:
+            return
+        key = self._key(str(word.name))
+        for check in self.arm_checks:
+            if check.key != key or check.leave is not None or check.eof is not None:
+                continue
+            start = check.line.number
+            if (check.line.file or "") != (line.file or "") or start >= line.number:
+                continue
+            if any(
+                start < number < line.number
+                and (later.file or "") == (line.file or "")
+                and (found == key or found is None)
+                for number, found, later, _, _ in self.labelled
+            ):
+                continue  # it lands earlier, or fails on the way (unreadable)
+            index = next(
+                (
+                    i
+                    for i, stmt in enumerate(self.body)
+                    if stmt is not check and any(s is check for s in walk([stmt], False))
+                ),
+                None,
+            )
+            if index is None:
+                continue  # in this body itself (flat_arms), or not in it
+            crossed = [
+                stmt
+                for stmt in walk(self.body[index:], False)
+                if isinstance(stmt, Loop) and any(s is check for s in walk([stmt], False))
+            ]
+            skip = Loop("do", check.line, self.body[index:], key="")
+            del self.body[index:]
+            self.body.append(skip)
+            self._moved_into(skip)
+            self._wrapped_jumps(skip)
+            if crossed:
+                skip.flagged = True
+                for loop in crossed:
+                    loop.exits.append(skip)
+            check.leave = skip
+
+    def _moved_into(self, loop: Loop) -> None:
+        """Statements of this body now stand in ``loop``'s: so do the
+        labels of the openers among them (a later line finds them there)."""
+        for name, seen in self.labels.items():
+            if seen[2] is self.body and any(stmt is seen[3] for stmt in loop.body):
+                self.labels[name] = seen[:2] + (loop.body, seen[3])
+
+    def _wrapped_jumps(self, skip: Loop) -> None:
+        """Jumps inside the new loop ``skip`` to loops around it now cross it
+        too: they leave it by their target's flag (Loop.exits)."""
+        inside = {id(stmt) for stmt in walk(skip.body, False) if isinstance(stmt, Loop)}
+        for stmt in walk(skip.body, False):
+            if isinstance(stmt, Jump) and id(stmt.target) not in inside:
+                stmt.target.flagged = True
+                if stmt.target not in skip.exits:
+                    skip.exits.append(stmt.target)
+            if isinstance(stmt, Loop):
+                for target in stmt.exits:
+                    if id(target) not in inside and target not in skip.exits:
+                        skip.exits.append(target)
 
     def _arms_to_eof(self) -> None:
         """An else or elseif line of a reused label that fits no open if
@@ -1964,7 +2228,48 @@ def children(stmt: Stmt, into_subs: bool = True) -> List[List[Stmt]]:
         return [stmt.body]
     if isinstance(stmt, Define) and into_subs:
         return [stmt.sub.body]
+    if isinstance(stmt, ArmAgain):
+        return [stmt.body]
     return []
+
+
+def _constant(expr: Optional[nodes.Expr]) -> Optional[float]:
+    """The value of a condition or count made of numbers alone (compared,
+    combined), or None. Comparisons are decided only where rs274's
+    tolerance cannot matter."""
+    if isinstance(expr, nodes.Num):
+        return expr.value
+    if isinstance(expr, nodes.Bracket):
+        return _constant(expr.inner)
+    if not isinstance(expr, nodes.Binary):
+        return None
+    a, b = _constant(expr.left), _constant(expr.right)
+    if a is None or b is None:
+        return None
+    if expr.op in ("eq", "ne", "gt", "ge", "lt", "le"):
+        if a != b and abs(a - b) < 1e-3:
+            return None
+        result = {
+            "eq": a == b, "ne": a != b, "gt": a > b, "ge": a >= b, "lt": a < b, "le": a <= b
+        }[expr.op]
+        return 1.0 if result else 0.0
+    if expr.op == "and":
+        return 1.0 if a != 0.0 and b != 0.0 else 0.0
+    if expr.op == "or":
+        return 1.0 if a != 0.0 or b != 0.0 else 0.0
+    return None
+
+
+def _plain_do(node) -> bool:
+    """A do-loop of the text, with nothing reused or run again."""
+    return (
+        isinstance(node, Loop)
+        and node.kind == "do"
+        and node.reuses is None
+        and not node.back
+        and not node.skip
+        and node.back_into is None
+    )
 
 
 def _holder(stmt: Stmt, target: Stmt) -> Optional[List[Stmt]]:

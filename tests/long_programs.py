@@ -457,6 +457,14 @@ OWORD_MISTAKES = [
     "o{L} while",
     "o{L} repeat",
     "o{C} else",
+    "o{C} elseif [1]",
+    # an elseif's condition is read before its label is looked up
+    "o{L} elseif [#<_undefined_c> EQ 1]",
+    "o{C} elseif [#<undefined_c> GT 0]",
+    "o{C} elseif [1 / 0]",
+    # and read where a skip to its label lands (an unreadable one fails)
+    "o{C} elseif [[#<",
+    "o{C} while [#<_x> LT [1 +]",
     "o{C} endif",
     "o{C} break",
     "o{C} continue",

@@ -1007,14 +1007,25 @@ def lang_if(w: LanguageWriter) -> None:
     arms = 1 + w.draw(st.integers(0, 2))
     for arm in range(arms):
         if arm:
-            w.emit(f"o{label} elseif {w.condition()}{closer_words(w)}", slash_ok=False)
+            # now and then one rs274 cannot read: it reads it wherever it
+            # reaches the line, also where a skip to the label lands
+            condition = w.pick(_UNREADABLE) if w.chance(25) else w.condition()
+            w.emit(f"o{label} elseif {condition}{closer_words(w)}", slash_ok=False)
         lang_body(w)
     if w.chance(2):
         w.emit(f"o{label} else{closer_words(w)}", slash_ok=False)
         lang_body(w)
+        if w.chance(15):
+            # an arm line after the else: rs274 always skips its arm
+            w.emit(f"o{label} " + w.pick(["else", f"elseif {w.condition()}"]), slash_ok=False)
+            lang_body(w)
     w.open_ifs.pop()
     w.emit(f"o{label} endif{closer_words(w)}", slash_ok=False)
     w.closed.append((label, "if"))
+
+
+#: conditions rs274 cannot read (what it computed before the error first)
+_UNREADABLE = ["[[#<", "[#1 + ]", "[1/#3 + [#<]"]
 
 
 def lang_landing_if(w: LanguageWriter) -> None:
@@ -1094,6 +1105,53 @@ def lang_stray_label(w: LanguageWriter) -> None:
     w.closed.append((other, kind))
 
 
+def lang_stray_arm(w: LanguageWriter) -> None:
+    """An else or elseif line of an if that has ended: rs274 takes it for an
+    arm line run into (an elseif reads its condition first, which may
+    fail). Where an arm has run it skips to the next line of its label:
+    out of the construct holding it (a loop, an if), or to the end of the
+    file when none follows; where none has, it runs on."""
+    ifs = [label for label, kind in w.closed if kind == "if"]
+    if not ifs:
+        lang_plain(w)
+        return
+    label = w.pick(ifs)
+    # not reused before the landing chosen here (see the end)
+    w.closed = [entry for entry in w.closed if entry[0] != label]
+    holder = w.pick(["", "repeat", "while", "if"])
+    other = ""
+    if holder:
+        w.next_label += 1
+        other = str(w.next_label)
+    if holder == "repeat":
+        w.emit(f"o{other} repeat [{w.draw(st.integers(0, 2))}]", slash_ok=False)
+    elif holder == "while":
+        w.next_counter += 1
+        counter = f"k{w.next_counter}"
+        w.lines.append("  " * w.depth + f"#<{counter}> = 0")
+        w.emit(f"o{other} while [#<{counter}> LT 2]", slash_ok=False)
+        w.lines.append("  " * (w.depth + 1) + f"#<{counter}> = [#<{counter}> + 1]")
+    elif holder == "if":
+        w.emit(f"o{other} if {w.condition()}", slash_ok=False)
+    w.depth += bool(holder)
+    if w.chance(2):
+        w.emit(f"o{label} else", slash_ok=False)
+    else:
+        w.emit(f"o{label} elseif {w.condition()}", slash_ok=False)
+    lang_statement(w)
+    w.depth -= bool(holder)
+    if holder:
+        w.emit(f"o{other} end{holder}", slash_ok=False)
+        w.closed.append((other, holder))
+    if not w.chance(3):
+        lang_statement(w)
+        w.emit(f"o{label} endif", slash_ok=False)
+        w.closed.append((label, "if"))
+    # else no later line of the label: the skip runs to the end of the file
+    # (a later construct reusing the label would be a landing inside it,
+    # lang_landing_if's and lang_stray_label's business)
+
+
 def lang_loop(w: LanguageWriter) -> None:
     kind = w.pick(["while", "do", "repeat"])
     label = w.label()
@@ -1136,6 +1194,17 @@ def lang_loop(w: LanguageWriter) -> None:
     w.loops.append((label, kind))
     w.counters.append(counter)
     lang_body(w)
+    if kind != "do" and w.chance(30):
+        # a closing line of another kind with the loop's label, in an if
+        # never taken: running out, the loop skips to it, and fails there
+        w.depth += 1
+        w.next_label += 1
+        w.emit(f"o{w.next_label} if [0]", slash_ok=False)
+        closer = "endrepeat" if kind == "while" else "endwhile"
+        line = f"  o{label} " + w.pick([closer, "else", "endif", "elseif [#<_unset> GT 0]"])
+        w.emit(line, slash_ok=False)
+        w.emit(f"o{w.next_label} endif", slash_ok=False)
+        w.depth -= 1
     if kind != "repeat" and w.chance(2):
         # the usual last statement: a guarded break or continue
         w.depth += 1
@@ -1146,6 +1215,9 @@ def lang_loop(w: LanguageWriter) -> None:
     unclosed = w.chance(25)
     if kind == "while" and not unclosed:
         w.emit(f"o{label} endwhile{closer_words(w)}", slash_ok=False)
+    elif kind == "do" and not unclosed and w.chance(25):
+        # a break or continue skips to it, and fails reading it
+        w.emit(f"o{label} while [#<{counter}> LT [{count} +]]", slash_ok=False)
     elif kind == "do" and not unclosed:
         w.emit(f"o{label} while [#<{counter}> LT {count}]{closer_words(w)}", slash_ok=False)
     elif kind == "repeat" and not unclosed:
@@ -1206,6 +1278,8 @@ def lang_statement(w: LanguageWriter) -> None:
         if w.chance(3):
             # a skip landing inside another construct
             options += [lang_landing_if, lang_stray_label]
+        if w.closed and w.chance(4):
+            options += [lang_stray_arm]
     if w.loops or w.sub:
         options += [lang_jump, lang_guarded_jump]
     if w.loops:
@@ -2076,6 +2150,14 @@ def _wrong_lines(w: JobWriter) -> list:
         f"G1 X1 D{w.pick(w.mill_tools())}",  # D with nothing to use it
         "G43.1 X0.1 Y0.1",  # Y offsets are not allowed
         "$1 S200 M3",  # a spindle that does not exist
+        # O-word lines as rs274 reads them (tests/test_language_generators):
+        # an else after its if ended (an arm ran: it skips to the end of the
+        # file), an elseif's condition read before its label, one that
+        # cannot be read where a skip lands, a second else
+        f"o9001 if [1]\nG0 Z{fmt(s)}\no9001 endif\no9001 else\nG0 Z{fmt(2 * s)}",
+        "o9002 elseif [#<_not_set> GT 0]",
+        f"o9003 if [0]\nG0 Z{fmt(s)}\no9003 elseif [[#<\no9003 endif",
+        f"o9004 if [0]\no9004 else\nG0 Z{fmt(s)}\no9004 else\nG0 Z{fmt(3 * s)}\no9004 endif",
     ]
 
 

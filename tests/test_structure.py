@@ -286,3 +286,16 @@ def test_a_reused_label_is_checked_at_run_time():
     assert kinds(program.body) == ["LabelCheck", "If", "LabelCheck", "Loop", "Block"]
     first, _, second, _, _ = program.body
     assert (first.key, first.kind, second.kind) == ("#1", "if", "while")
+
+
+def test_openers_moved_into_a_run_once_loop_keep_their_labels():
+    """An elseif run into that skips out of the if holding it wraps what
+    follows in a loop run once (_Builder._arm_skips_out); a do-loop moved
+    into it is found there by a later while line of its label (ngc2py
+    failed with an internal StopIteration)."""
+    program = build(
+        "o4 if [0]\no4 endif\no6 if [1]\n  o4 elseif [1]\no6 endif\n"
+        "o7 do\n  G0 X1\no7 while [0]\no4 endif\no7 while [0]\nM2\n"
+    )
+    loops = [s for s in st.walk(program.body) if isinstance(s, st.Loop)]
+    assert any(loop.kind == "do" and loop.line.number == 6 for loop in loops)
