@@ -84,12 +84,12 @@ def command(args: argparse.Namespace) -> int:
     except (ValueError, ImportError) as error:  # fail before running the program
         sys.stderr.write("ngc2py plot: %s\n" % error)
         return EXIT_ERROR
-    from ngc2py.drawing import draw, prepare
-
-    status, report, path = _record_beside(args, prepare)
+    status, report, path = _record_beside(args, _prepare)
     sys.stderr.write(report)
     if status != EXIT_OK:
         return EXIT_ERROR
+    from ngc2py.drawing import draw
+
     title = "standard input" if args.program == "-" else os.path.basename(args.program)
     if args.output == "-":
         buffer = io.BytesIO()
@@ -108,6 +108,15 @@ def command(args: argparse.Namespace) -> int:
         )
         return EXIT_ERROR
     return EXIT_OK
+
+
+def _prepare() -> None:
+    """Import NumPy, matplotlib and Pillow for the drawing. (Not before the
+    fork: NumPy starts its BLAS threads on import, and a process that
+    forks should have no other threads.)"""
+    from ngc2py.drawing import prepare
+
+    prepare()
 
 
 def _recorded(args: argparse.Namespace):
