@@ -76,25 +76,32 @@ def polyline(starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
     return out[1:]
 
 
-def arc_polyline(path: Toolpath, rows: np.ndarray, resolution: float) -> np.ndarray:
+def arc_polyline(
+    path: Toolpath, rows: np.ndarray, resolution: float, frame=None
+) -> np.ndarray:
     """The arcs ``rows`` as one polyline of points at most ``resolution``
-    (mm) off each curve, a NaN row between arcs."""
+    (mm) off each curve, a NaN row between arcs. ``frame``: the path's
+    ``arc_frame()``, if the caller has it."""
     if not len(rows):
         return np.empty((0, 3))
-    points, owner = path.points(rows, resolution)
+    frame = frame or path.arc_frame()
+    points, owner = path.points(rows, resolution, frame=frame)
     if len(points) > MOST_ARC_POINTS:  # so many arcs that pixels are too fine
         factor = len(points) / MOST_ARC_POINTS
-        points, owner = path.points(rows, resolution * factor * factor, most=16)
+        points, owner = path.points(
+            rows, resolution * factor * factor, most=16, frame=frame
+        )
     last = np.flatnonzero(np.diff(owner)) + 1  # where each next arc begins
     return np.insert(points, last, np.nan, axis=0)
 
 
-def bounds(path: Toolpath) -> Tuple[np.ndarray, np.ndarray]:
+def bounds(path: Toolpath, frame=None) -> Tuple[np.ndarray, np.ndarray]:
     """A box (low, high over X, Y and Z) around every move: arcs by their
-    centre and radius (cheap, a little generous)."""
+    centre and radius (cheap, a little generous). ``frame``: the path's
+    ``arc_frame()``, if the caller has it."""
     ends = np.concatenate((path.start[:, :3], path.end[:, :3]))
     low, high = ends.min(axis=0), ends.max(axis=0)
-    rows, first, second, _, _, r0, r1 = path.arc_frame()
+    rows, first, second, _, _, r0, r1 = frame or path.arc_frame()
     if len(rows):
         radius = np.maximum(r0, r1)
         for axis, column in ((first, 0), (second, 1)):
@@ -219,9 +226,10 @@ def draw(path: Toolpath, view: str, title: str, out, fmt: str) -> None:
         "feed": (path.kind == FEED) | (path.kind == PROBE),
         "arc": path.kind == ARC,
     }
-    resolution = 0.0
+    resolution, frame = 0.0, None
     if len(path):
-        low, high = bounds(path)
+        frame = path.arc_frame()  # (bounds and the arcs' points share it)
+        low, high = bounds(path, frame)
         span = float((high - low).max())
         pixels = max(FIGURE_SIZE) * DPI
         resolution = max(span, 1e-9) / pixels * PIXEL_TOLERANCE
@@ -232,7 +240,7 @@ def draw(path: Toolpath, view: str, title: str, out, fmt: str) -> None:
         chosen = kinds[kind]
         count = int(chosen.sum())
         if kind == "arc":
-            vertices = arc_polyline(path, np.flatnonzero(chosen), resolution)
+            vertices = arc_polyline(path, np.flatnonzero(chosen), resolution, frame)
         else:
             vertices = polyline(path.start[chosen, :3], path.end[chosen, :3])
         if len(vertices):

@@ -364,14 +364,14 @@ class Toolpath:
             length[rows] = np.hypot(np.abs(sweep) * (r0 + r1) / 2.0, rise)
         return length
 
-    def points(self, rows, resolution: float, most: Optional[int] = None):
+    def points(self, rows, resolution: float, most: Optional[int] = None, frame=None):
         """Points of X, Y and Z along the arcs ``rows`` (row indexes of
         arcs), each arc from its start to its end through points no further
         than ``resolution`` (mm) off the true curve, at least one every
         quarter turn (and, if ``most`` is given, no more than ``most`` a
         turn): ``(points (m, 3), owner (m,))``, ``owner`` giving each
-        point's row."""
-        every, first, second, theta0, sweep, r0, r1 = self.arc_frame()
+        point's row. ``frame``: :meth:`arc_frame`, if the caller has it."""
+        every, first, second, theta0, sweep, r0, r1 = frame or self.arc_frame()
         rows = np.asarray(rows, dtype=np.int64)
         where = np.searchsorted(every, rows)
         first, second = first[where], second[where]
