@@ -511,8 +511,8 @@ class FlattenCanon(Canon):
     def hole_moves(self, recording, lines, first, second, axes, start):
         """Holes drilled alike (runtime.canon.Canon.hole_moves): each hole a
         block of its own, its calls written as :meth:`_flush` writes them,
-        without recording them call by call. Holes whose calls include one
-        not in _HOLE_CALLS go hole by hole."""
+        without recording them call by call (from templates: see below).
+        Holes whose calls include one not in _HOLE_CALLS go call by call."""
         names = [name for name, _, _ in recording]
         if (
             self._pitch is not None
@@ -574,7 +574,7 @@ class FlattenCanon(Canon):
                 made = templates[case] = self._hole_template(
                     group, recording, axes, case, prefix, where
                 )
-            if made is False:  # (a line too long to be sure of: hole by hole)
+            if made is False:  # (a template not to be trusted: hole by hole)
                 if texts:
                     self.lines += texts
                     texts = []
