@@ -265,6 +265,26 @@ class HoleRows:
         they are); returns where it stopped."""
         machine = self.machine
         canon = machine.canon
+        cur = machine.current
+        xs, ys = ["%.4f" % cur[0]], ["%.4f" % cur[1]]
+        last = [None, None]  # the last X and Y cells written
+        runs, at = self._runs(cells, at, end, "XY")
+        for start, stop, first, second, stride in runs:
+            # a run of rows of one shape, a column at a time
+            for axis, index, written in ((0, first, xs), (1, second, ys)):
+                if index < 0:
+                    written += repeat(written[-1], (stop - start) // stride)
+                    continue
+                found = cells[start + 2 + index : stop : stride]
+                last[axis] = found[-1]
+                if self.printed:
+                    written += found
+                else:
+                    written += map("%.4f".__mod__, map(float, found))
+            row = stop - stride
+        rows = len(xs) - 1
+        if not rows:
+            return at
         # one template for every run of holes drilled alike
         key = (canon._column,) + tuple(
             (name, args[2:] if move else args, move)
@@ -279,34 +299,6 @@ class HoleRows:
             made = _template(self.scratch, self.recorded, canon._column)
             self.templates[key] = made
         template, slots, column = made
-        known = self.holes["XY"]
-        printed = self.printed
-        cur = machine.current
-        x_cell = y_cell = None
-        xs, ys = ["%.4f" % cur[0]], ["%.4f" % cur[1]]
-        row = at
-        while at < end and len(xs) <= _MOST:
-            hole = known.get(cells[at + 1], False)
-            if hole is False:
-                hole = self._hole_words("XY", cells[at + 1])
-            if hole is None:
-                break
-            first, second, stride = hole
-            if first >= 0:
-                x_cell = cells[at + 2 + first]
-                xs.append(x_cell if printed else "%.4f" % float(x_cell))
-            else:
-                xs.append(xs[-1])
-            if second >= 0:
-                y_cell = cells[at + 2 + second]
-                ys.append(y_cell if printed else "%.4f" % float(y_cell))
-            else:
-                ys.append(ys[-1])
-            row = at
-            at += stride
-        rows = len(xs) - 1
-        if not rows:
-            return at
         base, lines = canon._count, len(slots)
         columns: List = []
         at_hole = xs[1:], ys[1:]
@@ -320,8 +312,8 @@ class HoleRows:
         if canon._count >= canon._drain_at:
             canon._drain()
         point = final[:]
-        point[0] = cur[0] if x_cell is None else float(x_cell)
-        point[1] = cur[1] if y_cell is None else float(y_cell)
+        point[0] = cur[0] if last[0] is None else float(last[0])
+        point[1] = cur[1] if last[1] is None else float(last[1])
         machine.world.position = point
         machine.current = point[:]
         machine.params.position = tuple(point)
@@ -384,7 +376,6 @@ class HoleRows:
         where it stopped. While the canon works, ``machine.line`` is the
         batch's last line and its point the batch's start."""
         machine = self.machine
-        known = self.holes[machine.plane]
         hole_moves = machine.canon.hole_moves
         world, params = machine.world, machine.params
         while at < end:
@@ -393,29 +384,19 @@ class HoleRows:
             lines: List[int] = []
             firsts: List[float] = []
             seconds: List[float] = []
-            while at < end and len(lines) < _MOST:
-                key = cells[at + 1]
-                hole = known.get(key, False)
-                if hole is False:
-                    hole = self._hole_words(machine.plane, key)
-                if hole is None:
-                    break
-                first, second, stride = hole
-                # the run of rows of this shape, a column at a time
-                stop = min(end, at + stride * (_MOST - len(lines)))
-                count = len(list(takewhile(key.__eq__, cells[at + 1 : stop : stride])))
-                stop = at + count * stride
-                lines += map(int, cells[at:stop:stride])
+            runs, at = self._runs(cells, at, end, machine.plane)
+            for row, stop, first, second, stride in runs:
+                count = (stop - row) // stride
+                lines += map(int, cells[row:stop:stride])
                 if first >= 0:
-                    firsts += map(float, cells[at + 2 + first : stop : stride])
+                    firsts += map(float, cells[row + 2 + first : stop : stride])
                 else:
                     firsts += repeat(aa, count)
                 if second >= 0:
-                    seconds += map(float, cells[at + 2 + second : stop : stride])
+                    seconds += map(float, cells[row + 2 + second : stop : stride])
                 else:
                     seconds += repeat(bb, count)
                 aa, bb = firsts[-1], seconds[-1]
-                at = stop
             if not lines:
                 break
             machine.line = lines[-1]
@@ -429,6 +410,30 @@ class HoleRows:
             if type(machine).hole_replayed is not CyclesMixin.hole_replayed:
                 machine.hole_replayed(lines[-1])
         return at
+
+    def _runs(self, cells: List[str], at: int, end: int, plane: str):
+        """The next rows of hole words from ``cells[at]``, at most _MOST, as
+        runs of rows of one shape: ([(first cell, end, index of the first
+        hole axis' value or -1, of the second or -1, stride)...], where
+        they end)."""
+        known = self.holes[plane]
+        runs: List[tuple] = []
+        room = _MOST
+        while at < end and room:
+            key = cells[at + 1]
+            hole = known.get(key, False)
+            if hole is False:
+                hole = self._hole_words(plane, key)
+            if hole is None:
+                break
+            first, second, stride = hole
+            stop = min(end, at + stride * room)
+            count = len(list(takewhile(key.__eq__, cells[at + 1 : stop : stride])))
+            stop = at + count * stride
+            runs.append((at, stop, first, second, stride))
+            room -= count
+            at = stop
+        return runs, at
 
     def _record(self, cells: List[str], at: int, hole, ia: int, ib: int):
         """Drill the row at ``at`` by the reference path, recording it:
