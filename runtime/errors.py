@@ -35,10 +35,29 @@ class GCodeError(Exception):
 class Location:
     """A G-code position: file, 1-based line and the line's text."""
 
-    __slots__ = ("file", "line", "text")
+    __slots__ = ("file", "line", "_text", "_source")
 
     def __init__(self, file: str, line: int, text: str):
-        self.file, self.line, self.text = file, line, text
+        self.file, self.line, self._text, self._source = file, line, text, None
+
+    @classmethod
+    def of(cls, source: "SourceMap", index: int, line: int) -> "Location":
+        """Line ``line`` of ``source``'s file ``index``, its text read only
+        when asked for: most locations looked up only name the line (the
+        flat file's comments), and a large file's text is compressed."""
+        location = cls(source.files[index], line, "")
+        location._source = source, index
+        return location
+
+    @property
+    def text(self) -> str:
+        if self._source is not None:
+            source, index = self._source
+            self._text, self._source = source.text(index, self.line), None
+        return self._text
+
+    def __reduce__(self):
+        return Location, (self.file, self.line, self.text)
 
     def __eq__(self, other) -> bool:
         return isinstance(other, Location) and (
@@ -122,7 +141,7 @@ class SourceMap:
             line = row_line
         else:
             line += min(py_line - start, count - 1)
-        return Location(self.files[file], line, self.text(file, line))
+        return Location.of(self, file, line)
 
     def text(self, file: int, line: int) -> str:
         """The text of G-code ``line`` of file number ``file`` ("" if unknown)."""
