@@ -9,6 +9,7 @@ from __future__ import annotations
 import ast
 import re
 import keyword
+import pickle
 
 import black
 import pytest
@@ -19,7 +20,7 @@ from cam_strategies import cam_sized
 from ngc2py import codegen
 from ngc2py.codegen import MIN_PROGRAM_ROWS, MIN_VALUE_ROWS
 from ngc2py.compiler import compile_text
-from runtime.errors import SourceMap
+from runtime.errors import Location, SourceMap
 
 import rs274 as harness
 
@@ -197,6 +198,26 @@ def test_line_map_round_trips():
     assert (source.lookup(20).file, source.lookup(20).text) == ("b.ngc", "l7")
     assert source.lookup(30, row_line=2).line == 2
     assert source.lookup(5) is None
+
+
+def test_a_looked_up_location_reads_its_text_only_when_asked():
+    """Flatten names a line on every block: a lookup must not unpack a
+    large file's text, yet the location compares, hashes and pickles as
+    one made with its text (errors cross process boundaries)."""
+    line_map = codegen.LineMap()
+    line_map.add(10, 0, 2)
+    text = "G0 X1\n(second line)\nM2"
+    source = SourceMap(("big.ngc",), line_map.encode(), (text,))
+    asked = []
+    read = source.text
+    source.text = lambda file, line: asked.append(line) or read(file, line)
+    found = source.lookup(10)
+    assert (found.file, found.line, str(found)) == ("big.ngc", 2, "big.ngc:2")
+    assert asked == []
+    eager = Location("big.ngc", 2, "(second line)")
+    assert found == eager and hash(found) == hash(eager) and asked == [2]
+    assert pickle.loads(pickle.dumps(source.lookup(10))) == eager
+    assert repr(source.lookup(10)) == repr(eager)
 
 
 def test_big_cam_files_become_data_rows():
