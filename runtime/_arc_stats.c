@@ -2,8 +2,8 @@
  * The per-arc arithmetic of runtime.stats.StatsCanon.arc_moves in C: for a
  * batch of arcs, each arc's sweep and radii (runtime.toolpath.arc_geometry),
  * its length (helix_length) and its time (runtime.stats.move_time), summed
- * in program order onto the totals so far, and which arcs may reach beyond
- * the extents box (the Python side finds their extreme points).
+ * in program order onto the totals so far, and the extreme points of those
+ * that may reach beyond the extents box (runtime.toolpath.Arc.extreme_points).
  *
  * Optional, like the other extensions: runtime/stats.py holds the same steps
  * in Python (python_arc_sums), and runtime/toolpath.py takes this module's
@@ -45,6 +45,136 @@ static double move_time(double length, double rate, double acceleration) {
         return length / speed + speed / acceleration;
     }
     return 2.0 * sqrt(length / acceleration);
+}
+
+/* runtime.toolpath.Arc.extreme_points, step for step: h(theta) and its
+ * slope, for a radius r0 at theta0 changing by k a radian. */
+static double spiral_h(double theta, double theta0, double r0, double k) {
+    return theta + atan2(r0 + k * (theta - theta0), k);
+}
+
+static double spiral_slope(double theta, double theta0, double r0, double k) {
+    if (k == 0.0) {
+        return 1.0;
+    }
+    double ratio = (r0 + k * (theta - theta0)) / k;
+    return 1.0 + 1.0 / (1.0 + ratio * ratio);
+}
+
+/* runtime.toolpath._solve_increasing (Python's min and max keep the first
+ * of equals; so do these comparisons). */
+static double solve_increasing(double target, double low, double high, double theta0,
+                               double r0, double k) {
+    double theta = target - (spiral_h(low, theta0, r0, k) - low);
+    if (low > theta) {
+        theta = low;
+    }
+    if (high < theta) {
+        theta = high;
+    }
+    for (int step = 0; step < 60; step++) {
+        double value = spiral_h(theta, theta0, r0, k) - target;
+        if (value == 0.0) {
+            return theta;
+        }
+        if (value > 0.0) {
+            high = theta;
+        } else {
+            low = theta;
+        }
+        double guess = theta - value / spiral_slope(theta, theta0, r0, k);
+        if (!(low < guess && guess < high)) {
+            guess = 0.5 * (low + high);
+        }
+        double scale = fabs(theta) > 1.0 ? fabs(theta) : 1.0;
+        if (fabs(guess - theta) <= 1e-15 * scale) {
+            return guess;
+        }
+        theta = guess;
+    }
+    return theta;
+}
+
+/* Python's ``a % 4`` of an integer-valued double: 0 to 3. */
+static double mod4(double a) {
+    double m = fmod(a, 4.0);
+    return m < 0.0 ? m + 4.0 : m;
+}
+
+static int compare_doubles(const void *a, const void *b) {
+    double x = *(const double *) a, y = *(const double *) b;
+    return (x > y) - (x < y);
+}
+
+/* The extreme points of the arc about (c1, c2) (runtime.toolpath.Arc.
+ * extreme_points but its ends, which the caller has added) into the box on
+ * the plane's axes f and s: the other axes of those points lie between the
+ * ends'. -1 where a multiple of a quarter turn is too large for a double to
+ * count in ones (the caller leaves the batch to Python). */
+static int extremes_into_box(double *box, long f, long s, double c1, double c2,
+                             double sweep, double r0, double r1, double theta0) {
+    if (sweep == 0.0) {
+        return 0;
+    }
+    double k = (r1 - r0) / sweep;
+    if (!isfinite(k)) {
+        return 0;
+    }
+    double low = theta0, high = theta0 + sweep;
+    if (high < low) {
+        double swap = low;
+        low = high;
+        high = swap;
+    }
+    double quarter = M_PI / 2;
+    double first = ceil(spiral_h(low, theta0, r0, k) / quarter);
+    double last = floor(spiral_h(high, theta0, r0, k) / quarter);
+    if (!(fabs(first) < 4e15 && fabs(last) < 4e15)) {
+        return -1;
+    }
+    if (last < first) {
+        return 0;
+    }
+    double wanted[8];
+    int count = 0;
+    for (int direction = 0; direction < 4; direction++) {
+        double m = first + mod4(direction - first);
+        if (m <= last) {
+            double far = m + floor((last - m) / 4.0) * 4.0;
+            for (int twice = 0; twice < 2; twice++) {
+                double value = twice ? far : m;
+                int seen = 0;
+                for (int i = 0; i < count; i++) {
+                    seen |= wanted[i] == value;
+                }
+                if (!seen) {
+                    wanted[count++] = value;
+                }
+            }
+        }
+    }
+    qsort(wanted, count, sizeof(double), compare_doubles);
+    for (int i = 0; i < count; i++) {
+        double theta = solve_increasing(wanted[i] * quarter, low, high, theta0, r0, k);
+        /* Arc.point((theta - theta0) / sweep) */
+        double t = (theta - theta0) / sweep;
+        double angle = theta0 + sweep * t;
+        double radius = r0 + (r1 - r0) * t;
+        double at_f = c1 + radius * cos(angle), at_s = c2 + radius * sin(angle);
+        if (at_f < box[2 * f]) {
+            box[2 * f] = at_f;
+        }
+        if (at_f > box[2 * f + 1]) {
+            box[2 * f + 1] = at_f;
+        }
+        if (at_s < box[2 * s]) {
+            box[2 * s] = at_s;
+        }
+        if (at_s > box[2 * s + 1]) {
+            box[2 * s + 1] = at_s;
+        }
+    }
+    return 0;
 }
 
 /* A point's X Y Z (``at``) into the box [low x, high x, low y, ...]. */
@@ -156,13 +286,14 @@ static int write_extents(PyObject *box_list, PyObject *rest_low, PyObject *rest_
  * Every end goes into the extents: ``box`` (Extents._xyz, [low x, high x,
  * low y, ...]; ``f``, ``s``, ``n`` are the plane's axis indexes in it) and
  * ``rest_low``/``rest_high`` are updated in place. Returns (length,
- * feed_length, time, untimed, outside, straights): the arcs' and the
- * straight feeds' length totals and the time total with each move added in
- * order, the count of moves of no usable rate, the (index, sweep, r0, r1,
- * theta0) of each arc whose square of its larger radius about its centre is
- * not inside the box as it stood (the caller adds their extreme points), and
- * the count of straight feeds. None, having changed nothing, when a
- * straight feed's length overflows (the Python side measures it). */
+ * feed_length, time, untimed, straights): the arcs' and the straight
+ * feeds' length totals and the time total with each move added in order,
+ * the count of moves of no usable rate and the count of straight feeds. An
+ * arc whose square of its larger radius about its centre is not inside the
+ * box as it stands adds its extreme points to it, as StatsCanon.arc does.
+ * None, having changed nothing, when a straight feed's length overflows or
+ * an arc turns too many times to count its quarter turns (the Python side
+ * does those). */
 static PyObject *arc_sums(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
     if (nargs != 22) {
         PyErr_SetString(PyExc_TypeError, "arc_sums takes 22 arguments");
@@ -215,28 +346,21 @@ static PyObject *arc_sums(PyObject *self, PyObject *const *args, Py_ssize_t narg
             return NULL;
         }
     }
-    PyObject *outside = PyList_New(0);
-    if (outside == NULL) {
-        return NULL;
-    }
     Py_ssize_t untimed = 0, straights = 0;
     for (Py_ssize_t k = 0; k < count; k++) {
         double e1, e2, c1, c2, en;
         if (item_double(columns[0], k, &e1) || item_double(columns[1], k, &e2) ||
             item_double(columns[2], k, &c1) || item_double(columns[3], k, &c2) ||
             item_double(columns[5], k, &en)) {
-            Py_DECREF(outside);
             return NULL;
         }
         long rotation = PyLong_AsLong(PyList_GET_ITEM(columns[4], k));
         if (rotation == -1 && PyErr_Occurred()) {
-            Py_DECREF(outside);
             return NULL;
         }
         double now[3]; /* A B C at the end */
         for (int i = 0; i < 3; i++) {
             if (item_double(PyList_GET_ITEM(rest, i), k, &now[i])) {
-                Py_DECREF(outside);
                 return NULL;
             }
         }
@@ -252,7 +376,6 @@ static PyObject *arc_sums(PyObject *self, PyObject *const *args, Py_ssize_t narg
             d[n] = en - sn;
             double length = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
             if (isinf(length)) {
-                Py_DECREF(outside);
                 Py_RETURN_NONE; /* nothing stored yet */
             }
             into_box(box, at);
@@ -298,13 +421,9 @@ static PyObject *arc_sums(PyObject *self, PyObject *const *args, Py_ssize_t narg
         double radius = r0 > r1 ? r0 : r1;
         if (!(box[2 * f] <= c1 - radius && c1 + radius <= box[2 * f + 1] &&
               box[2 * s] <= c2 - radius && c2 + radius <= box[2 * s + 1])) {
-            PyObject *entry = Py_BuildValue("(ndddd)", k, sweep, r0, r1, theta0);
-            if (entry == NULL || PyList_Append(outside, entry) < 0) {
-                Py_XDECREF(entry);
-                Py_DECREF(outside);
-                return NULL;
+            if (extremes_into_box(box, f, s, c1, c2, sweep, r0, r1, theta0)) {
+                Py_RETURN_NONE; /* nothing stored yet */
             }
-            Py_DECREF(entry);
         }
         /* helix_length, then StatsCanon._time */
         double length = hypot(fabs(sweep) * (r0 + r1) / 2.0, en - sn);
@@ -324,11 +443,9 @@ static PyObject *arc_sums(PyObject *self, PyObject *const *args, Py_ssize_t narg
         }
     }
     if (write_extents(box_list, rest_low, rest_high, box, low, high)) {
-        Py_DECREF(outside);
         return NULL;
     }
-    return Py_BuildValue("(dddnNn)", length_sum, feed_sum, time_sum, untimed, outside,
-                         straights);
+    return Py_BuildValue("(dddnn)", length_sum, feed_sum, time_sum, untimed, straights);
 }
 
 /* straight_sums(start, columns, rate, acceleration, box, rest_low,
@@ -469,7 +586,7 @@ static PyMethodDef methods[] = {
     {"straight_sums", (PyCFunction) (void (*)(void)) straight_sums, METH_FASTCALL,
      "Lengths, times and extents of a run of straight moves."},
     {"arc_sums", (PyCFunction) (void (*)(void)) arc_sums, METH_FASTCALL,
-     "A batch of arcs' lengths and times added in order, and those outside a box"},
+     "A batch of arcs' lengths and times added in order, their extremes in the box"},
     {NULL, NULL, 0, NULL},
 };
 

@@ -117,17 +117,16 @@ def python_arc_sums(
     straight feed (Canon.contour_moves). Every end goes into the extents
     (``box`` is Extents._xyz, ``f s n`` the plane's axes in it; ``rest_low``,
     ``rest_high``: changed in place). Returns ``(length, feed_length, time,
-    untimed, outside, straights)``: the arcs' and the straight feeds' length
-    totals and the time total with each move's length (:func:`helix_length`,
+    untimed, straights)``: the arcs' and the straight feeds' length totals
+    and the time total with each move's length (:func:`helix_length`,
     :func:`distance`) and time (:meth:`StatsCanon._time`) added in order, the
-    count of moves of no usable rate, the ``(index, sweep, r0, r1, theta0)``
-    of each arc whose square of its larger radius about its centre is not
-    inside the box, and the count of straight feeds.
-    runtime._arc_stats.arc_sums does the same in C."""
+    count of moves of no usable rate and the count of straight feeds. An arc
+    whose square of its larger radius about its centre is not inside the box
+    as it stands adds its extreme points to it, as :meth:`StatsCanon.arc`
+    does. runtime._arc_stats.arc_sums does the same in C."""
     rest_low[:] = [min(low, *column) for low, column in zip(rest_low, rest)]
     rest_high[:] = [max(high, *column) for high, column in zip(rest_high, rest)]
     untimed = straights = 0
-    outside = []
     start, end = [0.0, 0.0], [0.0, 0.0]
     plane = (0, 1, 2)
     at = [0.0, 0.0, 0.0]
@@ -160,7 +159,14 @@ def python_arc_sums(
                 and box[2 * s] <= c2 - radius
                 and c2 + radius <= box[2 * s + 1]
             ):
-                outside.append((k, sweep, r0, r1, theta0))
+                # the plane's two coordinates of its extreme points (the
+                # others lie between its ends')
+                arc = Arc((s1, s2), (e1, e2), plane, (c1, c2), sweep, r0, r1, theta0)
+                for first, second in arc.extreme_points()[2:]:
+                    box[2 * f] = min(box[2 * f], first)
+                    box[2 * f + 1] = max(box[2 * f + 1], first)
+                    box[2 * s] = min(box[2 * s], second)
+                    box[2 * s + 1] = max(box[2 * s + 1], second)
             step = helix_length(sweep, r0, r1, en - sn)
             length += step
         if step != 0.0:
@@ -169,7 +175,7 @@ def python_arc_sums(
             else:
                 time += move_time(step, rate, acceleration)
         s1, s2, sn, turned = e1, e2, en, now
-    return length, feed_length, time, untimed, outside, straights
+    return length, feed_length, time, untimed, straights
 
 
 def python_straight_sums(
@@ -374,7 +380,8 @@ class StatsCanon(ToolpathCanon):
         starts = [[[self.position[i]] + column[:-1] for i, column in enumerate(last)]]
         starts += ends[:-1]
         lengths = [
-            distances(*begin[:3], *finish[:3]) or python_distances(*begin[:3], *finish[:3])
+            distances(*begin[:3], *finish[:3])
+            or python_distances(*begin[:3], *finish[:3])
             for begin, finish in zip(starts, ends)
         ]
         timed = lengths[:]
@@ -471,7 +478,7 @@ class StatsCanon(ToolpathCanon):
         sums = arc_sums(*arguments)
         if sums is None:  # a straight feed's length overflowed in C
             sums = python_arc_sums(*arguments)
-        arc_length, feed_length, self.motion_time, untimed, outside, straights = sums
+        arc_length, feed_length, self.motion_time, untimed, straights = sums
         self.lengths["arc"], self.lengths["feed"] = arc_length, feed_length
         self.counts["arc"] += count - straights
         self.counts["feed"] += straights
@@ -481,17 +488,6 @@ class StatsCanon(ToolpathCanon):
         end[3:] = [column[-1] for column in other]
         self.position = tuple(end)
         extents._rest = self.position[3:]  # (Extents.add's last look)
-        if outside:
-            columns = [None] * 9
-            columns[f], columns[s], columns[n] = first_end, second_end, axis_end
-            columns[3:] = other
-            ends = list(zip(*columns))
-            for k, *geometry in outside:
-                begin = ends[k - 1] if k else start
-                centre = (first_axis[k], second_axis[k])
-                arc = Arc(begin, ends[k], axes, centre, *geometry)
-                for extreme in arc.extreme_points():
-                    extents.add(extreme)
 
     def arc(self, arc: Arc) -> None:
         extents = self.extents

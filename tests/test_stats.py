@@ -499,13 +499,18 @@ def test_the_c_arc_sums_give_the_python_ones_bit_for_bit(
     data, axes, rate, acceleration
 ):
     """runtime._arc_stats.arc_sums against runtime.stats.python_arc_sums:
-    the same totals, counts, arcs outside the box and extents, to the bit;
-    straight feeds of rotary axes alone and of coordinates whose squares
-    overflow (C hands those back: None, nothing changed) included."""
+    the same totals, counts and extents (the extreme points of the arcs
+    outside the box included; the centres drawn make spirals), to the bit;
+    straight feeds of rotary axes alone, of coordinates whose squares
+    overflow and arcs of too many quarter turns to count in a double (C
+    hands those back: None, nothing changed) included."""
     columns, rotation, axis_end, rest = _arc_batch(data.draw)
-    if data.draw(st.integers(0, 9)) == 0:  # now and then, one beyond 1e150
+    beyond = data.draw(st.integers(0, 9))
+    if beyond == 0:  # now and then, one beyond 1e150
         rotation[-1] = 0
         columns[0][-1] = data.draw(st.sampled_from([1e200, -1e200]))
+    elif beyond == 1:  # or an arc of 1e17 turns
+        rotation[-1] = data.draw(st.sampled_from([10**17, -(10**17)]))
     f, s, n = axes
     box = [
         (
@@ -542,7 +547,7 @@ def test_the_c_arc_sums_give_the_python_ones_bit_for_bit(
         result = function(*arguments)
         if result is None:  # overflowed: nothing may have changed
             assert lists == [list(box), list(low), list(high)]
-            assert 0 in rotation
+            assert 0 in rotation or max(map(abs, rotation)) > 10**15
             result = stats.python_arc_sums(*arguments)
         answers.append(repr((result, lists)))  # repr: -0.0 and nan compared too
     assert answers[0] == answers[1]
