@@ -361,36 +361,71 @@ class StatsCanon(ToolpathCanon):
         ia, ib = axes
         count = len(lines)
         before_first, before_second = [start[0]] + first[:-1], [start[1]] + second[:-1]
-        ends, kinds, dwells = [], [], []
-        for name, args, where in recording:
-            if name == "dwell":
-                dwells.append(args[0])
-            if where is None:
-                continue
-            columns = [[value] * count for value in args]
-            if where == "hole":
-                columns[ia], columns[ib] = first, second
-            else:
-                columns[ia], columns[ib] = before_first, before_second
-            ends.append(columns)
-            kinds.append("rapid" if name == "straight_traverse" else "feed")
-        # each move starts where the one before ended (the first of a hole
-        # where the hole before ended, the very first at the position)
-        last = ends[-1]
-        starts = [[[self.position[i]] + column[:-1] for i, column in enumerate(last)]]
-        starts += ends[:-1]
-        lengths = [
-            distances(*begin[:3], *finish[:3])
-            or python_distances(*begin[:3], *finish[:3])
-            for begin, finish in zip(starts, ends)
+        places = {"hole": (first, second), "start": (before_first, before_second)}
+        moves = [(name, args, where) for name, args, where in recording if where]
+        dwells = [args[0] for name, args, _ in recording if name == "dwell"]
+        kinds = [
+            "rapid" if name == "straight_traverse" else "feed" for name, _, _ in moves
         ]
+
+        def xyz(args, where: str, hole: int) -> list:
+            """X Y Z of a move's end at hole number ``hole``."""
+            point = list(args[:3])
+            point[ia], point[ib] = places[where][0][hole], places[where][1][hole]
+            return point
+
+        def columns(args, where: str) -> list:
+            """X Y Z of a move's end at every hole, as columns."""
+            out = [[value] * count for value in args[:3]]
+            out[ia], out[ib] = places[where]
+            return out
+
+        def one(begin: list, end: list) -> float:
+            """:func:`distances` of one move (the same arithmetic)."""
+            points = [[value] for value in begin + end]
+            return (distances(*points) or python_distances(*points))[0]
+
+        # Each move starts where the one before ended (the first of a hole
+        # where the hole before ended, the very first at the position). A
+        # move that starts and ends at the same place in the plane (down and
+        # up at the hole) is as long at every hole: measured once, at the
+        # first hole it is so for (``alike``: from which hole on).
+        lengths: List[list] = []
+        alike: List[Optional[int]] = []
+        for j, (_, args, where) in enumerate(moves):
+            _, was, place = moves[j - 1]
+            if j and place == where:
+                lengths.append([one(xyz(was, where, 0), xyz(args, where, 0))] * count)
+                alike.append(0)
+            elif not j and place == "hole" and where == "start" and count > 1:
+                # from the hole before to the point above it: alike but the first
+                begin = [self.position[i] for i in range(3)]
+                length = one(xyz(was, where, 1), xyz(args, where, 1))
+                lengths.append(
+                    [one(begin, xyz(args, where, 0))] + [length] * (count - 1)
+                )
+                alike.append(1)
+            else:
+                finish = columns(args, where)
+                if j:
+                    begin = columns(was, place)
+                else:
+                    last = columns(was, place)
+                    begin = [[self.position[i]] + last[i][:-1] for i in range(3)]
+                lengths.append(
+                    distances(*begin, *finish) or python_distances(*begin, *finish)
+                )
+                alike.append(None)
         timed = lengths[:]
-        for j, begin in enumerate(starts):
+        for j, (_, args, _) in enumerate(moves):
             if 0.0 in lengths[j]:  # rotary axes alone: degrees at the same rate
                 # (the same for every hole but the very first move's)
                 turned = [
-                    max(abs(ends[j][i][k] - begin[i][k]) for i in (3, 4, 5))
-                    for k in (0, -1)
+                    max(abs(args[i] - before[i]) for i in (3, 4, 5))
+                    for before in (
+                        self.position if not j else moves[j - 1][1],
+                        moves[j - 1][1],
+                    )
                 ]
                 timed[j] = [length or turned[1] for length in lengths[j]]
                 timed[j][0] = lengths[j][0] or turned[0]
@@ -410,29 +445,37 @@ class StatsCanon(ToolpathCanon):
                 max(before_second),
             ),
         }
-        for _, args, where in recording:
-            if where is not None:
-                low, high = list(args), list(args)
-                low[ia], low[ib], high[ia], high[ib] = boxes[where]
-                self.extents.add(low)
-                self.extents.add(high)
+        lows, highs = [], []
+        for _, args, where in moves:
+            low, high = list(args), list(args)
+            low[ia], low[ib], high[ia], high[ib] = boxes[where]
+            lows.append(low)
+            highs.append(high)
+        # the corners of them all, axis by axis (min and max keep the first
+        # of equals, as adding them one by one would)
+        self.extents.add([min(values) for values in zip(*lows)])
+        self.extents.add([max(values) for values in zip(*highs)])
         acceleration = self.model.acceleration
         rates = {"rapid": self.model.rapid_rate, "feed": self._feed_per_minute()}
         times = []
-        for kind, column in zip(kinds, timed):
+        for kind, column, same in zip(kinds, timed, alike):
             rate = rates[kind]
             if rate <= 0.0:
                 self.untimed_moves += count - column.count(0.0)
                 times.append(repeat(0.0, count))
-            else:
+            elif same is None or 0.0 in column:
                 times.append(move_times(column, rate, acceleration))
+            else:  # the time of the length that repeats, worked out once
+                head = move_times(column[: same + 1], rate, acceleration)
+                times.append(head + head[-1:] * (count - same - 1))
         self.motion_time = reduce(
             add, chain.from_iterable(zip(*times)), self.motion_time
         )
         if dwells:
             self.dwells += count * len(dwells)
             self.dwell_time = reduce(add, dwells * count, self.dwell_time)
-        self.position = tuple(column[-1] for column in ends[-1])
+        _, args, where = moves[-1]
+        self.position = tuple(xyz(args, where, count - 1)) + tuple(args[3:])
 
     def arc_moves(self, lines, *columns):
         """A batch of arcs (runtime.canon.Canon.arc_moves): as a contour of

@@ -28,6 +28,7 @@ import cam_strategies
 import rs274 as harness
 import strategies
 from test_differential import PROFILE
+from test_cycles import cycle_tables
 from trace_path import TracePath, trace_of_gcode_calls
 
 from ngc2py import cli
@@ -432,6 +433,15 @@ def test_straight_moves_in_columns_give_the_per_move_report(text):
 
 
 @settings(max_examples=60, deadline=None)
+@given(cycle_tables())
+def test_holes_in_batches_give_the_per_move_report(text):
+    """Rows of holes reach StatsCanon in batches (StatsCanon.hole_moves: a
+    length that repeats from hole to hole measured once, the holes' corners
+    added at once): the same report as one call a move, bit for bit."""
+    assert _report_of(StatsCanon, text) == _report_of(_OneCallAMove, text)
+
+
+@settings(max_examples=60, deadline=None)
 @given(cam_strategies.arc_programs())
 @example(  # a helix whose extreme point's Z rounded past its end (-1.688)
     "G17 F300\nG0 G90 G94 G8 G90.1 F300 X0.000 Y0.000\n"
@@ -563,9 +573,7 @@ def test_the_c_arc_sums_give_the_python_ones_bit_for_bit(
     st.sampled_from([300.0, 0.0, -5.0]),
     st.sampled_from([500.0, 0.0, math.inf, 1e-3]),
 )
-def test_the_c_straight_sums_give_the_python_ones_bit_for_bit(
-    data, rate, acceleration
-):
+def test_the_c_straight_sums_give_the_python_ones_bit_for_bit(data, rate, acceleration):
     """runtime._arc_stats.straight_sums against
     runtime.stats.python_straight_sums: the same totals, count and extents,
     to the bit; moves of rotary axes alone and standing still included, and
