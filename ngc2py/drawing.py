@@ -130,7 +130,7 @@ def rasterise(flat: np.ndarray, limits, size, width: int) -> np.ndarray:
     if meet.any():
         px, py = np.delete(px, gaps[meet]), np.delete(py, gaps[meet])
     mask = Image.new("1", (columns, rows), 0)
-    pen = ImageDraw.Draw(mask)
+    line, point = _pens(ImageDraw.Draw(mask))
     breaks = np.flatnonzero(np.isnan(px))
     # Pillow has no NaN breaks: one line call per run of the polyline.
     ends = np.append(breaks, len(px))
@@ -138,9 +138,9 @@ def rasterise(flat: np.ndarray, limits, size, width: int) -> np.ndarray:
     points = np.column_stack((px, py))
     for a, b in zip(starts.tolist(), ends.tolist()):
         if b - a >= 2:
-            pen.line(points[a:b].ravel().tolist(), fill=1, width=1)
+            line(points[a:b].ravel().tolist())
         elif b - a == 1:
-            pen.point(points[a].tolist(), fill=1)
+            point(points[a].tolist())
     thin = np.asarray(mask, dtype=bool)
     wide = thin.copy()
     # Wider lines by shifting the one-pixel mask (Pillow's own wide lines
@@ -157,6 +157,23 @@ def rasterise(flat: np.ndarray, limits, size, width: int) -> np.ndarray:
             shifted_y[step:, :] = False
         wide |= shifted_x | shifted_y
     return wide
+
+
+def _pens(pen):
+    """(line, point): a one-pixel line through a flat list of coordinates,
+    and a pixel, in ink 1. Pillow's drawing core where it is as Pillow's
+    own ImageDraw.line and point use it (``draw_lines`` with the ink of 1,
+    once): tens of thousands of runs pay for ImageDraw's ink lookup each
+    time otherwise; ImageDraw's methods where it is not."""
+    core = getattr(pen, "draw", None)
+    if all(hasattr(core, name) for name in ("draw_ink", "draw_lines", "draw_points")):
+        ink = core.draw_ink(1)
+        return (lambda xy: core.draw_lines(xy, ink, 1)), (
+            lambda xy: core.draw_points(xy, ink)
+        )
+    return (lambda xy: pen.line(xy, fill=1, width=1)), (
+        lambda xy: pen.point(xy, fill=1)
+    )
 
 
 def show_raster(axes, flat: np.ndarray, colour: str, width: float, zorder: int) -> None:

@@ -242,6 +242,32 @@ def test_a_dense_path_is_rasterised_where_its_lines_would_be_drawn(
         assert (core & _grown(raster, 1)).sum() >= 0.99 * core.sum()
 
 
+def test_the_rasters_pens_draw_what_imagedraws_own_methods_draw(monkeypatch):
+    """rasterise draws with Pillow's drawing core where it can
+    (drawing._pens): the very pixels of ImageDraw.line and point, runs of
+    one point and NaN breaks included, in every width."""
+    from ngc2py import drawing
+
+    rng = np.random.default_rng(5)
+    flat = rng.uniform(-20.0, 20.0, size=(400, 2))
+    flat[rng.choice(400, 60, replace=False)] = np.nan  # breaks, lone points
+    limits, size = ((-21.0, 21.0), (-21.0, 21.0)), (160, 120)
+    masks = [drawing.rasterise(flat, limits, size, width) for width in (1, 3)]
+    pens = drawing._pens
+    used = []
+
+    class WithoutCore:  # an ImageDraw whose drawing core is not to be seen
+        def __init__(self, pen):
+            self.line, self.point = pen.line, pen.point
+            used.append(pens(pen)[0].__code__ is not pens(self)[0].__code__)
+
+    monkeypatch.setattr(drawing, "_pens", lambda pen: pens(WithoutCore(pen)))
+    for mask, width in zip(masks, (1, 3)):
+        assert mask.sum() > 1000
+        assert (drawing.rasterise(flat, limits, size, width) == mask).all()
+    assert used and all(used)  # the second time, ImageDraw's methods drew
+
+
 @pytest.mark.parametrize("view", ["xy", "iso"])
 def test_the_box_found_before_the_rasters_is_savefigs_tight_box(
     tmp_path, monkeypatch, view
