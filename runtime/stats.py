@@ -380,11 +380,6 @@ class StatsCanon(ToolpathCanon):
             out[ia], out[ib] = places[where]
             return out
 
-        def one(begin: list, end: list) -> float:
-            """:func:`distances` of one move (the same arithmetic)."""
-            points = [[value] for value in begin + end]
-            return (distances(*points) or python_distances(*points))[0]
-
         # Each move starts where the one before ended (the first of a hole
         # where the hole before ended, the very first at the position). A
         # move that starts and ends at the same place in the plane (down and
@@ -395,14 +390,16 @@ class StatsCanon(ToolpathCanon):
         for j, (_, args, where) in enumerate(moves):
             _, was, place = moves[j - 1]
             if j and place == where:
-                lengths.append([one(xyz(was, where, 0), xyz(args, where, 0))] * count)
+                lengths.append(
+                    [distance(xyz(was, where, 0), xyz(args, where, 0))] * count
+                )
                 alike.append(0)
             elif not j and place == "hole" and where == "start" and count > 1:
                 # from the hole before to the point above it: alike but the first
                 begin = [self.position[i] for i in range(3)]
-                length = one(xyz(was, where, 1), xyz(args, where, 1))
+                length = distance(xyz(was, where, 1), xyz(args, where, 1))
                 lengths.append(
-                    [one(begin, xyz(args, where, 0))] + [length] * (count - 1)
+                    [distance(begin, xyz(args, where, 0))] + [length] * (count - 1)
                 )
                 alike.append(1)
             else:
