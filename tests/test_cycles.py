@@ -342,6 +342,30 @@ def test_holes_are_replayed(monkeypatch):
     assert recorded == [True]
 
 
+def test_one_trace_template_serves_holes_drilled_alike_at_other_levels(
+    monkeypatch,
+):
+    """The trace's template of a hole leaves its moves' levels to be written
+    in (hole_rows._template's first stage): series of pecks at other depths,
+    R planes and start levels share one template, and each gets its own
+    levels, the reference path's text."""
+    made = []
+    template = hole_rows._template
+    monkeypatch.setattr(
+        hole_rows, "_template", lambda *args: made.append(1) or template(*args)
+    )
+    rows = "\n".join("X%d Y%d" % (k, k % 3) for k in range(2, 12))
+    series = [
+        "G99 G83 X1 Y1 Z-2.5 R2 Q1\n" + rows + "\nG80",
+        "G0 Z7\nG99 G83 X1 Y1 Z-2.7 R2.2 Q1\n" + rows + "\nG80",
+        "G0 Z6\nG99 G83 X1 Y1 Z-2.9 R1.4 Q1\n" + rows + "\nG80",
+    ]
+    text = "G21 G17 F100 M3 S1000\nG0 Z5\n" + "\n".join(series) + "\nM2\n"
+    traced = _cycle_trace(cam_sized(text))
+    assert len(made) == 1
+    assert traced == _without_replay(_cycle_trace, cam_sized(text))
+
+
 class _CountingMachine(Machine):
     """Keeps something of its own for each row it drills (a count) and does
     not declare it in ``replayed_fields``: no hole may be replayed past it."""

@@ -127,30 +127,46 @@ for _name in CALLS:
 del _name
 
 
+#: Stand-ins for the hole axis' level of a hole's moves in its template
+#: (eleven digits, as the others: no stand-in's text is part of another's):
+#: the k-th move's is _LEVEL + 1000 k.
+_LEVEL = 10000000000.0
+
+
 def _template(scratch, recorded: List[tuple], column: str):
-    """The trace text of one hole made of the recorded calls, as a template:
-    ``%5d`` for each line's number and, in a move's line, ``%s`` for its X
-    and Y; with what each line's X and Y stand for (_AT_HOLE, _AT_START or
-    None for a line that is not a move), and the N column after the hole.
-    The calls are made on ``scratch``, a trace, with stand-in values that
-    are then replaced. Moves in the XY plane only."""
+    """The trace text of one hole made of the recorded calls, as a template
+    in two stages: the first has ``%s`` for each move's Z, in order; what
+    it makes has ``%5d`` for each line's number and, in a move's line,
+    ``%s`` for its X and Y. So one template serves every series of holes
+    drilled alike whatever their levels. Returns it with what each line's
+    X and Y stand for (_AT_HOLE, _AT_START or None for a line that is not a
+    move) and the N column after the hole; None where a stand-in's text is
+    not found once. The calls are made on ``scratch``, a trace, with
+    stand-in values that are then replaced. Moves in the XY plane only."""
     scratch._pending.clear()
     scratch._count, scratch._column = 0, column
     lines = scratch._pending
     parts: List[str] = []
     slots: List[object] = []
+    level = _LEVEL
     for name, args, move in recorded:
         done = len(lines)
         if move is not None:
-            args = _STAND_INS[move] + args[2:]
+            args = _STAND_INS[move] + (level,) + args[3:]
         getattr(scratch, name)(*args)
         for line in lines[done:]:
-            body = line[6:].replace("%", "%%")
+            body = line[6:].replace("%", "%%%%")
             if move is not None:
                 x_text, y_text = _STAND_IN_TEXTS[move]
-                body = body.replace(x_text, "%s", 1).replace(y_text, "%s", 1)
-            parts.append("%5d " + body)
+                found = x_text, y_text, "%.4f" % level
+                if any(body.count(text) != 1 for text in found):
+                    return None
+                body = body.replace(x_text, "%%s").replace(y_text, "%%s")
+                body = body.replace(found[2], "%s")
+            parts.append("%%5d " + body)
             slots.append(move)
+        if move is not None:
+            level += 1000.0
     return "".join(parts), slots, scratch._column
 
 
@@ -268,6 +284,7 @@ class HoleRows:
         cur = machine.current
         xs, ys = ["%.4f" % cur[0]], ["%.4f" % cur[1]]
         last = [None, None]  # the last X and Y cells written
+        begin = at
         runs, at = self._runs(cells, at, end, "XY")
         for start, stop, first, second, stride in runs:
             # a run of rows of one shape, a column at a time
@@ -285,20 +302,26 @@ class HoleRows:
         rows = len(xs) - 1
         if not rows:
             return at
-        # one template for every run of holes drilled alike
+        # one template for every series of holes drilled alike, whatever
+        # their levels (the moves' Z, written in at the first stage)
         key = (canon._column,) + tuple(
-            (name, args[2:] if move else args, move)
+            (name, args[3:] if move else args, move)
             for name, args, move in self.recorded
         )
-        made = self.templates.get(key)
-        if made is None:
+        made = self.templates.get(key, False)
+        if made is False:
             if self.scratch is None:
                 import io
 
                 self.scratch = TraceCanon(io.StringIO())
-            made = _template(self.scratch, self.recorded, canon._column)
-            self.templates[key] = made
+            made = self.templates[key] = _template(
+                self.scratch, self.recorded, canon._column
+            )
+        levels = tuple("%.4f" % args[2] for _, args, move in self.recorded if move)
+        if made is None or "n" in "".join(levels):  # (nan, inf: C's own words)
+            return begin  # no template: the holes go by the reference path
         template, slots, column = made
+        template %= levels
         base, lines = canon._count, len(slots)
         columns: List = []
         at_hole = xs[1:], ys[1:]
