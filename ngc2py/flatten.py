@@ -604,9 +604,9 @@ class FlattenCanon(Canon):
         comment goes (_write_block)."""
         marks = _STAND_IN_TEXTS
         comment = where % _STAND_IN_LINE
+        values = {value for _, args, _ in recording for value in args}
         written = [prefix, where]
-        for _, args, _ in recording:
-            written += [repr(value) for value in args if type(value) is float]
+        written += [repr(value) for value in values if type(value) is float]
         if _STAND_IN_SPLIT.search(" ".join(written)):
             return False
         ia, ib = axes
