@@ -37,7 +37,7 @@ from operator import add
 
 TYPE_CHECKING = False  # typing and dataclasses cost milliseconds at every start
 if TYPE_CHECKING:
-    from typing import Dict, Optional
+    from typing import Dict, List, Optional
 
 from runtime.fast.hole_rows import HOLE_MOVES, HOLE_SWITCHES
 from runtime.toolpath import (
