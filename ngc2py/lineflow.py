@@ -14,10 +14,12 @@ form can only approximate. Such a file is written instead as one function,
 per line, with the line's code (or, for an O-word line, what its reading
 evaluates), and a table ``LINES`` of what each line's O-word is.
 
-Files holding Fanuc-style subroutines (``O100``, ``M98``, ``M99``) or
-computed labels keep the nested form: their frames and searches are the
-runtime's (runtime/fanuc_subs.py), which the line-by-line form does not
-follow.
+Files with an ``M99``, an ``M98 .. L``, both ``M98`` and a Fanuc-style
+subroutine (``O100``), or computed labels keep the nested form: their
+frames and searches are the runtime's (runtime/fanuc_subs.py), which the
+line-by-line form does not follow. An ``M98`` calling another file's
+subroutine is followed (rs274 reads its words even skipping over the
+line), and so is an ``O100`` line no ``M98`` can run (it does nothing).
 """
 
 from __future__ import annotations
@@ -30,8 +32,6 @@ from ngc2py.codegen import INDENT, ModuleWriter, identifier, string
 from ngc2py.rowrun import RowRun
 
 _OPENERS = ("if", "do", "while", "repeat")
-#: O-words the line-by-line form does not follow (runtime.fanuc_subs does).
-_FANUC = ("fanuc_sub", "m98", "m99")
 
 
 def _file_lines(lines: list, demarcated: bool) -> Optional[list]:
@@ -54,9 +54,14 @@ def _file_lines(lines: list, demarcated: bool) -> Optional[list]:
             return None  # "M#1 P100": an M98 when #1 is 98
         word = line.oword
         if word is not None:
-            if word.keyword in _FANUC or not isinstance(word.name, str):
+            if word.keyword == "m99" or not isinstance(word.name, str):
                 return None
+            if word.keyword == "m98" and word.expr is not None:
+                return None  # M98 .. L: an L0 frame names labels its own way
         out.append(line)
+    keywords = {line.oword.keyword for line in out if line.oword is not None}
+    if "fanuc_sub" in keywords and "m98" in keywords:
+        return None  # an M98 may run this file's Fanuc subroutine
     return out
 
 
@@ -95,8 +100,14 @@ def nests(lines: list) -> bool:
         elif keyword == "return":
             if sub != name:
                 return False
-        elif keyword == "call":
-            continue
+        elif keyword in ("call", "fanuc_sub"):
+            continue  # (a Fanuc O-line no M98 calls does nothing)
+        elif keyword == "m98":
+            # rs274 reads an M98 line in full even skipping over it: a value
+            # that can fail fails wherever the line is, which only the line
+            # by line form follows
+            if any(codegen.may_fail(item.value) for item in line.items):
+                return False
         elif keyword in _OPENERS:
             if keyword == "while" and top is not None and top[:2] == ["do", key]:
                 stack.pop()  # the end of a do-loop
@@ -149,6 +160,8 @@ def flat_program(
             body.append(st.Block(line))
         elif word.keyword == "call":
             body.append(st.Call(line, word.name, word.args))
+        elif word.keyword == "m98":
+            body.append(st.FanucCall(line))
         else:
             body.append(st.Block(line))
         if (
@@ -300,7 +313,7 @@ class FlowGen(codegen.CodeGen):
                 return None
             return '"/"' if line.block_delete else '""'
         flags = ""
-        if word.keyword in ("if", "elseif", "while", "repeat", "call", "sub"):
+        if word.keyword in ("if", "elseif", "while", "repeat", "call", "sub", "m98"):
             flags += "v"
         elif word.keyword in ("return", "endsub") and (
             word.expr is not None or line.error not in (None, st.AFTER_OWORD)
@@ -337,11 +350,43 @@ class FlowGen(codegen.CodeGen):
             return lambda: self.w.stmt("f.define(%s)" % sub.fn, line)
         if keyword == "call":
             return lambda: self.s_call(stmt)
+        if keyword == "m98":
+            return lambda: self.m98(stmt)
         if keyword in ("if", "elseif", "while", "repeat"):
             return lambda: self.w.stmt("f.o(%s)" % self.x.expr(word.expr), line)
         if keyword in ("return", "endsub") and word.expr is not None:
             return lambda: self.value_both(line, word.expr)
         return None
+
+    def m98(self, stmt: st.FanucCall) -> None:
+        """An M98 line: rs274 reads its words also when it skips over the
+        line (their values evaluated, a named parameter not set reading 0
+        in a definition), and calls only when it runs it."""
+        line = stmt.line
+        self.w.stmt("if f.runs():", line)
+        self.w.depth += 1
+        self.s_fanuccall(stmt)
+        self.w.depth -= 1
+        values = [item.value for item in line.items if not codegen.is_constant(item.value)]
+        if not values:
+            return
+        plain = [self.x.expr(value) for value in values]
+        self.x.defining = True
+        try:
+            defining = [self.x.expr(value) for value in values]
+        finally:
+            self.x.defining = False
+        if defining != plain:
+            self.w.stmt("elif f.defining:", line)
+            self.w.depth += 1
+            for code in defining:
+                self.w.stmt(code, line)
+            self.w.depth -= 1
+        self.w.stmt("else:  # rs274 reads the line while skipping it", line)
+        self.w.depth += 1
+        for code in plain:
+            self.w.stmt(code, line)
+        self.w.depth -= 1
 
     def value_both(self, line, expr) -> None:
         """A return or endsub value: read past a definition, a named

@@ -49,9 +49,10 @@ from runtime.blockcheck import round_to_int
 NESTED_SUB = "Nested subroutine definition"
 AFTER_OWORD = "Unexpected character after O-word"
 FINISHED_SKIPPING = "Failed to find sub 'O%s' before EOF"
+FANUC_NEEDS_M98 = "Fanuc 'O....' subroutine must be called with 'M98'"
 
 #: O-words whose label is a subroutine's name, not a local label.
-_GLOBAL = frozenset(("sub", "endsub", "return", "call"))
+_GLOBAL = frozenset(("sub", "endsub", "return", "call", "fanuc_sub", "m98"))
 #: The openers each closing line needs recorded under its label.
 _FITS = {
     "elseif": ("if",),
@@ -147,6 +148,13 @@ class Flow:
                 key = "%s#%s" % (self._scope(), label)
             skipping = self.skipping
             self.read_skipping = skipping is not None
+            if keyword == "fanuc_sub":
+                # "O100": only an M98 runs it (none in this file can)
+                if self.defining is not None:
+                    self._fail(at, NESTED_SUB)
+                if skipping is None and self.sub is not None:
+                    self._fail(at, FANUC_NEEDS_M98)
+                continue
             if keyword == "sub":
                 if self.defining is not None:
                     self._fail(at, NESTED_SUB)
@@ -165,6 +173,8 @@ class Flow:
                     return at
                 self.o(None)
                 continue
+            if keyword == "m98":
+                return at  # read in full wherever it is: runs() says if it calls
             if self.defining is not None:
                 continue  # rs274 reads no other O-word of a definition
             if keyword == "call":
@@ -210,6 +220,10 @@ class Flow:
         return self.m.source.text(0, at) if self.m.source is not None else ""
 
     # -- what the module hands back ----------------------------------------
+
+    def runs(self) -> bool:
+        """Does the M98 line just read call (rs274 is not skipping)?"""
+        return self.skipping is None
 
     def define(self, fn) -> None:
         """The sub line of a definition rs274 reads in the main program."""

@@ -929,8 +929,10 @@ class LanguageWriter:
         return self.pick([" ", "", "\t"]) + " ".join(parts)
 
     def emit(self, body: str, slash_ok: bool = True, oline: bool = False) -> None:
-        """One line: [/] [N..] body [comments]."""
-        slash = "/" if slash_ok and self.chance(6) else ""
+        """One line: [/] [N..] body [comments]. An O-word line (``slash_ok``
+        False) is block-deleted rarely: under -b rs274 reads it as a blank
+        line, so its construct no longer nests (ngc2py/lineflow.py)."""
+        slash = "/" if self.chance(6 if slash_ok else 40) else ""
         text = slash + self.number_prefix() + body + self.comment_suffix()
         self.lines.append("  " * self.depth + text)
 

@@ -105,25 +105,7 @@ def test_a_skip_lands_on_a_do_inside_a_nested_if():
     check_same("#<_k5> = 0\n" + NESTED_LANDING, [], "inprocess")
 
 
-# Shapes the language campaign found that ngc2py does not follow yet (issue
-# 14, seeds 15002-15003), as strict known gaps with minimal programs. Three
-# more were: a break of a finished do-loop landing on its while line, a
-# while line ending a do-loop an outer break leaves, and an else run into
-# whose skip lands after the construct holding it (see
-# structure._Builder._break_to_do_end, DoEnd.leaves and _arm_skips_out).
-# Three others (a do line only the run can tell never ran, skips landing
-# inside a construct whose opener they passed) went when files whose
-# O-words do not nest began to run line by line: tests/test_lineflow.py.
-KNOWN_GAPS = {
-    # rs274 reads (evaluates) an M98 line in full even where it skips it:
-    # following it takes an evaluation at every skip, in text order with
-    # the jumps (untaken arms, loop ends, break, continue, definitions)
-    "m98_values_read_while_skipping": "o101 if [0]\n  M98 P1 X[1/#2]\no101 endif\nG0 X3\nM2\n",
-}
-
-
-@pytest.mark.rs274
-@pytest.mark.xfail(strict=True, reason="known gap (issue 14): see KNOWN_GAPS")
-@pytest.mark.parametrize("name", sorted(KNOWN_GAPS))
-def test_known_gaps(name):
-    check_same(KNOWN_GAPS[name], [], "inprocess")
+# The strict known gaps of issue 14 (an M98 line read while skipping, a do
+# line only the run can tell never ran, skips landing inside a construct
+# whose opener they passed) went when files whose O-words do not nest began
+# to run line by line: their minimal programs are in tests/test_lineflow.py.

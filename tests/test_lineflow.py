@@ -80,6 +80,22 @@ IRREGULAR = {
         "o1 if [0]\n  G0 X1\n/o1 else\n  G0 X2\no1 endif\nG0 X3\nM2\n",
         [],
     ),
+    # rs274 reads an M98 line in full (its values evaluated) even where
+    # it skips over it: in an arm not taken, a definition
+    "m98_values_read_while_skipping": (
+        "o101 if [0]\n  M98 P1 X[1/#2]\no101 endif\nG0 X3\nM2\n",
+        [],
+    ),
+    "m98_value_read_in_a_definition": (
+        "o<s> sub\n  M98 P5 Q[#<_nope> + 1]\no<s> endsub\nM98 P5 Q[#<_nope>]\nM2\n",
+        [],
+    ),
+    # seed 16001 #1984: a Fanuc O-line no M98 runs does nothing, in a file
+    # whose O-words do not nest
+    "fanuc_line_in_irregular_file": (
+        "o77\no1 do\n  o1 break\no2 if [1]\n  o1 if [0]\n  o1 endif\no2 endif\nM2\n",
+        [],
+    ),
     # a definition read past evaluates its endsub's value (#<_value>)
     "definition_value_in_irregular_file": (
         "o<s> sub\n  o1 if [1]\n  o1 endif\no<s> endsub [7]\n"
