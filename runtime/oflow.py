@@ -65,6 +65,12 @@ _FITS = {
 }
 
 
+class _LineFailed(Exception):
+    """A line failed and rs274's -n 0 goes on with the next one
+    (runtime.continue_mode returned from Machine.fail): the rest of what
+    the line would have done is dropped."""
+
+
 class Flow:
     """One call frame running a file line by line (the main program, or a
     subroutine called by name, ``sub``). The state rs274 keeps globally
@@ -131,62 +137,73 @@ class Flow:
                     if self.skipping is not None or m.block_delete:
                         continue
                     return at
-                self._end(at, entry)
+                try:
+                    self._end(at, entry)
+                except _LineFailed:  # (-n 0: nothing follows the end)
+                    pass
+                return 0
             keyword, label, flags = entry
-            if flags:
-                if "x" in flags:
-                    return at
-                if "/" in flags and m.block_delete:
-                    continue  # rs274 reads a deleted line as a blank one
-                if "u" in flags:
-                    if "k" in flags and self.defining is not None:
-                        continue
-                    return at
-            if keyword in _GLOBAL:
-                key = label
-            else:
-                key = "%s#%s" % (self._scope(), label)
-            skipping = self.skipping
-            self.read_skipping = skipping is not None
-            if keyword == "fanuc_sub":
-                # "O100": only an M98 runs it (none in this file can)
-                if self.defining is not None:
-                    self._fail(at, NESTED_SUB)
-                if skipping is None and self.sub is not None:
-                    self._fail(at, FANUC_NEEDS_M98)
+            try:
+                at = self._o_line(at, keyword, label, flags)
+            except _LineFailed:
                 continue
-            if keyword == "sub":
-                if self.defining is not None:
-                    self._fail(at, NESTED_SUB)
-                self._trailing(at, flags)
-                if skipping is not None and skipping != key:
-                    continue
-                if self.sub is not None:
-                    continue  # run in a call, the sub line does nothing
-                self.pending = (at, keyword, key, flags)
-                return at  # the module defines it: define()
-            if keyword in ("return", "endsub"):
-                if skipping is not None and skipping != key:
-                    continue
-                self.pending = (at, keyword, key, flags)
-                if "v" in flags:
-                    return at
-                self.o(None)
-                continue
-            if keyword == "m98":
-                return at  # read in full wherever it is: runs() says if it calls
+            if at:
+                return at
+
+    def _o_line(self, at: int, keyword: str, label: str, flags: str) -> int:
+        """Read the O-word line ``at`` (read_o, then convert_control_functions
+        where nothing is left to evaluate): the line when the module has
+        code for its reading, else 0 (done here, or passed over)."""
+        m = self.m
+        if flags:
+            if "x" in flags:
+                return at
+            if "/" in flags and m.block_delete:
+                return 0  # rs274 reads a deleted line as a blank one
+            if "u" in flags:
+                if "k" in flags and self.defining is not None:
+                    return 0
+                return at
+        if keyword in _GLOBAL:
+            key = label
+        else:
+            key = "%s#%s" % (self._scope(), label)
+        skipping = self.skipping
+        self.read_skipping = skipping is not None
+        self.pending = (at, keyword, key, flags)
+        if keyword == "fanuc_sub":
+            # "O100": only an M98 runs it (none in this file can)
             if self.defining is not None:
-                continue  # rs274 reads no other O-word of a definition
-            if keyword == "call":
-                if skipping is None:
-                    return at  # the module evaluates and calls
-                continue
+                self._fail(at, NESTED_SUB)
+            if skipping is None and self.sub is not None:
+                self._fail(at, FANUC_NEEDS_M98)
+            return 0
+        if keyword == "sub":
+            if self.defining is not None:
+                self._fail(at, NESTED_SUB)
+            self._trailing(at, flags)
+            if skipping is not None and skipping != key or self.sub is not None:
+                return 0  # (run in a call, the sub line does nothing)
+            return at  # the module defines it: define()
+        if keyword in ("return", "endsub"):
             if skipping is not None and skipping != key:
-                continue
-            self.pending = (at, keyword, key, flags)
+                return 0
             if "v" in flags:
-                return at  # the module evaluates the condition: o(value)
+                return at
             self.o(None)
+            return 0
+        if keyword == "m98":
+            return at  # read in full wherever it is: runs() says if it calls
+        if self.defining is not None:
+            return 0  # rs274 reads no other O-word of a definition
+        if keyword == "call":
+            return at if skipping is None else 0  # the module calls
+        if skipping is not None and skipping != key:
+            return 0
+        if "v" in flags:
+            return at  # the module evaluates the condition: o(value)
+        self.o(None)
+        return 0
 
     def _scope(self) -> str:
         if self.sub is not None:
@@ -215,6 +232,10 @@ class Flow:
         except GCodeError as error:
             error.location = Location(m.source.files[0] if m.source else "", at, text)
             raise
+        # -n 0 goes on (runtime.continue_mode): rs274 has stopped skipping
+        # and reading a definition (unwind_call), and the line is done
+        self.skipping = self.defining = None
+        raise _LineFailed()
 
     def _text(self, at: int) -> str:
         return self.m.source.text(0, at) if self.m.source is not None else ""
@@ -228,13 +249,19 @@ class Flow:
     def define(self, fn) -> None:
         """The sub line of a definition rs274 reads in the main program."""
         at, _, key, _ = self.pending
-        self.m.define(key, fn)
+        self.m.define(key, fn)  # (under -n 0, a failed define goes on)
         self.skipping = key
         self.defining = key
 
     def o(self, value) -> None:
         """The O-word line ``next`` handed over has been read: ``value`` is
         its condition, count or returned value (None: it has none)."""
+        try:
+            self._convert(value)
+        except _LineFailed:
+            pass
+
+    def _convert(self, value) -> None:
         at, keyword, key, flags = self.pending
         self._trailing(at, flags)
         m = self.m
