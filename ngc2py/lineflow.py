@@ -9,7 +9,7 @@ that is exactly what the nested Python of ``structure.py`` and
 it never opened, a label reused by constructs of other kinds, an arm line
 outside its if), what runs depends on rs274's state in ways the nested
 form can only approximate. Such a file is written instead as one function,
-``lines()``, that runs the file's lines in the order
+``main()``, that runs the file's lines in the order
 ``runtime.oflow.Flow`` gives them, following rs274's own rules: a branch
 per line, with the line's code (or, for an O-word line, what its reading
 evaluates), and a table ``LINES`` of what each line's O-word is.
@@ -202,11 +202,6 @@ class FlowGen(codegen.CodeGen):
         table = self.lines_function()
         self.w.raw("")
         self.w.raw("")
-        self.w.raw("def main(m: Machine) -> None:")
-        self.w.raw('%s"""The main program (run line by line: see lines())."""' % INDENT)
-        self.w.raw("%slines(m, 1)" % INDENT)
-        self.w.raw("")
-        self.w.raw("")
         self.w.raw("#: What each line that does something is, for runtime.oflow.Flow:")
         self.w.raw('#: "" an ordinary line ("/" block-deleted, "x" or "u" unreadable), or its')
         self.w.raw("#: O-word (keyword, label, flags); the end of the file last.")
@@ -235,7 +230,7 @@ class FlowGen(codegen.CodeGen):
         self.w.raw("")
         self.w.raw("")
         self.w.raw("def %s(m: Machine):" % sub.fn)
-        doc = "o<%s> sub (lines %d-%d), run line by line: see lines()" % (
+        doc = "o<%s> sub (lines %d-%d), run line by line: see main()" % (
             codegen.safe_doc(sub.name),
             sub.line.number,
             end,
@@ -243,26 +238,31 @@ class FlowGen(codegen.CodeGen):
         self.w.raw('%s"""%s"""' % (INDENT, doc))
         self.w.depth = 1
         self.w.stmt(
-            "return lines(m, %d, %s)" % (sub.line.number, string(sub.name)), sub.line
+            "return main(m, %d, %s)" % (sub.line.number, string(sub.name)), sub.line
         )
         self.w.depth = 0
 
     def lines_function(self) -> List[str]:
-        """Write ``lines()``; return the entries of the ``LINES`` table."""
+        """Write ``main()``, the file line by line; return the entries of
+        the ``LINES`` table."""
         w = self.w
         w.raw("")
         w.raw("")
-        w.raw("def lines(m: Machine, at: int, sub=None):")
+        w.raw("def main(m: Machine, at: int = 1, sub=None):")
         w.raw(
-            '%s"""The file from line ``at`` on (in a call of ``sub``), one line at\n'
-            "%sa time: its O-words do not nest, so rs274's rules for them decide\n"
-            '%swhich line comes next (runtime.oflow)."""' % (INDENT, INDENT, INDENT)
+            '%s"""The main program, and a call of subroutine ``sub`` from its sub\n'
+            "%sline ``at``: the file one line at a time. Its O-words do not nest,\n"
+            '%sso rs274\'s rules decide which line comes next (runtime.oflow)."""'
+            % (INDENT, INDENT, INDENT)
         )
         w.depth = 1
         stores = self.stores()
         w.raw(INDENT + "f = m.flow(LINES, at, sub)")
         w.raw(INDENT + "while True:")
-        w.raw(INDENT * 2 + "at = f.next()")
+        w.depth = 2
+        # errors of the O-words read here name their line themselves
+        w.row_loop("at = f.next()")
+        w.depth = 1
         w.raw(INDENT * 2 + "if at == 0:")
         w.raw(INDENT * 3 + "return f.value")
         table: List[str] = []

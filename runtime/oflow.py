@@ -222,20 +222,33 @@ class Flow:
                 self._fail(at, FINISHED_SKIPPING % self.skipping, finish=True)
             self.m.end_of_file(True, True)
         self.m.line = at - 1
-        self.m.end_of_file(entry == "eof%", False)
+        try:
+            self.m.end_of_file(entry == "eof%", False)
+        except GCodeError as error:
+            error.ngc_row_line = at - 1
+            raise
 
     def _fail(self, at: int, message: str, finish: bool = False) -> None:
         m = self.m
-        text = m.source.text(0, at) if m.source is not None else ""
         try:
             m.fail(at, message, finish)
         except GCodeError as error:
-            error.location = Location(m.source.files[0] if m.source else "", at, text)
+            self._located(error, at)
             raise
         # -n 0 goes on (runtime.continue_mode): rs274 has stopped skipping
         # and reading a definition (unwind_call), and the line is done
         self.skipping = self.defining = None
         raise _LineFailed()
+
+    def _located(self, error: GCodeError, at: int) -> None:
+        """An error of line ``at`` raised here, not by the line's code: the
+        module's ``f.next()`` maps to the line the error names
+        (``ngc_row_line``, as a data row's error), and the report shows it."""
+        m = self.m
+        text = m.source.text(0, at) if m.source is not None else ""
+        error.location = Location(m.source.files[0] if m.source else "", at, text)
+        if getattr(error, "ngc_row_line", None) is None:
+            error.ngc_row_line = at
 
     def _text(self, at: int) -> str:
         return self.m.source.text(0, at) if self.m.source is not None else ""
@@ -283,7 +296,7 @@ class Flow:
             try:
                 self.m.top_level_return(at, keyword, self._text(at), value)
             except GCodeError as error:
-                error.location = Location(self.m.source.files[0], at, self._text(at))
+                self._located(error, at)
                 raise
             return
         if self.skipping is not None and keyword == "endsub":
