@@ -183,7 +183,6 @@ class FlowGen(codegen.CodeGen):
         self.settled = {}  # any line may be skipped: nothing is certainly set
         self.if_flag = self.calls_clear = False
         self.break_flag = self.continue_flag = False
-        self.cam_sized = False
         self.entries: Dict[int, st.Sub] = {}
 
     def module(self) -> str:
@@ -203,10 +202,17 @@ class FlowGen(codegen.CodeGen):
         self.w.raw("")
         self.w.raw("")
         self.w.raw("#: What each line that does something is, for runtime.oflow.Flow:")
-        self.w.raw('#: "" an ordinary line ("/" block-deleted, "x" or "u" unreadable), or its')
-        self.w.raw("#: O-word (keyword, label, flags); the end of the file last.")
-        for text in codegen.Coll("LINES = {", table, "}").layout(0):
-            self.w.raw(text)
+        self.w.raw('#: "" an ordinary line ("/" block-deleted, "x" or "u" unreadable), the')
+        self.w.raw("#: line after a run of ordinary lines, or an O-word (keyword, label,")
+        self.w.raw("#: flags); the end of the file last.")
+        one_line = "LINES = {%s}" % ", ".join(table)
+        if len(one_line) <= codegen.LINE_LENGTH:
+            self.w.raw(one_line)
+        else:  # black puts a dict that does not fit one entry a line
+            self.w.raw("LINES = {")
+            for entry in table:
+                self.w.raw("%s%s," % (INDENT, entry))
+            self.w.raw("}")
         return self.assemble(body)
 
     def end_of_main(self):
@@ -269,7 +275,17 @@ class FlowGen(codegen.CodeGen):
         by_number = {}
         for stmt in self.program.body:
             by_number[stmt.line.number] = stmt
-        for line in self.program.lines:
+        for part in self.parts():
+            line = part[0]
+            if len(part) > 1:
+                # ordinary lines one after another: no skip lands among them
+                # and none starts there, so they run (or are passed) together
+                table.append("%d: %d" % (line.number, part[-1].number + 1))
+                w.raw(INDENT * 2 + "if at == %d:" % line.number)
+                w.depth = 3
+                self.block([by_number[one.number] for one in part])
+                w.raw(INDENT * 3 + "continue")
+                continue
             stmt = by_number[line.number]
             entry = self.entry_of(line)
             if entry is None:
@@ -292,6 +308,32 @@ class FlowGen(codegen.CodeGen):
         self.bind_stores(stores)
         w.depth = 0
         return table
+
+    def parts(self) -> List[list]:
+        """The file's lines, runs of plain ordinary lines (no O-word, no
+        error, no block delete: what rs274 runs alike, or passes alike
+        while skipping) together, every other line alone."""
+        parts: List[list] = []
+        run: list = []
+        for line in self.program.lines:
+            plain = (
+                line.oword is None
+                and line.error is None
+                and not line.block_delete
+                and not line.percent
+            )
+            if plain and not getattr(line, "is_blank", False):
+                run.append(line)
+                continue
+            if plain:
+                continue  # a blank line inside a run leaves it one run
+            if run:
+                parts.append(run)
+                run = []
+            parts.append([line])
+        if run:
+            parts.append(run)
+        return parts
 
     def entry_of(self, line) -> Optional[str]:
         """``line``'s entry in ``LINES`` (None: a blank line)."""

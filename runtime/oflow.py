@@ -20,7 +20,8 @@ name for ``sub``, ``endsub``, ``return`` and ``call``, and for the others
 ``<sub>#<label>`` (``#<label>`` in the main program).
 
 The table a module hands over (``LINES``) has an entry for every line that
-does something: ``""`` for an ordinary line (``"/"`` when it starts with
+does something: the number of the line after it for a run of ordinary
+lines (no skip lands inside one), ``""`` for an ordinary line (``"/"`` when it starts with
 a block-delete slash, ``"x"`` when rs274 cannot even read its text, ``"u"``
 when it cannot read its O-word (``"uk"``: an unknown keyword; ``/`` added
 when block-deleted),
@@ -119,6 +120,12 @@ class Flow:
             self.at = at + 1
             entry = lines.get(at)
             if entry is None:
+                continue
+            if entry.__class__ is int:
+                # ordinary lines up to line ``entry``, run (or passed) together
+                self.at = entry
+                if self.skipping is None:
+                    return at
                 continue
             if entry.__class__ is str:
                 if not entry:
