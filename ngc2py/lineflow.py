@@ -181,8 +181,6 @@ class FlowGen(codegen.CodeGen):
     def __init__(self, program, source_name, opening=None):
         super().__init__(program, source_name, opening)
         self.settled = {}  # any line may be skipped: nothing is certainly set
-        self.if_flag = self.calls_clear = False
-        self.break_flag = self.continue_flag = False
         self.entries: Dict[int, st.Sub] = {}
 
     def module(self) -> str:
