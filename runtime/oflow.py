@@ -20,23 +20,26 @@ name for ``sub``, ``endsub``, ``return`` and ``call``, and for the others
 ``<sub>#<label>`` (``#<label>`` in the main program).
 
 The table a module hands over (``LINES``) has an entry for every line that
-does something: the number of the line after it for a run of ordinary
-lines (no skip lands inside one), ``""`` for an ordinary line (``"/"`` when it starts with
-a block-delete slash, ``"x"`` when rs274 cannot even read its text, ``"u"``
-when it cannot read its O-word (``"uk"``: an unknown keyword; ``/`` added
-when block-deleted),
-``"%"`` for the closing ``%`` line and ``"eof"`` (``"eof%"`` in a file
-that opens with ``%``) for the end of the file, and
-``(keyword, label, flags)`` for an O-word line. Flags: ``v`` the module
-has code for the line's reading (a condition, a value, a call, a
-definition, a failure), ``t`` something follows the O-word (rs274 fails
-when it reads the line while not skipping), ``/`` block delete, ``x`` a
-text rs274 cannot read, ``u`` an O-word it cannot read (``k``: an unknown
-keyword, which reading past a definition does not notice).
+does something:
+
+* a number: the first of a run of ordinary lines, the number the line
+  after the run (no skip lands inside one, so they run or pass together);
+* ``""`` an ordinary line, ``"/"`` one with a block-delete slash, ``"x"``
+  one whose text rs274 cannot read, ``"u"`` one whose O-word it cannot
+  read (``"uk"``: an unknown keyword; ``/`` added when block-deleted);
+* ``"%"`` the closing ``%`` line, ``"eof"`` (``"eof%"`` in a file that
+  opens with ``%``) the end of the file;
+* ``(keyword, label, flags)`` an O-word line. Flags: ``v`` the module has
+  code for the line's reading (a condition, a value, a call, a definition,
+  a failure), ``t`` something follows the O-word (rs274 fails when it reads
+  the line while not skipping), ``/`` block delete, ``x`` a text rs274
+  cannot read, ``u`` an O-word it cannot read (``k``: an unknown keyword,
+  which reading past a definition does not notice).
 """
 
 from __future__ import annotations
 
+from runtime.blockcheck import round_to_int
 from runtime.errors import GCodeError, Location
 from runtime.olabels import (
     DUPLICATE_IF,
@@ -45,7 +48,6 @@ from runtime.olabels import (
     NO_MATCHING_ENDIF,
     UNDEFINED_LABEL,
 )
-from runtime.blockcheck import round_to_int
 
 NESTED_SUB = "Nested subroutine definition"
 AFTER_OWORD = "Unexpected character after O-word"
