@@ -35,14 +35,13 @@ _OPENERS = ("if", "do", "while", "repeat")
 
 
 def _file_lines(lines: list, demarcated: bool) -> Optional[list]:
-    """The lines rs274 can read (to the closing ``%``, that line included),
-    row runs split into their lines; None where the line-by-line form
-    cannot follow the file."""
+    """The lines rs274 can read (to the closing ``%``, that line included);
+    None where the line-by-line form cannot follow the file."""
     out = []
     opened = not demarcated
     for line in lines:
         if type(line) is RowRun:
-            out.extend(line.lines())
+            out.append(line)  # data rows: ordinary lines, kept as one run
             continue
         if line.percent and line.error is None:
             if not opened:
@@ -275,10 +274,12 @@ class FlowGen(codegen.CodeGen):
             by_number[stmt.line.number] = stmt
         for part in self.parts():
             line = part[0]
-            if len(part) > 1:
+            if len(part) > 1 or type(line) is RowRun and line.count > 1:
                 # ordinary lines one after another: no skip lands among them
                 # and none starts there, so they run (or are passed) together
-                table.append("%d: %d" % (line.number, part[-1].number + 1))
+                last = part[-1]
+                after = last.number + (last.count if type(last) is RowRun else 1)
+                table.append("%d: %d" % (line.number, after))
                 w.raw(INDENT * 2 + "if at == %d:" % line.number)
                 w.depth = 3
                 self.block([by_number[one.number] for one in part])
