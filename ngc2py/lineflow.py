@@ -181,6 +181,7 @@ class FlowGen(codegen.CodeGen):
         super().__init__(program, source_name, opening)
         self.settled = {}  # any line may be skipped: nothing is certainly set
         self.entries: Dict[int, st.Sub] = {}
+        self.entry_items: Dict[int, List[str]] = {}
 
     def module(self) -> str:
         subs = list(self.program.subs) + list(self.program.externals)
@@ -208,7 +209,16 @@ class FlowGen(codegen.CodeGen):
         else:  # black puts a dict that does not fit one entry a line
             self.w.raw("LINES = {")
             for entry in table:
-                self.w.raw("%s%s," % (INDENT, entry))
+                text = "%s%s," % (INDENT, entry)
+                if len(text) > codegen.LINE_LENGTH and entry.endswith(")"):
+                    # (a long label) and an entry that does not fit one item a line
+                    key, items = entry[:-1].split(": (", 1)
+                    self.w.raw("%s%s: (" % (INDENT, key))
+                    for item in self.entry_items[int(key)]:
+                        self.w.raw("%s%s," % (INDENT * 2, item))
+                    self.w.raw("%s)," % INDENT)
+                    continue
+                self.w.raw(text)
             self.w.raw("}")
         return self.assemble(body)
 
@@ -232,7 +242,8 @@ class FlowGen(codegen.CodeGen):
         end = ends[0] if ends else sub.line.number
         self.w.raw("")
         self.w.raw("")
-        self.w.raw("def %s(m: Machine):" % sub.fn)
+        for text in codegen.def_header(sub.fn):
+            self.w.raw(text)
         doc = "o<%s> sub (lines %d-%d), run line by line: see main()" % (
             codegen.safe_doc(sub.name),
             sub.line.number,
@@ -340,11 +351,9 @@ class FlowGen(codegen.CodeGen):
             return '"%"'
         word = line.oword
         if line.error in st.TEXT_ERRORS:
-            return '"x"' if word is None else "(%s, %s, %s)" % (
-                string(word.keyword),
-                string(str(word.name)),
-                '"x"',
-            )
+            if word is None:
+                return '"x"'
+            return self.o_entry(line, [string(word.keyword), string(str(word.name)), '"x"'])
         if word is None and line.oword_unread:
             # an O-word rs274 cannot read: it fails even skipping past it
             flags = "u" + ("k" if line.error == st.UNKNOWN_O_COMMAND else "")
@@ -370,7 +379,13 @@ class FlowGen(codegen.CodeGen):
             flags += "u"
             if line.error == st.UNKNOWN_O_COMMAND:
                 flags += "k"
-        return "(%s, %s, %s)" % (string(word.keyword), string(str(word.name)), string(flags))
+        items = [string(word.keyword), string(str(word.name)), string(flags)]
+        return self.o_entry(line, items)
+
+    def o_entry(self, line, items: List[str]) -> str:
+        """An O-word line's entry, its items kept for a long one's layout."""
+        self.entry_items[line.number] = items
+        return "(%s)" % ", ".join(items)
 
     def code_for(self, stmt, line):
         """A writer of the code the module runs for ``line`` (None: none)."""

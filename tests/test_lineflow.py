@@ -183,3 +183,16 @@ def test_every_line_of_the_module_maps_to_its_g_code_line(tmp_path):
 def test_irregular_files_run_as_rs274_runs_them(name, mode):
     text, args = IRREGULAR[name]
     differential.check_same(text, mode, args, _PROGRAM)
+
+
+@pytest.mark.parametrize("irregular", [False, True])
+def test_long_names_are_laid_out_as_black_lays_them_out(irregular):
+    """A long subroutine name makes the def line and (line by line) its
+    LINES entries too long for one line."""
+    name = "a" * 70
+    text = "o<%s> sub\n  G0 X1\no<%s> endsub\no<%s> call\n" % (name, name, name)
+    if irregular:
+        text += "/o2 if [0]\no2 endif\n"
+    module = compile_text(text + "M2\n", "t.ngc")
+    assert ("f = m.flow(LINES, at, sub)" in module) == irregular
+    assert_black_stable(module)
