@@ -824,7 +824,8 @@ class CodeGen:
         end = sub.end.number if sub.end else sub.line.number
         self.w.raw("")
         self.w.raw("")
-        self.w.raw("def %s(m: Machine) -> None:" % sub.fn)
+        for text in def_header(sub.fn, " -> None"):
+            self.w.raw(text)
         self.w.depth = 1
         form = "O%s, Fanuc style" if sub.fanuc else "o<%s> sub"
         word = sub.line.oword
@@ -2630,6 +2631,15 @@ def profile_reading(line: nodes.Line) -> Optional[nodes.Line]:
     if line.error not in _PROFILE_LETTERS:
         return None
     return parser.parse_line(line.text, line.number, line.file, DEFAULT_AXES + "uw")
+
+
+def def_header(name: str, returns: str = "") -> List[str]:
+    """``def name(m: Machine)<returns>:`` as black lays it out: a name too
+    long for one line puts the parameter on a line of its own."""
+    line = "def %s(m: Machine)%s:" % (name, returns)
+    if len(line) <= LINE_LENGTH:
+        return [line]
+    return ["def %s(" % name, "%sm: Machine," % INDENT, ")%s:" % returns]
 
 
 def fail_call(line: int, message: str) -> str:

@@ -216,11 +216,17 @@ def _compile(parsed, name: str, ini: Optional[str]) -> Compiled:
     from ngc2py import codegen
     from ngc2py import structure as st
 
+    from ngc2py import lineflow
+
     program = _program(parsed)
+    flat = lineflow.flat_program(program, list(parsed.lines), parsed.demarcated)
+    if flat is not None:
+        program = flat  # its O-words do not nest: written line by line
     probes = _externals(program, subroutine_dirs(ini), parsed.demarcated)
     st.resolve_calls(program)
     opening = next((line for line in parsed.lines if line.percent), None)
-    return Compiled(codegen.generate(program, name, opening), probes)
+    generate = codegen.generate if flat is None else lineflow.generate
+    return Compiled(generate(program, name, opening), probes)
 
 
 def compile_program(path: str, ini: Optional[str] = None) -> Compiled:

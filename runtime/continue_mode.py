@@ -89,6 +89,9 @@ def _continuing(machine, method: Callable, after_error: Callable) -> Callable:
             error.ngc_outer_frames = g_code_frames_of_stack()
             after_error(error)
             machine._comp_forget_queue()
+            # rs274 forgets the O-word labels it has met (unwind_call); a
+            # file run line by line looks them up again (runtime.oflow)
+            machine._oflow_labels.clear()
             if machine.call_level > 0:
                 raise _Unwound(error) from None
         return None

@@ -99,6 +99,7 @@ MACHINE = (
     "step",
     "fail",
     "end_of_file",
+    "flow",  # a file run line by line (runtime.oflow.Flow: next, o, define)
     # the parameter stores
     "params",
     "globals",

@@ -35,7 +35,7 @@ TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
     from typing import Callable, Dict, Iterator, Optional, TextIO
 
-from runtime import blockcheck, fanuc_subs, loopflags, olabels, remap
+from runtime import blockcheck, fanuc_subs, loopflags, oflow, olabels, remap
 from runtime.canon import Canon, TraceCanon
 from runtime.blockcheck import (
     DRILL_CYCLES,
@@ -708,6 +708,12 @@ class Machine(
     ) -> None:
         """``return``/``endsub`` outside a subroutine (see runtime.olabels)."""
         olabels.top_level_return(self, line, keyword, text, value)
+
+    def flow(self, lines: dict, at: int, sub: Optional[str] = None) -> oflow.Flow:
+        """A frame running a file line by line from line ``at`` (in a call
+        of ``sub``), its O-words followed as rs274 follows them
+        (runtime.oflow: for programs whose O-words do not nest)."""
+        return oflow.Flow(self, lines, at, sub)
 
     def check_label(self, key: str, kind: str, line: int, text: str) -> None:
         """A reused O-word label (see runtime.olabels)."""

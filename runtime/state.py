@@ -68,6 +68,7 @@ class MachineState:
     doing_continue: bool  # a continue is going round again (rs274's flag)
     executed_if: bool  # an arm of an if has run (rs274's flag)
     _olabels: Dict[str, object]  # O-word labels seen executing (reuse checks)
+    _oflow_labels: Dict[str, list]  # rs274's label table, line-by-line files
     _repeat_counts: Dict[str, int]  # counts left of repeat loops left early
     fanuc_levels: List[int]  # call levels of running M98 calls (and M98 L0 frames)
     _fanuc_found: Dict[str, object]  # Fanuc subroutines an M98 search found, by number
@@ -154,6 +155,7 @@ class MachineState:
         self.doing_continue = False
         self.executed_if = False
         self._olabels = {}
+        self._oflow_labels = {}
         self._repeat_counts = {}
         self.fanuc_levels = []
         self._fanuc_found = {}

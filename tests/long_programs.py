@@ -109,10 +109,16 @@ class LongWriter:
 
     def line(self, body: str, oword: bool = False, slash: bool = True) -> None:
         """[/][N..] body [comments]; the slash only where skipping the line
-        keeps the program's structure and termination intact."""
+        keeps the program's termination intact: an O-word line rarely, and
+        never a break or continue (a loop's only way out). Under -b rs274
+        reads a deleted O-word line as a blank one, so its construct no
+        longer nests (ngc2py/lineflow.py)."""
         prefix = ""
         if slash and not oword and self.chance(10):
             prefix = "/"
+        elif slash and oword and self.chance(60):
+            if " break" not in body and " continue" not in body:
+                prefix = "/"
         self.lines.append("  " * self.depth + prefix + self.nword() + body + self.tail())
         self.cost += self.mult
 

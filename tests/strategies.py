@@ -929,8 +929,10 @@ class LanguageWriter:
         return self.pick([" ", "", "\t"]) + " ".join(parts)
 
     def emit(self, body: str, slash_ok: bool = True, oline: bool = False) -> None:
-        """One line: [/] [N..] body [comments]."""
-        slash = "/" if slash_ok and self.chance(6) else ""
+        """One line: [/] [N..] body [comments]. An O-word line (``slash_ok``
+        False) is block-deleted rarely: under -b rs274 reads it as a blank
+        line, so its construct no longer nests (ngc2py/lineflow.py)."""
+        slash = "/" if self.chance(6 if slash_ok else 40) else ""
         text = slash + self.number_prefix() + body + self.comment_suffix()
         self.lines.append("  " * self.depth + text)
 
@@ -979,10 +981,10 @@ def lang_plain(w: LanguageWriter) -> None:
         # O-word lines rs274 cannot read: it reads the O-word even of a
         # line it skips over (an untaken arm, a definition)
         bad = ["o[1 call", "o9 foo", "o7777", "o<s0> return [1", "o9 endif G1"]
-        # and M98 lines it cannot read: read_o reads them in full before
-        # it asks whether it skips (not ones whose values fail: rs274
-        # evaluates those while it skips too, which ngc2py does not follow)
-        bad += ["M98 L2", "M98 P1.5", "N7 M98 P100 Q"]
+        # and M98 lines it cannot read, or whose values fail: read_o reads
+        # them in full (values evaluated) before it asks whether it skips
+        bad += ["M98 L2", "M98 P1.5", "N7 M98 P100 Q", "M98 P1 X[1/#3]"]
+        bad += ["M98 P1 Q#<_unset>"]
         if w.depth:
             # a definition that never ends, where rs274 may skip it
             bad.append("o<nowhere> sub")

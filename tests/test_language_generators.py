@@ -105,43 +105,7 @@ def test_a_skip_lands_on_a_do_inside_a_nested_if():
     check_same("#<_k5> = 0\n" + NESTED_LANDING, [], "inprocess")
 
 
-# Shapes the language campaign found that ngc2py does not follow yet (issue
-# 14, seeds 15002-15003), as strict known gaps with minimal programs. (Three
-# more were: a break of a finished do-loop landing on its while line, a
-# while line ending a do-loop an outer break leaves, and an else run into
-# whose skip lands after the construct holding it; see
-# structure._Builder._break_to_do_end, DoEnd.leaves and _arm_skips_out.)
-KNOWN_GAPS = {
-    # rs274 reads (evaluates) an M98 line in full even where it skips it:
-    # following it takes an evaluation at every skip, in text order with
-    # the jumps (untaken arms, loop ends, break, continue, definitions)
-    "m98_values_read_while_skipping": "o101 if [0]\n  M98 P1 X[1/#2]\no101 endif\nG0 X3\nM2\n",
-    # a do line that only the run can tell never ran (behind a counter):
-    # the later while line of its label is then a loop of its own, not
-    # the end of that do-loop; ngc2py takes the do to have run (where the
-    # condition is a constant it knows: _Builder._never_entered). Both
-    # readings give the lines after the while line another structure.
-    "do_never_run_behind_a_counter": (
-        "#<k> = 0\n#<j> = 0\no2 while [#<k> LT 0]\n  o3 do\n    G0 X9\n  o3 while [0]\n"
-        "o2 endwhile\n#<j> = [#<j> + 1]\no3 while [#<j> LT 3]\n  #<j> = [#<j> + 1]\n"
-        "  G0 X#<j>\no3 endwhile\nM2\n"
-    ),
-    # a skip landing on a do line inside a construct whose opener it passed
-    # (opened after the jump, or in an arm skipped): rs274 goes on from the
-    # do, and the closing lines of the openers it skipped find no label
-    "skip_lands_inside_a_construct_it_skipped": (
-        "o1 if [1]\n  G0 X1\no1 else\n  o2 while [1]\n    o1 do\n    G0 X2\n"
-        "  o2 endwhile\no1 endif\nM2\n"
-    ),
-    "jump_lands_inside_a_construct_opened_after_it": (
-        "o1 do\n  o1 break\n  G0 X1\no1 while [1]\no1 continue\no5 if [0]\n  o1 do\n"
-        "  G0 X2\no5 endif\nM2\n"
-    ),
-}
-
-
-@pytest.mark.rs274
-@pytest.mark.xfail(strict=True, reason="known gap (issue 14): see KNOWN_GAPS")
-@pytest.mark.parametrize("name", sorted(KNOWN_GAPS))
-def test_known_gaps(name):
-    check_same(KNOWN_GAPS[name], [], "inprocess")
+# The strict known gaps of issue 14 (an M98 line read while skipping, a do
+# line only the run can tell never ran, skips landing inside a construct
+# whose opener they passed) went when files whose O-words do not nest began
+# to run line by line: their minimal programs are in tests/test_lineflow.py.
