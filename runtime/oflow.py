@@ -44,6 +44,7 @@ from runtime.errors import GCodeError, Location
 from runtime.olabels import (
     DUPLICATE_IF,
     DUPLICATE_LOOP,
+    FITTING,
     NO_MATCHING,
     NO_MATCHING_ENDIF,
     UNDEFINED_LABEL,
@@ -56,16 +57,6 @@ FANUC_NEEDS_M98 = "Fanuc 'O....' subroutine must be called with 'M98'"
 
 #: O-words whose label is a subroutine's name, not a local label.
 _GLOBAL = frozenset(("sub", "endsub", "return", "call", "fanuc_sub", "m98"))
-#: The openers each closing line needs recorded under its label.
-_FITS = {
-    "elseif": ("if",),
-    "else": ("if",),
-    "endif": ("if",),
-    "break": ("while", "do"),
-    "continue": ("while", "do"),
-    "endwhile": ("while",),
-    "endrepeat": ("repeat",),
-}
 
 
 class _LineFailed(Exception):
@@ -329,9 +320,15 @@ class Flow:
         text = self._text(at)
         if seen is None:
             self._fail(at, UNDEFINED_LABEL % (at, text))
-        if seen[0] not in _FITS[keyword]:
+        if seen[0] not in FITTING[keyword]:
             if keyword == "endif":
-                message = NO_MATCHING_ENDIF % (at, self._key_of(at), seen[0], seen[1], text)
+                message = NO_MATCHING_ENDIF % (
+                    at,
+                    self._key_of(at),
+                    seen[0],
+                    seen[1],
+                    text,
+                )
             else:
                 message = NO_MATCHING[keyword] % (at, text, seen[0], seen[1])
             self._fail(at, message)

@@ -23,8 +23,8 @@ NO_MATCHING = {
     "endwhile": "%d: no matching label: '%s' (found '%s' in line %d)",
     "endrepeat": "%d: no matching label: '%s' (found '%s' in line %d)",
 }
-#: The openers each closing line needs.
-_FITTING = {
+#: The openers each closing line needs (runtime.oflow's flow reads it too).
+FITTING = {
     "elseif": ("if",),
     "else": ("if",),
     "endif": ("if",),
@@ -48,7 +48,7 @@ def check_label(machine, key: str, kind: str, line: int, text: str) -> None:
         # a closing line: it needs the label recorded by a fitting opener
         if seen is None:
             machine.fail(line, UNDEFINED_LABEL % (line, text))
-        if seen[0] in _FITTING[kind]:
+        if seen[0] in FITTING[kind]:
             return
         if kind == "endif":
             machine.fail(line, NO_MATCHING_ENDIF % ((line, key) + seen + (text,)))
