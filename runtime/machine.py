@@ -538,7 +538,9 @@ class Machine(
         for line in sorted(lines):
             if line > start and (end is None or line <= end):
                 text = self.source.text(0, line)
-                raise GCodeError(lines[line], Location(self.source.files[0], line, text))
+                raise GCodeError(
+                    lines[line], Location(self.source.files[0], line, text)
+                )
 
     def _after_the_call(self, fn: Callable) -> bool:
         """Is the definition of ``fn`` further on in the main file than the
@@ -567,7 +569,6 @@ class Machine(
                 self.step()
                 self.locals = Locals()
                 self.call_level += 1
-                self.value_returned = 0.0
                 try:
                     result = fn(self)
                 finally:
@@ -700,7 +701,8 @@ class Machine(
             self.locals = Locals()
         self.call_level += 1
         self._new_frame(self.call_level)
-        self.value_returned = 0.0
+        # (#<_value_returned> is kept: rs274 clears it only for Python
+        # subs, and an endsub or return sets it, with a value or not)
         return caller_locals
 
     def top_level_return(

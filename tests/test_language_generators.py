@@ -111,21 +111,22 @@ def test_a_skip_lands_on_a_do_inside_a_nested_if():
 # to run line by line: their minimal programs are in tests/test_lineflow.py.
 
 
-# A known gap (issue 14), found by the long_error campaign of seed 19201
-# (#2984) and reduced by hand: reading past a definition sets #<_value> and
-# #<_value_returned> from its endsub's value, and a call of that subroutine
-# keeps them (rs274 prints 5 and 1 inside it); ngc2py clears
-# #<_value_returned> as a call begins (runtime.machine: call, _enter_sub).
+# Found by the long_error campaign of seed 19201 (#2984), reduced by hand:
+# reading past a definition sets #<_value> and #<_value_returned> from its
+# endsub's value, and a call of that subroutine keeps them (rs274 clears
+# the flag as a call begins only for Python subs: interp_o_word.cc), so
+# inside it rs274 prints 5 and 1.
 VALUE_KEPT_BY_A_CALL = """\
 o<s3> sub
 (DEBUG,returned #<_value> #<_value_returned>)
 o<s3> endsub [5]
 o<s3> call
+(DEBUG,after #<_value> #<_value_returned>)
+o<s3> call [2]
 M2
 """
 
 
 @pytest.mark.rs274
-@pytest.mark.xfail(strict=True, reason="known gap (issue 14): see the comment above")
 def test_a_call_keeps_the_value_a_skipped_endsub_returned():
     check_same(VALUE_KEPT_BY_A_CALL, [], "inprocess")
