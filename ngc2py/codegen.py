@@ -500,7 +500,8 @@ class ModuleWriter:
         self.blocks: List[List[Tuple[int, str]]] = [[] for _ in self.files]
 
     def raw(self, text: str = "") -> None:
-        self.out.append(text)
+        # one entry a line: the source map counts entries as module lines
+        self.out.extend(text.split("\n"))
 
     def comment(self, line: nodes.Line) -> None:
         """``# 12: G1 X[#<i>*10]``: the G-code line, as a comment."""

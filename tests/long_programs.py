@@ -37,6 +37,7 @@ COMMENTS = [
     "(MSG,long program message)",
     "(msg, lower case)",
     "(DEBUG,g=#<_g> n=#31)",
+    "(DEBUG,line #<_line>)",
     "(debug,)",
     "(PRINT,printed #<_g>)",
     "(first) (DEBUG,second #31)",

@@ -863,6 +863,7 @@ LINE_COMMENTS = [
     "(msg, spaced message)",
     "(MSG,)",
     "(DEBUG,one=#1 two=#<_g>)",
+    "(DEBUG,at line #<_line>)",  # where the line is, from the module's map
     "(debug,)",
     "(PRINT,printed #1)",
     "(PRINT,%f#1 then #<_g> %d#1 %.2f#1 100% %.x)",

@@ -103,6 +103,14 @@ IRREGULAR = {
         "o<s> call\n(DEBUG, v=#<_value>)\no3 do\no3 break\no3 if [1]\nM2\n",
         [],
     ),
+    # #<_line> on ordinary lines run together in one branch, after a
+    # three-line docstring: the module's map must count every line
+    # (LinuxCNC's tests/interp/return-value found it off by two)
+    "line_numbers_in_a_run": (
+        "o1 sub\no2 if [#1 GT 0]\no2 return [5]\no2 endif\no1 endsub [7]\no1 call [1]\n"
+        "(debug,a #<_line>)\n\n(debug,b #<_line>)\nG0 X1\n(debug,c #<_line>)\nM2\n",
+        [],
+    ),
 }
 
 #: files whose O-words nest: the nested form, as before
@@ -158,16 +166,20 @@ def test_what_does_not_nest(text):
     assert not _nests(text)
 
 
-def test_every_line_of_the_module_maps_to_its_g_code_line(tmp_path):
-    """Each line's branch maps to that line (errors, the O-call stack)."""
-    text, _ = IRREGULAR["break_lands_on_endif"]
-    module = compile_text(text, "t.ngc")
+def _source_map(module: str, tmp_path) -> SourceMap:
     path = tmp_path / "lineflow_module.py"
     path.write_text(module)
     spec = importlib.util.spec_from_file_location("lineflow_module", path)
     loaded = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(loaded)
-    source_map: SourceMap = loaded.__ngc__
+    return loaded.__ngc__
+
+
+def test_every_line_of_the_module_maps_to_its_g_code_line(tmp_path):
+    """Each line's branch maps to that line (errors, the O-call stack)."""
+    text, _ = IRREGULAR["break_lands_on_endif"]
+    module = compile_text(text, "t.ngc")
+    source_map = _source_map(module, tmp_path)
     branches = 0
     for number, code_line in enumerate(module.splitlines(), 1):
         found = re.match(r"\s+if at == ([1-9]\d*):$", code_line)
@@ -175,6 +187,22 @@ def test_every_line_of_the_module_maps_to_its_g_code_line(tmp_path):
             branches += 1
             assert source_map.lookup(number + 1).line == int(found.group(1))
     assert branches == 3  # the while, the if, M2
+
+
+@pytest.mark.parametrize("name", sorted(IRREGULAR))
+def test_every_call_maps_to_the_line_it_names(name, tmp_path):
+    """A machine call given its G-code line (``m.debug(9, ...)``) sits on a
+    module line the map takes to that G-code line: also inside a branch
+    that runs several ordinary lines together."""
+    module = compile_text(IRREGULAR[name][0], "t.ngc")
+    source_map = _source_map(module, tmp_path)
+    calls = 0
+    for number, code_line in enumerate(module.splitlines(), 1):
+        found = re.match(r"\s+m\.\w+\(([1-9]\d*)[,)]", code_line)
+        if found:
+            calls += 1
+            assert source_map.lookup(number).line == int(found.group(1)), code_line
+    assert calls
 
 
 @pytest.mark.rs274
