@@ -726,6 +726,10 @@ def read_any_line(
         reader.read_line()
     except _ReadError as failure:
         error = failure.message
+    if text.startswith(";py,") and error is None:
+        # rs274 (read_semicolon) runs a line that begins exactly so as a
+        # (py,...) comment: the raw text after the ';', parentheses and all
+        reader.block.comments.append(_comment(text[1:]))
     line = _line(reader.block, text, number, file, block_delete, error, reader)
     alternative = _computed_m98(normalised, text, number, file, axes)
     if alternative is not None:

@@ -443,6 +443,10 @@ def stmt_codes(w: Writer) -> None:
         w.emit(w.draw(st.sampled_from([
             "(py,pyvar = 1)", "(PY,other = 2 * 3 + 1)", "(pyrun,ignored)", "(pyreload)",
             "(py,pyvar = 1)\n(py,total = pyvar + 1)",
+            # a line beginning exactly ';py,' runs as (py,...); others are plain
+            ";py,semi = (2 + 1) * 2", ";py,semi = 1\n(py,twice = semi * 2)",
+            ";py,oops = nowhere", "  ;py,unread = nowhere", ";PY,unread = nowhere",
+            "G0 X1 ;py,unread = nowhere",
         ])))
     elif kind == 8:
         # a Fanuc call: M98 P9001 (the sub follows the program end), also
