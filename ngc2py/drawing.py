@@ -176,19 +176,21 @@ def _pens(pen):
     )
 
 
-def show_raster(axes, flat: np.ndarray, colour: str, width: float, zorder: int) -> None:
-    """Draw the polyline ``flat`` on ``axes`` as an image of its pixels."""
+def show_raster(axes, layers: List[Tuple[np.ndarray, str, float]], zorder: int) -> None:
+    """Draw polylines on ``axes`` as one image of their pixels: ``layers``
+    are (flat, colour, width), each drawn over the ones before it."""
     from matplotlib.colors import to_rgba
 
     box = axes.get_window_extent()
     size = (max(1, int(round(box.width))), max(1, int(round(box.height))))
     limits = (axes.get_xlim(), axes.get_ylim())
-    pixels = max(1, int(round(width * axes.figure.dpi / 72.0)))
-    mask = rasterise(flat, limits, size, pixels)
-    # bytes, not floats: the figure resamples it (a named colour's parts
-    # are whole 255ths, so the pixels are the same)
-    image = np.zeros(mask.shape + (4,), dtype=np.uint8)
-    image[mask] = np.round(np.array(to_rgba(colour)) * 255.0).astype(np.uint8)
+    image = np.zeros((size[1], size[0], 4), dtype=np.uint8)
+    for flat, colour, width in layers:
+        pixels = max(1, int(round(width * axes.figure.dpi / 72.0)))
+        mask = rasterise(flat, limits, size, pixels)
+        # bytes, not floats: the figure resamples it (a named colour's
+        # parts are whole 255ths, so the pixels are the same)
+        image[mask] = np.round(np.array(to_rgba(colour)) * 255.0).astype(np.uint8)
     (x0, x1), (y0, y1) = limits
     axes.set_autoscale_on(False)
     axes.imshow(
@@ -292,11 +294,24 @@ def draw(path: Toolpath, view: str, title: str, out, fmt: str) -> None:
         bbox = figure.get_tightbbox(figure.canvas.get_renderer()).padded(pad)
     if dense:
         axes.apply_aspect()  # the limits the picture will have
-        for kind, flat in dense.items():
-            _, colour, _, width = STYLES[kind]
-            show_raster(axes, flat, colour, width, ZORDER[kind])
+        for kinds in _raster_groups(dense):
+            layers = [(dense[kind],) + STYLES[kind][1:4:2] for kind in kinds]
+            show_raster(axes, layers, ZORDER[kinds[-1]])
     figure.savefig(out, format=fmt, bbox_inches=bbox)
     pyplot.close(figure)
+
+
+def _raster_groups(dense: dict) -> List[List[str]]:
+    """The dense kinds, bottom to top, in images of their own: feeds and
+    arcs share one (their zorders are next to each other, nothing is drawn
+    between them), which saves the figure resampling a second image."""
+    groups: List[List[str]] = []
+    for kind in sorted(dense, key=ZORDER.get):
+        if groups and groups[-1][-1] == "feed" and kind == "arc":
+            groups[-1].append(kind)
+        else:
+            groups.append([kind])
+    return groups
 
 
 def _projected(vertices, view: str, extents: List) -> "np.ndarray":

@@ -242,6 +242,43 @@ def test_a_dense_path_is_rasterised_where_its_lines_would_be_drawn(
         assert (core & _grown(raster, 1)).sum() >= 0.99 * core.sum()
 
 
+@pytest.mark.parametrize("view", ["xy", "xz"])
+def test_feeds_and_arcs_in_one_image_look_as_in_two(tmp_path, monkeypatch, view):
+    """Dense feeds and arcs share one raster image, arcs over feeds
+    (drawing._raster_groups): the very pixels of an image for each, where
+    feeds and arcs cross and lie on top of one another."""
+    from ngc2py import drawing
+
+    text = ["G21 G90 G17 F500 G0 X0 Y0"]
+    for k in range(40):
+        text.append("G1 X%d Y%d Z-%d" % (k % 5 * 10, (k * 7) % 30, k % 3))
+        text.append("G3 X%d Y%d R%d" % (k % 5 * 10 + 8, (k * 7) % 30, 5 + k % 9))
+        # back along the arc's chord
+        text.append("G1 X%d Y%d" % (k % 5 * 10, (k * 7) % 30))
+    text.append("M2")
+    path = toolpath_of(tmp_path, "\n".join(text) + "\n")
+    monkeypatch.setattr(drawing, "RASTER_FROM", 0)
+    merging = drawing._raster_groups
+    assert merging({"rapid": 0, "feed": 0, "arc": 0}) == [["rapid"], ["feed", "arc"]]
+    pictures = []
+    for groups in (
+        drawing._raster_groups,
+        lambda dense: [[k] for k in sorted(dense, key=drawing.ZORDER.get)],
+    ):
+        monkeypatch.setattr(drawing, "_raster_groups", groups)
+        out = io.BytesIO()
+        drawing.draw(path, view, "layers", out, "png")
+        pictures.append(out.getvalue())
+    merged, separate = pictures
+    merged_pixels, separate_pixels = (
+        np.asarray(Image.open(io.BytesIO(p))) for p in pictures
+    )
+    assert merged_pixels.shape == separate_pixels.shape
+    assert (merged_pixels == separate_pixels).all()
+    for kind in ("feed", "arc"):
+        assert _mask(merged, STYLES[kind][1], 0.02).sum() > 500
+
+
 def test_the_rasters_pens_draw_what_imagedraws_own_methods_draw(monkeypatch):
     """rasterise draws with Pillow's drawing core where it can
     (drawing._pens): the very pixels of ImageDraw.line and point, runs of
@@ -282,6 +319,8 @@ def test_the_box_found_before_the_rasters_is_savefigs_tight_box(
         text.append("G3 X%d Y%d R25" % (k % 5 * 10 + 4, (k * 7) % 30))
     path = toolpath_of(tmp_path, "\n".join(text + ["M2"]) + "\n")
     monkeypatch.setattr(drawing, "RASTER_FROM", 0)
+    merging = drawing._raster_groups
+    assert merging({"rapid": 0, "feed": 0, "arc": 0}) == [["rapid"], ["feed", "arc"]]
     pictures = []
     for formats in (drawing.BOX_BEFORE_RASTERS, set()):
         monkeypatch.setattr(drawing, "BOX_BEFORE_RASTERS", formats)
