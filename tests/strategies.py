@@ -447,6 +447,11 @@ def stmt_codes(w: Writer) -> None:
             ";py,semi = (2 + 1) * 2", ";py,semi = 1\n(py,twice = semi * 2)",
             ";py,oops = nowhere", "  ;py,unread = nowhere", ";PY,unread = nowhere",
             "G0 X1 ;py,unread = nowhere",
+            # checks of the interpreter's state, as LinuxCNC's tests write them
+            ";py,from interpreter import *\n;py,assert this.call_level == 0",
+            ";py,from interpreter import *\n;py,assert equal(this.params[5400], 0)",
+            "(py,import interpreter)\n;py,assert interpreter.this.params[5220] == 1",
+            ";py,from interpreter import *\n;py,assert this.params[\"_metric\"] == 1",
         ])))
     elif kind == 8:
         # a Fanuc call: M98 P9001 (the sub follows the program end), also

@@ -19,10 +19,13 @@ crashes on over-long comment expansions are golden programs with an
    rs274 does (golden/continue).
 4. ``-n 1``: rs274 starts an interactive MDI prompt; ngc2py has no MDI, it
    refuses each line given, then asks whether to continue as rs274 does.
-5. ``(py,CODE)`` comments: rs274 runs CODE in its embedded Python. ngc2py
-   never runs code from a G-code file: it evaluates simple assignments and
-   arithmetic itself (golden/comments/py_*) and stops with an error that
-   says so on anything else, e.g. an import. ``(pyrun,...)`` does nothing.
+5. ``(py,CODE)`` comments (and lines beginning ``;py,``): rs274 runs CODE
+   in its embedded Python. ngc2py never runs code from a G-code file: it
+   evaluates simple assignments, arithmetic and the ``assert`` checks of
+   the interpreter's state that LinuxCNC's tests write (``this.params``,
+   ``this.call_level``, ``equal``...) itself (golden/comments/py_*) and
+   stops with an error that says so on anything else, e.g. an import of
+   another module. ``(pyrun,...)`` does nothing.
 6. ``[RS274NGC]REMAP`` in the ``-i`` file: rs274 runs the remapped code's
    subroutine (or Python handler). ngc2py does not run remaps: a remapped
    code it does not know (``M400``) fails where it is used, a remap of a
