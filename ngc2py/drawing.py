@@ -18,6 +18,7 @@ microsecond. Such a kind is drawn solid (the legend says so).
 
 from __future__ import annotations
 
+import functools
 from typing import List, Tuple
 
 import numpy as np
@@ -188,21 +189,65 @@ def show_raster(axes, layers: List[Tuple[np.ndarray, str, float]], zorder: int) 
     for flat, colour, width in layers:
         pixels = max(1, int(round(width * axes.figure.dpi / 72.0)))
         mask = rasterise(flat, limits, size, pixels)
-        # bytes, not floats: the figure resamples it (a named colour's
-        # parts are whole 255ths, so the pixels are the same)
+        # bytes, not floats (a named colour's parts are whole 255ths)
         image[mask] = np.round(np.array(to_rgba(colour)) * 255.0).astype(np.uint8)
     (x0, x1), (y0, y1) = limits
     axes.set_autoscale_on(False)
-    axes.imshow(
-        image,
-        extent=(x0, x1, y0, y1),
-        origin="upper",
-        interpolation="nearest",
-        aspect="auto",
-        zorder=zorder,
-    )
+    raster = _raster_class()(image, (x0, x1, y0, y1))
+    raster.set_zorder(zorder)
+    axes.add_artist(raster)
     axes.set_xlim(x0, x1)
     axes.set_ylim(y0, y1)
+
+
+@functools.lru_cache(maxsize=None)
+def _raster_class():
+    """The artist of :func:`show_raster` (made once: matplotlib documents
+    every Artist subclass as it is defined, which takes milliseconds)."""
+    from matplotlib.artist import Artist
+    from matplotlib.backends.backend_agg import RendererAgg
+    from matplotlib.image import AxesImage
+
+    class Raster(Artist):
+        """An image as large as its axes in pixels. Agg draws it as it is,
+        pixel for pixel: an AxesImage would be resampled onto the same
+        pixels, a tenth of a 100k-arc picture's time. Any other renderer
+        (a vector format, another dpi) gets it through an AxesImage."""
+
+        def __init__(self, image: np.ndarray, extent) -> None:
+            super().__init__()
+            self.image, self.extent = image, extent
+
+        def draw(self, renderer) -> None:
+            if not self.get_visible():
+                return
+            box = self.axes.get_window_extent(renderer)
+            if _draws_directly(renderer, RendererAgg, box, self.image):
+                gc = renderer.new_gc()
+                gc.set_clip_rectangle(box)
+                # (Agg's rows run upwards from the given corner)
+                upwards = np.ascontiguousarray(self.image[::-1])
+                renderer.draw_image(gc, round(box.x0), round(box.y0), upwards)
+                gc.restore()
+                return
+            image = AxesImage(self.axes, interpolation="nearest", origin="upper")
+            image.set_transform(self.axes.transData)
+            image.set_data(self.image)
+            image.set_extent(self.extent)
+            image.set_clip_path(self.axes.patch)
+            image.draw(renderer)
+
+    return Raster
+
+
+def _draws_directly(renderer, agg, box, image: np.ndarray) -> bool:
+    """Whether Agg draws the raster ``image`` as it is: its pixels are
+    the axes' (``box``) at this renderer's dpi."""
+    rows, columns = image.shape[:2]
+    return isinstance(renderer, agg) and (round(box.width), round(box.height)) == (
+        columns,
+        rows,
+    )
 
 
 def axis_labels(view: str, units: str) -> Tuple[str, str]:

@@ -279,6 +279,50 @@ def test_feeds_and_arcs_in_one_image_look_as_in_two(tmp_path, monkeypatch, view)
         assert _mask(merged, STYLES[kind][1], 0.02).sum() > 500
 
 
+@pytest.mark.parametrize("view", ["xy", "iso"])
+def test_agg_draws_the_raster_where_an_image_of_it_would_be(
+    tmp_path, monkeypatch, view
+):
+    """A PNG's raster is drawn by Agg pixel for pixel (no resampling); the
+    same picture with the raster drawn as an AxesImage (what vector
+    formats get) has its pixels at most a pixel away, and nothing else
+    changes."""
+    from ngc2py import drawing
+
+    text = ["G21 G90 G17 F500 G0 X0 Y0"]
+    for k in range(50):
+        text.append("G1 X%d Y%d" % (k % 6 * 9, (k * 11) % 37))
+        text.append("G2 X%d Y%d R%d" % (k % 6 * 9 + 6, (k * 11) % 37, 4 + k % 7))
+    text.append("M2")
+    path = toolpath_of(tmp_path, "\n".join(text) + "\n")
+    monkeypatch.setattr(drawing, "RASTER_FROM", 0)
+    pictures = []
+    directly = drawing._draws_directly
+    calls = []
+    for chosen in (True, False):
+
+        def draws(*args, chosen=chosen):
+            calls.append(directly(*args))
+            return chosen and calls[-1]
+
+        monkeypatch.setattr(drawing, "_draws_directly", draws)
+        out = io.BytesIO()
+        drawing.draw(path, view, "agg", out, "png")
+        pictures.append(out.getvalue())
+    assert calls and all(calls)  # a PNG's raster is the axes' size
+    direct, image = (np.asarray(Image.open(io.BytesIO(p))) for p in pictures)
+    assert direct.shape == image.shape
+    for kind in ("feed", "arc"):
+        ours, theirs = (_mask(p, STYLES[kind][1], 0.02) for p in pictures)
+        assert ours.sum() > 500
+        # (a pixel may differ where the arcs' layer covers the feeds')
+        assert (ours & _grown(theirs, 1)).sum() >= 0.999 * ours.sum()
+        assert (theirs & _grown(ours, 1)).sum() >= 0.999 * theirs.sum()
+    # outside the axes (labels, legend, title) the pictures are the same
+    rows, columns = np.nonzero((direct != image).any(axis=2))
+    assert len(rows) < 0.05 * direct.shape[0] * direct.shape[1]
+
+
 def test_the_rasters_pens_draw_what_imagedraws_own_methods_draw(monkeypatch):
     """rasterise draws with Pillow's drawing core where it can
     (drawing._pens): the very pixels of ImageDraw.line and point, runs of
