@@ -158,13 +158,13 @@ def load_module(path: str):
 def load_program(program: str, ini: Optional[str]):
     """The generated module for ``program``: from the cache, or compiled in
     a temporary directory when the cache cannot be written."""
-    from ngc2py.cache import cached_module
+    from ngc2py.cache import cached_module, load_cached
     from ngc2py.stdin import STDIN, compile_stdin
 
     if program == STDIN:
         return load_text(compile_stdin(ini))
     try:
-        return load_module(cached_module(program, ini))
+        return load_cached(cached_module(program, ini))
     except PermissionError:
         return load_text(compile_file(program, ini))
 

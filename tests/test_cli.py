@@ -157,6 +157,33 @@ def test_cache_hits_and_invalidates_on_change(tmp_path, monkeypatch):
     assert cache.cached_module("p.ngc") not in (first, second)
 
 
+@pytest.mark.parametrize("dont_write", [True, False])
+def test_a_cached_module_s_bytecode_is_kept_and_used(tmp_path, monkeypatch, dont_write):
+    """Compiled once, also where Python writes no bytecode
+    (PYTHONDONTWRITEBYTECODE): later runs load the kept bytecode."""
+    monkeypatch.setenv(cache.ENV, str(tmp_path / "cache"))
+    monkeypatch.setattr(sys, "dont_write_bytecode", dont_write)
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "p.ngc").write_text("#<a> = 2\nG0 X#<a>\nM2\n")
+    module = cache.cached_module("p.ngc")
+    compiled = []
+    original = cache.SourceFileLoader.source_to_code
+
+    def counting(self, data, path, **kwargs):
+        compiled.append(path)
+        return original(self, data, path, **kwargs)
+
+    monkeypatch.setattr(cache.SourceFileLoader, "source_to_code", counting)
+    first = cache.load_cached(module)
+    assert compiled == [module]
+    pyc = Path(module).parent / "__pycache__"
+    assert [p.name.split(".")[0] for p in pyc.iterdir()] == [Path(module).stem]
+    second = cache.load_cached(module)
+    assert compiled == [module]  # the second load compiled nothing
+    assert second.main.__code__.co_code == first.main.__code__.co_code
+    assert second.__ngc__.files == ("p.ngc",)
+
+
 def test_cache_never_pairs_one_compile_s_probes_with_another_s_module(tmp_path, monkeypatch):
     # Two folders with the same program but different subroutine files share
     # a key. Compiled at the same time (campaign workers, parallel golden
