@@ -84,11 +84,16 @@ def command(args: argparse.Namespace) -> int:
     except (ValueError, ImportError) as error:  # fail before running the program
         sys.stderr.write("ngc2py plot: %s\n" % error)
         return EXIT_ERROR
-    status, report, path = _record_beside(args, _prepare)
+    status, report, moves = _record_beside(args, _prepare)
     sys.stderr.write(report)
     if status != EXIT_OK:
         return EXIT_ERROR
     from ngc2py.drawing import draw
+    from ngc2py.moves import Toolpath
+
+    # made into arrays here, where NumPy is imported already (the child
+    # that recorded them would have spent a tenth of a second on it)
+    path = Toolpath.from_recorder(moves)
 
     title = "standard input" if args.program == "-" else os.path.basename(args.program)
     if args.output == "-":
@@ -120,12 +125,13 @@ def _prepare() -> None:
 
 
 def _recorded(args: argparse.Namespace):
-    """Run the program: (exit status, rs274's stderr text, the Toolpath or
-    None after an error)."""
-    from ngc2py.moves import record
+    """Run the program: (exit status, rs274's stderr text, the recorded
+    moves or None after an error). Imports no NumPy (see the moves' use in
+    :func:`command`)."""
+    from ngc2py.recorder import record
 
     recorder, status, report = record(args)
-    return status, report, recorder.toolpath() if status == EXIT_OK else None
+    return status, report, recorder.moves() if status == EXIT_OK else None
 
 
 def _record_beside(args: argparse.Namespace, prepare):

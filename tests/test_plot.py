@@ -8,6 +8,9 @@ from __future__ import annotations
 
 import io
 import math
+import os
+import subprocess
+import sys
 from contextlib import redirect_stderr, redirect_stdout
 
 import numpy as np
@@ -418,6 +421,33 @@ def test_the_program_run_beside_the_import_draws_what_it_draws_here(
     assert beside == here
     assert beside[0] == 0 and beside[3].startswith(b"\x89PNG")
     assert beside[1:3] == ("printed while it ran\n", "and on stderr\n")
+
+
+def test_the_child_records_without_numpy(tmp_path):
+    """The child only runs the program into stdlib arrays: NumPy (a tenth
+    of a second to import) is imported by the parent, beside matplotlib,
+    and the moves become arrays there. Drilled holes aside."""
+    program = tmp_path / "p.ngc"
+    program.write_text("G0 X3\nG2 X0 Y3 R3 F100\nG1 Y9\nG1 X1\nG1 X2\nG1 X3\nM2\n")
+    code = (
+        "import sys, argparse\n"
+        "from ngc2py import plot\n"
+        "args = argparse.Namespace(program=sys.argv[1], tool_table=None,"
+        " var_file=None, ini=None, block_delete=False)\n"
+        "status, report, moves = plot._recorded(args)\n"
+        "assert status == 0 and len(moves.kinds) == 6, (status, report)\n"
+        "print('numpy' in sys.modules)\n"
+    )
+    env = dict(os.environ, PYTHONPATH=str(harness.REPO), NGC2PY_CACHE=str(tmp_path))
+    proc = subprocess.run(
+        [sys.executable, "-c", code, str(program)],
+        capture_output=True,
+        text=True,
+        env=env,
+        cwd=tmp_path,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout == "False\n"
 
 
 def test_a_child_that_dies_leaves_the_program_to_run_here(tmp_path, monkeypatch):

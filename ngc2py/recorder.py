@@ -1,0 +1,280 @@
+"""The canon that keeps a program's moves (:class:`Recorder`), in typed
+arrays of the standard library, for ``ngc2py.toolpath()``
+(:mod:`ngc2py.moves` makes them NumPy arrays) and the workflows built on it.
+
+Recording needs no NumPy (drilled holes aside): ``ngc2py plot`` records in a
+child process while its parent imports NumPy and matplotlib, and the
+child's moves cross back as these arrays.
+"""
+
+from __future__ import annotations
+
+import argparse
+import io
+import math
+from array import array
+from itertools import chain, repeat
+from typing import List, Optional, Tuple
+
+from runtime.canon import Canon
+from runtime.toolpath import LINEAR, MM_PER_INCH, PLANE_AXES, Point, ToolpathCanon
+
+#: ``Toolpath.kind`` values.
+RAPID, FEED, ARC, PROBE = 0, 1, 2, 3
+KINDS = ("rapid", "feed", "arc", "probe")
+_KIND = {"rapid": RAPID, "feed": FEED, "probe": PROBE}
+
+
+#: A straight move's centre.
+_NO_CENTRE = (math.nan, math.nan)
+
+
+class Recorder(ToolpathCanon):
+    """Keeps every move as a row of typed arrays (see :class:`Toolpath`).
+
+    The start of a move is the end of the one before, except where an
+    offset change shifted the position between them (``runtime.toolpath``):
+    only those starts are kept, as (row, point)."""
+
+    reads_lines = True
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.machine = None
+        self.kinds = array("b")
+        self.lines = array("l")
+        self.tools = array("l")
+        self.feeds = array("d")
+        #: Row by row: nine ends a move (X Y Z A B C U V W), two centre
+        #: coordinates a move; a single move extends each in one call.
+        self.ends = array("d")
+        self.centre = array("d")
+        self.normal = array("b")
+        self.turns = array("l")
+        self.shifts: List[Tuple[int, Point]] = []
+        self._last: Optional[Point] = self.position
+        self._rate = 0.0  # mm/min (mm/rev under G95)
+        self._tool = 0
+        self._tool_known = False
+
+    # --- what each move carries ---------------------------------------
+    def set_feed_rate(self, rate):
+        self._rate = self.to_mm(rate)
+
+    def change_tool(self, slot):
+        self._tool_known = False
+
+    change_tool_number = change_tool
+
+    def _current_tool(self) -> int:
+        if not self._tool_known and self.machine is not None:
+            self._tool = int(self.machine.params[5400])
+            self._tool_known = True
+        return self._tool
+
+    def _line_number(self) -> int:
+        return self.machine.line if self.machine is not None else 0
+
+    def _begin(self, start: Point, rows: int) -> None:
+        if start is not self._last:
+            self.shifts.append((len(self.kinds), start))
+        if self.first_units is None:
+            self.first_units = self.inches
+
+    # --- one call a move ---------------------------------------------
+    def line(self, kind: str, start: Point, end: Point) -> None:
+        self._begin(start, 1)
+        self.kinds.append(_KIND[kind])
+        self.lines.append(self._line_number())
+        self.tools.append(self._current_tool())
+        self.feeds.append(math.nan if kind == "rapid" else self._rate)
+        self.ends.extend(end)
+        self.centre.extend(_NO_CENTRE)
+        self.normal.append(-1)
+        self.turns.append(0)
+        self._last = end
+
+    def arc_feed(self, *args):
+        axes = PLANE_AXES.get(self.plane)
+        if axes is None or args[2] != args[2]:
+            # a UVW plane, or a centre that is not a number: a straight feed
+            return super().arc_feed(*args)
+        first_end, second_end, first_axis, second_axis, rotation, axis_end = args[:6]
+        start = self.position
+        self._begin(start, 1)
+        end = list(start[:3]) + list(self._point((0, 0, 0) + args[6:])[3:])
+        first, second, normal = axes
+        k = MM_PER_INCH if self.inches else 1.0
+        end[first], end[second], end[normal] = (
+            first_end * k,
+            second_end * k,
+            axis_end * k,
+        )
+        self.kinds.append(ARC)
+        self.lines.append(self._line_number())
+        self.tools.append(self._current_tool())
+        self.feeds.append(self._rate)
+        self.ends.extend(end)
+        self.centre.extend((first_axis * k, second_axis * k))
+        self.normal.append(normal)
+        self.turns.append(rotation)
+        self.position = self._last = tuple(end)
+
+    # --- batches (runtime.fast.rows, runtime.fast.arc_rows) ---------------------
+    def straight_moves(self, feed, lines, x, y, z, a, b, c, u, v, w):
+        rows = len(lines)
+        if not rows:
+            return
+        self._begin(self.position, rows)
+        columns = [x, y, z, a, b, c, u, v, w]
+        if self.inches:
+            for i in LINEAR:
+                columns[i] = [value * MM_PER_INCH for value in columns[i]]
+        self._rows(FEED if feed else RAPID, lines, self._rate if feed else math.nan)
+        self.ends.extend(chain.from_iterable(zip(*columns)))
+        self.centre.extend(repeat(math.nan, 2 * rows))
+        self.normal.extend(repeat(-1, rows))
+        self.turns.extend(repeat(0, rows))
+        self.position = self._last = tuple(column[-1] for column in columns)
+
+    def arc_moves(self, lines, *columns):
+        """Arcs as ``Canon.arc_moves`` gives them (arc_feed's arguments as
+        columns: first_end, second_end, first_axis, second_axis, rotation,
+        axis_end, a, b, c, u, v, w)."""
+        if self.plane not in PLANE_AXES:
+            return super().arc_moves(lines, *columns)
+        self.contour_moves(PLANE_AXES[self.plane], lines, *columns)
+
+    def contour_moves(self, axes, lines, *columns):
+        """Arcs and the G1 lines between them as ``Canon.contour_moves``
+        gives them (a line: rotation 0): a row each, as arc_feed and
+        straight_feed make them."""
+        rows = len(lines)
+        if not rows:
+            return
+        first_end, second_end, first_axis, second_axis, rotation, axis_end = columns[:6]
+        a, b, c, u, v, w = columns[6:]
+        self._begin(self.position, rows)
+        first, second, normal = axes
+        lengths = [first_end, second_end, axis_end, first_axis, second_axis, u, v, w]
+        if self.inches:
+            lengths = [[value * MM_PER_INCH for value in column] for column in lengths]
+        e1, e2, en, c1, c2, u, v, w = lengths
+        columns = [None, None, None, a, b, c, u, v, w]
+        columns[first], columns[second], columns[normal] = e1, e2, en
+        if 0 in rotation:  # lines among the arcs: no centre, no normal
+            nan = math.nan
+            c1 = [value if turns else nan for value, turns in zip(c1, rotation)]
+            c2 = [value if turns else nan for value, turns in zip(c2, rotation)]
+            self.kinds.extend([ARC if turns else FEED for turns in rotation])
+            self.normal.extend([normal if turns else -1 for turns in rotation])
+        else:
+            self.kinds.extend(repeat(ARC, rows))
+            self.normal.extend(repeat(normal, rows))
+        self.lines.extend(lines)
+        self.tools.extend(repeat(self._current_tool(), rows))
+        self.feeds.extend(repeat(self._rate, rows))
+        self.ends.extend(chain.from_iterable(zip(*columns)))
+        self.centre.extend(chain.from_iterable(zip(c1, c2)))
+        self.turns.extend(rotation)
+        self.position = self._last = tuple(column[-1] for column in columns)
+
+    def hole_moves(self, recording, lines, first, second, axes, start):
+        """Holes drilled alike (``Canon.hole_moves``): each hole's moves as
+        rows, made from columns (one ``extend`` per array and batch)."""
+        moves = [(name, args, where) for name, args, where in recording if where]
+        ignored = all(
+            getattr(type(self), name) is getattr(Canon, name)
+            for name, _, where in recording
+            if where is None
+        )
+        names = {name for name, _, _ in moves}
+        if not ignored or not names <= {"straight_traverse", "straight_feed"}:
+            return super().hole_moves(recording, lines, first, second, axes, start)
+        import numpy as np  # (here: recording plain moves needs none)
+
+        count, per_hole = len(lines), len(moves)
+        self._begin(self.position, count * per_hole)
+        places = {
+            "hole": (first, second),
+            "start": ([start[0]] + first[:-1], [start[1]] + second[:-1]),
+        }
+        # hole by hole, move by move: nine ends, in millimetres
+        ends = np.empty((count, per_hole, 9))
+        k = MM_PER_INCH if self.inches else 1.0
+        for j, (_, args, where) in enumerate(moves):
+            ends[:, j, :] = self._point(args)
+            for axis, values in zip(axes, places[where]):
+                ends[:, j, axis] = values
+                if k != 1.0:
+                    ends[:, j, axis] *= k
+        kinds = [RAPID if name == "straight_traverse" else FEED for name, _, _ in moves]
+        feeds = [math.nan if kind == RAPID else self._rate for kind in kinds]
+        rows = count * per_hole
+        self.kinds.extend(kinds * count)
+        self.lines.extend(chain.from_iterable(zip(*[lines] * per_hole)))
+        self.tools.extend(repeat(self._current_tool(), rows))
+        self.feeds.extend(feeds * count)
+        self.ends.frombytes(ends.tobytes())
+        self.centre.frombytes(np.full(2 * rows, math.nan).tobytes())
+        self.normal.extend(repeat(-1, rows))
+        self.turns.extend(repeat(0, rows))
+        self.position = self._last = tuple(ends[-1, -1].tolist())
+
+    def _rows(self, kind: int, lines, rate: float) -> None:
+        rows = len(lines)
+        self.kinds.extend(repeat(kind, rows))
+        self.lines.extend(lines)
+        self.tools.extend(repeat(self._current_tool(), rows))
+        self.feeds.extend(repeat(rate, rows))
+
+    def toolpath(self):
+        """The moves so far as a :class:`ngc2py.moves.Toolpath`."""
+        from ngc2py.moves import Toolpath
+
+        return Toolpath.from_recorder(self)
+
+    def moves(self) -> "Moves":
+        """The moves so far, without the machine: small to pickle (the
+        plot's child hands them back), made into NumPy arrays by
+        ``Toolpath.from_recorder`` where NumPy is imported."""
+        moves = Moves()
+        for name in Moves.__slots__:
+            setattr(moves, name, getattr(self, name))
+        return moves
+
+
+class Moves:
+    """What a :class:`Recorder` kept, as ``Toolpath.from_recorder`` reads it."""
+
+    __slots__ = (
+        "kinds",
+        "lines",
+        "tools",
+        "feeds",
+        "ends",
+        "centre",
+        "normal",
+        "turns",
+        "shifts",
+        "first_units",
+    )
+
+
+def record(args: argparse.Namespace) -> Tuple[Recorder, int, str]:
+    """Run the program ``args`` names (as the workflow commands take them)
+    into a :class:`Recorder`: ``(recorder, exit status, what rs274 would
+    have written to stderr)``."""
+    from ngc2py.simulate import run_program
+
+    recorder = Recorder()
+    errors = io.StringIO()
+
+    def bind(machine) -> None:
+        recorder.machine = machine
+
+    status = run_program(args, recorder, errors, on_machine=bind)
+    return recorder, status, errors.getvalue()
+
+
+__all__ = ["ARC", "FEED", "KINDS", "PROBE", "RAPID", "Moves", "Recorder", "record"]
