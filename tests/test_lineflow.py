@@ -175,18 +175,22 @@ def _source_map(module: str, tmp_path) -> SourceMap:
     return loaded.__ngc__
 
 
+def _mapped(module: str, tmp_path, pattern: str, after: int = 0):
+    """(the G-code line a module line matching ``pattern`` names, the line
+    the module's map gives the module line ``after`` lines below it)."""
+    source_map = _source_map(module, tmp_path)
+    for number, code_line in enumerate(module.splitlines(), 1):
+        found = re.match(pattern, code_line)
+        if found:
+            yield int(found.group(1)), source_map.lookup(number + after).line
+
+
 def test_every_line_of_the_module_maps_to_its_g_code_line(tmp_path):
     """Each line's branch maps to that line (errors, the O-call stack)."""
-    text, _ = IRREGULAR["break_lands_on_endif"]
-    module = compile_text(text, "t.ngc")
-    source_map = _source_map(module, tmp_path)
-    branches = 0
-    for number, code_line in enumerate(module.splitlines(), 1):
-        found = re.match(r"\s+if at == ([1-9]\d*):$", code_line)
-        if found:
-            branches += 1
-            assert source_map.lookup(number + 1).line == int(found.group(1))
-    assert branches == 3  # the while, the if, M2
+    module = compile_text(IRREGULAR["break_lands_on_endif"][0], "t.ngc")
+    pairs = list(_mapped(module, tmp_path, r"\s+if at == ([1-9]\d*):$", after=1))
+    assert len(pairs) == 3  # the while, the if, M2
+    assert all(named == mapped for named, mapped in pairs)
 
 
 @pytest.mark.parametrize("name", sorted(IRREGULAR))
@@ -195,14 +199,9 @@ def test_every_call_maps_to_the_line_it_names(name, tmp_path):
     module line the map takes to that G-code line: also inside a branch
     that runs several ordinary lines together."""
     module = compile_text(IRREGULAR[name][0], "t.ngc")
-    source_map = _source_map(module, tmp_path)
-    calls = 0
-    for number, code_line in enumerate(module.splitlines(), 1):
-        found = re.match(r"\s+m\.\w+\(([1-9]\d*)[,)]", code_line)
-        if found:
-            calls += 1
-            assert source_map.lookup(number).line == int(found.group(1)), code_line
-    assert calls
+    pairs = list(_mapped(module, tmp_path, r"\s+m\.\w+\(([1-9]\d*)[,)]"))
+    assert pairs
+    assert all(named == mapped for named, mapped in pairs), pairs
 
 
 @pytest.mark.rs274
