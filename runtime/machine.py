@@ -517,6 +517,7 @@ class Machine(
             fn = None  # rs274 reads forward from the call: it never gets there
         self._skip_to(fn)
         if fn is None:
+            remap.refuse_python_sub(self.settings, name)
             if self.source.end[1]:
                 self.announce_block(None)
                 self.canon.finish()

@@ -32,6 +32,7 @@ TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
     from typing import Dict, Iterable, List, Optional, Sequence
 
+from runtime import remap
 from runtime.errors import GCodeError
 from runtime.ops import c_int
 
@@ -290,6 +291,8 @@ class Globals(NamedStore):
             return machine.predefined(name)
         if name.startswith("_ini[") and _from_ini(self, name):
             return self.__dict__[name]
+        if remap.loads_python(machine.settings.ini):
+            raise GCodeError(remap.PYTHON_PARAM % name)
         raise GCodeError("Named parameter #<%s> not defined" % name)
 
     @classmethod

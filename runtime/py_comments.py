@@ -32,6 +32,7 @@ import ast
 import operator
 from typing import Any, Callable, Dict
 
+from runtime import remap
 from runtime.errors import GCodeError
 from runtime.params import MAX_PARAMETERS
 
@@ -118,6 +119,8 @@ class _Params:
             name = key.translate(_ASCII_LOWER)
             store = machine.globals if name.startswith("_") else machine.locals
             if not store.exists(name):
+                if remap.loads_python(machine.settings.ini):
+                    raise _Unsupported()  # perhaps one the INI's Python defines
                 raise _Failed()
             return float(store[name])
         if isinstance(key, int) and not isinstance(key, bool):

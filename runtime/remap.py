@@ -11,6 +11,12 @@ trace that silently differs:
   without the remap);
 * a remap of a code ngc2py would otherwise run (``M6``, ``T``, ``G76``)
   fails as the program starts, since running it unchanged would be wrong.
+
+Likewise Python the INI file loads (``[PYTHON]TOPLEVEL``): a call of a
+subroutine no G-code defines may be one of its ``oword`` functions, and a
+global parameter no G-code set one of its ``namedparams``, so they fail
+saying that ngc2py runs no embedded Python, not with rs274's "EOF ...
+seeking o-word" or "not defined" (which rs274 gives only without it).
 """
 
 from __future__ import annotations
@@ -29,6 +35,39 @@ MESSAGE = (
     "%s is remapped by the INI file ([RS274NGC]REMAP); "
     "ngc2py does not run remapped codes"
 )
+
+
+PYTHON_SUB = (
+    "o<%s> is not a G-code subroutine, and the INI file loads Python "
+    "([PYTHON]TOPLEVEL) that may define it; ngc2py does not run embedded Python"
+)
+
+PYTHON_PARAM = (
+    "Named parameter #<%s> not defined in G-code, and the INI file loads "
+    "Python ([PYTHON]TOPLEVEL) that may define it; ngc2py does not run "
+    "embedded Python"
+)
+
+
+def loads_python(ini) -> bool:
+    """Whether the INI file has rs274 load a Python module (``TOPLEVEL=``
+    in ``[PYTHON]``), which may define O-word subroutines and parameters."""
+    in_section = False
+    for line in ini.lines:
+        text = line.strip(" \t\r")
+        if text.startswith("["):
+            in_section = text.startswith("[PYTHON]")
+            continue
+        key, eq, value = text.partition("=")
+        if in_section and eq and key.strip().upper() == "TOPLEVEL" and value.strip():
+            return True
+    return False
+
+
+def refuse_python_sub(settings, name: str) -> None:
+    """A call of ``name``, which no G-code defines: see the module's doc."""
+    if loads_python(settings.ini):
+        raise GCodeError(PYTHON_SUB % name)
 
 
 def remapped_codes(ini) -> Tuple[str, ...]:

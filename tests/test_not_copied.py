@@ -31,6 +31,10 @@ crashes on over-long comment expansions are golden programs with an
    code it does not know (``M400``) fails where it is used, a remap of a
    code it would run (``M6``) fails as the program starts, both saying
    that the code is remapped (runtime.remap).
+7. ``[PYTHON]TOPLEVEL`` in the ``-i`` file: rs274 loads that Python, whose
+   functions can be O-word subroutines and global parameters. ngc2py runs
+   no embedded Python: a call no G-code defines, or a global no G-code
+   set, fails saying so (runtime.remap), not with rs274's "not found".
 
 Each case shows rs274's behaviour where it can be shown cheaply (a hang is
 checked with a short timeout), then ngc2py's.
@@ -162,11 +166,18 @@ def test_converted_module_takes_max_steps(tmp_path):
     env = dict(os.environ, PYTHONPATH=str(REPO))
     subprocess.run(
         [sys.executable, "-m", "ngc2py", "convert", "endless.ngc"],
-        cwd=tmp_path, env=env, check=True, timeout=60,
+        cwd=tmp_path,
+        env=env,
+        check=True,
+        timeout=60,
     )
     proc = subprocess.run(
         [sys.executable, "endless.py", "--max-steps", "50"],
-        cwd=tmp_path, env=env, capture_output=True, text=True, timeout=60,
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=60,
     )
     assert proc.returncode == 1
     assert runaway_message(50) in proc.stderr
@@ -179,7 +190,9 @@ UNTERMINATED = "G0 X1\nG1 X2\n"
 
 @pytest.mark.rs274
 def test_rs274_repeats_the_end_of_file_error_forever_with_n0(tmp_path):
-    result = harness.run_rs274(tmp_path / "p.ngc", ["-n", "0"], text=UNTERMINATED, timeout=3)
+    result = harness.run_rs274(
+        tmp_path / "p.ngc", ["-n", "0"], text=UNTERMINATED, timeout=3
+    )
     assert result.timed_out
     assert result.stderr.count(b"File ended with no percent sign") > 100
 
@@ -301,3 +314,59 @@ def test_an_unremapped_unknown_code_keeps_rs274s_message(tmp_path):
     proc = ngc2py_run(tmp_path, REMAP_PROGRAM, "-i", "r.ini")
     assert proc.returncode == 1
     assert "M-code greater than 199: M400" in proc.stderr
+
+
+# -- 7. Python the INI file loads ([PYTHON]TOPLEVEL) ----------------------------
+
+PY_INI = (
+    "[RS274NGC]\nSUBROUTINE_PATH = .\n[PYTHON]\nPATH_PREPEND = .\nTOPLEVEL = top.py\n"
+)
+PY_CALL = "o<twice> call [21]\n(debug, got #<_value>)\nG0 X#<_value>\nM2\n"
+
+
+def python_folder(tmp_path):
+    """An INI file whose Python defines O-word subroutine o<twice> (the
+    ``oword`` module rs274's Python plugin looks subroutines up in)."""
+    (tmp_path / "p.ini").write_text(PY_INI)
+    (tmp_path / "top.py").write_text("import oword\n")
+    (tmp_path / "oword.py").write_text(
+        "def twice(self, *args):\n    return 2 * args[0]\n"
+    )
+    return tmp_path / "p.ngc"
+
+
+@pytest.mark.rs274
+def test_rs274_runs_a_subroutine_the_ini_files_python_defines(tmp_path):
+    program = python_folder(tmp_path)
+    program.write_text(PY_CALL)
+    result = harness.run_rs274(program, ["-i", "p.ini"])
+    assert result.rc == 0 and b"STRAIGHT_TRAVERSE(42.0000" in result.stdout
+
+
+def test_ngc2py_refuses_a_call_the_ini_files_python_may_answer(tmp_path):
+    python_folder(tmp_path)
+    proc = ngc2py_run(tmp_path, PY_CALL, "-i", "p.ini")
+    assert proc.returncode == 1
+    assert (
+        "o<twice> is not a G-code subroutine, and the INI file loads Python "
+        "([PYTHON]TOPLEVEL) that may define it; ngc2py does not run embedded Python"
+    ) in proc.stderr
+    # without that Python, rs274's own message
+    (tmp_path / "p.ini").write_text("[RS274NGC]\nSUBROUTINE_PATH = .\n")
+    proc = ngc2py_run(tmp_path, PY_CALL, "-i", "p.ini")
+    assert "EOF in file:prog.ngc seeking o-word: o<twice>" in proc.stderr
+
+
+def test_ngc2py_refuses_a_global_the_ini_files_python_may_define(tmp_path):
+    python_folder(tmp_path)
+    text = "G0 X1\nG0 X#<_from_python>\nM2\n"
+    proc = ngc2py_run(tmp_path, text, "-i", "p.ini")
+    assert proc.returncode == 1
+    assert "STRAIGHT_TRAVERSE(1.0000" in proc.stdout
+    assert (
+        "Named parameter #<_from_python> not defined in G-code, and the INI file "
+        "loads Python"
+    ) in proc.stderr
+    checked = ";py,from interpreter import *\n;py,assert this.params['_from_python'] == 1\nM2\n"
+    proc = ngc2py_run(tmp_path, checked, "-i", "p.ini")
+    assert "ngc2py does not run embedded Python beyond simple statements" in proc.stderr
