@@ -8,14 +8,17 @@ import pytest
 
 import runtime.machine  # noqa: F401 - it makes Globals' predefined names read-only
 from runtime.errors import GCodeError
+from runtime.inifile import IniSettings
 from runtime.params import Globals, Locals, Params, attr_safe
 from test_ops import rs274_error, rs274_messages
 
 
 class FakeMachine:
-    """Just what Globals needs: the predefined names and their values."""
+    """Just what Globals needs: the predefined names and their values, and
+    settings without an INI file."""
 
     PREDEFINED = frozenset({"_x", "_value", "_line"})
+    settings = IniSettings()
 
     def predefined(self, name):
         return {"_x": 5.5, "_value": 0.0, "_line": 7.0}[name]
