@@ -192,7 +192,7 @@ def compare(
 
 
 _PY = (
-    "deliberate: a (py, ...) comment's error is reported by gcode.parse as "
+    "deliberate: a (py, ...) comment's (or ;py, line's) error is reported by gcode.parse as "
     "py_execute(...) with the traceback of running the code in LinuxCNC's "
     "embedded Python; ngc2py never runs embedded Python and reports rs274 -g's "
     "run_string(...) (see tests/test_not_copied.py)"
@@ -210,14 +210,19 @@ _FANUC_LINE = (
 KNOWN_GAPS = {
     **{
         "comments/" + name: _PY
-        for name in "py_indented py_name_error py_syntax_error py_zero_division".split()
+        for name in (
+            "py_indented py_name_error py_syntax_error py_zero_division"
+            " py_semicolon_error py_interpreter_check_fails"
+            " py_interpreter_missing_param"
+        ).split()
     },
     "fanuc_calls/m98_osub_read_before": _FANUC_LINE,
 }
 
 #: Generated programs using a feature with a known gap (see KNOWN_GAPS):
-#: (py, ...) comments, whose errors are reported differently on purpose.
-_GAP_FEATURES = re.compile(r"\(\s*py\s*,", re.I)
+#: (py, ...) comments and ;py, lines, whose errors are reported
+#: differently on purpose.
+_GAP_FEATURES = re.compile(r"\(\s*py\s*,|^;py,", re.I | re.M)
 
 
 def _known_gap(name: str) -> list:
