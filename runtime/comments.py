@@ -223,7 +223,7 @@ def classify(comment: str) -> Comment:
         return Comment(SILENT, "")
     start = len(comment) - len(comment.lstrip(_C_SPACE))
     body = comment[start:]
-    lowered = _ascii_lower(body[:_CLASSIFY_LENGTH])
+    lowered = ascii_lower(body[:_CLASSIFY_LENGTH])
     for prefix, kind in _PREFIXES:
         if lowered.startswith(prefix):
             return Comment(kind, body[len(prefix) :])
@@ -303,10 +303,10 @@ def _name_end(text: str, start: int) -> Optional[int]:
 
 
 def _normalise(name: str) -> str:
-    return _ascii_lower("".join(c for c in name if c not in _C_SPACE))
+    return ascii_lower("".join(c for c in name if c not in _C_SPACE))
 
 
-def _ascii_lower(text: str) -> str:
+def ascii_lower(text: str) -> str:
     """C's tolower in the "C" locale: only A-Z change."""
     return text.translate(_ASCII_LOWER)
 

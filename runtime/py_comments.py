@@ -33,6 +33,7 @@ import operator
 from typing import Any, Callable, Dict
 
 from runtime import remap
+from runtime.comments import ascii_lower
 from runtime.errors import GCodeError
 from runtime.params import MAX_PARAMETERS
 
@@ -69,7 +70,6 @@ class _Failed(Exception):
     """What makes rs274's Python raise (an assertion, a missing parameter)."""
 
 
-_ASCII_LOWER = {c: c + 32 for c in range(ord("A"), ord("Z") + 1)}
 #: rs274's equality of doubles (interp_internal.hh: TOLERANCE_EQUAL).
 _TOLERANCE_EQUAL = 0.0001
 #: Numbered parameters rs274's ``params[n]`` reads (it does not check n).
@@ -116,7 +116,7 @@ class _Params:
         if isinstance(key, str):
             # rs274's find_named_param: a global or the call's local, the
             # name's ASCII letters in any case (G-code's are lower case)
-            name = key.translate(_ASCII_LOWER)
+            name = ascii_lower(key)
             store = machine.globals if name.startswith("_") else machine.locals
             if not store.exists(name):
                 if remap.loads_python(machine.settings.ini):
