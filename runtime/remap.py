@@ -52,16 +52,7 @@ PYTHON_PARAM = (
 def loads_python(ini) -> bool:
     """Whether the INI file has rs274 load a Python module (``TOPLEVEL=``
     in ``[PYTHON]``), which may define O-word subroutines and parameters."""
-    in_section = False
-    for line in ini.lines:
-        text = line.strip(" \t\r")
-        if text.startswith("["):
-            in_section = text.startswith("[PYTHON]")
-            continue
-        key, eq, value = text.partition("=")
-        if in_section and eq and key.strip().upper() == "TOPLEVEL" and value.strip():
-            return True
-    return False
+    return ini.find("TOPLEVEL", "PYTHON") is not None
 
 
 def refuse_python_sub(settings, name: str) -> None:
