@@ -340,7 +340,10 @@ def draw(path: Toolpath, view: str, title: str, out, fmt: str) -> None:
     if dense:
         axes.apply_aspect()  # the limits the picture will have
         for kinds in _raster_groups(dense):
-            layers = [(dense[kind],) + STYLES[kind][1:4:2] for kind in kinds]
+            layers = []
+            for kind in kinds:
+                _, colour, _, width = STYLES[kind]
+                layers.append((dense[kind], colour, width))
             show_raster(axes, layers, ZORDER[kinds[-1]])
     figure.savefig(out, format=fmt, bbox_inches=bbox)
     pyplot.close(figure)
