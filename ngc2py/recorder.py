@@ -30,7 +30,7 @@ _NO_CENTRE = (math.nan, math.nan)
 
 
 class Recorder(ToolpathCanon):
-    """Keeps every move as a row of typed arrays (see :class:`Toolpath`).
+    """Keeps every move as a row of typed arrays (see ``ngc2py.moves.Toolpath``).
 
     The start of a move is the end of the one before, except where an
     offset change shifted the position between them (``runtime.toolpath``):
