@@ -500,15 +500,18 @@ class _LineState:
     (gcodes, mcodes, settings, each with the line first), made into those
     tuples when it is read (unpacked)."""
 
-    __slots__ = ("line", "state")
+    __slots__ = ("line", "state", "key")
 
-    def __init__(self, line: int, state: tuple) -> None:
-        self.line, self.state = line, state
+    def __init__(self, line: int, state: tuple, key: tuple = ()) -> None:
+        self.line, self.state, self.key = line, state, key
 
     def __iter__(self):
         gcodes, mcodes, settings = self.state
         line = self.line
         return iter(((line,) + gcodes, (line,) + mcodes, (float(line),) + settings))
+
+
+_NO_LINE_STATE = _LineState(-1, ())
 
 
 class PreviewMachine(BatchesOnly, Machine):
@@ -535,6 +538,8 @@ class PreviewMachine(BatchesOnly, Machine):
         self.active = ((0,) * 17, (0,) * 10, (0.0,) * 5)
         #: (motion, feed rate, #5210) -> the state a plain move line leaves
         self._line_states: dict = {}
+        #: the last plain move line's state (a loop's line leaves it again)
+        self._last_line_state = _NO_LINE_STATE
 
     def _emit_probe(self, end, probe_type) -> None:
         # The module's canon (gcodemodule.cc) ends a probe move at its
@@ -636,6 +641,7 @@ class PreviewMachine(BatchesOnly, Machine):
     def refresh_plain(self) -> None:
         super().refresh_plain()
         self._line_states = {}
+        self._last_line_state = _NO_LINE_STATE
 
     def _line_begins(self, line, n):
         return self.active
@@ -655,8 +661,15 @@ class PreviewMachine(BatchesOnly, Machine):
 
     def _line_ended(self, line, before) -> None:
         if self.active is before:  # the fast path took it: no block wrote the state
-            # made into tuples only if read: a loop's line is announced once
-            self.active = _LineState(line, self.line_state(self.motion_mode))
+            # made into tuples only if read: a loop's line is announced once,
+            # and leaves the state its last run left (the same object)
+            key = (self.motion_mode, self.feed_rate, self.params.values[5210])
+            last = self._last_line_state
+            if last.line == line and last.key == key:
+                self.active = last
+            else:
+                state = self.line_state(key[0])
+                self.active = self._last_line_state = _LineState(line, state, key)
 
     replayed_fields = frozenset(("active",))
 

@@ -417,6 +417,11 @@ LOOP_BODIES = [
     "G2 X[#<i> + 2] Y0 I1 J0 F150\nG3 X[#<i> + 4] Y0 R1\nG1 Z[-#<i>]",
     "G0 X[#<i>]\nG92 X0\nG1 Y[#<i>] F50\nG92.1\nG1 Y0",
     "G1 X[#<i>] F[10 * [#<i> + 1]]\nM3 S[100 * #<i>]\nG1 Y[#<i>]",
+    # one move line alone: run again and again, it is announced once, and
+    # the line after the loop is announced with what its last run left
+    "G1 X[#<i> * 2] F[100 + #<i>]",
+    "G1 X[#<i>] F100\no2 if [#<i> EQ 4]\nG92 X0\no2 endif",
+    "G1 X[#<i>] F100\no2 if [#<i> EQ 4]\nM3 S500\no2 endif",
 ]
 
 
