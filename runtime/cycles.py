@@ -123,17 +123,9 @@ class CyclesMixin:
         decide (no cycle, a word the cycle does not use, G7 diameters, a
         tool change or probe pending, a G7x profile being read, the blocks of
         RETAIN_G43)."""
-        motion = self.motion_mode
-        if (
-            motion not in DRILL_CYCLES
-            or not _ROW_WORDS[motion].issuperset(words)
-            or self.lathe_diameter
-            or self.toolchange_flag
-            or self.probe_flag
-            or self.reading_profile  # a G7x profile's lines go to its reader
-            or "_execute" in self.__dict__
-        ):
+        if self.cycle_row_refused(words):
             return False
+        motion = self.motion_mode
         self.line = line
         self.announce_block(None)
         self.current = list(self.current)
@@ -147,6 +139,20 @@ class CyclesMixin:
         self._publish_position()
         self.refresh_plain()
         return True
+
+    def cycle_row_refused(self, words) -> bool:
+        """Whether ``block`` must decide what a row of ``words`` does (see
+        :meth:`cycle_row`)."""
+        motion = self.motion_mode
+        return (
+            motion not in DRILL_CYCLES
+            or not _ROW_WORDS[motion].issuperset(words)
+            or self.lathe_diameter
+            or self.toolchange_flag
+            or self.probe_flag
+            or self.reading_profile  # a G7x profile's lines go to its reader
+            or "_execute" in self.__dict__
+        )
 
     def _end_cycle_series(self) -> None:
         """A motion that is not a cycle: the next cycle measures its initial level anew."""
@@ -210,6 +216,13 @@ class CyclesMixin:
         if self.cycle_initial_level is None:
             self.cycle_initial_level = current_cc
         old_cc = self.cycle_initial_level
+        # The row runner may ask what this line's hole tells of the rows of
+        # hole words after it (runtime.fast.hole_rows): marks at its stages.
+        capture = self._hole_capture
+        if capture is not None and (repeats != 1 or self.distance_incremental):
+            capture = None
+        if capture is not None:
+            capture.mark(self)
 
         step_a = step_b = 0.0
         radius_step = angle_step = 0.0
@@ -251,6 +264,8 @@ class CyclesMixin:
                 aa, bb = _polar_step(aa, bb, radius_step, 0.0)
             if angle_step:
                 aa, bb = _polar_step(aa, bb, 0.0, angle_step)
+            if capture is not None:
+                capture.mark(self)
             if repeat == 0 and current_cc > r:
                 self._cycle_move(True, aa, bb, current_cc)
                 self._cycle_move(True, aa, bb, r)
@@ -258,6 +273,8 @@ class CyclesMixin:
                 self._cycle_move(True, aa, bb, clear)
                 if clear > r:
                     self._cycle_move(True, aa, bb, r)
+            if capture is not None:
+                capture.mark(self)
             run(aa, bb)
 
         end = list(self.current)
@@ -267,6 +284,8 @@ class CyclesMixin:
         if saved[0] != "EXACT_PATH":
             self._canon_control_mode(saved[0], saved[1])
             self._canon_naivecam(saved[2])
+        if capture is not None:
+            capture.ended(self, r, clear)
 
     def _absolute_hole(self, words, ia: int, ib: int) -> Tuple[float, float]:
         """The hole position in G90: the plane's words, or polar words (XY only)."""

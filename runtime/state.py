@@ -140,6 +140,7 @@ class MachineState:
     _plain: bool  # the modes let plain moves skip the general path
     _batchable: bool  # a BatchesOnly machine's plain flag, set aside
     _block_n: Optional[str]  # the N column last announced to the canon
+    _hole_capture: Optional[object]  # a cycle line's hole being told (hole_rows)
 
     def _start_state(self) -> None:
         """Every field the constructor is not told, as a new interpreter has it."""
@@ -179,6 +180,7 @@ class MachineState:
         self._plain = False
         self._batchable = False
         self._block_n = None
+        self._hole_capture = None
         self._reset_modes()
 
     def _reset_modes(self) -> None:

@@ -17,6 +17,7 @@ import os
 import subprocess
 import tempfile
 import time
+from typing import List
 
 import pytest
 from hypothesis import given
@@ -141,7 +142,23 @@ def cycle_tables(draw) -> str:
         spindle + " S1000",
         "G0 %s%s" % (hole, start),
     ]
-    lines.append(" ".join(["G91" if incremental else "G90", retract, code] + words))
+    # the cycle's own line as CAM posts write it, which tells the replay what
+    # the rows after it make (runtime.fast.hole_rows._Capture), or with an N,
+    # F or L that keep it from telling
+    distance = "G91" if incremental else "G90"
+    form = draw(st.integers(0, 5))
+    if form == 1:
+        lines.append(distance)
+        distance = ""
+    elif form == 2:
+        words.append("F%d" % draw(st.integers(50, 900)))
+    elif form == 3:
+        words.append("L%d" % draw(st.integers(1, 3)))
+    cycle_line = " ".join(filter(None, [distance, retract, code] + words))
+    if form == 4:
+        cycle_line = "N%d %s" % (draw(st.integers(1, 999)), cycle_line)
+    lines.append(cycle_line)
+    rows: List[str] = []
     for k in range(draw(st.integers(8, 40))):
         shape = draw(st.integers(0, 9))
         row = []
@@ -168,9 +185,19 @@ def cycle_tables(draw) -> str:
                 draw(st.sampled_from(["G90", "G91", "G98", "G99", "F200", "S800"]))
             )
         lines.append(" ".join(row))
+        rows.append(lines[-1])
     if draw(st.booleans()):
         lines.append("(debug, at #5420 #5421 #5422)")  # the last hole, published
-    lines += ["G80", "G90", "M2"]
+    lines += ["G80", "G90"]
+    if draw(st.integers(0, 2)) == 0:
+        # a second series drilled alike, the rotary axes at -0 or 0 now: its
+        # trace (pieces of the first's template) prints them apart
+        rotary = draw(st.sampled_from(["A-0", "A0", "B-0 C-0", "A0.5"]))
+        mode = "G91" if incremental else "G90"
+        lines += ["G0 %s%s %s" % (hole, start, rotary), mode, cycle_line]
+        lines += rows[: draw(st.integers(1, len(rows)))]
+        lines += ["G80", "G90"]
+    lines.append("M2")
     text = "\n".join(lines) + "\n"
     return cam_sized(text) if draw(st.integers(0, 3)) else text
 
@@ -204,14 +231,25 @@ def _cycle_calls(text: str, canon_class=RecordingCanon):
     return canon.calls, canon.numbers, error, machine.current
 
 
+def _block_alone(self, cells, at: int, end: int) -> int:
+    """HoleRows.opening without the capture: the cycle's line by block."""
+    plan = self.plans[int(cells[at + 1])]
+    after = at + 2 + plan.width
+    words = dict(zip(plan.letters, map(float, cells[at + 2 : after])))
+    self.machine.block(int(cells[at]), *plan.codes, **words)
+    return after
+
+
 def _without_replay(run, text: str):
-    """``run(text)`` with every hole row drilled by the reference path."""
-    saved = HoleRows.run
+    """``run(text)`` with every hole row drilled by the reference path (and
+    every cycle's own line run by block alone)."""
+    saved = HoleRows.run, HoleRows.opening
     HoleRows.run = lambda self, cells, at, end: at
+    HoleRows.opening = _block_alone
     try:
         return run(text)
     finally:
-        HoleRows.run = saved
+        HoleRows.run, HoleRows.opening = saved
 
 
 @PROFILE
@@ -314,45 +352,81 @@ def test_replayed_holes_trace_the_reference_text(text):
     assert replayed == _without_replay(_cycle_trace, text)
 
 
+def _learnt(monkeypatch) -> List[str]:
+    """How each run of hole rows learns what to replay, from now on: "told"
+    (by the cycle's own line, HoleRows._told) or "recorded" (its first row
+    drilled by the reference path, HoleRows._record), each once it works."""
+    learnt: List[str] = []
+    for name, how in (("_told", "told"), ("_record", "recorded")):
+
+        def counting(self, *args, _method=getattr(HoleRows, name), _how=how):
+            found = _method(self, *args)
+            if found:
+                learnt.append(_how)
+            return found
+
+        monkeypatch.setattr(HoleRows, name, counting)
+    return learnt
+
+
 def test_holes_are_replayed(monkeypatch):
-    """The replay is taken (a run of hole rows is recorded once), so the
-    test above compares two paths: G81 rows in the XY plane, pecks with a
-    start below the R plane in XZ."""
-    recorded = []
-    record = HoleRows._record
-
-    def counting(self, *args):
-        found = record(self, *args)
-        recorded.append(bool(found))
-        return found
-
-    monkeypatch.setattr(HoleRows, "_record", counting)
+    """The replay is taken, learnt once for a run of hole rows, so the tests
+    above compare two paths: G81 rows in the XY plane after a cycle line CAM
+    posts write (its hole tells the rows'), pecks with a start below the R
+    plane in XZ, and a cycle line with an N (which does not tell: the first
+    row is recorded)."""
+    learnt = _learnt(monkeypatch)
     rows = "\n".join("X%d Y%d" % (k, k % 3) for k in range(2, 40))
-    _cycle_calls(
-        cam_sized("G21 G17 F100\nG0 Z5\nG99 G81 X1 Y1 Z-1 R2\n" + rows + "\nG80\nM2\n")
-    )
-    assert recorded == [True]
+    text = "G21 G17 F100\nG0 Z5\nG90 G99 G81 X1 Y1 Z-1 R2\n" + rows + "\nG80\nM2\n"
+    _cycle_calls(cam_sized(text))
+    assert learnt == ["told"]
+    learnt.clear()
+    _cycle_calls(cam_sized(text.replace("G90 G99", "N5 G99")))
+    assert learnt == ["recorded"]
     rows = "\n".join("Z%d" % k for k in range(2, 40))
-    recorded.clear()
+    learnt.clear()
     _cycle_calls(
         cam_sized(
             "G21 G18 F100\nG0 Y-1\nG98 G83 Z1 X1 Y-3 R2 Q0.5\n" + rows + "\nG80\nM2\n"
         )
     )
-    assert recorded == [True]
+    assert learnt == ["told"]
+
+
+def test_a_cycle_line_tells_the_rows_after_it(monkeypatch):
+    """In G99 the cycle's own hole goes down from the start level and the
+    rows' from the R plane; in G98 both from the start level; in the
+    default G64 with a tolerance, each hole switches to exact path and back.
+    Told by the line, the rows make the reference path's calls, with no row
+    recorded."""
+    learnt = _learnt(monkeypatch)
+    rows = "\n".join("X%d Y%d" % (k, k % 3) for k in range(2, 12))
+    for retract in ("G98", "G99"):
+        for path in ("G61", "G64 P0.01"):
+            text = cam_sized(
+                "G21 G17 F100 M3 S500 %s\nG0 Z5\n%s G84 X1 Y1 Z-1 R2 P0.3\n"
+                "%s\nG80\nM2\n" % (path, retract, rows)
+            )
+            learnt.clear()
+            assert _cycle_calls(text) == _without_replay(_cycle_calls, text)
+            assert _cycle_trace(text) == _without_replay(_cycle_trace, text)
+            assert learnt == ["told", "told"]
 
 
 def test_one_trace_template_serves_holes_drilled_alike_at_other_levels(
     monkeypatch,
 ):
     """The trace's template of a hole leaves its moves' levels to be written
-    in (hole_rows._template's first stage): series of pecks at other depths,
-    R planes and start levels share one template, and each gets its own
-    levels, the reference path's text."""
+    in (hole_rows._template's first stage) and is made of each call's lines,
+    made once: series of pecks at other depths, R planes and start levels
+    make no line anew, and each gets its own levels, the reference path's
+    text."""
     made = []
-    template = hole_rows._template
+    call_template = hole_rows._call_template
     monkeypatch.setattr(
-        hole_rows, "_template", lambda *args: made.append(1) or template(*args)
+        hole_rows,
+        "_call_template",
+        lambda *args: made.append(1) or call_template(*args),
     )
     rows = "\n".join("X%d Y%d" % (k, k % 3) for k in range(2, 12))
     series = [
@@ -360,10 +434,24 @@ def test_one_trace_template_serves_holes_drilled_alike_at_other_levels(
         "G0 Z7\nG99 G83 X1 Y1 Z-2.7 R2.2 Q1\n" + rows + "\nG80",
         "G0 Z6\nG99 G83 X1 Y1 Z-2.9 R1.4 Q1\n" + rows + "\nG80",
     ]
-    text = "G21 G17 F100 M3 S1000\nG0 Z5\n" + "\n".join(series) + "\nM2\n"
+    head = "G21 G17 F100 M3 S1000\nG0 Z5\n"
+    _cycle_trace(cam_sized(head + series[0] + "\nM2\n"))
+    first = len(made)
+    text = head + "\n".join(series) + "\nM2\n"
     traced = _cycle_trace(cam_sized(text))
-    assert len(made) == 1
+    assert len(made) == 2 * first
     assert traced == _without_replay(_cycle_trace, cam_sized(text))
+
+
+def test_rotary_axes_at_minus_zero_are_not_those_at_zero():
+    """Two series of holes drilled alike but for an A axis at 0 and then at
+    -0 (equal numbers, printed apart): the second's lines are its own."""
+    rows = "\n".join("X%d Y%d" % (k, k % 3) for k in range(2, 12))
+    series = "G99 G81 X1 Y1 Z-1 R2\n" + rows + "\nG80\n"
+    text = "G21 G17 F100\nG0 Z5 A0\n" + series + "G0 A-0\n" + series + "M2\n"
+    check_same(cam_sized(text), "run")
+    traced, error = _cycle_trace(cam_sized(text))
+    assert error is None and "-0.0000, 0.0000, 0.0000)" in traced
 
 
 class _CountingMachine(Machine):

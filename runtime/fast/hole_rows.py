@@ -30,6 +30,7 @@ row (``hole_replayed``); the canon sees each row begin as it did, by the
 from __future__ import annotations
 
 from itertools import repeat, takewhile
+from marshal import dumps
 
 from runtime.canon import CALLS, Canon, TraceCanon, trace_rows
 from runtime.cycles import CyclesMixin
@@ -127,47 +128,60 @@ for _name in CALLS:
 del _name
 
 
-#: Stand-ins for the hole axis' level of a hole's moves in its template
-#: (eleven digits, as the others: no stand-in's text is part of another's):
-#: the k-th move's is _LEVEL + 1000 k.
+#: Stand-in for the hole axis' level of a move while its line's template
+#: is made (eleven digits, as the others: no stand-in's text is another's).
 _LEVEL = 10000000000.0
 
 
-def _template(scratch, recorded: List[tuple], column: str):
+def _template(scratch, recorded: List[tuple], column: str, pieces: dict):
     """The trace text of one hole made of the recorded calls, as a template
-    in two stages: the first has ``%s`` for each move's Z, in order; what
-    it makes has ``%5d`` for each line's number and, in a move's line,
-    ``%s`` for its X and Y. So one template serves every series of holes
-    drilled alike whatever their levels. Returns it with what each line's
-    X and Y stand for (_AT_HOLE, _AT_START or None for a line that is not a
-    move) and the N column after the hole; None where a stand-in's text is
-    not found once. The calls are made on ``scratch``, a trace, with
-    stand-in values that are then replaced. Moves in the XY plane only."""
-    scratch._pending.clear()
-    scratch._count, scratch._column = 0, column
-    lines = scratch._pending
+    in two stages: the first has ``%s`` for each move's level (the hole
+    axis), in order; what it makes has ``%5d`` for each line's number and,
+    in a move's line, ``%s`` for its X and Y. So one template serves every
+    series of holes drilled alike whatever their levels. Returns it with
+    what each line's X and Y stand for (_AT_HOLE, _AT_START or None for a
+    line that is not a move) and the N column after the hole; None where a
+    call's line cannot be made so (_call_template). Each call's lines are
+    made once and kept in ``pieces``. Moves in the XY plane only."""
     parts: List[str] = []
     slots: List[object] = []
-    level = _LEVEL
     for name, args, move in recorded:
-        done = len(lines)
+        # keyed by the arguments' bits: 0.0 and -0.0 are equal, but not
+        # printed alike
+        key = dumps((column, name, args[3:] if move is not None else args, move))
+        piece = pieces.get(key)
+        if piece is None:
+            piece = pieces[key] = _call_template(scratch, name, args, move, column)
+        if piece is False:
+            return None
+        parts += piece[0]
+        slots += piece[1]
+        column = piece[2]
+    return "".join(parts), slots, column
+
+
+def _call_template(scratch, name: str, args: tuple, move, column: str):
+    """The lines of one call of a hole as _template's pieces: (their
+    templates, their slots, the N column after), or False where a stand-in's
+    text is not found once. The call is made on ``scratch``, a trace, with
+    stand-in values that are then replaced."""
+    scratch._pending.clear()
+    scratch._count, scratch._column = 0, column
+    if move is not None:
+        args = _STAND_INS[move] + (_LEVEL,) + args[3:]
+    getattr(scratch, name)(*args)
+    parts: List[str] = []
+    for line in scratch._pending:
+        body = line[6:].replace("%", "%%%%")
         if move is not None:
-            args = _STAND_INS[move] + (level,) + args[3:]
-        getattr(scratch, name)(*args)
-        for line in lines[done:]:
-            body = line[6:].replace("%", "%%%%")
-            if move is not None:
-                x_text, y_text = _STAND_IN_TEXTS[move]
-                found = x_text, y_text, "%.4f" % level
-                if any(body.count(text) != 1 for text in found):
-                    return None
-                body = body.replace(x_text, "%%s").replace(y_text, "%%s")
-                body = body.replace(found[2], "%s")
-            parts.append("%%5d " + body)
-            slots.append(move)
-        if move is not None:
-            level += 1000.0
-    return "".join(parts), slots, scratch._column
+            x_text, y_text = _STAND_IN_TEXTS[move]
+            found = x_text, y_text, "%.4f" % _LEVEL
+            if any(body.count(text) != 1 for text in found):
+                return False
+            body = body.replace(x_text, "%%s").replace(y_text, "%%s")
+            body = body.replace(found[2], "%s")
+        parts.append("%%5d " + body)
+    return tuple(parts), (move,) * len(parts), scratch._column
 
 
 def _snapshot(machine) -> tuple:
@@ -194,6 +208,72 @@ def _only_position_changed(before: tuple, machine) -> bool:
     return True
 
 
+class _Capture:
+    """What a cycle's own line (``G99 G81 X.. Y.. Z.. R..``) tells of the rows
+    of hole words after it, told by ``CyclesMixin._plane_cycle`` while the
+    line runs with the canon recorded: marks where the hole begins, where
+    the moves into it begin and end, and its end. A row after the line
+    makes the same calls as the line's hole, but for its way in: it starts
+    at the level the line's hole left (rs274's clear level) and goes down
+    to R from there. So the line's hole is the recording, and the first of
+    those rows need not be drilled by the reference path to make one."""
+
+    __slots__ = ("recording", "marks", "start", "world", "fields", "told")
+
+    def __init__(self, recording: _Recording) -> None:
+        self.recording = recording
+        #: where each stage begins in the recorded calls
+        self.marks: List[int] = []
+        self.start = None
+        self.world = None
+        self.fields = None
+        #: (calls to replay, end point), or None: not to be replayed
+        self.told = None
+
+    def mark(self, machine) -> None:
+        marks = self.marks
+        marks.append(len(self.recording.calls))
+        if len(marks) == 1:  # the hole begins: where, and the world then
+            self.start = machine.current[:]
+            self.world = _snapshot(machine)[1]
+        elif len(marks) == 2:  # its words settled: the fields then
+            self.fields = dict(vars(machine))
+
+    def ended(self, machine, r: float, clear: float) -> None:
+        if len(self.marks) != 3:
+            return
+        begin, enter, body = self.marks
+        calls = self.recording.calls
+        way_in = calls[enter:body]
+        if not way_in or way_in[0][0] != "straight_traverse":
+            return
+        # a row's way in: along the plane at the clear level, then down to R
+        ia, ib, _ = _HOLE_AXES[machine.plane]
+        level = 3 - ia - ib
+        moves = []
+        for height in (clear, r) if clear > r else (clear,):
+            args = list(way_in[0][1])
+            args[level] = height
+            moves.append(("straight_traverse", tuple(args)))
+        row = [("set_block_number", (None,))] + calls[begin:enter] + moves
+        self.told = row + calls[body:], machine.current[:]
+        # the row's hole changes nothing but the position, as the line's did
+        fields, after = self.fields, dict(vars(machine))
+        for name in _TOLD_APART | type(machine).replayed_fields:
+            after.pop(name, None)
+            fields.pop(name, None)
+        world = machine.world
+        if fields != after or any(
+            name != "position" and old != getattr(world, name)
+            for name, old in zip(type(world).__slots__, self.world)
+        ):
+            self.told = None
+
+
+#: Fields the cycle line's hole sets that a row's hole leaves as they are.
+_TOLD_APART = frozenset(("current", "line", "cycle_depth"))
+
+
 class HoleRows:
     """The replay of hole rows for one table (runtime.fast.rows)."""
 
@@ -205,6 +285,7 @@ class HoleRows:
         "recorded",
         "templates",
         "scratch",
+        "told",
     )
 
     def __init__(self, machine, plans, printed: bool = False) -> None:
@@ -215,12 +296,44 @@ class HoleRows:
         #: The last recorded hole's calls: (name, arguments, _AT_HOLE,
         #: _AT_START or None for a call that is not a move).
         self.recorded: List[tuple] = []
-        #: The trace templates made of recorded holes (_template), and the
+        #: The trace templates of a hole's calls (_template), and the
         #: trace they are made on.
         self.templates: dict = {}
         self.scratch = None
         #: plane -> {shape cell: the hole axes' value indexes, or None}
         self.holes: dict = {}
+        #: (the row after a cycle's own line, what that line's hole told)
+        self.told = None
+
+    def opening(self, cells: List[str], at: int, end: int) -> int:
+        """Run the cycle's own line at ``cells[at]`` by ``block`` and, when a
+        row of hole words follows it, keep what its hole tells of that row
+        (_Capture); returns where the row after the line begins."""
+        machine = self.machine
+        plan = self.plans[int(cells[at + 1])]
+        line = machine.line = int(cells[at])
+        after = at + 2 + plan.width
+        words = dict(zip(plan.letters, map(float, cells[at + 2 : after])))
+        self.told = None
+        if (
+            after >= end
+            or not self.plans[int(cells[after + 1])].cycle
+            or machine.cutter_comp
+            or machine.plane not in _HOLE_AXES
+        ):
+            machine.block(line, *plan.codes, **words)
+            return after
+        canon = machine.canon
+        recording = machine.canon = _Recording(canon)
+        capture = machine._hole_capture = _Capture(recording)
+        try:
+            machine.block(line, *plan.codes, **words)
+        finally:
+            machine.canon = canon
+            machine._hole_capture = None
+        if capture.told is not None and not recording.keywords:
+            self.told = after, capture
+        return after
 
     def _hole_words(self, plane: str, key: str):
         """For a row of shape ``key``: (index of the first hole axis' value
@@ -252,10 +365,15 @@ class HoleRows:
         if hole is None:
             return at
         ia, ib, _ = _HOLE_AXES[plane]
-        replay = self._record(cells, at, hole, ia, ib)
-        if replay is None:
-            return at
-        at += 2 + self.plans[int(cells[at + 1])].width
+        told, self.told = self.told, None
+        replay = False
+        if told is not None and told[0] == at:
+            replay = self._told(told[1], ia, ib)
+        if replay is False:
+            replay = self._record(cells, at, hole, ia, ib)
+            if replay is None:
+                return at
+            at += 2 + self.plans[int(cells[at + 1])].width
         if replay is False:
             return at  # drilled, but not to be replayed
         calls, final = replay
@@ -304,19 +422,11 @@ class HoleRows:
             return at
         # one template for every series of holes drilled alike, whatever
         # their levels (the moves' Z, written in at the first stage)
-        key = (canon._column,) + tuple(
-            (name, args[3:] if move else args, move)
-            for name, args, move in self.recorded
-        )
-        made = self.templates.get(key, False)
-        if made is False:
-            if self.scratch is None:
-                import io
+        if self.scratch is None:
+            import io
 
-                self.scratch = TraceCanon(io.StringIO())
-            made = self.templates[key] = _template(
-                self.scratch, self.recorded, canon._column
-            )
+            self.scratch = TraceCanon(io.StringIO())
+        made = _template(self.scratch, self.recorded, canon._column, self.templates)
         levels = tuple("%.4f" % args[2] for _, args, move in self.recorded if move)
         if made is None or "n" in "".join(levels):  # (nan, inf: C's own words)
             return begin  # no template: the holes go by the reference path
@@ -450,8 +560,18 @@ class HoleRows:
             if hole is None:
                 break
             first, second, stride = hole
-            stop = min(end, at + stride * room)
-            count = len(list(takewhile(key.__eq__, cells[at + 1 : stop : stride])))
+            # a series is usually a few dozen rows: look ahead in growing
+            # steps rather than slicing as many rows as a piece may take
+            count, step = 0, 32
+            while True:
+                step = min(step, room - count, (end - at) // stride - count)
+                begin = at + 1 + count * stride
+                looked = cells[begin : begin + step * stride : stride]
+                found = len(list(takewhile(key.__eq__, looked)))
+                count += found
+                if found < step or not step:
+                    break
+                step *= 4
             stop = at + count * stride
             runs.append((at, stop, first, second, stride))
             room -= count
@@ -468,7 +588,6 @@ class HoleRows:
         words = dict(zip(plan.letters, map(float, values)))
         before = _snapshot(machine)
         origin = machine.current
-        start = origin[ia], origin[ib]
         canon = machine.canon
         recording = machine.canon = _Recording(canon)
         try:
@@ -478,9 +597,6 @@ class HoleRows:
         if not done:
             return None
         final = list(machine.current)
-        hole = final[ia], final[ib]
-        if hole == start:
-            return False  # which moves are at the hole is not to be told
         if any(
             after != was
             for axis, (after, was) in enumerate(zip(final, origin))
@@ -489,8 +605,45 @@ class HoleRows:
             # it ended off the level it began at (the first hole after the
             # tool came from elsewhere): the next hole begins elsewhere
             return False
+        if recording.keywords or not _only_position_changed(before, machine):
+            return False
+        return self._replayable(recording.calls, origin, final, ia, ib)
+
+    def _told(self, capture: _Capture, ia: int, ib: int):
+        """What a cycle's own line told of the row after it (_Capture), as
+        _record gives it, without drilling the row; False when it may not
+        be replayed."""
+        machine = self.machine
+        calls, final = capture.told
+        level = 3 - ia - ib
+        kind = type(machine)
+        if (
+            # a machine that keeps something of its own for each row it
+            # drills tells it by hole_replayed, or every row is drilled
+            kind.cycle_row is not CyclesMixin.cycle_row
+            and kind.hole_replayed is CyclesMixin.hole_replayed
+        ):
+            return False
+        if machine.cycle_row_refused({}) or any(
+            after != was
+            for axis, (after, was) in enumerate(zip(final, capture.start))
+            if axis not in (ia, ib, level)
+        ):
+            return False
+        return self._replayable(calls, capture.start, final, ia, ib)
+
+    def _replayable(self, recorded_calls, origin, final, ia: int, ib: int):
+        """The calls of a hole drilled from ``origin`` to ``final`` to be
+        replayed (each bound to the canon, its moves told apart: at the
+        hole, or where the tool was before it), or False where a call is
+        not a hole's or which moves are at the hole is not to be told."""
+        canon = self.machine.canon
+        start = origin[ia], origin[ib]
+        hole = final[ia], final[ib]
+        if hole == start:
+            return False  # which moves are at the hole is not to be told
         calls, recorded = [], []
-        for name, args in recording.calls:
+        for name, args in recorded_calls:
             move = None
             if name in HOLE_MOVES:
                 # at the hole, or (up to the R plane first) where it was
@@ -506,7 +659,5 @@ class HoleRows:
             if move is not None and (ia, ib) == (0, 1):
                 args = args[2:]  # the replay puts X and Y first
             calls.append((getattr(canon, name), args, move))
-        if recording.keywords or not _only_position_changed(before, machine):
-            return False
         self.recorded = recorded
         return calls, final

@@ -40,8 +40,9 @@ if TYPE_CHECKING:
 
 from runtime.fast.arc_rows import ArcRows, column_floats
 from runtime.fast.hole_rows import HoleRows
+from runtime.blockcheck import DRILL_CYCLES
 from runtime.canon import Canon, TraceCanon
-from runtime.codes import G0, G1, G2, G3
+from runtime.codes import G0, G1, G2, G3, G17, G18, G19, G20, G21, G90, G91, G98, G99
 from runtime.cycles import ROW_CYCLE_LETTERS
 from runtime.fast.printed_rows import BATCH, MOST, printed_rows
 
@@ -52,6 +53,10 @@ _AXES = "xyzabcuvw"
 _NO_OPS = (Canon.straight_feed, Canon.straight_traverse)
 _STRAIGHT_MOVES = Canon.straight_moves
 _ARC_LETTERS = "xyzabcijkrf"
+#: The codes of a cycle's own line that runtime.fast.hole_rows may learn
+#: from: the cycle and the modes CAM posts set beside it.
+_DRILL_CODES = frozenset(DRILL_CYCLES)
+_CYCLE_LINE_CODES = _DRILL_CODES | {G17, G18, G19, G20, G21, G90, G91, G98, G99}
 
 
 class _Plan:
@@ -70,6 +75,7 @@ class _Plan:
         "batch",
         "arc",
         "cycle",
+        "opens_cycle",
     )
 
     def __init__(self, shape: Shape):
@@ -112,6 +118,15 @@ class _Plan:
             and not self.has_n
             and ROW_CYCLE_LETTERS.issuperset(self.letters)
             and any(x in "xyz" for x in self.letters)
+        )
+        #: A cycle's own line, as CAM posts write it (``G99 G81 X Y Z R``):
+        #: its hole tells what the rows of hole words after it make
+        #: (runtime.fast.hole_rows).
+        self.opens_cycle = (
+            not self.has_n
+            and len(_DRILL_CODES.intersection(codes)) == 1
+            and _CYCLE_LINE_CODES.issuperset(codes)
+            and ROW_CYCLE_LETTERS.issuperset(self.letters)
         )
         #: What runtime.fast.printed_rows needs, in one tuple (None: not for it).
         self.printed = None
@@ -230,7 +245,8 @@ def run_rows(
     # generator's m.move and m.arc lines would be taken.
     by_move = machine.rows_by_move
     # The next holes of a canned cycle, replayed (runtime.fast.hole_rows).
-    holes = HoleRows(machine, plans, as_printed).run
+    hole_rows = HoleRows(machine, plans, as_printed)
+    holes, opening = hole_rows.run, hole_rows.opening
     try:
         while at < end:
             at = fast(cells, at, end, plans)
@@ -247,6 +263,9 @@ def run_rows(
                 if stop != at:
                     at = stop
                     continue
+            elif plan.opens_cycle:
+                at = opening(cells, at, end)
+                continue
             machine.line = line = int(cells[at])
             start = at + 2
             at = start + plan.width
