@@ -139,10 +139,10 @@ def _template(scratch, recorded: List[tuple], column: str, pieces: dict):
     axis), in order; what it makes has ``%5d`` for each line's number and,
     in a move's line, ``%s`` for its X and Y. So one template serves every
     series of holes drilled alike whatever their levels. Returns it with
-    what each line's X and Y stand for (_AT_HOLE, _AT_START or None for a
-    line that is not a move) and the N column after the hole; None where a
-    call's line cannot be made so (_call_template). Each call's lines are
-    made once and kept in ``pieces``. Moves in the XY plane only."""
+    its layout (which column fills each slot: see _trace_piece), its
+    number of lines and the N column after the hole; None where a call's
+    line cannot be made so (_call_template). Each call's lines are made
+    once and kept in ``pieces``. Moves in the XY plane only."""
     parts: List[str] = []
     slots: List[object] = []
     for name, args, move in recorded:
@@ -157,7 +157,15 @@ def _template(scratch, recorded: List[tuple], column: str, pieces: dict):
         parts += piece[0]
         slots += piece[1]
         column = piece[2]
-    return "".join(parts), slots, column
+    # each line's number, then a move's X and Y: at the hole, or where the
+    # tool was before it (the columns after the lines' numbers)
+    lines = len(slots)
+    layout: List[int] = []
+    for j, move in enumerate(slots):
+        layout.append(j)
+        if move is not None:
+            layout += (lines, lines + 1) if move == _AT_HOLE else (lines + 2, lines + 3)
+    return "".join(parts), layout, lines, column
 
 
 def _call_template(scratch, name: str, args: tuple, move, column: str):
@@ -284,6 +292,8 @@ class HoleRows:
         "holes",
         "recorded",
         "templates",
+        "hole_templates",
+        "shape",
         "scratch",
         "told",
     )
@@ -296,9 +306,12 @@ class HoleRows:
         #: The last recorded hole's calls: (name, arguments, _AT_HOLE,
         #: _AT_START or None for a call that is not a move).
         self.recorded: List[tuple] = []
-        #: The trace templates of a hole's calls (_template), and the
-        #: trace they are made on.
+        #: The trace templates of a hole's calls, of whole holes by their
+        #: calls' shape (_template; the last recorded hole's shape, once
+        #: worked out), and the trace they are made on.
         self.templates: dict = {}
+        self.hole_templates: dict = {}
+        self.shape = None
         self.scratch = None
         #: plane -> {shape cell: the hole axes' value indexes, or None}
         self.holes: dict = {}
@@ -422,25 +435,34 @@ class HoleRows:
             return at
         # one template for every series of holes drilled alike, whatever
         # their levels (the moves' Z, written in at the first stage)
-        if self.scratch is None:
-            import io
+        recorded = self.recorded
+        if self.shape is None:
+            self.shape = dumps(
+                tuple(
+                    (name, args[3:] if move else args, move)
+                    for name, args, move in recorded
+                )
+            )
+        key = canon._column, self.shape
+        made = self.hole_templates.get(key, False)
+        if made is False:
+            if self.scratch is None:
+                import io
 
-            self.scratch = TraceCanon(io.StringIO())
-        made = _template(self.scratch, self.recorded, canon._column, self.templates)
-        levels = tuple("%.4f" % args[2] for _, args, move in self.recorded if move)
+                self.scratch = TraceCanon(io.StringIO())
+            made = self.hole_templates[key] = _template(
+                self.scratch, recorded, canon._column, self.templates
+            )
+        levels = tuple(
+            map("%.4f".__mod__, [args[2] for _, args, move in recorded if move])
+        )
         if made is None or "n" in "".join(levels):  # (nan, inf: C's own words)
             return begin  # no template: the holes go by the reference path
-        template, slots, column = made
-        template %= levels
-        base, lines = canon._count, len(slots)
-        columns: List = []
-        at_hole = xs[1:], ys[1:]
-        at_start = xs[:-1], ys[:-1]
-        for j, move in enumerate(slots):
-            columns.append(range(base + 1 + j, base + 1 + j + lines * rows, lines))
-            if move is not None:
-                columns += at_hole if move == _AT_HOLE else at_start
-        canon._write(trace_rows(template, columns))
+        template, layout, lines, column = made
+        base, span = canon._count, lines * rows
+        pool = [range(b, b + span, lines) for b in range(base + 1, base + 1 + lines)]
+        pool += (xs[1:], ys[1:], xs[:-1], ys[:-1])
+        canon._write(trace_rows(template % levels, [pool[i] for i in layout]))
         canon._count, canon._column = base + lines * rows, column
         if canon._count >= canon._drain_at:
             canon._drain()
@@ -659,5 +681,5 @@ class HoleRows:
             if move is not None and (ia, ib) == (0, 1):
                 args = args[2:]  # the replay puts X and Y first
             calls.append((getattr(canon, name), args, move))
-        self.recorded = recorded
+        self.recorded, self.shape = recorded, None
         return calls, final
