@@ -158,6 +158,31 @@ class _RowCode(LineCode):
 _row_code = partial(tuple.__new__, _RowCode)
 
 
+def _straight_move(name: str):
+    """PreviewCanon's ``name`` (straight_traverse or straight_feed): the
+    target's, announced as :meth:`PreviewCanon._motion` announces a call,
+    of the move's :meth:`PreviewCanon._pose`, written out in one method (a
+    loop's every move comes here)."""
+
+    def straight(self, x, y, z, a, b, c, u, v, w):
+        self._pos = (x, y, z, a, b, c, u, v, w)
+        machine = self.machine
+        sequence = machine.line if self.motion_line is None else self.motion_line
+        if sequence > self.skipped:
+            sequence -= self.skipped
+        if sequence != self.last_sequence:
+            self.new_line(self.motion_line)
+        call = getattr(self.target, name)
+        if machine.inches:
+            call(x, y, z, a, b, c, u, v, w)
+        else:
+            k = MM_PER_INCH
+            call(x / k, y / k, z / k, a, b, c, u / k, v / k, w / k)
+
+    straight.__name__ = straight.__qualname__ = name
+    return straight
+
+
 class PreviewCanon(Canon):
     """Translates ngc2py's canon calls into ``gcode.parse``'s calls on ``target``."""
 
@@ -233,27 +258,8 @@ class PreviewCanon(Canon):
     def set_feed_rate(self, rate):
         self._call("set_feed_rate", self._length(rate))
 
-    def straight_traverse(self, x, y, z, a, b, c, u, v, w):
-        self._straight(self.target.straight_traverse, x, y, z, a, b, c, u, v, w)
-
-    def straight_feed(self, x, y, z, a, b, c, u, v, w):
-        self._straight(self.target.straight_feed, x, y, z, a, b, c, u, v, w)
-
-    def _straight(self, call, x, y, z, a, b, c, u, v, w):
-        """A straight move: :meth:`_motion` of its :meth:`_pose`, written
-        out (a loop's every move comes here)."""
-        self._pos = (x, y, z, a, b, c, u, v, w)
-        machine = self.machine
-        sequence = machine.line if self.motion_line is None else self.motion_line
-        if sequence > self.skipped:
-            sequence -= self.skipped
-        if sequence != self.last_sequence:
-            self.new_line(self.motion_line)
-        if machine.inches:
-            call(x, y, z, a, b, c, u, v, w)
-        else:
-            k = MM_PER_INCH
-            call(x / k, y / k, z / k, a, b, c, u / k, v / k, w / k)
+    straight_traverse = _straight_move("straight_traverse")
+    straight_feed = _straight_move("straight_feed")
 
     def straight_moves(self, feed, lines, x, y, z, a, b, c, u, v, w):
         """A batch of plain rows (runtime.fast.rows.BatchesOnly: one move a line,
@@ -337,7 +343,7 @@ class PreviewCanon(Canon):
         line announced as its first call would announce it (with the modes
         the hole before left, which a hole changes only by its line number),
         then its calls on the target, lengths converted a column at a time.
-        The calls are made from columns by one ``starmap``: no Python
+        The calls are made from columns by ``map`` and ``zip``: no Python
         statement per move."""
         machine = self.machine
         if self.motion_line is not None or not isinstance(machine, PreviewMachine):
@@ -374,9 +380,11 @@ class PreviewCanon(Canon):
         codes = [LineCode((numbers[0],) + gcodes[1:], mcodes, settings)]
         state = repeat((gcodes[1:], mcodes[1:], settings[1:]))
         codes += map(_row_code, zip(numbers[1:], lines, state))
-        calls = [zip(repeat(target.next_line), codes)]
-        calls += [zip(repeat(method), *steps) for method, steps in columns]
-        for _ in starmap(_call, chain.from_iterable(zip(*calls))):
+        # each call's column mapped over by its method; zip asks them in
+        # turn, so the calls come in program order, hole after hole
+        calls = [map(target.next_line, codes)]
+        calls += [map(method, *steps) for method, steps in columns]
+        for _ in zip(*calls):
             pass
         self.last_sequence = numbers[-1]
         for _, args, where in reversed(recording):

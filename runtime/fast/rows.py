@@ -326,14 +326,33 @@ class BatchesOnly:
     def _line_ended(self, line: int, token) -> None:
         """The line has run (by the fast path or, stepping aside, by block())."""
 
+    def _single_xyz(self, run, line, x, y, z) -> None:
+        """:meth:`_single_line` for ``m.feed`` and ``m.rapid`` (a loop's
+        body): X, Y and Z passed on as they come, no N."""
+        if not self._batchable or self.reading_profile:
+            return run(line, x, y, z)
+        token = self._line_begins(line, None)
+        self._plain = True
+        try:
+            run(line, x, y, z)
+        finally:
+            self._plain = False
+        self._line_ended(line, token)
+
     def move(self, line, *args, **words) -> None:
         self._single_line(super().move, line, *args, **words)
 
-    def feed(self, line, *args, **words) -> None:
-        self._single_line(super().feed, line, *args, **words)
+    def __init_subclass__(cls, **kwargs) -> None:
+        super().__init_subclass__(**kwargs)
+        # the machine's own feed and rapid, found once (a loop's every move)
+        cls._plain_feed = super(BatchesOnly, cls).feed
+        cls._plain_rapid = super(BatchesOnly, cls).rapid
 
-    def rapid(self, line, *args, **words) -> None:
-        self._single_line(super().rapid, line, *args, **words)
+    def feed(self, line, x=None, y=None, z=None) -> None:
+        self._single_xyz(self._plain_feed, line, x, y, z)
+
+    def rapid(self, line, x=None, y=None, z=None) -> None:
+        self._single_xyz(self._plain_rapid, line, x, y, z)
 
     def arc(self, line, *args, **words) -> None:
         self._single_line(super().arc, line, *args, **words)
