@@ -286,6 +286,10 @@ _STAND_IN_TEXTS = tuple(map(repr, _STAND_INS)) + ("%d" % _STAND_IN_LINE,)
 _STAND_IN_SPLIT = re.compile("(%s)" % "|".join(map(re.escape, _STAND_IN_TEXTS)))
 
 
+#: The straight moves, and the code :meth:`FlattenCanon._move` writes each with.
+_PLAIN_MOVES = {"straight_feed": "G1", "straight_traverse": "G0"}
+
+
 class _Group:
     """The calls of one executed block, and where it came from."""
 
@@ -668,13 +672,19 @@ class FlattenCanon(Canon):
         if group is None or not group.calls:
             return
         calls = group.calls
-        if calls[-1][0] == "program_end":
-            keep = len(calls) - 1
-            while keep > 0 and calls[keep - 1][0] in END_RESETS:
-                keep -= 1
-            shuttle = any(name == "pallet_shuttle" for name, _ in calls[keep:])
-            calls = calls[:keep] + [("program_end", (shuttle,))]
-        out = self._texts(group, calls)
+        if len(calls) == 1 and calls[0][0] in _PLAIN_MOVES and self._pitch is None:
+            # a line of one straight move (a loop's): what _texts writes for
+            # it, without its cursor
+            name, args = calls[0]
+            out = [self._move(_PLAIN_MOVES[name], args, self._pos)]
+        else:
+            if calls[-1][0] == "program_end":
+                keep = len(calls) - 1
+                while keep > 0 and calls[keep - 1][0] in END_RESETS:
+                    keep -= 1
+                shuttle = any(name == "pallet_shuttle" for name, _ in calls[keep:])
+                calls = calls[:keep] + [("program_end", (shuttle,))]
+            out = self._texts(group, calls)
         if calls[-1][0] != "program_end":
             # changed by this block or by assignments after it (the flush
             # runs as the next block starts)
