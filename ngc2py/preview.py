@@ -158,6 +158,16 @@ class _RowCode(LineCode):
 _row_code = partial(tuple.__new__, _RowCode)
 
 
+def _in_inches(column: List[float]) -> List[float]:
+    """A column of millimetres in inches, as :meth:`PreviewCanon._pose`
+    divides each value; a column of zeros (U, V, W, seldom used) as it is:
+    zero divided is the very same zero, its sign kept."""
+    if not any(column):
+        return column
+    k = MM_PER_INCH
+    return [value / k for value in column]
+
+
 def _straight_move(name: str):
     """PreviewCanon's ``name`` (straight_traverse or straight_feed): the
     target's, announced as :meth:`PreviewCanon._motion` announces a call,
@@ -271,10 +281,7 @@ class PreviewCanon(Canon):
             return super().straight_moves(feed, lines, x, y, z, a, b, c, u, v, w)
         self._pos = tuple(column[-1] for column in (x, y, z, a, b, c, u, v, w))
         if not machine.inches:
-            k = MM_PER_INCH
-            x, y, z, u, v, w = (
-                [value / k for value in column] for column in (x, y, z, u, v, w)
-            )
+            x, y, z, u, v, w = map(_in_inches, (x, y, z, u, v, w))
         target = self.target
         self._announce_batch(
             lines,
@@ -294,8 +301,7 @@ class PreviewCanon(Canon):
         a, b, c, u, v, w = columns[6:]
         lengths = [first_end, second_end, first_axis, second_axis, axis_end, u, v, w]
         if not machine.inches:
-            k = MM_PER_INCH
-            lengths = [[value / k for value in column] for column in lengths]
+            lengths = list(map(_in_inches, lengths))
         e1, e2, c1, c2, normal, u, v, w = lengths
         self._announce_batch(
             lines,
@@ -422,9 +428,14 @@ class PreviewCanon(Canon):
         methods = iter(call) if isinstance(call, list) else repeat(call)
         if numbers[0] == self.last_sequence:  # announced already
             next(methods)(*next(arguments))
-        for code, method, values in zip(codes, methods, arguments):
-            next_line(code)
-            method(*values)
+        if isinstance(call, list):
+            for code, method, values in zip(codes, methods, arguments):
+                next_line(code)
+                method(*values)
+        else:
+            # one method: each line's two calls made in C, in turn by zip
+            for _ in zip(map(next_line, codes), starmap(call, arguments)):
+                pass
         self.last_sequence = numbers[-1]
         last = lines[-1]
         gcodes, mcodes, settings = modes[motions[-1]]
