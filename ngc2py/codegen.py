@@ -375,6 +375,21 @@ def may_fail(e: nodes.Expr) -> bool:
     return False
 
 
+def _m98_values(line: nodes.Line) -> List[nodes.Expr]:
+    """The values of an M98 line's words that may fail to read."""
+    return [item.value for item in line.items if may_fail(item.value)]
+
+
+def _stop_line(stop) -> Optional[int]:
+    """The line number where a skip stops (a line, or the statements of a
+    line reusing the label: its first line), or None."""
+    if stop is None:
+        return None
+    if isinstance(stop, list):
+        return _first_line(stop)
+    return stop.number
+
+
 def may_overflow(e: nodes.Expr) -> bool:
     """Can ``e`` make an inf/nan that nothing has checked yet?"""
     return value_bound(e) is None
@@ -681,6 +696,13 @@ class CodeGen:
         # Does any line fail to be read at all? (Then skipping fails too.)
         bodies = [program.body] + [sub.body for sub in program.externals]
         self.text_errors = st.first_text_error(bodies) is not None
+        # Any M98 line whose words may fail to read? rs274 reads them even
+        # skipping over the line (skipped_reads); most programs have none.
+        self.m98_reads = any(
+            type(stmt) is st.FanucCall and _m98_values(stmt.line)
+            for body in bodies
+            for stmt in st.walk(body)
+        )
         # any M98 that may never return (see strands): most programs have none
         #: Enough constant blocks for short runs to become tables too.
         self.cam_sized = constant_rows(bodies) >= MIN_PROGRAM_ROWS
@@ -1282,10 +1304,18 @@ class CodeGen:
         err = sub.define_error
         if err is None:
             self.w.stmt("m.define(%s, %s)" % (string(sub.name), sub.fn), sub.line)
+        # what rs274 reads reading past the definition: its own return and
+        # endsub values, and the words of its M98 lines, in text order
+        stop = err.line.number if err is not None else None
+        last = sub.line.number
         for line in st.definition_values(sub):
-            if err is not None and line.number >= err.line.number:
+            if stop is not None and line.number >= stop:
                 break
+            self.skipped_reads([sub.body], last, line.number, defining=not sub.fanuc)
             self.definition_value(line)
+            last = line.number
+        if not sub.fanuc:
+            self.skipped_reads([sub.body], last, stop, defining=True)
         if err is not None:
             if err.line.error == err.message and err.line.partial:
                 # the sub's own return/endsub line, whose value fails to
@@ -1416,6 +1446,11 @@ class CodeGen:
         self.frame_check(stmt.target, stmt.line)
         if self.continue_flag:
             self.stale_continue(stmt)
+        if self.reads_in([stmt.target.body]):
+            # rs274 skips forward over the rest of the loop's body
+            unreadable = self.skip_error([stmt.target.body])
+            until = None if unreadable is None else unreadable.number
+            self.skipped_reads([stmt.target.body], stmt.line.number, until)
         if stmt.target.end is None and stmt.target.eof is not None:
             # no line with the loop's label follows: rs274 skips to the end
             self.statement(stmt.target.eof)
@@ -1451,7 +1486,9 @@ class CodeGen:
         if self.break_flag:
             self.w.stmt("m.doing_break = False", stmt.line)
 
-    def resume(self, stmts: List[st.Stmt], leaves: List[st.Loop], outer: st.Loop) -> None:
+    def resume(
+        self, stmts: List[st.Stmt], leaves: List[st.Loop], outer: st.Loop
+    ) -> None:
         """Back into an earlier construct (structure.DoEnd.resume): a break
         of a loop it ``leaves`` continues ``outer``, which starts after it."""
         saved = dict(self.resumed)
@@ -1663,14 +1700,24 @@ class CodeGen:
             self.w.stmt(
                 "m.frame_mark(%s)" % string(self.frame_key(stmt)), stmt.branches[0].line
             )
+        opened = 0  # else-blocks opened to read a skipped arm's M98 lines
         for i, branch in enumerate(stmt.branches):
             keyword_ = "if" if i == 0 else "elif"
+            if i and self.reads_in([stmt.branches[i - 1].body]):
+                # a false condition: rs274 skips the arm before reading the
+                # next condition (reading its M98 lines)
+                self.w.stmt("else:", branch.line)
+                self.w.depth += 1
+                opened += 1
+                self.skipped_reads([stmt.branches[i - 1].body])
+                keyword_ = "if"
             test = self.x.condition(branch.line.oword.expr)
             self.w.stmt("%s %s:" % (keyword_, test), branch.line)
             following = arms[i + 1].line if i + 1 < len(arms) else stmt.end
             # rs274 skips the arms after a taken one: where it stops
             stop, at = self.skip_stop(stmt, arms, i + 1)
             later = list(stmt.branches[i + 1 : at + 1])
+            skipped = [arm.body for arm in arms[i + 1 : at + 1]]
             if stop is None and stmt.orelse is not None:
                 # past the else line too, reading elseif lines after it
                 later += _after_else(stmt.orelse.body)
@@ -1680,6 +1727,7 @@ class CodeGen:
                 later=later,
                 check=(stmt, following),
                 rest=(stmt, i + 1) if i + 1 < len(real_arms(stmt)) else None,
+                skipped=skipped,
             )
             stop, _ = self.skip_stop(stmt, arms, i, i + 1)
             if stop is not None:
@@ -1690,12 +1738,24 @@ class CodeGen:
                 if self.if_flag and isinstance(stop, list):
                     # no arm has run: the skip lands with the flag clear
                     self.w.stmt("m.executed_if = False", branch.line)
+                self.skipped_reads([branch.body], before=_stop_line(stop))
                 self.skipped_to(stop)
-                self.w.depth -= 1
+                self.w.depth -= 1 + opened
                 return
+        last = stmt.branches[-1]
         if stmt.orelse is not None:
             self.w.stmt("else:", stmt.orelse.line)
+            if self.reads_in([last.body]):
+                self.w.depth += 1
+                self.skipped_reads([last.body])
+                self.w.depth -= 1
             self.nested(stmt.orelse, check=(stmt, stmt.end))
+        elif self.reads_in([last.body]):
+            self.w.stmt("else:", stmt.end or last.line)
+            self.w.depth += 1
+            self.skipped_reads([last.body])
+            self.w.depth -= 1
+        self.w.depth -= opened
         if self.if_flag and stmt.end is not None:
             # the if ends at its endif, which sets the flag
             self.w.stmt("m.executed_if = True", stmt.end)
@@ -1741,11 +1801,13 @@ class CodeGen:
         later: Sequence[Union[st.Branch, st.ArmAgain]] = (),
         check: Optional[tuple] = None,
         rest: Optional[Tuple[st.If, int]] = None,
+        skipped: Sequence[List[st.Stmt]] = (),
     ) -> None:
         """An arm's body; ``then`` fails after it (rs274 skipping the
         arms after a taken one reads that line); ``check``: the if and the
         line after the arm, whose label rs274 looks up (:meth:`frame_check`);
-        ``rest``: the if and the index of the arm after this one."""
+        ``rest``: the if and the index of the arm after this one;
+        ``skipped``: the bodies of the arms skipped after it."""
         self.w.depth += 1
         if self.if_flag:  # an arm runs: rs274's flag (structure.FlatArm)
             self.w.stmt("m.executed_if = True", branch.line)
@@ -1754,7 +1816,7 @@ class CodeGen:
             self.run_into(*rest)
             self.w.depth -= 1
             return
-        self.skip_tail(later, check, then)
+        self.skip_tail(later, check, then, skipped)
         self.w.depth -= 1
 
     def runs_into(self, stmt: st.If, arms: List[st.Branch]) -> bool:
@@ -1825,7 +1887,9 @@ class CodeGen:
         if arm is not stmt.orelse:
             self.temp += 1
             test = "t%d" % self.temp
-            self.w.stmt("%s = %s" % (test, self.x.condition(arm.line.oword.expr)), arm.line)
+            self.w.stmt(
+                "%s = %s" % (test, self.x.condition(arm.line.oword.expr)), arm.line
+            )
         self.w.stmt("if not m.executed_if:", arm.line)
         self.w.depth += 1
         if test is not None:
@@ -1872,10 +1936,18 @@ class CodeGen:
         later: Sequence[Union[st.Branch, st.ArmAgain]],
         check: Optional[tuple],
         then: Union[None, nodes.Line, List[st.Stmt]],
+        skipped: Sequence[List[st.Stmt]] = (),
     ) -> None:
         """rs274 skips the arms after one that ran: it reads the later
-        elseif lines' conditions, and stops at ``then``."""
+        elseif lines' conditions and the M98 lines of the ``skipped``
+        bodies, and stops at ``then``."""
+        skipped, stop, last = list(skipped), _stop_line(then), 0
         for k, arm in enumerate(later):
+            # (the M98 lines before it first, in text order)
+            number = arm.line.number
+            if stop is None or number < stop:
+                self.skipped_reads(skipped, last, number)
+                last = number
             # rs274 still reads the condition of each later elseif (it
             # skips the arm, not the line): only its errors matter.
             if may_fail(arm.line.oword.expr):
@@ -1885,10 +1957,56 @@ class CodeGen:
                 self.frame_check(*check)
         if not later and check is not None:
             self.frame_check(*check)
+        self.skipped_reads(skipped, last, stop)
         if then is not None:
             self.skipped_to(then)
 
     # -- lines read while skipping ----------------------------------------
+
+    def skipped_reads(
+        self,
+        bodies: List[List[st.Stmt]],
+        after: int = 0,
+        before: Optional[int] = None,
+        defining: bool = False,
+    ) -> None:
+        """rs274 reads an M98 line's words even when it skips over the line
+        (interp_read.cc read_o): the values that may fail of the M98 lines
+        in ``bodies`` after line ``after`` and before line ``before`` (where
+        the skip stops), in text order; ``defining``: read past a
+        definition (a name not set reads 0)."""
+        if not self.m98_reads:
+            return  # the usual case: nothing to read
+        for body in bodies:
+            for stmt in st.walk(body):
+                if type(stmt) is not st.FanucCall:
+                    continue
+                line = stmt.line
+                if line.number <= after:
+                    continue
+                if before is not None and line.number >= before:
+                    return
+                values = _m98_values(line)
+                if not values:
+                    continue
+                self.w.raw(
+                    "%s# rs274 reads line %d while skipping it"
+                    % (self.indent(), line.number)
+                )
+                self.x.defining = defining
+                try:
+                    for value in values:
+                        self.w.stmt(self.x.expr(value), line)
+                finally:
+                    self.x.defining = False
+
+    def reads_in(self, bodies: List[List[st.Stmt]]) -> bool:
+        """Does skipping ``bodies`` read an M98 line's words that may fail?"""
+        return self.m98_reads and any(
+            type(stmt) is st.FanucCall and _m98_values(stmt.line)
+            for body in bodies
+            for stmt in st.walk(body)
+        )
 
     def skip_error(self, bodies: List[List[st.Stmt]]) -> Optional[nodes.Line]:
         """The first line in ``bodies`` rs274 cannot even read (see
@@ -1978,11 +2096,17 @@ class CodeGen:
             or (unreadable is not None and unreadable.number < _first_line(landing))
         ):
             landing = None  # the skip stops earlier
+        # skipping the body, rs274 reads its M98 lines (a do-loop ends at
+        # its closing line: nothing skipped)
+        reads = stmt.kind != "do" and self.reads_in([stmt.body])
+        until = None if unreadable is None else unreadable.number
         if landing is not None:
             # it stops at a do line of its label in the body, and rs274
             # goes on from there (the loops around it never entered)
             self.w.stmt("else:", stmt.line)
             self.w.depth += 1
+            if reads:
+                self.skipped_reads([stmt.body], before=_first_line(landing))
             self.skipped_to(landing)
             self.w.depth -= 1
             return
@@ -1991,10 +2115,12 @@ class CodeGen:
             and stmt.kind == "while"
             and any(j.kind == "break" for j in own_jumps(stmt))
         )
-        if fail is None and not sets_break:
+        if fail is None and not sets_break and not reads:
             return
         self.w.stmt("else:", stmt.line)
         self.w.depth += 1
+        if reads:
+            self.skipped_reads([stmt.body], before=until)
         if sets_break:
             # a break line of this loop on the way sets doing_break
             self.w.stmt("m.doing_break = True", stmt.line)
@@ -2426,11 +2552,16 @@ def executed_if_flag(program: st.Program) -> bool:
     while an if with more than one arm is around."""
     bodies = [program.body] + [sub.body for sub in program.externals]
     stmts = [s for body in bodies for s in st.walk(body)]
-    if any(isinstance(s, st.LabelCheck) and s.kind in ("else", "elseif") for s in stmts):
+    if any(
+        isinstance(s, st.LabelCheck) and s.kind in ("else", "elseif") for s in stmts
+    ):
         return True
     if any(
         isinstance(s, st.ArmAgain)
-        or (isinstance(s, st.DoEnd) and any(isinstance(r, st.ArmAgain) for r in s.resume))
+        or (
+            isinstance(s, st.DoEnd)
+            and any(isinstance(r, st.ArmAgain) for r in s.resume)
+        )
         for s in stmts
     ):
         return True  # later arms run into again

@@ -995,6 +995,9 @@ def lang_plain(w: LanguageWriter) -> None:
         # them in full (values evaluated) before it asks whether it skips
         bad += ["M98 L2", "M98 P1.5", "N7 M98 P100 Q", "M98 P1 X[1/#3]"]
         bad += ["M98 P1 Q#<_unset>"]
+        # both kinds together keep the file in the nested form (a Fanuc-style
+        # O-line beside an M98), whose skips must read the M98 line too
+        bad.append("M98 P1 X[1/#3]\n" + "  " * w.depth + "o7777")
         if w.depth:
             # a definition that never ends, where rs274 may skip it
             bad.append("o<nowhere> sub")

@@ -306,20 +306,37 @@ def test_openers_moved_into_a_run_once_loop_keep_their_labels():
 
 
 @pytest.mark.rs274
-@pytest.mark.xfail(
-    strict=True,
-    reason="known gap: in the nested form (files with a Fanuc-style O-line and "
-    "an M98, an M99, an M98 .. L or computed labels) an M98 line in an arm or "
-    "loop body rs274 skips over is not read, so an error in its words is missed",
-)
-def test_a_skipped_m98_line_is_read_in_a_fanuc_style_file(tmp_path):
-    """The program above with a Fanuc-style O-line after the M98 (which
-    keeps the file in the nested form): rs274 still fails reading the
-    skipped M98 line. (Found by the language campaign, seed 23001.)"""
-    text = (
+@pytest.mark.parametrize(
+    "text",
+    [
+        # the campaign's program, cut down: an else arm skipped after a
+        # taken elseif, the Fanuc-style O-line keeping the file nested
         "#<k>=1\no105 if [#<k> EQ 2]\no105 elseif [1 LT 2]\no105 else\n"
-        "M98 P1 X[1/#3]\no7777\no105 endif\nG1 X0.1 F10\nM2\n"
-    )
+        "M98 P1 X[1/#3]\no7777\no105 endif\nG1 X0.1 F10\nM2\n",
+        # a false if arm (then an elseif, an else), a while never entered or
+        # ending, a repeat of none, a break, a continue, a definition
+        "o1 if [0]\nM98 P1 X[1/#3]\no1 elseif [1]\nG0 X1\no1 endif\nM2\no7777\nM99\n",
+        "o1 if [0]\nM98 P1 X[1/#3]\no1 else\nG0 X1\no1 endif\nM2\no7777\nM99\n",
+        "o1 while [0]\nM98 P1 X[1/#3]\no1 endwhile\nM2\no7777\nM99\n",
+        "#1=0\no1 while [#1 LT 1]\n#1=[#1+1]\no2 if [#1 EQ 5]\nM98 P1 X[1/#3]\n"
+        "o2 endif\no1 endwhile\nM2\no7777\nM99\n",
+        "o1 repeat [0]\nM98 P1 X[1/#3]\no1 endrepeat\nM2\no7777\nM99\n",
+        "o1 while [1]\no2 if [1]\no1 break\no2 endif\nM98 P1 X[1/#3]\no1 endwhile\n"
+        "M2\no7777\nM99\n",
+        "#1=0\no1 while [#1 LT 2]\n#1=[#1+1]\no1 continue\nM98 P1 X[1/#3]\n"
+        "o1 endwhile\nM2\no7777\nM99\n",
+        "o<s> sub\nM98 P1 X[1/#<nope>]\no<s> endsub\nM2\no7777\nM99\n",
+        # read and fine: the program runs on
+        "#3=2\no1 if [0]\nM98 P1 X[1/#3]\no1 else\nG0 X1\no1 endif\nM2\no7777\nM99\n",
+    ],
+)
+def test_a_skipped_m98_line_is_read_in_a_fanuc_style_file(text, tmp_path):
+    """rs274 reads an M98 line's words even skipping over it. A file with
+    a Fanuc-style O-line and an M98 (or an M99, an M98 .. L, computed
+    labels) keeps the nested form, whose skips read them too: a false or
+    passed-over arm, a loop's body skipped when it ends, a break or
+    continue skipping the rest of it, a definition read past. (Found by
+    the language campaign, seed 23001.)"""
     program = tmp_path / "t.ngc"
     expected = harness.run_rs274(program, text=text)
     actual = harness.run_ngc2py(program, text=text)
