@@ -375,9 +375,16 @@ def may_fail(e: nodes.Expr) -> bool:
     return False
 
 
-def _m98_values(line: nodes.Line) -> List[nodes.Expr]:
-    """The values of an M98 line's words that may fail to read."""
-    return [item.value for item in line.items if may_fail(item.value)]
+def _m98_values(line: nodes.Line) -> List[Tuple[nodes.Expr, bool]]:
+    """What reading an M98 line may fail on (interp_read.cc read_o): the
+    values that may fail, in order, then a computed P, which must be near
+    an integer (True: converted by ``to_integer``)."""
+    values = [(item.value, False) for item in line.items if may_fail(item.value)]
+    for item in line.items:
+        if isinstance(item, nodes.Word) and item.letter == "p":
+            if not is_constant(item.value):
+                values.append((item.value, True))
+    return values
 
 
 def _stop_line(stop) -> Optional[int]:
@@ -1993,12 +2000,24 @@ class CodeGen:
                     "%s# rs274 reads line %d while skipping it"
                     % (self.indent(), line.number)
                 )
-                self.x.defining = defining
-                try:
-                    for value in values:
-                        self.w.stmt(self.x.expr(value), line)
-                finally:
-                    self.x.defining = False
+                for code in self.m98_reads_of(line, defining):
+                    self.w.stmt(code, line)
+
+    def m98_reads_of(self, line: nodes.Line, defining: bool = False) -> List[str]:
+        """The code of what reading M98 ``line`` may fail on (_m98_values);
+        ``defining``: read past a definition (a name not set reads 0)."""
+        codes = []
+        self.x.defining = defining
+        try:
+            for value, integer in _m98_values(line):
+                code = self.x.expr(value)
+                if integer:
+                    self.code_functions.add("to_integer")
+                    code = "to_integer(%s)" % code
+                codes.append(code)
+        finally:
+            self.x.defining = False
+        return codes
 
     def reads_in(self, bodies: List[List[st.Stmt]]) -> bool:
         """Does skipping ``bodies`` read an M98 line's words that may fail?"""

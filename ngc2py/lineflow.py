@@ -200,8 +200,12 @@ class FlowGen(codegen.CodeGen):
         self.w.raw("")
         self.w.raw("")
         self.w.raw("#: What each line that does something is, for runtime.oflow.Flow:")
-        self.w.raw('#: "" an ordinary line ("/" block-deleted, "x" or "u" unreadable), the')
-        self.w.raw("#: line after a run of ordinary lines, or an O-word (keyword, label,")
+        self.w.raw(
+            '#: "" an ordinary line ("/" block-deleted, "x" or "u" unreadable), the'
+        )
+        self.w.raw(
+            "#: line after a run of ordinary lines, or an O-word (keyword, label,"
+        )
         self.w.raw("#: flags); the end of the file last.")
         one_line = "LINES = {%s}" % ", ".join(table)
         if len(one_line) <= codegen.LINE_LENGTH:
@@ -353,7 +357,9 @@ class FlowGen(codegen.CodeGen):
         if line.error in st.TEXT_ERRORS:
             if word is None:
                 return '"x"'
-            return self.o_entry(line, [string(word.keyword), string(str(word.name)), '"x"'])
+            return self.o_entry(
+                line, [string(word.keyword), string(str(word.name)), '"x"']
+            )
         if word is None and line.oword_unread:
             # an O-word rs274 cannot read: it fails even skipping past it
             flags = "u" + ("k" if line.error == st.UNKNOWN_O_COMMAND else "")
@@ -423,15 +429,10 @@ class FlowGen(codegen.CodeGen):
         self.w.depth += 1
         self.s_fanuccall(stmt)
         self.w.depth -= 1
-        values = [item.value for item in line.items if not codegen.is_constant(item.value)]
-        if not values:
+        plain = self.m98_reads_of(line)
+        if not plain:
             return
-        plain = [self.x.expr(value) for value in values]
-        self.x.defining = True
-        try:
-            defining = [self.x.expr(value) for value in values]
-        finally:
-            self.x.defining = False
+        defining = self.m98_reads_of(line, defining=True)
         if defining != plain:
             self.w.stmt("elif f.defining:", line)
             self.w.depth += 1

@@ -994,7 +994,7 @@ def lang_plain(w: LanguageWriter) -> None:
         # and M98 lines it cannot read, or whose values fail: read_o reads
         # them in full (values evaluated) before it asks whether it skips
         bad += ["M98 L2", "M98 P1.5", "N7 M98 P100 Q", "M98 P1 X[1/#3]"]
-        bad += ["M98 P1 Q#<_unset>"]
+        bad += ["M98 P1 Q#<_unset>", "M98 P[#1 + 0.5]"]
         # both kinds together keep the file in the nested form (a Fanuc-style
         # O-line beside an M98), whose skips must read the M98 line too
         bad.append("M98 P1 X[1/#3]\n" + "  " * w.depth + "o7777")

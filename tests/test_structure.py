@@ -222,6 +222,8 @@ MISMATCHES = [
     # arm after a taken elseif): 1/#3 fails there
     "#<k>=1\no105 if [#<k> EQ 2]\no105 elseif [1 LT 2]\no105 else\n"
     "M98 P1 X[1/#3]\no105 endif\nG1 X0.1 F10\nM2\n",
+    # and checks that a computed P is near an integer
+    "#1=1.5\no1 if [0]\nM98 P[#1]\no1 endif\nM2\n",
 ]
 
 
@@ -326,7 +328,9 @@ def test_openers_moved_into_a_run_once_loop_keep_their_labels():
         "#1=0\no1 while [#1 LT 2]\n#1=[#1+1]\no1 continue\nM98 P1 X[1/#3]\n"
         "o1 endwhile\nM2\no7777\nM99\n",
         "o<s> sub\nM98 P1 X[1/#<nope>]\no<s> endsub\nM2\no7777\nM99\n",
+        "#1=1.5\no1 if [0]\nM98 P[#1]\no1 endif\nM2\no7777\nM99\n",
         # read and fine: the program runs on
+        "#1=7777\no1 if [0]\nM98 P[#1]\no1 endif\nM2\no7777\nM99\n",
         "#3=2\no1 if [0]\nM98 P1 X[1/#3]\no1 else\nG0 X1\no1 endif\nM2\no7777\nM99\n",
     ],
 )
