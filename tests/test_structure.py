@@ -345,3 +345,21 @@ def test_a_skipped_m98_line_is_read_in_a_fanuc_style_file(text, tmp_path):
     expected = harness.run_rs274(program, text=text)
     actual = harness.run_ngc2py(program, text=text)
     assert harness.compare(expected, actual) == []
+
+
+@pytest.mark.rs274
+@pytest.mark.xfail(
+    strict=True,
+    reason="known gap: a Fanuc-style file (an M98 beside an O-line) keeps the "
+    "nested form, which does not follow a block-deleted O-word line under -b "
+    "(the line-by-line form does)",
+)
+def test_a_block_deleted_sub_line_in_a_fanuc_style_file(tmp_path):
+    """Under -b rs274 ignores ``/o900 sub``: the return after it is outside
+    any definition. (Found by the language campaign, seed 23002, once its
+    generator drew an M98 beside an O-line.)"""
+    text = "/o900 sub\no900 return [1]\no900 endsub\nM98 P7777\nM2\no7777\nM99\n"
+    program = tmp_path / "t.ngc"
+    expected = harness.run_rs274(program, text=text, args=["-b"])
+    actual = harness.run_ngc2py(program, text=text, args=["-b"])
+    assert harness.compare(expected, actual) == []
