@@ -63,6 +63,9 @@ CHUNK_STATEMENTS = 500  # statements per main chunk function
 # indentation levels): an if/loop starting deeper than this moves into a
 # helper function of its own (see CodeGen.nest).
 NEST_LIMIT = 8
+#: An if whose arms (more than this many) hold M98 lines that may fail to
+#: read: its skips do not read them (CodeGen.s_if).
+MOST_READ_ARMS = 8
 # Named locals become Python variables (ngc2py.fastlocals) only in functions
 # whose ifs and loops nest at most this deep: none of them needs a helper
 # (each nesting level indents at most twice).
@@ -1708,9 +1711,14 @@ class CodeGen:
                 "m.frame_mark(%s)" % string(self.frame_key(stmt)), stmt.branches[0].line
             )
         opened = 0  # else-blocks opened to read a skipped arm's M98 lines
+        # (each such arm deepens the elif chain and is read after every
+        # arm before it: past a few, rs274's reads are not followed)
+        reading = self.reads_in([arm.body for arm in arms])
+        if reading:
+            reading = sum(self.reads_in([arm.body]) for arm in arms) <= MOST_READ_ARMS
         for i, branch in enumerate(stmt.branches):
             keyword_ = "if" if i == 0 else "elif"
-            if i and self.reads_in([stmt.branches[i - 1].body]):
+            if i and reading and self.reads_in([stmt.branches[i - 1].body]):
                 # a false condition: rs274 skips the arm before reading the
                 # next condition (reading its M98 lines)
                 self.w.stmt("else:", branch.line)
@@ -1724,7 +1732,7 @@ class CodeGen:
             # rs274 skips the arms after a taken one: where it stops
             stop, at = self.skip_stop(stmt, arms, i + 1)
             later = list(stmt.branches[i + 1 : at + 1])
-            skipped = [arm.body for arm in arms[i + 1 : at + 1]]
+            skipped = [arm.body for arm in arms[i + 1 : at + 1]] if reading else []
             if stop is None and stmt.orelse is not None:
                 # past the else line too, reading elseif lines after it
                 later += _after_else(stmt.orelse.body)
@@ -1745,19 +1753,20 @@ class CodeGen:
                 if self.if_flag and isinstance(stop, list):
                     # no arm has run: the skip lands with the flag clear
                     self.w.stmt("m.executed_if = False", branch.line)
-                self.skipped_reads([branch.body], before=_stop_line(stop))
+                if reading:
+                    self.skipped_reads([branch.body], before=_stop_line(stop))
                 self.skipped_to(stop)
                 self.w.depth -= 1 + opened
                 return
         last = stmt.branches[-1]
         if stmt.orelse is not None:
             self.w.stmt("else:", stmt.orelse.line)
-            if self.reads_in([last.body]):
+            if reading and self.reads_in([last.body]):
                 self.w.depth += 1
                 self.skipped_reads([last.body])
                 self.w.depth -= 1
             self.nested(stmt.orelse, check=(stmt, stmt.end))
-        elif self.reads_in([last.body]):
+        elif reading and self.reads_in([last.body]):
             self.w.stmt("else:", stmt.end or last.line)
             self.w.depth += 1
             self.skipped_reads([last.body])

@@ -331,6 +331,11 @@ def test_openers_moved_into_a_run_once_loop_keep_their_labels():
         "#1=1.5\no1 if [0]\nM98 P[#1]\no1 endif\nM2\no7777\nM99\n",
         # read and fine: the program runs on
         "#1=7777\no1 if [0]\nM98 P[#1]\no1 endif\nM2\no7777\nM99\n",
+        # so many arms with such lines that their reads are not followed
+        # (codegen.MOST_READ_ARMS): the module stays of a size Python takes
+        "#3=1\no1 if [0]\n"
+        + "M98 P1 X[1/#3]\no1 elseif [0]\n" * 120
+        + "M98 P1 X[1/#3]\no1 else\nG0 X1\no1 endif\nM2\no7777\nM99\n",
         "#3=2\no1 if [0]\nM98 P1 X[1/#3]\no1 else\nG0 X1\no1 endif\nM2\no7777\nM99\n",
     ],
 )

@@ -193,8 +193,12 @@ def _call_template(scratch, name: str, args: tuple, move, column: str):
 
 
 def _snapshot(machine) -> tuple:
+    return dict(vars(machine)), _world_snapshot(machine)
+
+
+def _world_snapshot(machine) -> list:
     world = machine.world
-    return dict(vars(machine)), [getattr(world, name) for name in type(world).__slots__]
+    return [getattr(world, name) for name in type(world).__slots__]
 
 
 def _only_position_changed(before: tuple, machine) -> bool:
@@ -243,7 +247,7 @@ class _Capture:
         marks.append(len(self.recording.calls))
         if len(marks) == 1:  # the hole begins: where, and the world then
             self.start = machine.current[:]
-            self.world = _snapshot(machine)[1]
+            self.world = _world_snapshot(machine)
         elif len(marks) == 2:  # its words settled: the fields then
             self.fields = dict(vars(machine))
 
