@@ -2127,7 +2127,12 @@ class CodeGen:
         # skipping the body, rs274 reads its M98 lines (a do-loop ends at
         # its closing line: nothing skipped)
         reads = stmt.kind != "do" and self.reads_in([stmt.body])
-        until = None if unreadable is None else unreadable.number
+        # (up to where the skip stops: a line it cannot read, or one with
+        # its label where it fails)
+        stops = [unreadable.number] if unreadable is not None else []
+        if fail is not None and _fail_order(fail) != float("inf"):
+            stops.append(int(_fail_order(fail)))
+        until = min(stops) if stops else None
         if landing is not None:
             # it stops at a do line of its label in the body, and rs274
             # goes on from there (the loops around it never entered)

@@ -77,6 +77,8 @@ _NUMBERED = range(MAX_PARAMETERS)
 #: What ``from interpreter import *`` binds to something ngc2py offers; any
 #: other name the import may have bound is refused, not a NameError.
 _STAR_IMPORTED = "<from interpreter import *>"
+#: Set once ``this`` is bound (at the first Python line of a run).
+_BOUND = "<this bound>"
 #: ``this``'s attributes: the predefined parameter each one reads.
 _THIS = {
     "call_level": "_call_level",
@@ -144,6 +146,11 @@ def run_py_comment(machine, code: str) -> None:
     except (SyntaxError, ValueError, RecursionError, MemoryError):
         raise failed from None  # ValueError: a NUL byte in the code
     namespace = machine.python_namespace
+    if _BOUND not in namespace:
+        # rs274's Python namespace has ``this`` (the running interpreter)
+        # from the start; ``interpreter``, ``equal`` & co. come by import
+        namespace[_BOUND] = True
+        namespace["this"] = _This(machine)
     try:
         for statement in tree.body:
             _statement(statement, namespace, machine)

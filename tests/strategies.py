@@ -449,6 +449,7 @@ def stmt_codes(w: Writer) -> None:
             "G0 X1 ;py,unread = nowhere",
             # checks of the interpreter's state, as LinuxCNC's tests write them
             ";py,from interpreter import *\n;py,assert this.call_level == 0",
+            ";py,assert this.call_level == 0",  # (this is bound without import)
             ";py,from interpreter import *\n;py,assert equal(this.params[5400], 0)",
             "(py,import interpreter)\n;py,assert interpreter.this.params[5220] == 1",
             ";py,from interpreter import *\n;py,assert this.params[\"_metric\"] == 1",

@@ -213,7 +213,7 @@ KNOWN_GAPS = {
         for name in (
             "py_indented py_name_error py_syntax_error py_zero_division"
             " py_semicolon_error py_interpreter_check_fails"
-            " py_interpreter_missing_param"
+            " py_interpreter_missing_param py_this_without_import"
         ).split()
     },
     "fanuc_calls/m98_osub_read_before": _FANUC_LINE,

@@ -328,6 +328,9 @@ def test_openers_moved_into_a_run_once_loop_keep_their_labels():
         "#1=0\no1 while [#1 LT 2]\n#1=[#1+1]\no1 continue\nM98 P1 X[1/#3]\n"
         "o1 endwhile\nM2\no7777\nM99\n",
         "o<s> sub\nM98 P1 X[1/#<nope>]\no<s> endsub\nM2\no7777\nM99\n",
+        # a skip that stops (a line with its label, here an else) reads no
+        # further (found by the language campaign, seed 23003)
+        "o1 repeat [0]\nG0 X1\no1 else\nM98 P1 X[1/#3]\nM2\no7777\nM99\n",
         "#1=1.5\no1 if [0]\nM98 P[#1]\no1 endif\nM2\no7777\nM99\n",
         # read and fine: the program runs on
         "#1=7777\no1 if [0]\nM98 P[#1]\no1 endif\nM2\no7777\nM99\n",
