@@ -390,6 +390,15 @@ def _m98_values(line: nodes.Line) -> List[Tuple[nodes.Expr, bool]]:
     return values
 
 
+def _has_m98_reads(bodies: List[List[st.Stmt]]) -> bool:
+    """Is there an M98 line in ``bodies`` whose reading may fail?"""
+    return any(
+        type(stmt) is st.FanucCall and _m98_values(stmt.line)
+        for body in bodies
+        for stmt in st.walk(body)
+    )
+
+
 def _stop_line(stop) -> Optional[int]:
     """The line number where a skip stops (a line, or the statements of a
     line reusing the label: its first line), or None."""
@@ -708,11 +717,7 @@ class CodeGen:
         self.text_errors = st.first_text_error(bodies) is not None
         # Any M98 line whose words may fail to read? rs274 reads them even
         # skipping over the line (skipped_reads); most programs have none.
-        self.m98_reads = any(
-            type(stmt) is st.FanucCall and _m98_values(stmt.line)
-            for body in bodies
-            for stmt in st.walk(body)
-        )
+        self.m98_reads = _has_m98_reads(bodies)
         # any M98 that may never return (see strands): most programs have none
         #: Enough constant blocks for short runs to become tables too.
         self.cam_sized = constant_rows(bodies) >= MIN_PROGRAM_ROWS
@@ -2030,11 +2035,7 @@ class CodeGen:
 
     def reads_in(self, bodies: List[List[st.Stmt]]) -> bool:
         """Does skipping ``bodies`` read an M98 line's words that may fail?"""
-        return self.m98_reads and any(
-            type(stmt) is st.FanucCall and _m98_values(stmt.line)
-            for body in bodies
-            for stmt in st.walk(body)
-        )
+        return self.m98_reads and _has_m98_reads(bodies)
 
     def skip_error(self, bodies: List[List[st.Stmt]]) -> Optional[nodes.Line]:
         """The first line in ``bodies`` rs274 cannot even read (see

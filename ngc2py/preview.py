@@ -54,11 +54,10 @@ start and on every G20/G21 change), and slot 0 as the loaded tool.
 
 from __future__ import annotations
 
-import operator
 import re
 import time
 from functools import partial
-from itertools import chain, repeat, starmap
+from itertools import repeat
 from operator import itemgetter
 from typing import Any, List, Optional, Sequence, Tuple
 
@@ -73,8 +72,6 @@ from runtime.nurbs import preview_points
 from runtime.params import unset_variable
 from runtime.fast.rows import BatchesOnly
 
-#: ``_call(method, *args)`` is ``method(*args)`` (operator.call, Python 3.11+)
-_call = getattr(operator, "call", None) or (lambda method, *args: method(*args))
 
 INTERP_OK = 0
 INTERP_EXIT = 1
@@ -428,14 +425,9 @@ class PreviewCanon(Canon):
         methods = iter(call) if isinstance(call, list) else repeat(call)
         if numbers[0] == self.last_sequence:  # announced already
             next(methods)(*next(arguments))
-        if isinstance(call, list):
-            for code, method, values in zip(codes, methods, arguments):
-                next_line(code)
-                method(*values)
-        else:
-            # one method: each line's two calls made in C, in turn by zip
-            for _ in zip(map(next_line, codes), starmap(call, arguments)):
-                pass
+        for code, method, values in zip(codes, methods, arguments):
+            next_line(code)
+            method(*values)
         self.last_sequence = numbers[-1]
         last = lines[-1]
         gcodes, mcodes, settings = modes[motions[-1]]
