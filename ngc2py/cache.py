@@ -85,8 +85,9 @@ def compiler_fingerprint() -> str:
     return _FINGERPRINT[0]
 
 
-def cache_key(path: str, ini: Optional[str]) -> str:
-    """The entry name for compiling ``path`` (with ``ini``) now."""
+def cache_key(path: str, ini: Optional[str], block_delete: bool = False) -> str:
+    """The entry name for compiling ``path`` (with ``ini``, for
+    ``block_delete``) now."""
     with open(path, "rb") as handle:
         source = handle.read()
     parts = [
@@ -99,6 +100,8 @@ def cache_key(path: str, ini: Optional[str]) -> str:
         # current directory, whichever it is; the probes say what was found)
         "\1".join(subroutine_dirs(ini)) if ini else "",
     ]
+    if block_delete:  # (the key of every other entry stays as it was)
+        parts.append("-b")
     return _digest("\0".join(parts).encode("utf-8", "surrogateescape"))
 
 
@@ -156,14 +159,17 @@ def module_probes(module: str) -> List[Tuple[str, Optional[str]]]:
         return [tuple(p) for p in json.loads(handle.read())]
 
 
-def cached_module(path: str, ini: Optional[str] = None) -> str:
+def cached_module(
+    path: str, ini: Optional[str] = None, block_delete: bool = False
+) -> str:
     """The path of an up-to-date generated module for ``path``, compiling
     (and storing) it on a miss. Raises ``compiler.CompileError`` (an
-    ``OpenError`` when ``path`` cannot be read)."""
+    ``OpenError`` when ``path`` cannot be read). ``block_delete``: see
+    ``compiler.compile_program``."""
     from ngc2py.compiler import open_failure
 
     try:
-        key = cache_key(path, ini)
+        key = cache_key(path, ini, block_delete)
     except OSError as error:
         raise open_failure(path, error) from None
     folder = cache_dir()
@@ -184,7 +190,7 @@ def cached_module(path: str, ini: Optional[str] = None) -> str:
         pass
     import json
 
-    compiled = compile_program(path, ini)
+    compiled = compile_program(path, ini, block_delete)
     probes = [(p, _file_digest(p) if found else None) for p, found in compiled.probes]
     text = json.dumps(probes)
     module = _module_path(folder, key, text)

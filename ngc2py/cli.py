@@ -75,6 +75,14 @@ def build_parser(workflows: Sequence[str] = WORKFLOWS) -> argparse.ArgumentParse
         metavar="INI",
         help="ini file whose SUBROUTINE_PATH is searched",
     )
+    convert.add_argument(
+        "-b",
+        dest="block_delete",
+        action="store_true",
+        help="compile for block delete on: needed only where lines that "
+        "start with '/' carry O-words in a file whose O-words the module "
+        "pairs when it is written (it says so when run with the other setting)",
+    )
     convert.add_argument("-q", "--quiet", action="store_true", help=QUIET_HELP)
 
     run = commands.add_parser(
@@ -131,7 +139,7 @@ def convert(args: argparse.Namespace) -> int:
 
     if args.program == STDIN:
         output = args.output or "-"
-        text = compile_stdin(args.ini)
+        text = compile_stdin(args.ini, args.block_delete)
     else:
         output = args.output or default_output(args.program)
         if output != "-" and same_file(output, args.program):
@@ -139,7 +147,7 @@ def convert(args: argparse.Namespace) -> int:
                 "%s: the output would overwrite the G-code file" % output
             )
         with spinner("converting " + args.program, args.quiet):
-            text = compile_file(args.program, args.ini)
+            text = compile_file(args.program, args.ini, args.block_delete)
     if output == "-":
         sys.stdout.write(text)
     else:
@@ -155,18 +163,19 @@ def load_module(path: str):
     return module
 
 
-def load_program(program: str, ini: Optional[str]):
-    """The generated module for ``program``: from the cache, or compiled in
-    a temporary directory when the cache cannot be written."""
+def load_program(program: str, ini: Optional[str], block_delete: bool = False):
+    """The generated module for ``program`` (to run with block delete
+    ``block_delete``): from the cache, or compiled in a temporary directory
+    when the cache cannot be written."""
     from ngc2py.cache import cached_module, load_cached
     from ngc2py.stdin import STDIN, compile_stdin
 
     if program == STDIN:
-        return load_text(compile_stdin(ini))
+        return load_text(compile_stdin(ini, block_delete))
     try:
-        return load_cached(cached_module(program, ini))
+        return load_cached(cached_module(program, ini, block_delete))
     except PermissionError:
-        return load_text(compile_file(program, ini))
+        return load_text(compile_file(program, ini, block_delete))
 
 
 def load_text(text: str):
@@ -192,7 +201,7 @@ def run(args: argparse.Namespace) -> int:
 
     try:
         with spinner("compiling " + args.program, args.quiet):
-            module = load_program(args.program, args.ini)
+            module = load_program(args.program, args.ini, args.block_delete)
         main, source_map = module.main, module.__ngc__
     except OpenError as error:
         main, source_map = None, unopened(args.program, error)  # main never runs

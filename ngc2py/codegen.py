@@ -43,7 +43,7 @@ import math
 import re
 import zlib
 from dataclasses import dataclass, field
-from typing import Dict, Iterable, List, Optional, Sequence, Tuple, Union
+from typing import Dict, Iterable, Iterator, List, Optional, Sequence, Tuple, Union
 
 from ngc2py import __version__, assigned, fastlocals, nodes, parser, rowtable
 from ngc2py.wrap import split_call
@@ -376,6 +376,24 @@ def may_fail(e: nodes.Expr) -> bool:
         elif isinstance(e, nodes.Bracket):
             pending.append(e.inner)
     return False
+
+
+def _m98_reads_between(
+    bodies: List[List[st.Stmt]], after: int, before: Optional[int]
+) -> Iterator[nodes.Line]:
+    """The M98 lines of ``bodies`` after line ``after`` and before line
+    ``before`` whose words may fail to read (see CodeGen.skipped_reads)."""
+    for body in bodies:
+        for stmt in st.walk(body):
+            if type(stmt) is not st.FanucCall:
+                continue
+            line = stmt.line
+            if line.number <= after:
+                continue
+            if before is not None and line.number >= before:
+                return
+            if _m98_values(line):
+                yield line
 
 
 def _m98_values(line: nodes.Line) -> List[Tuple[nodes.Expr, bool]]:
@@ -788,6 +806,7 @@ class CodeGen:
             self.end_of_main(),
             opening,
             self.unskippable(final),
+            self.program.block_delete,
         )
         for line in map_lines:
             final.raw(line)
@@ -1998,24 +2017,13 @@ class CodeGen:
         definition (a name not set reads 0)."""
         if not self.m98_reads:
             return  # the usual case: nothing to read
-        for body in bodies:
-            for stmt in st.walk(body):
-                if type(stmt) is not st.FanucCall:
-                    continue
-                line = stmt.line
-                if line.number <= after:
-                    continue
-                if before is not None and line.number >= before:
-                    return
-                values = _m98_values(line)
-                if not values:
-                    continue
-                self.w.raw(
-                    "%s# rs274 reads line %d while skipping it"
-                    % (self.indent(), line.number)
-                )
-                for code in self.m98_reads_of(line, defining):
-                    self.w.stmt(code, line)
+        for line in _m98_reads_between(bodies, after, before):
+            self.w.raw(
+                "%s# rs274 reads line %d while skipping it"
+                % (self.indent(), line.number)
+            )
+            for code in self.m98_reads_of(line, defining):
+                self.w.stmt(code, line)
 
     def m98_reads_of(self, line: nodes.Line, defining: bool = False) -> List[str]:
         """The code of what reading M98 ``line`` may fail on (_m98_values);
@@ -2134,6 +2142,8 @@ class CodeGen:
         if fail is not None and _fail_order(fail) != float("inf"):
             stops.append(int(_fail_order(fail)))
         until = min(stops) if stops else None
+        if reads and until is not None:  # (it may stop before them all)
+            reads = any(_m98_reads_between([stmt.body], 0, until))
         if landing is not None:
             # it stops at a do line of its label in the body, and rs274
             # goes on from there (the loops around it never entered)
@@ -2847,9 +2857,10 @@ def source_map_lines(
     end: Tuple[int, bool],
     opening: Optional[str],
     unskippable: Optional[Coll] = None,
+    block_delete: Optional[bool] = None,
 ) -> List[str]:
     """``__ngc__ = SourceMap(files, line map, texts, subs, end[, open error]
-    [, unskippable=...])``, black's layout.
+    [, unskippable=...][, block_delete=...])``, black's layout.
 
     Texts are one string per file, lines joined by newlines (only the lines
     the map refers to; others are empty), which compiles to one constant.
@@ -2875,7 +2886,8 @@ def source_map_lines(
             Coll("(", ["%d" % end[0], str(end[1])], ")"),
         ]
         + ([opening] if opening else [])
-        + ([unskippable] if unskippable else []),
+        + ([unskippable] if unskippable else [])
+        + ([] if block_delete is None else ["block_delete=%s" % block_delete]),
         ")",
     )
     return packed + call.layout(0)

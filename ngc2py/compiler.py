@@ -101,6 +101,36 @@ def _program(parsed) -> st.Program:
     return st.build(parsed.file, list(parsed.lines), parsed.demarcated)
 
 
+def deletes_structure(lines) -> bool:
+    """Does a block-deleted line of ``lines`` carry an O-word (an M98 or
+    M99 of a Fanuc-style file included)? With block delete on rs274 reads
+    such a line as an empty one (read_text), so the file's subroutines and
+    control flow differ with ``-b``: the nested form, pairing O-words when
+    it compiles, is written for one setting or the other."""
+    for line in lines:
+        if line.block_delete and (
+            line.oword is not None
+            or line.oword_unread
+            or getattr(line, "fanuc_alt", None) is not None
+        ):
+            return True
+    return False
+
+
+def block_deleted(parsed):
+    """``parsed`` as rs274 reads it with block delete on: each line that
+    starts with ``/`` empty (its number and text kept for reports)."""
+    from dataclasses import replace
+
+    from ngc2py.nodes import Line
+
+    lines = [
+        Line(line.number, line.text, line.file) if line.block_delete else line
+        for line in parsed.lines
+    ]
+    return replace(parsed, lines=lines)
+
+
 class _SubFile:
     """A subroutine file rs274 may open: its lines, read once."""
 
@@ -134,10 +164,14 @@ class _SubFile:
 
 
 def _externals(
-    program: st.Program, dirs: List[str], main_percent: bool = False
-) -> List[Tuple[str, bool]]:
+    program: st.Program,
+    dirs: List[str],
+    main_percent: bool = False,
+    block_delete: bool = False,
+) -> Tuple[List[Tuple[str, bool]], bool]:
     """Find and compile the external subroutines ``program`` calls, and
-    those they call in turn; return the paths probed.
+    those they call in turn; return the paths probed, and whether a file
+    read is compiled for ``block_delete`` (see :func:`deletes_structure`).
 
     rs274 resolves ``o<name> call`` when it runs: a name already defined
     (its ``sub`` line read, in any file) is called; otherwise it opens
@@ -152,6 +186,7 @@ def _externals(
     from ngc2py import structure as st
 
     probes: List[Tuple[str, bool]] = []
+    dependent = []  # the files compiled for one block delete setting
     files: dict = {}  # path -> _SubFile, or None when it cannot be read
     by_file: dict = {}  # name -> what <name>.ngc gives (None: no such file)
     pending: List[st.Sub] = []
@@ -175,7 +210,12 @@ def _externals(
                     continue
                 if path not in files:
                     try:
-                        files[path] = _SubFile(path, _parse(path, main_percent))
+                        parsed = _parse(path, main_percent)
+                        if deletes_structure(parsed.lines):
+                            dependent.append(path)
+                            if block_delete:
+                                parsed = block_deleted(parsed)
+                        files[path] = _SubFile(path, parsed)
                     except CompileError:
                         files[path] = None
                 if files[path] is not None:
@@ -209,10 +249,12 @@ def _externals(
                 # else rs274 reads ahead in the file the call is in
                 found = take(here.seek(stmt.line.number, name, fanuc))
             stmt.found = found
-    return probes
+    return probes, bool(dependent)
 
 
-def _compile(parsed, name: str, ini: Optional[str]) -> Compiled:
+def _compile(
+    parsed, name: str, ini: Optional[str], block_delete: bool = False
+) -> Compiled:
     from ngc2py import codegen
     from ngc2py import structure as st
 
@@ -220,27 +262,49 @@ def _compile(parsed, name: str, ini: Optional[str]) -> Compiled:
 
     program = _program(parsed)
     flat = lineflow.flat_program(program, list(parsed.lines), parsed.demarcated)
+    # the line-by-line form follows block delete as it runs; the nested
+    # form needs it when pairing O-words
+    dependent = flat is None and deletes_structure(parsed.lines)
+    if dependent and block_delete:
+        parsed = block_deleted(parsed)
+        program = _program(parsed)
+        flat = lineflow.flat_program(program, list(parsed.lines), parsed.demarcated)
     if flat is not None:
         program = flat  # its O-words do not nest: written line by line
-    probes = _externals(program, subroutine_dirs(ini), parsed.demarcated)
+    probes, subs_dependent = _externals(
+        program, subroutine_dirs(ini), parsed.demarcated, block_delete
+    )
+    if dependent or subs_dependent:
+        program.block_delete = block_delete
     st.resolve_calls(program)
     opening = next((line for line in parsed.lines if line.percent), None)
     generate = codegen.generate if flat is None else lineflow.generate
     return Compiled(generate(program, name, opening), probes)
 
 
-def compile_program(path: str, ini: Optional[str] = None) -> Compiled:
-    """Compile the G-code file ``path``; see :class:`Compiled`."""
-    return _compile(_parse(path), os.path.basename(path), ini)
+def compile_program(
+    path: str, ini: Optional[str] = None, block_delete: bool = False
+) -> Compiled:
+    """Compile the G-code file ``path``; see :class:`Compiled`.
+    ``block_delete``: for rs274's ``-b``, which the module of a file whose
+    block-deleted lines carry O-words is written for (it refuses to run
+    with the other setting); any other module runs with either."""
+    return _compile(_parse(path), os.path.basename(path), ini, block_delete)
 
 
-def compile_file(path: str, ini: Optional[str] = None) -> str:
+def compile_file(
+    path: str, ini: Optional[str] = None, block_delete: bool = False
+) -> str:
     """The generated module text for the G-code file ``path``."""
-    return compile_program(path, ini).text
+    return compile_program(path, ini, block_delete).text
 
 
 def compile_text(
-    text: str, file: str = "program.ngc", ini: Optional[str] = None, runs: bool = True
+    text: str,
+    file: str = "program.ngc",
+    ini: Optional[str] = None,
+    runs: bool = True,
+    block_delete: bool = False,
 ) -> str:
     """The generated module text for G-code ``text`` named ``file``
     (``runs=False``: every line read on its own, not by the parser's fast
@@ -248,4 +312,4 @@ def compile_text(
     from ngc2py import parser
 
     parsed = parser.parse_text(text, file, runs=runs)
-    return _compile(parsed, os.path.basename(file), ini).text
+    return _compile(parsed, os.path.basename(file), ini, block_delete).text

@@ -1463,7 +1463,7 @@ def flatten(
     Machine = _flatten_machine()
 
     try:
-        module = load_program(program, ini)
+        module = load_program(program, ini, block_delete)
         main, source_map = module.main, module.__ngc__
     except OpenError as error:
         main, source_map = None, unopened(program, error)

@@ -44,6 +44,10 @@ Differences, on purpose: ``(PRINT, ...)`` text goes to the canon's
 itself); ``get_tool``'s answers are not used (ngc2py's ``tool_table=`` file
 is, since the module itself crashes on T words outside a running LinuxCNC);
 ``get_axis_mask`` is asked but ngc2py reads the XYZABC words rs274 reads;
+a file whose ``/`` lines carry O-words in the form that pairs them when
+converting (``runtime.errors.SourceMap.block_delete``) is asked
+``get_block_delete`` once more, before it runs, and with block delete on
+its ``/`` lines are empty lines, asked no more;
 the line code's entries that describe the last block rather than the modes
 (``gcodes[2]``, ``mcodes[0]``, ``mcodes[1]``, ``mcodes[3]``) are only kept
 for lines ngc2py runs as blocks (rs274 also rewrites them for lines that
@@ -914,6 +918,10 @@ def parse(
     init_codes = _init_codes(args)
     try:
         module = load_program(filename, ini)
+        if module.__ngc__.block_delete is not None and canon.get_block_delete():
+            # its O-words pair otherwise with block delete on (SourceMap):
+            # asked once before the run, only for such a file
+            module = load_program(filename, ini, block_delete=True)
         main, source_map = module.main, module.__ngc__
     except OpenError as error:
         main, source_map = None, unopened(filename, error)

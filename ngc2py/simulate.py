@@ -81,7 +81,7 @@ def run_program(
     with program_path(args.program) as path:
         try:
             try:
-                module = load_program(path, args.ini)
+                module = load_program(path, args.ini, args.block_delete)
                 main, source_map = module.main, module.__ngc__
             except OpenError as error:
                 main, source_map = None, unopened(path, error)

@@ -23,9 +23,10 @@ def read_stdin() -> bytes:
     return data.encode("utf-8", "surrogateescape") if isinstance(data, str) else data
 
 
-def compile_stdin(ini: Optional[str] = None) -> str:
+def compile_stdin(ini: Optional[str] = None, block_delete: bool = False) -> str:
     """The generated module text for the program on standard input."""
     from ngc2py import parser
     from ngc2py.compiler import _compile
 
-    return _compile(parser.parse_text(read_stdin(), NAME, runs=True), NAME, ini).text
+    parsed = parser.parse_text(read_stdin(), NAME, runs=True)
+    return _compile(parsed, NAME, ini, block_delete).text

@@ -571,6 +571,10 @@ class Program:
     last: Optional[nodes.Line] = None
     #: (message, line) when rs274 fails already while opening the file.
     open_error: Optional[Tuple[str, Optional[nodes.Line]]] = None
+    #: The block delete setting (rs274's -b) the program is compiled for,
+    #: where block-deleted O-word lines make it matter (compiler.py); None:
+    #: it runs with either.
+    block_delete: Optional[bool] = None
 
 
 # --------------------------------------------------------------------------

@@ -90,7 +90,9 @@ class SourceMap:
     that line is a closing ``%`` (it decides the message when seeking fails).
     ``open_error`` is set when rs274 already fails while *opening* the main
     file: (its message, the G-code line it names, 0 for none). Such a
-    program never starts (see :meth:`opening_error`).
+    program never starts (see :meth:`opening_error`). ``block_delete`` is
+    the setting of rs274's ``-b`` the module was compiled for, where the
+    file's block-deleted O-word lines make it matter (None: either).
     """
 
     def __init__(
@@ -102,8 +104,10 @@ class SourceMap:
         end: Tuple[int, bool] = (0, False),
         open_error: Optional[Tuple[str, int]] = None,
         unskippable: Optional[dict] = None,
+        block_delete: Optional[bool] = None,
     ):
         self.files = tuple(files)
+        self.block_delete = block_delete
         #: main-file lines rs274 fails on even while skipping: line -> message
         self.unskippable = unskippable or {}
         self.open_error = open_error
@@ -187,6 +191,22 @@ class SourceMap:
             return None
         message, line = self.open_error
         return message, Location(self.files[0], line, self.text(0, line))
+
+    def other_block_delete(self, block_delete: bool) -> Optional[str]:
+        """Why this module cannot run with block delete ``block_delete``
+        (compiled for the other setting, see ``block_delete``), or None."""
+        if self.block_delete is None or bool(block_delete) == self.block_delete:
+            return None
+        return (
+            "%s: converted for block delete %s, and lines of it that start"
+            " with '/' carry O-words, which block delete empties: convert it"
+            " %s -b to run it %s -b"
+            % (
+                self.files[0],
+                "on" if self.block_delete else "off",
+                *(("with",) * 2 if block_delete else ("without",) * 2),
+            )
+        )
 
     def missing_sub(self, name: str, row_line: Optional[int] = None) -> GCodeError:
         """rs274's error for calling ``name`` when neither a definition nor

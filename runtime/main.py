@@ -112,7 +112,12 @@ def start(machine, main: Callable) -> None:
     """Run ``main`` on ``machine``, unless rs274 would already fail opening
     the program (its source map says so): then only the start-up calls are
     made before the error."""
-    opening = machine.source.opening_error() if machine.source else None
+    source = machine.source
+    if source is not None and source.block_delete is not None:
+        wrong = source.other_block_delete(machine.block_delete)
+        if wrong is not None:
+            raise ValueError(wrong)
+    opening = source.opening_error() if source else None
     if opening is None:
         machine.run(main)
     else:
@@ -141,6 +146,10 @@ def run_cli(
         options = parse_options(args)
     except UsageError as error:
         stderr.write("%s\n%s\n" % (error, USAGE % "program"))
+        return 1
+    wrong = source_map.other_block_delete(options["block_delete"])
+    if wrong is not None:
+        stderr.write("%s\n" % wrong)
         return 1
     stderr.write("executing\n")
     stderr.flush()

@@ -174,11 +174,14 @@ def run_ngc2py(
             module = s.tmp / "generated" / (_module_name(program.stem) + ".py")
             module.parent.mkdir()
             # the ini file's SUBROUTINE_PATH matters at compile time too
-            ini = []
+            options = []
             if "-i" in args and args.index("-i") + 1 < len(args):
-                ini = ["-i", args[args.index("-i") + 1]]
+                options = ["-i", args[args.index("-i") + 1]]
+            # and block delete, where /-lines carry O-words (compiler.py)
+            if args.count("-b") % 2:
+                options.append("-b")
             conv = _run(
-                [sys.executable, "-m", "ngc2py", "convert", s.program.name, *ini, "-o", str(module)],
+                [sys.executable, "-m", "ngc2py", "convert", s.program.name, *options, "-o", str(module)],
                 s,
                 timeout,
             )

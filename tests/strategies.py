@@ -2405,4 +2405,16 @@ def subroutine_file_programs(draw) -> tuple:
     if on_path:
         files["subs.ini"] = "[RS274NGC]\nSUBROUTINE_PATH = subs\n"
         args = ["-i", "subs.ini"]
+    if draw(st.integers(0, 2)) == 0:
+        # block-deleted lines (O-lines, M98 and M99 among them), run with
+        # and without -b: with it rs274 reads them as empty lines, and the
+        # O-words of a subroutine file or a Fanuc-style file pair otherwise
+        for path in sorted(p for p in files if p.endswith(".ngc")):
+            lines = files[path].split("\n")
+            for at in draw(st.lists(st.integers(0, len(lines) - 1), max_size=3)):
+                if lines[at].strip() not in ("", "%") and not lines[at].startswith("/"):
+                    lines[at] = "/" + lines[at]
+            files[path] = "\n".join(lines)
+        if draw(st.booleans()):
+            args.append("-b")
     return files, args
