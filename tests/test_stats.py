@@ -64,7 +64,7 @@ def stats_of(name: str, args=()) -> StatsCanon:
     options = parse_options(list(args))
     canon = StatsCanon()
     try:
-        module = cli.load_program(name, options.get("ini"))
+        module = cli.load_program(name, options.get("ini"), options["block_delete"])
     except Exception:  # unopenable programs make no moves
         return canon
     mode = options.pop("continue_mode", continue_mode.STOP)
