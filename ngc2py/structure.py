@@ -665,6 +665,64 @@ class _Open:
     label: str
     node: Union[Sub, If, Loop]
     body: List[Stmt]
+    #: (body, what _condition_start answers for it), settled once asked
+    condition: Optional[tuple] = field(default=None, compare=False, repr=False)
+
+
+class _Stack(list):
+    """The open constructs, innermost last, counting those that are
+    subroutines: with none open (most programs), the subroutine around a
+    line and the constructs of its scope are known without a walk down the
+    whole stack, which every O-word line asks (deep nesting made that
+    quadratic). Changed only by append, insert and pop."""
+
+    __slots__ = ("subs",)
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.subs = 0
+
+    def append(self, entry: "_Open") -> None:
+        super().append(entry)
+        self.subs += isinstance(entry.node, Sub)
+
+    def insert(self, index: int, entry: "_Open") -> None:
+        super().insert(index, entry)
+        self.subs += isinstance(entry.node, Sub)
+
+    def pop(self, index: int = -1) -> "_Open":
+        entry = super().pop(index)
+        self.subs -= isinstance(entry.node, Sub)
+        return entry
+
+
+def _condition_start(node, body: List[Stmt]) -> Optional[nodes.Line]:
+    """The opening line of the construct whose ``body`` this is, when its
+    conditions keep running code out of that body (a repeat of none, a
+    while whose condition is a false constant, an arm whose condition is,
+    or one after an arm whose condition is a true constant); else None.
+    (What else decides it is asked each time: _Builder._never_entered.)"""
+    if isinstance(node, Loop):
+        if node.line.oword is None or node.kind not in ("while", "repeat"):
+            return None
+        value = _constant(node.line.oword.expr)
+        if value is None or (value > 0.0 if node.kind == "repeat" else value != 0.0):
+            return None
+        return node.line
+    if isinstance(node, If):
+        arms = node.branches + ([node.orelse] if node.orelse else [])
+        index = next((k for k, arm in enumerate(arms) if arm.body is body), None)
+        if index is None:
+            return None
+        values = [_constant(arm.line.oword.expr) for arm in node.branches[:index]]
+        if any(value is not None and value != 0.0 for value in values):
+            return node.branches[0].line  # an arm before always runs
+        if index < len(node.branches):
+            value = _constant(node.branches[index].line.oword.expr)
+            if value is None or value != 0.0:
+                return None
+            return node.branches[index].line
+    return None
 
 
 class _Builder:
@@ -674,7 +732,7 @@ class _Builder:
         self.file = file
         self.demarcated = demarcated
         self.main: List[Stmt] = []
-        self.stack: List[_Open] = []
+        self.stack: _Stack = _Stack()
         self.subs: List[Sub] = []
         # Labels of if/loop openers seen so far, per scope (main or a sub):
         # rs274 remembers each label's first line and complains on reuse.
@@ -716,6 +774,8 @@ class _Builder:
         return self.stack[-1].body if self.stack else self.main
 
     def open_sub(self) -> Optional[Sub]:
+        if not self.stack.subs:
+            return None
         for entry in reversed(self.stack):
             if isinstance(entry.node, Sub):
                 return entry.node
@@ -1757,7 +1817,10 @@ class _Builder:
         return None
 
     def _scope_entries(self) -> List[_Open]:
-        """The open constructs of the current subroutine (or main body)."""
+        """The open constructs of the current subroutine (or main body),
+        innermost first."""
+        if not self.stack.subs:
+            return self.stack[::-1]
         entries: List[_Open] = []
         for entry in reversed(self.stack):
             if isinstance(entry.node, Sub):
@@ -1883,7 +1946,13 @@ class _Builder:
                     return True
                 if type(stmt) is Jump and not self._landed_after(stmt):
                     return True
-        return any(self._never_entered(entry) for entry in entries)
+        for entry in entries:
+            known = entry.condition
+            if known is not None and known[1] is None and known[0] is entry.body:
+                continue  # (the usual case, in a line)
+            if self._never_entered(entry):
+                return True
+        return False
 
     def _never_entered(self, entry: _Open) -> bool:
         """Is the open construct ``entry`` one running code never enters
@@ -1892,31 +1961,13 @@ class _Builder:
         true constant)? Unless a skip for an earlier label can land inside
         it: a line in it with a label used before its opener."""
         node = entry.node
-        if isinstance(node, Loop):
-            if node.back or node.skip or node.reuses is not None or node.line.oword is None:
-                return False
-            value = _constant(node.line.oword.expr)
-            if value is None or node.kind not in ("while", "repeat"):
-                return False
-            if (value > 0.0 if node.kind == "repeat" else value != 0.0):
-                return False
-            start = node.line
-        elif isinstance(node, If):
-            arms = node.branches + ([node.orelse] if node.orelse else [])
-            index = next((k for k, arm in enumerate(arms) if arm.body is entry.body), None)
-            if index is None:
-                return False
-            values = [_constant(arm.line.oword.expr) for arm in node.branches[:index]]
-            if any(value is not None and value != 0.0 for value in values):
-                start = node.branches[0].line  # an arm before always runs
-            elif index < len(node.branches):
-                value = _constant(node.branches[index].line.oword.expr)
-                if value is None or value != 0.0:
-                    return False
-                start = node.branches[index].line
-            else:
-                return False
-        else:
+        known = entry.condition
+        if known is None or known[0] is not entry.body:
+            known = entry.condition = (entry.body, _condition_start(node, entry.body))
+        start = known[1]
+        if start is None:
+            return False
+        if isinstance(node, Loop) and (node.back or node.skip or node.reuses is not None):
             return False
         earlier = {key for number, key, _, _, _ in self.labelled if number <= start.number}
         own = set()
