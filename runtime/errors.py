@@ -197,15 +197,12 @@ class SourceMap:
         (compiled for the other setting, see ``block_delete``), or None."""
         if self.block_delete is None or bool(block_delete) == self.block_delete:
             return None
+        wanted = "with" if block_delete else "without"
         return (
             "%s: converted for block delete %s, and lines of it that start"
             " with '/' carry O-words, which block delete empties: convert it"
             " %s -b to run it %s -b"
-            % (
-                self.files[0],
-                "on" if self.block_delete else "off",
-                *(("with",) * 2 if block_delete else ("without",) * 2),
-            )
+            % (self.files[0], "on" if self.block_delete else "off", wanted, wanted)
         )
 
     def missing_sub(self, name: str, row_line: Optional[int] = None) -> GCodeError:
