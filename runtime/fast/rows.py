@@ -288,6 +288,27 @@ def run_rows(
         raise
 
 
+def _single_xyz(feed: bool):
+    """BatchesOnly's ``m.feed`` or ``m.rapid`` (a loop's every move):
+    :meth:`BatchesOnly._single_line` for X, Y and Z passed on as they come,
+    no N, written out in one method."""
+
+    def single(self, line, x=None, y=None, z=None) -> None:
+        run = self._plain_feed if feed else self._plain_rapid
+        if not self._batchable or self.reading_profile:
+            return run(line, x, y, z)
+        token = self._line_begins(line, None)
+        self._plain = True
+        try:
+            run(line, x, y, z)
+        finally:
+            self._plain = False
+        self._line_ended(line, token)
+
+    single.__name__ = single.__qualname__ = "feed" if feed else "rapid"
+    return single
+
+
 class BatchesOnly:
     """For a Machine whose canon must see every block begin (flatten groups
     calls by block, the preview announces each line with the modes as of
@@ -326,19 +347,6 @@ class BatchesOnly:
     def _line_ended(self, line: int, token) -> None:
         """The line has run (by the fast path or, stepping aside, by block())."""
 
-    def _single_xyz(self, run, line, x, y, z) -> None:
-        """:meth:`_single_line` for ``m.feed`` and ``m.rapid`` (a loop's
-        body): X, Y and Z passed on as they come, no N."""
-        if not self._batchable or self.reading_profile:
-            return run(line, x, y, z)
-        token = self._line_begins(line, None)
-        self._plain = True
-        try:
-            run(line, x, y, z)
-        finally:
-            self._plain = False
-        self._line_ended(line, token)
-
     def move(self, line, *args, **words) -> None:
         self._single_line(super().move, line, *args, **words)
 
@@ -348,11 +356,8 @@ class BatchesOnly:
         cls._plain_feed = super(BatchesOnly, cls).feed
         cls._plain_rapid = super(BatchesOnly, cls).rapid
 
-    def feed(self, line, x=None, y=None, z=None) -> None:
-        self._single_xyz(self._plain_feed, line, x, y, z)
-
-    def rapid(self, line, x=None, y=None, z=None) -> None:
-        self._single_xyz(self._plain_rapid, line, x, y, z)
+    feed = _single_xyz(feed=True)
+    rapid = _single_xyz(feed=False)
 
     def arc(self, line, *args, **words) -> None:
         self._single_line(super().arc, line, *args, **words)
