@@ -12,6 +12,7 @@ import sys
 
 from ngc2py import __version__
 from ngc2py.compiler import CompileError, OpenError, compile_file
+from ngc2py.flags import add_block_delete
 from runtime.budget import DEFAULT_MAX_STEPS
 from runtime.errors import SourceMap
 
@@ -75,11 +76,9 @@ def build_parser(workflows: Sequence[str] = WORKFLOWS) -> argparse.ArgumentParse
         metavar="INI",
         help="ini file whose SUBROUTINE_PATH is searched",
     )
-    convert.add_argument(
-        "-b",
-        dest="block_delete",
-        action="store_true",
-        help="compile for block delete on: needed only where lines that "
+    add_block_delete(
+        convert,
+        "compile for block delete on: needed only where lines that "
         "start with '/' carry O-words in a file whose O-words the module "
         "pairs when it is written (it says so when run with the other setting)",
     )
@@ -96,9 +95,7 @@ def build_parser(workflows: Sequence[str] = WORKFLOWS) -> argparse.ArgumentParse
     run.add_argument("-t", dest="tool_table", metavar="TBL", help="tool table file")
     run.add_argument("-v", dest="var_file", metavar="VAR", help="parameter (.var) file")
     run.add_argument("-i", dest="ini", metavar="INI", help="ini file")
-    run.add_argument(
-        "-b", dest="block_delete", action="store_true", help="turn block delete on"
-    )
+    add_block_delete(run, "turn block delete on")
     run.add_argument("-q", "--quiet", action="store_true", help=QUIET_HELP)
     for workflow in workflows:
         importlib.import_module(workflow).register(commands)  # its sub-command
@@ -266,7 +263,9 @@ def quick_run_args(argv: List[str]):
             values[_RUN_VALUES[arg]] = argv[at + 1]
             at += 2
         elif arg in _RUN_FLAGS:
-            values[_RUN_FLAGS[arg]] = True
+            # -b flips block delete each time, as rs274 and argparse's -b do
+            name = _RUN_FLAGS[arg]
+            values[name] = not values[name] if arg == "-b" else True
             at += 1
         elif arg.startswith("-") or values["program"] is not None:
             return None

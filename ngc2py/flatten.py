@@ -54,6 +54,7 @@ TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
     from typing import List, Optional, Sequence, Tuple
 
+from ngc2py.flags import add_block_delete
 from runtime.canon import CALLS, Canon
 from runtime.errors import g_code_frames_of_stack
 from runtime.fast.hole_rows import HOLE_MOVES, HOLE_SWITCHES
@@ -1532,9 +1533,7 @@ def register(commands) -> None:
         help="parameter (.var) file (read, not rewritten)",
     )
     parser.add_argument("-i", dest="ini", metavar="INI", help="ini file")
-    parser.add_argument(
-        "-b", dest="block_delete", action="store_true", help="block delete on"
-    )
+    add_block_delete(parser, "block delete on")
     parser.add_argument(
         "-n",
         dest="continue_mode",

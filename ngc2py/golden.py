@@ -485,6 +485,8 @@ def register(commands) -> None:
     """Add ``golden`` to the CLI's sub-command parser."""
     import argparse
 
+    from ngc2py.flags import add_block_delete
+
     parser = commands.add_parser(
         "golden",
         help="record or check golden traces of your programs",
@@ -496,7 +498,7 @@ def register(commands) -> None:
     parser.add_argument("-t", dest="tool_table", metavar="TBL", help="tool table file")
     parser.add_argument("-v", dest="var_file", metavar="VAR", help="parameter (.var) file")
     parser.add_argument("-i", dest="ini", metavar="INI", help="ini file")
-    parser.add_argument("-b", dest="block_delete", action="store_true", help="block delete on")
+    add_block_delete(parser, "block delete on")
     parser.add_argument("-q", "--quiet", action="store_true", help="print only changes and the summary")
     parser.add_argument(
         "--timeout", type=float, default=None, metavar="S", help="seconds before a run counts as hung"

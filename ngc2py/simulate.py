@@ -14,6 +14,7 @@ import os
 import sys
 from contextlib import contextmanager
 
+from ngc2py.flags import add_block_delete
 from runtime.canon import Canon
 from runtime.errors import GCodeError, describe
 
@@ -33,9 +34,7 @@ def add_rs274_options(parser: argparse.ArgumentParser) -> None:
         "-v", dest="var_file", metavar="VAR", help="parameter (.var) file"
     )
     parser.add_argument("-i", dest="ini", metavar="INI", help="ini file")
-    parser.add_argument(
-        "-b", dest="block_delete", action="store_true", help="turn block delete on"
-    )
+    add_block_delete(parser, "turn block delete on")
     parser.add_argument(
         "-n",
         dest="continue_mode",

@@ -37,7 +37,9 @@ FANUC_STYLE = [
 @pytest.mark.parametrize("block_delete", [False, True], ids=["plain", "b"])
 @pytest.mark.parametrize("text", FANUC_STYLE)
 @pytest.mark.parametrize("mode", ["run", "convert"])
-def test_block_deleted_o_words_in_a_fanuc_style_file(text, block_delete, mode, tmp_path):
+def test_block_deleted_o_words_in_a_fanuc_style_file(
+    text, block_delete, mode, tmp_path
+):
     """The same trace and error as rs274, with and without -b, through
     ``ngc2py run`` and a module converted (with -b where run with it).
     Before, the nested form ignored block delete on such lines. (The first
@@ -90,9 +92,14 @@ def test_a_module_refuses_the_other_setting(tmp_path):
         assert proc.returncode == 1
         assert proc.stdout == ""
         assert refused in proc.stderr and "t.ngc" in proc.stderr
-    assert subprocess.run([sys.executable, str(plain)], capture_output=True).returncode == 0
+    assert (
+        subprocess.run([sys.executable, str(plain)], capture_output=True).returncode
+        == 0
+    )
     namespace: dict = {}
-    exec(compile(plain.read_text(), str(plain), "exec"), namespace)  # noqa: S102 - our module
+    exec(
+        compile(plain.read_text(), str(plain), "exec"), namespace
+    )  # noqa: S102 - our module
     with pytest.raises(ValueError, match="block delete off"):
         namespace["run"](block_delete=True)
 
@@ -102,7 +109,9 @@ def test_an_ordinary_module_runs_with_either_setting():
     follows as it runs: the module says nothing of block delete."""
     for text in ("/G0 X1\nM2\n", "/o1 if [0]\nG0 X2\no1 endif\nM2\n"):
         assert "block_delete=" not in compile_text(text, "t.ngc")
-        assert compile_text(text, "t.ngc") == compile_text(text, "t.ngc", block_delete=True)
+        assert compile_text(text, "t.ngc") == compile_text(
+            text, "t.ngc", block_delete=True
+        )
 
 
 class _Canon:
@@ -150,3 +159,36 @@ def test_the_preview_asks_which_setting(block_delete, tmp_path):
     moves = ngc2py.toolpath(str(program), block_delete=block_delete)
     assert canon.rapids == [round(x, 6) for x in moves.end[:, 0]]
     assert canon.rapids == ([1.0, 3.0, 4.0] if block_delete else [1.0, 3.0, 3.0, 3.0])
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize("times", [2, 3])
+@pytest.mark.parametrize(
+    "extra", [[], ["--max-steps=100000"]], ids=["quick", "argparse"]
+)
+@pytest.mark.parametrize(
+    "text", [FANUC_STYLE[1], "G0 X1\n/G0 X2\n/o1 if [1]\nG0 X3\no1 endif\nM2\n"]
+)
+def test_each_b_flips_block_delete_as_rs274(text, times, extra, tmp_path):
+    """rs274 flips block delete at each ``-b`` (``-b -b`` is off again);
+    ``ngc2py run`` does too, whichever of its option parsers reads the
+    line (a --max-steps=N sends it to argparse). Before, ``-b -b`` was on."""
+    program = tmp_path / "t.ngc"
+    args = ["-b"] * times
+    expected = harness.run_rs274(program, args, text=text)
+    actual = harness.run_ngc2py(program, args + extra, text=text)
+    assert harness.compare(expected, actual) == []
+    once = harness.run_rs274(program, ["-b"], text=text)
+    assert (expected.stdout == once.stdout) == (times % 2 == 1)  # the flip is seen
+
+
+def test_each_b_flips_block_delete_in_every_command():
+    """stats, plot, flatten, golden and convert read -b as ``run`` does."""
+    from ngc2py import cli
+
+    for command in (["stats", "p.ngc"], ["plot", "p.ngc", "-o", "p.png"], ["flatten", "p.ngc"],
+                    ["golden", "check", "p.ngc"], ["convert", "p.ngc"], ["run", "p.ngc", "--max-steps=5"]):  # fmt: skip
+        for times in range(4):
+            argv = command + ["-b"] * times
+            args = cli._parser_for(argv).parse_args(argv)
+            assert args.block_delete == (times % 2 == 1), argv
