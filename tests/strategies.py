@@ -1352,7 +1352,9 @@ def language_programs(draw, max_statements: int = 8) -> tuple:
         lang_statement(w)
     w.lines.append(draw(st.sampled_from(["M2", "m30", "N999 M2", "M2 ()", "M2 (end)"])))
     w.lines[1:1] = [f"#<{name}> = 0" for name in w.globals]
-    return "\n".join(w.lines) + "\n", (["-b"] if block_delete else [])
+    # each -b flips block delete, as rs274's option loop does
+    times = draw(st.sampled_from([1, 1, 3] if block_delete else [0, 0, 2]))
+    return "\n".join(w.lines) + "\n", ["-b"] * times
 
 
 def long_programs(min_subs: int = 20, max_subs: int = 60):
@@ -2415,6 +2417,6 @@ def subroutine_file_programs(draw) -> tuple:
                 if lines[at].strip() not in ("", "%") and not lines[at].startswith("/"):
                     lines[at] = "/" + lines[at]
             files[path] = "\n".join(lines)
-        if draw(st.booleans()):
-            args.append("-b")
+        # each -b flips block delete, as rs274's option loop does
+        args += ["-b"] * draw(st.sampled_from([0, 1, 1, 2, 3]))
     return files, args
