@@ -61,8 +61,8 @@ from __future__ import annotations
 import re
 import time
 from functools import partial
-from itertools import compress, repeat, starmap
-from operator import itemgetter, not_
+from itertools import repeat
+from operator import itemgetter
 from typing import Any, List, Optional, Sequence, Tuple
 
 from runtime.arcs import INVERSE_TIME, UNITS_PER_MINUTE, UNITS_PER_REVOLUTION
@@ -75,6 +75,7 @@ from runtime.mcodes import ProgramEnd
 from runtime.nurbs import preview_points
 from runtime.params import unset_variable
 from runtime.fast.rows import BatchesOnly
+
 
 INTERP_OK = 0
 INTERP_EXIT = 1
@@ -156,13 +157,6 @@ class _RowCode(LineCode):
 
 #: _RowCode of (number, line, modes) tuples, in C
 _row_code = partial(tuple.__new__, _RowCode)
-
-try:  # a call of its first argument with the others, in C (Python 3.11)
-    from operator import call as _call
-except ImportError:  # pragma: no cover - Python < 3.11
-
-    def _call(method, *arguments):
-        return method(*arguments)
 
 
 def _in_inches(column: List[float]) -> List[float]:
@@ -290,11 +284,11 @@ class PreviewCanon(Canon):
         if not machine.inches:
             x, y, z, u, v, w = map(_in_inches, (x, y, z, u, v, w))
         target = self.target
-        method = target.straight_feed if feed else target.straight_traverse
         self._announce_batch(
             lines,
             [G1 if feed else G0] * len(lines),
-            zip(repeat(method), x, y, z, a, b, c, u, v, w),
+            target.straight_feed if feed else target.straight_traverse,
+            zip(x, y, z, a, b, c, u, v, w),
         )
 
     def arc_moves(self, lines, *columns):
@@ -304,30 +298,23 @@ class PreviewCanon(Canon):
         machine = self.machine
         if self.motion_line is not None or not isinstance(machine, PreviewMachine):
             return super().arc_moves(lines, *columns)
-        rotation = columns[4]
-        self._announce_batch(
-            lines,
-            [G3 if turn > 0 else G2 for turn in rotation],
-            zip(repeat(self.target.arc_feed), *self._arc_columns(columns)),
-        )
-
-    def _arc_columns(self, columns) -> list:
-        """arc_feed's columns of a batch as the target takes them: lengths
-        in inches, a column at a time."""
         first_end, second_end, first_axis, second_axis, rotation, axis_end = columns[:6]
         a, b, c, u, v, w = columns[6:]
         lengths = [first_end, second_end, first_axis, second_axis, axis_end, u, v, w]
-        if not self.machine.inches:
+        if not machine.inches:
             lengths = list(map(_in_inches, lengths))
         e1, e2, c1, c2, normal, u, v, w = lengths
-        return [e1, e2, c1, c2, rotation, normal, a, b, c, u, v, w]
+        self._announce_batch(
+            lines,
+            [G3 if turn > 0 else G2 for turn in rotation],
+            self.target.arc_feed,
+            zip(e1, e2, c1, c2, rotation, normal, a, b, c, u, v, w),
+        )
 
     def contour_moves(self, axes, lines, *columns):
         """A contour (runtime.canon.Canon.contour_moves): arcs and the plain
         G1 rows between them, announced line by line as :meth:`arc_moves`
-        and :meth:`straight_moves` do, in one batch. Each row's call comes
-        from one of two column-built streams, the arcs' and the straight
-        moves', picked by its rotation: no Python statement per row."""
+        and :meth:`straight_moves` do, in one batch."""
         machine = self.machine
         rotation = columns[4]
         if self.motion_line is not None or not isinstance(machine, PreviewMachine):
@@ -335,24 +322,28 @@ class PreviewCanon(Canon):
         if 0 not in rotation:
             return self.arc_moves(lines, *columns)
         target = self.target
-        converted = self._arc_columns(columns)
-        # a straight row's pose: its plane's two axes and the normal axis
-        # from the row's ends, the others (a b c u v w) as they are
+        arc_feed, straight_feed = target.arc_feed, target.straight_feed
+        k = 1.0 if machine.inches else MM_PER_INCH  # (divided by, as _pose does)
         f, s, n = axes
-        pose: list = [repeat(0.0)] * 3 + converted[6:]
-        pose[f], pose[s], pose[n] = converted[0], converted[1], converted[5]
-        arcs = compress(zip(repeat(target.arc_feed), *converted), rotation)
-        straights = compress(
-            zip(repeat(target.straight_feed), *pose), map(not_, rotation)
-        )
-        streams = [arcs if turn else straights for turn in rotation]
-        motions = [(G3 if turn > 0 else G2) if turn else G1 for turn in rotation]
-        # the module's own position (program units): the last straight row's end
-        last = len(rotation) - 1 - rotation[::-1].index(0)
-        raw = [0.0, 0.0, 0.0] + [column[last] for column in columns[6:]]
-        raw[f], raw[s], raw[n] = columns[0][last], columns[1][last], columns[5][last]
-        self._pos = tuple(raw)
-        self._announce_batch(lines, motions, map(next, streams))
+        motions, calls, arguments = [], [], []
+        pose = None
+        for e1, e2, c1, c2, turn, en, a, b, c, u, v, w in zip(*columns):
+            if turn:
+                motions.append(G3 if turn > 0 else G2)
+                calls.append(arc_feed)
+                arguments.append(
+                    (e1 / k, e2 / k, c1 / k, c2 / k, turn, en / k,
+                     a, b, c, u / k, v / k, w / k)
+                )  # fmt: skip
+            else:
+                pose = [0.0, 0.0, 0.0, a, b, c, u, v, w]
+                pose[f], pose[s], pose[n] = e1, e2, en
+                motions.append(G1)
+                calls.append(straight_feed)
+                arguments.append(self._pose(*pose))
+        if pose is not None:  # the module's own position: the last line's end
+            self._pos = tuple(pose)
+        self._announce_batch(lines, motions, calls, iter(arguments))
 
     def hole_moves(self, recording, lines, first, second, axes, start):
         """Holes drilled alike (runtime.canon.Canon.hole_moves): each hole's
@@ -411,15 +402,14 @@ class PreviewCanon(Canon):
                 self._pos = tuple(position)
                 break
 
-    def _announce_batch(self, lines, motions, rows) -> None:
-        """Each line of a batch announced with the modes the line before
-        left (those of ``motions[k - 1]``, its motion mode, since nothing
-        else changes), then its call: ``rows`` gives each line's
-        ``(method, *arguments)``. The calls are made by ``map`` and
-        ``zip``, the line codes built in C (_row_code): no Python statement
-        per line."""
+    def _announce_batch(self, lines, motions, call, arguments) -> None:
+        """``call(*arguments[k])`` for each line of a batch, each line
+        announced first with the modes the line before left: those of
+        ``motions[k - 1]``, its motion mode, since nothing else changes.
+        ``call`` is one method, or a list of one a line (a contour's)."""
         machine = self.machine
         target = self.target
+        next_line = target.next_line
         modes = {motion: machine.line_state(motion) for motion in set(motions)}
         now = time.monotonic()  # asked once a batch: a batch takes milliseconds
         if now - self._checked > ABORT_INTERVAL:
@@ -432,17 +422,16 @@ class PreviewCanon(Canon):
             states = repeat(modes[motions[0]])
         else:
             states = map(modes.__getitem__, motions)
-        codes = map(_row_code, zip(numbers[1:], lines, states))
-        calls = starmap(_call, rows)
-        if numbers[0] == self.last_sequence:  # announced already
-            next(calls)
-        else:
+        codes = list(map(_row_code, zip(numbers[1:], lines, states)))
+        if numbers[0] != self.last_sequence:
             g, m, s = machine.active
-            target.next_line(LineCode((numbers[0],) + g[1:], m, s))
-            next(calls)
-        # zip asks its iterators in turn: each line announced, then its call
-        for _ in zip(map(target.next_line, codes), calls):
-            pass
+            codes.insert(0, LineCode((numbers[0],) + g[1:], m, s))
+        methods = iter(call) if isinstance(call, list) else repeat(call)
+        if numbers[0] == self.last_sequence:  # announced already
+            next(methods)(*next(arguments))
+        for code, method, values in zip(codes, methods, arguments):
+            next_line(code)
+            method(*values)
         self.last_sequence = numbers[-1]
         last = lines[-1]
         gcodes, mcodes, settings = modes[motions[-1]]
