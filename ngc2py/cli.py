@@ -92,6 +92,13 @@ def build_parser(workflows: Sequence[str] = WORKFLOWS) -> argparse.ArgumentParse
         "1 on error -- the same as `rs274 -g`.",
     )
     run.add_argument("program", metavar="PROG.ngc", help="the G-code file ('-': stdin)")
+    run.add_argument(
+        "output",
+        metavar="OUT",
+        nargs="?",
+        help="write the trace to this file instead of stdout, as rs274's "
+        "output file (written atomically; PRINT text stays on stdout)",
+    )
     run.add_argument("-t", dest="tool_table", metavar="TBL", help="tool table file")
     run.add_argument("-v", dest="var_file", metavar="VAR", help="parameter (.var) file")
     run.add_argument("-i", dest="ini", metavar="INI", help="ini file")
@@ -216,6 +223,8 @@ def run(args: argparse.Namespace) -> int:
         argv += ["-n", args.continue_mode]
     if args.max_steps is not None:
         argv.append("--max-steps=%s" % args.max_steps)
+    if args.output is not None:
+        argv += ["--", args.output]  # (a name starting with '-' is a name)
     bars = []
 
     def watched(canon):
@@ -245,15 +254,16 @@ def quick_run_args(argv: List[str]):
     """``run PROG [options]`` parsed without argparse, whose import and
     parser cost about 8 ms of every run (rs274 starts in 10): the plain
     forms only -- each option spelled out, its value in the next argument,
-    one program name. Anything else (help, abbreviations, ``-``, ``--``,
-    joined flags, an option value starting with ``-``, a repeated program)
-    gives None, and argparse decides. tests/test_cli.py holds the answers to
+    one program name and perhaps, after it, rs274's output file. Anything
+    else (help, abbreviations, ``-``, ``--``, joined flags, an option value
+    starting with ``-``, a third name) gives None, and argparse decides
+    (:func:`parse_arguments`). tests/test_cli.py holds the answers to
     argparse's."""
     if len(argv) < 2 or argv[0] != "run":
         return None
     values = dict.fromkeys(_RUN_VALUES.values())
     values.update(dict.fromkeys(_RUN_FLAGS.values(), False))
-    values.update(command="run", program=None)
+    values.update(command="run", program=None, output=None)
     at = 1
     while at < len(argv):
         arg = argv[at]
@@ -267,10 +277,13 @@ def quick_run_args(argv: List[str]):
             name = _RUN_FLAGS[arg]
             values[name] = not values[name] if arg == "-b" else True
             at += 1
-        elif arg.startswith("-") or values["program"] is not None:
+        elif arg.startswith("-") or values["output"] is not None:
             return None
-        else:
+        elif values["program"] is None:
             values["program"] = arg
+            at += 1
+        else:
+            values["output"] = arg  # rs274's output file
             at += 1
     if values["program"] is None:
         return None
@@ -291,13 +304,29 @@ def _parser_for(argv: List[str]) -> argparse.ArgumentParser:
     return build_parser((module,) if module in WORKFLOWS else WORKFLOWS)
 
 
+def parse_arguments(argv: List[str]) -> argparse.Namespace:
+    """The command line by argparse. ``run``'s output file may come after
+    options that follow the program (``run P.ngc -t T.tbl OUT``), as rs274's
+    getopt lets it; argparse takes positionals only where they stand
+    together, so a single name it leaves over is that file."""
+    parser = _parser_for(argv)
+    if argv[:1] != ["run"]:
+        return parser.parse_args(argv)
+    args, extra = parser.parse_known_args(argv)
+    if extra:
+        if len(extra) > 1 or extra[0].startswith("-") or args.output is not None:
+            return parser.parse_args(argv)  # argparse's own error
+        args.output = extra[0]
+    return args
+
+
 def main(argv: Optional[List[str]] = None) -> int:
     """The command line; returns the exit status (never calls sys.exit), so
     it can be called in-process. Output goes to sys.stdout/sys.stderr as
     they are at call time."""
     arguments = sys.argv[1:] if argv is None else argv
     try:
-        args = quick_run_args(arguments) or _parser_for(arguments).parse_args(argv)
+        args = quick_run_args(arguments) or parse_arguments(arguments)
     except SystemExit as stop:  # argparse: --help, --version, or a usage error
         # A usage error exits 1, as rs274 does (argparse would say 2).
         return 0 if stop.code in (0, None) else 1

@@ -480,8 +480,11 @@ class TraceCanon(_TraceLines, Canon):
     rs274's, kept on purpose).
     """
 
-    def __init__(self, out: IO[str]):
+    def __init__(self, out: IO[str], text_out: Optional[IO[str]] = None):
         self._out = out
+        #: Where PRINT text goes when it is not the trace's stream (rs274's
+        #: output file takes the trace; its PRINT text stays on stdout).
+        self._text_out = text_out
         self._pending: List[str] = []
         self._write = self._pending.append
         self._count = 0
@@ -718,6 +721,9 @@ class TraceCanon(_TraceLines, Canon):
 
     def print_text(self, text):
         # rs274 prints the line itself, between trace lines, unnumbered.
+        if self._text_out is not None:
+            self._text_out.write(text + "\n")
+            return
         self._write(text + "\n")
         if self._count >= self._drain_at:
             self._drain()

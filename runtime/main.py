@@ -21,7 +21,7 @@ from runtime.errors import GCodeError, SourceMap, describe, format_traceback, lo
 
 USAGE = (
     "usage: %s [-t tool.tbl] [-v file.var] [-i file.ini] [-b] [-n 0|1|2]"
-    " [--max-steps N]"
+    " [--max-steps N] [output file]"
 )
 
 
@@ -45,8 +45,10 @@ def parse_options(argv: Sequence[str]) -> dict:
         opts, rest = getopt.getopt(list(argv), "t:v:i:bn:", ["max-steps="])
     except getopt.GetoptError as error:
         raise UsageError(str(error)) from None
-    if rest:
-        raise UsageError("unexpected argument %r" % rest[0])
+    if len(rest) > 1:
+        raise UsageError("unexpected argument %r" % rest[1])
+    if rest:  # rs274's output file: the trace goes there, not to stdout
+        options["output"] = rest[0]
     names = {"-t": "tool_table", "-v": "var_file", "-i": "ini"}
     for flag, value in opts:
         if flag == "-b":
@@ -154,7 +156,18 @@ def run_cli(
     stderr.write("executing\n")
     stderr.flush()
     mode = options.pop("continue_mode", continue_mode.STOP)
-    canon = TraceCanon(stdout)
+    output = options.pop("output", None)
+    trace = stdout
+    if output is not None:
+        trace = _open_output(output)
+        if trace is None:
+            # rs274 has read its tool table (its complaints on stdout) and
+            # not yet its ini or parameter file
+            stdout.write(_tool_table_report(options.get("tool_table")))
+            stderr.write("could not open output file %s\n" % output)
+            return 1
+    # (PRINT text stays on stdout when the trace goes to a file)
+    canon = TraceCanon(trace, text_out=None if output is None else stdout)
     try:
         machine = Machine(
             canon if wrap_canon is None else wrap_canon(canon),
@@ -191,7 +204,52 @@ def run_cli(
             canon.flush()
         except BrokenPipeError:  # the reader went away (`| head`)
             return 1
+        finally:
+            if output is not None:
+                trace.commit()
     return 0
+
+
+class _Output:
+    """rs274's output file, written atomically: the trace goes to a
+    temporary file beside it, which takes its name when the run ends
+    (errors or not: rs274's file then holds the trace up to the error)."""
+
+    def __init__(self, path: str) -> None:
+        import tempfile
+
+        self.path = path
+        folder, name = os.path.split(os.path.abspath(path))
+        handle, self.temporary = tempfile.mkstemp(prefix="." + name + ".", dir=folder)
+        # the G-code's bytes as they were read (surrogateescape), lines as written
+        self.file = open(
+            handle, "w", encoding="utf-8", errors="surrogateescape", newline=""
+        )
+        self.write = self.file.write
+        self.flush = self.file.flush
+
+    def commit(self) -> None:
+        self.file.close()
+        os.replace(self.temporary, self.path)
+
+
+def _open_output(path: str) -> Optional[_Output]:
+    """The output file, or None where rs274's fopen would fail (no such
+    folder, a folder of that name, no permission)."""
+    if os.path.isdir(path):
+        return None
+    try:
+        return _Output(path)
+    except OSError:
+        return None
+
+
+def _tool_table_report(path: Optional[str]) -> str:
+    """What rs274 prints on stdout while reading the tool table."""
+    from runtime.tooltable import default_tool_table, load_tool_table
+
+    table = default_tool_table() if path is None else load_tool_table(path)
+    return table.load_report
 
 
 __all__ = ["run_cli", "parse_options", "report", "start"]

@@ -339,6 +339,7 @@ _RUN_WORDS = [
     "run",
     "p.ngc",
     "q.ngc",
+    "out.txt",
     "-t",
     "-v",
     "-i",
@@ -384,7 +385,7 @@ def test_the_quick_run_parser_agrees_with_argparse(argv):
         contextlib.redirect_stdout(io.StringIO()),
     ):
         try:
-            full = cli._parser_for(argv).parse_args(argv)
+            full = cli.parse_arguments(argv)
         except SystemExit:
             pytest.fail("argparse refuses %r, the quick parser took it" % (argv,))
     assert vars(quick) == vars(full)
