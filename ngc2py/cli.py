@@ -203,6 +203,11 @@ def run(args: argparse.Namespace) -> int:
     from ngc2py.progress import spinner, watch_run
     from runtime.main import run_cli
 
+    if args.output is not None:
+        # rs274 would truncate it; a user's file is never lost to a trace
+        for kept in (args.program, args.tool_table, args.var_file, args.ini):
+            if kept is not None and same_file(args.output, kept):
+                raise CompileError("%s: the trace would overwrite it" % args.output)
     try:
         with spinner("compiling " + args.program, args.quiet):
             module = load_program(args.program, args.ini, args.block_delete)

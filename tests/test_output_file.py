@@ -152,3 +152,22 @@ def test_generated_programs_with_an_output_file(program):
             target = s.work / "t.txt"
             runs.append((result.stdout, result.rc, result.err, target.read_bytes()))
     assert runs[0] == runs[1]
+
+
+@pytest.mark.parametrize("option", [[], ["-t", "keep.txt"], ["-v", "keep.txt"]])
+def test_the_trace_never_overwrites_the_program_or_its_files(option, tmp_path):
+    """rs274 would truncate the program (or its tool table, parameter file)
+    named as the output file; ngc2py refuses before running, and the file
+    is as it was."""
+    program = tmp_path / "keep.txt" if not option else tmp_path / "p.ngc"
+    (tmp_path / "p.ngc").write_text("G0 X1\nM2\n")
+    kept = tmp_path / "keep.txt"
+    kept.write_text("G0 X1\nM2\n" if not option else "T1 P1\n")
+    before = kept.read_bytes()
+    proc = subprocess.run(
+        [sys.executable, "-m", "ngc2py", "run", program.name, *option, "keep.txt"],
+        cwd=tmp_path, capture_output=True, text=True,
+    )  # fmt: skip
+    assert proc.returncode == 1 and proc.stdout == ""
+    assert proc.stderr == "executing\nkeep.txt: the trace would overwrite it\n"
+    assert kept.read_bytes() == before
