@@ -136,7 +136,9 @@ def move_row(
             unique=True,
         )
     )
-    for letter in sorted(axes, key=AXES.index):
+    if draw(st.integers(0, 3)):  # else in the order drawn (G1 Z1 X2)
+        axes.sort(key=AXES.index)
+    for letter in axes:
         words.append(letter + draw(numbers(places)))
     if draw(st.integers(0, 7)) == 0:
         words.append(draw(feed(places)))
@@ -152,13 +154,19 @@ def same_shape_rows(draw, numbered: bool, line: int, places: int = 6) -> list:
     axes = draw(st.lists(st.sampled_from(AXES), min_size=1, max_size=4, unique=True))
     axes.sort(key=AXES.index)
     with_f = draw(st.integers(0, 3)) == 0
+    # now and then the words in another order, the same on every row
+    # (G1 Y1 X2, F first): the batch's columns still go to their axes
+    order = list(range(len(axes) + with_f))
+    if draw(st.integers(0, 3)) == 0:
+        order = draw(st.permutations(order))
     rows = []
-    for k in range(draw(st.integers(8, 30))):
+    for k in range(draw(st.integers(8, 70))):
         words = ["N%d" % ((line + k) * 10)] if numbered else []
         words += [motion] if motion else []
-        words += [letter + draw(numbers(places)) for letter in axes]
+        values = [letter + draw(numbers(places)) for letter in axes]
         if with_f:
-            words.append(draw(feed(places)))
+            values.append(draw(feed(places)))
+        words += [values[i] for i in order]
         rows.append(" ".join(words))
     return rows
 
@@ -194,6 +202,8 @@ def arc_chain(draw, plane: str, numbered: bool, line: int, places: int = 4) -> l
         )
     )
     uniform = draw(st.booleans())  # one row layout: the batch form
+    # now and then every arc's words written last first (G2 J.. I.. Y.. X..)
+    backwards = draw(st.integers(0, 4)) == 0
     radius_format = draw(st.integers(0, 4)) == 0
     helical = draw(st.booleans())
     with_f = draw(st.integers(0, 3)) == 0
@@ -277,6 +287,9 @@ def arc_chain(draw, plane: str, numbered: bool, line: int, places: int = 4) -> l
             )
         if not uniform and draw(st.integers(0, 15)) == 0:
             words.append("P" + draw(st.sampled_from(["2", "3"])))
+        if backwards:  # the words after N and the motion code, last first
+            lead = [w for w in words if w[0] in "NG"]
+            words = lead + words[len(lead) :][::-1]
         lines.append(" ".join(words))
         if not (error == 0 and radius_format):
             start = end if not (radius_format and error == 1) else start

@@ -40,6 +40,10 @@ _PRINTED_AXES = 6  # the trace shows X Y Z A B C
 _STRAIGHT = (G0, G1)
 
 
+def _axis_of(slot) -> int:
+    return slot[1]
+
+
 def printed_rows(machine, by_index, cells: List[str], at: int, end: int, plans) -> int:
     """Write the trace of the rows from ``cells[at]`` while they are plain
     moves; returns where it stopped (a row for the general path, or
@@ -175,7 +179,11 @@ def _batch(cells, at, end, printed, motion, feed_rate, texts, count):
         "STRAIGHT_FEED" if motion == G1 else "STRAIGHT_TRAVERSE",
         ", ".join(axes),
     )
-    columns = [cells[values + i : stop : stride] for i, _ in slots]
+    # the format's %s stand in axis order, whatever order the row's words
+    # were written in (G1 Y1 X2)
+    columns = [
+        cells[values + i : stop : stride] for i, _ in sorted(slots, key=_axis_of)
+    ]
     last_f = None
     if f_at >= 0:
         rates_text = cells[values + f_at : stop : stride]
