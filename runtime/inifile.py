@@ -66,6 +66,21 @@ _INTEGER = Pattern(r"[+-]?\d+")
 _FLOAT = Pattern(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
 
 
+#: LinuxCNC's LINELEN: IniFile::Find reads lines with fgets(line, LINELEN + 1).
+_LINE_LENGTH = 255
+
+
+def _fgets_lines(text: str):
+    """``text`` in the pieces fgets reads with room for 255 characters:
+    up to and with a newline, or 255 characters."""
+    start, size = 0, len(text)
+    while start < size:
+        newline = text.find("\n", start, start + _LINE_LENGTH)
+        end = newline + 1 if newline >= 0 else min(start + _LINE_LENGTH, size)
+        yield text[start:end]
+        start = end
+
+
 class IniFile(namedtuple("IniFile", "lines", defaults=((),))):
     """An INI file's logical lines (continuations joined), for lookups."""
 
@@ -73,15 +88,24 @@ class IniFile(namedtuple("IniFile", "lines", defaults=((),))):
 
     @classmethod
     def parse(cls, text: str) -> "IniFile":
-        lines, pending = [], ""
-        for raw in text.split("\n"):
-            if raw.endswith("\\"):
-                pending += raw[:-1]
+        """The lines as LinuxCNC's IniFile::Find reads them: by fgets into a
+        buffer of 256, so a line of more than 255 characters (its newline
+        counted) goes on as the next line; a backslash before the line's
+        last character (its newline, or the 255th) joins the next line to
+        it, without the backslash or that character, and the joined line's
+        last piece loses its last character too (a newline, or not); a
+        file that ends while joining ends the joined line unread."""
+        lines, pending = [], None
+        for chunk in _fgets_lines(text):
+            last = len(chunk) - 1
+            if last > 0 and chunk[last - 1] == "\\":
+                pending = (pending or "") + chunk[: last - 1]
                 continue
-            lines.append(pending + raw)
-            pending = ""
-        if pending:
-            lines.append(pending)
+            if pending is None:
+                lines.append(chunk[:last] if chunk.endswith("\n") else chunk)
+            else:  # (a joined line's last piece loses its last character)
+                lines.append(pending + chunk[:last])
+                pending = None
         return cls(tuple(lines))
 
     def find(self, key: str, section: str) -> Optional[str]:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import subprocess
+import sys
 
 import pytest
 
@@ -137,3 +138,51 @@ def test_odd_files_report_and_apply_like_rs274(tmp_path, content):
     assert settings.opened
     angle = 1.0 + settings.orient_offset
     assert f"ORIENT_SPINDLE(0, {angle:.4f}, 0)" in done.stdout
+
+
+#: ini texts around LinuxCNC's 255-character line buffer (its IniFile reads
+#: lines with fgets): ``{subs}`` is a SUBROUTINE_PATH value naming ./subs
+_LONG_LINES = [
+    "[RS274NGC]\nSUBROUTINE_PATH = {subs}:{pad}\n",  # cut after 255: the rest a line
+    "[RS274NGC]\n{hashes}SUBROUTINE_PATH = {subs}\n",  # a comment, then the key
+    "[RS274NGC]\n{hashes_254}SUBROUTINE_PATH = {subs}\n",  # one line: a comment
+    "[RS274NGC]\nSUBROUTINE_PATH = {subs}:{pad_253}\\\nx\n",  # joined at the cut
+    "[RS274NGC]\nSUBROUTINE_PATH = \\\n{subs}",  # joined, no newline at the end
+    "[RS274NGC]\nSUBROUTINE_PATH = {subs}\\",  # a backslash at the very end
+    "[RS274NGC]\nSUBROUTINE_PATH = \\\n",  # the file ends while joining
+]
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize("template", _LONG_LINES)
+def test_long_and_joined_lines_read_as_rs274_reads_them(tmp_path, template):
+    """Whether rs274 finds the subroutine through SUBROUTINE_PATH, for lines
+    longer than its buffer and backslash joins at its edges: ngc2py's
+    answer, trace and message are rs274's. (Found by a sweep of real
+    programs: a 282-character SUBROUTINE_PATH.)"""
+    if harness.rs274_path() is None:
+        pytest.skip("rs274 not on PATH")
+    (tmp_path / "subs").mkdir()
+    (tmp_path / "subs" / "foo.ngc").write_text("o<foo> sub\nG0 X1\no<foo> endsub\nM2\n")
+    subs = str(tmp_path / "subs")
+    pad = "/nowhere" * 40
+    text = template.format(
+        subs=subs,
+        pad=pad,
+        pad_253="/" * (253 - len("SUBROUTINE_PATH = %s:" % subs) - 1),
+        hashes="#" * 255,
+        hashes_254="#" * 254,
+    )
+    (tmp_path / "m.ini").write_text(text)
+    (tmp_path / "p.ngc").write_text("o<foo> call\nM2\n")
+    done = _rs274_with_ini(tmp_path)
+    ours = subprocess.run(
+        [sys.executable, "-m", "ngc2py", "run", "-i", "m.ini", "p.ngc"],
+        cwd=tmp_path, capture_output=True, text=True,
+        env={**os.environ, "HOME": str(tmp_path)}, timeout=120,
+    )  # fmt: skip
+    assert ours.stdout == done.stdout
+    assert (ours.returncode, ours.stderr.split("\n")[:2]) == (
+        done.returncode,
+        done.stderr.split("\n")[:2],
+    )
