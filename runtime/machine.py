@@ -930,6 +930,14 @@ class Machine(
             if int(words["l"]) in (2, 20):
                 self._set_system(words)
             elif int(words["l"]) == 0:
+                # rs274 reads its own spindle slot's tool number, which an M6
+                # changes on the next line (and M61 Q0 does not clear)
+                spindle = self._spindle_before_change or self._entry(0)
+                loaded = spindle.tool
+                if loaded > 0:
+                    raise GCodeError(
+                        "G10 L0 not allowed with loaded tool <%d>\n" % loaded
+                    )
                 self.canon.reload_tooldata()  # the stand-alone canon only prints it
             else:
                 self._set_tool_entry(words)

@@ -397,6 +397,9 @@ def stmt_codes(w: Writer) -> None:
             "G49", f"M61 Q{tool}", f"T{tool}", f"G43.1 Z{w.draw(numbers())}",
             # (G43.2 with axis words fails in rs274 2.9: "Requested tool -1")
             f"G43.1 X{w.draw(numbers())}",
+            # refused while a tool is loaded (as rs274's own spindle slot
+            # says: an M6 on the same line not yet, M61 Q0 not cleared)
+            "G10 L0", f"T{tool} M6 G10 L0",
         ])))
     elif kind == 1:
         letter = w.draw(st.sampled_from(["Z", "X", "Z", "R", "I", "J"]))
@@ -2163,6 +2166,7 @@ def _wrong_lines(w: JobWriter) -> list:
         "S500 M3\nG76 P0.1 Z-1 I-0.1 J0 K0.1",  # J must be positive
         "S500 M3\nG33 Z-1",  # no K
         "G10 L1 P0 Z1",
+        "T1 M6\nG10 L0",  # a tool loaded
         "M72",  # nothing saved
         "G93\nG1 X1 Y1",  # inverse time move without F
         f"G1 X1 D{w.pick(w.mill_tools())}",  # D with nothing to use it
