@@ -146,7 +146,9 @@ def move_row(
 
 
 @st.composite
-def same_shape_rows(draw, numbered: bool, line: int, places: int = 6) -> list:
+def same_shape_rows(
+    draw, numbered: bool, line: int, places: int = 6, reorder: bool = False
+) -> list:
     """Eight or more moves of one shape (the same motion code or none, the
     same axis letters, F on each or on none): what runtime.fast.printed_rows
     writes in one batch. Now and then one F is an error (zero under G1)."""
@@ -157,7 +159,7 @@ def same_shape_rows(draw, numbered: bool, line: int, places: int = 6) -> list:
     # now and then the words in another order, the same on every row
     # (G1 Y1 X2, F first): the batch's columns still go to their axes
     order = list(range(len(axes) + with_f))
-    if draw(st.integers(0, 3)) == 0:
+    if reorder or draw(st.integers(0, 3)) == 0:
         order = draw(st.permutations(order))
     rows = []
     for k in range(draw(st.integers(8, 70))):
@@ -376,6 +378,22 @@ def cam_programs(draw) -> str:
     lines.append("M2")
     text = "\n".join(lines) + "\n"
     return cam_sized(text) if draw(st.integers(0, 3)) else text
+
+
+@st.composite
+def reordered_row_programs(draw) -> str:
+    """Runs of rows of one shape whose words come in an order of their own
+    (G1 Y1 X2, Z A X F), in a CAM-sized program: each run is one batch of
+    runtime/fast/printed_rows.py or runtime.fast.rows.straight_batch."""
+    lines = [draw(st.sampled_from(["G21 G90 F500", "G20 G90 F40", "G21 G91 F500"]))]
+    numbered = draw(st.booleans())
+    places = draw(st.sampled_from([3, 4, 4, 6]))
+    for _ in range(draw(st.integers(1, 3))):
+        lines.extend(
+            draw(same_shape_rows(numbered, len(lines) + 1, places, reorder=True))
+        )
+    lines.append("M2")
+    return cam_sized("\n".join(lines) + "\n")
 
 
 @st.composite

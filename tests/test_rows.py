@@ -47,6 +47,16 @@ def test_cam_programs_converted(text):
 
 
 @pytest.mark.rs274
+@PROFILE
+@given(cam_strategies.reordered_row_programs())
+def test_rows_with_words_out_of_axis_order_run(text):
+    """Rows of one shape whose words are not in axis order, run as one
+    batch: each value on its letter's axis (a real CAM file found the
+    printed batch putting them in written order)."""
+    check_same(text, "inprocess")
+
+
+@pytest.mark.rs274
 @settings(PROFILE, max_examples=PROFILE.max_examples * 2)
 @given(cam_strategies.arc_programs())
 def test_arc_programs_run(text):
