@@ -205,8 +205,8 @@ def run_cli(
         except BrokenPipeError:  # the reader went away (`| head`)
             return 1
         finally:
-            if output is not None:
-                trace.commit()
+            if output is not None and not trace.commit(stderr):
+                return 1
     return 0
 
 
@@ -228,9 +228,20 @@ class _Output:
         self.write = self.file.write
         self.flush = self.file.flush
 
-    def commit(self) -> None:
-        self.file.close()
-        os.replace(self.temporary, self.path)
+    def commit(self, stderr: TextIO) -> bool:
+        """The trace takes the file's name; False (said on ``stderr``, the
+        temporary file removed) where it cannot, say its folder went away."""
+        try:
+            self.file.close()
+            os.replace(self.temporary, self.path)
+        except OSError as error:
+            stderr.write("could not write output file %s: %s\n" % (self.path, error))
+            try:
+                os.unlink(self.temporary)
+            except OSError:
+                pass
+            return False
+        return True
 
 
 def _open_output(path: str) -> Optional[_Output]:

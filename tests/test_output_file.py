@@ -171,3 +171,24 @@ def test_the_trace_never_overwrites_the_program_or_its_files(option, tmp_path):
     assert proc.returncode == 1 and proc.stdout == ""
     assert proc.stderr == "executing\nkeep.txt: the trace would overwrite it\n"
     assert kept.read_bytes() == before
+
+
+def test_an_output_file_that_cannot_take_its_name_is_an_error(tmp_path):
+    """Where the finished trace cannot take the file's name (here its
+    temporary file is removed before the end, as when its folder goes
+    away), commit says so and answers False, which run_cli makes exit
+    status 1: no traceback."""
+    import os
+    import runtime.main as cli_main
+
+    folder = tmp_path / "out"
+    folder.mkdir()
+    target = cli_main._open_output(str(folder / "t.txt"))
+    target.write("    1 N..... ON_RESET()\n")
+    os.unlink(target.temporary)  # the temporary file is gone: rename fails
+    import io
+
+    stderr = io.StringIO()
+    assert target.commit(stderr) is False
+    assert stderr.getvalue().startswith("could not write output file ")
+    assert not (folder / "t.txt").exists()
