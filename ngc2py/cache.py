@@ -37,6 +37,7 @@ except ImportError:  # not CPython
 
 from ngc2py import __version__
 from ngc2py.compiler import compile_program, subroutine_dirs
+from runtime.atomic import file_mode
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:
@@ -105,17 +106,6 @@ def cache_key(path: str, ini: Optional[str], block_delete: bool = False) -> str:
     return _digest("\0".join(parts).encode("utf-8", "surrogateescape"))
 
 
-def _file_mode(target: str) -> int:
-    """The mode ``target`` gets: the one it has, or a new file's (0666 less
-    the umask), not the private 0600 of a temporary file."""
-    try:
-        return os.stat(target).st_mode & 0o7777
-    except OSError:
-        umask = os.umask(0)
-        os.umask(umask)
-        return 0o666 & ~umask
-
-
 def write_atomic(target, data: Union[str, bytes]) -> None:
     """Write ``data`` (text is UTF-8) to ``target`` so that readers see the
     old file or the new one, never half of one; the file keeps its mode."""
@@ -130,7 +120,7 @@ def write_atomic(target, data: Union[str, bytes]) -> None:
     try:
         with os.fdopen(fd, "wb") as handle:
             handle.write(data.encode("utf-8") if isinstance(data, str) else data)
-        os.chmod(temp, _file_mode(target))
+        os.chmod(temp, file_mode(target))
         os.replace(temp, target)
     except BaseException:
         try:

@@ -231,8 +231,11 @@ class _Output:
     def commit(self, stderr: TextIO) -> bool:
         """The trace takes the file's name; False (said on ``stderr``, the
         temporary file removed) where it cannot, say its folder went away."""
+        from runtime.atomic import file_mode
+
         try:
             self.file.close()
+            os.chmod(self.temporary, file_mode(self.path))  # as fopen makes it
             os.replace(self.temporary, self.path)
         except OSError as error:
             stderr.write("could not write output file %s: %s\n" % (self.path, error))

@@ -192,3 +192,27 @@ def test_an_output_file_that_cannot_take_its_name_is_an_error(tmp_path):
     assert target.commit(stderr) is False
     assert stderr.getvalue().startswith("could not write output file ")
     assert not (folder / "t.txt").exists()
+
+
+def test_the_output_file_has_the_mode_fopen_gives_it(tmp_path):
+    """A new output file gets 0666 less the umask, an existing one keeps its
+    mode, as rs274's fopen leaves them (not a temporary file's 0600)."""
+    import os
+
+    for existing in (None, 0o640):
+        with harness.Scratch(tmp_path / "p.ngc", "G0 X1\nM2\n") as s:
+            modes = []
+            for cmd in (
+                [harness.rs274_path(), "-g"],
+                [sys.executable, "-m", "ngc2py", "run"],
+            ):
+                target = s.work / "t.txt"
+                if existing is not None:
+                    target.write_text("old\n")
+                    os.chmod(target, existing)
+                elif target.exists():
+                    target.unlink()
+                assert harness._run(cmd + ["p.ngc", "t.txt"], s, 60).rc == 0
+                modes.append(os.stat(target).st_mode & 0o7777)
+            assert modes[0] == modes[1]
+            assert modes[0] == (existing or modes[0]) and modes[0] != 0o600
