@@ -150,7 +150,7 @@ from runtime.params import (
     Params,
     unset_variable,
 )
-from runtime.tooltable import ToolTable, default_tool_table, load_tool_table
+from runtime.tooltable import ToolTable, tool_table_for
 from runtime.tools import ToolsMixin
 from runtime.varfile import default_parameters, initial_parameters, save_parameter_file
 from runtime.world import World
@@ -274,9 +274,7 @@ class Machine(
         self.globals = Globals(self)
         #: The named locals of the running call (another store in each call).
         self.locals = Locals()
-        table = (
-            default_tool_table() if tool_table is None else load_tool_table(tool_table)
-        )
+        table = tool_table_for(tool_table)
         #: What rs274 prints while loading the table (the CLI prints it).
         self.tool_table_report = table.load_report
         self.tools = ToolTable(dict(table.slots))

@@ -163,7 +163,9 @@ def run_cli(
         if trace is None:
             # rs274 has read its tool table (its complaints on stdout) and
             # not yet its ini or parameter file
-            stdout.write(_tool_table_report(options.get("tool_table")))
+            from runtime.tooltable import tool_table_for
+
+            stdout.write(tool_table_for(options.get("tool_table")).load_report)
             stderr.write("could not open output file %s\n" % output)
             return 1
     # (PRINT text stays on stdout when the trace goes to a file)
@@ -256,14 +258,6 @@ def _open_output(path: str) -> Optional[_Output]:
         return _Output(path)
     except OSError:
         return None
-
-
-def _tool_table_report(path: Optional[str]) -> str:
-    """What rs274 prints on stdout while reading the tool table."""
-    from runtime.tooltable import default_tool_table, load_tool_table
-
-    table = default_tool_table() if path is None else load_tool_table(path)
-    return table.load_report
 
 
 __all__ = ["run_cli", "parse_options", "report", "start"]

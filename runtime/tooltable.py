@@ -108,6 +108,11 @@ def load_tool_table(path: str) -> ToolTable:
     return parse_tool_table(data, path)
 
 
+def tool_table_for(path: Optional[str]) -> ToolTable:
+    """The table rs274 reads for ``-t path``, or its default without one."""
+    return default_tool_table() if path is None else load_tool_table(path)
+
+
 def parse_tool_table(text: str, path: str) -> ToolTable:
     """Parse tool table ``text``; ``path`` is only used in the load report."""
     slots: Dict[int, ToolEntry] = {}
