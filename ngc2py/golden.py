@@ -374,13 +374,13 @@ def run(
     from ngc2py.cache import cache_dir
 
     program = Path(program)
-    saved_environ = dict(os.environ)
     # The caller's compile cache, not the scratch copy's: entries are keyed
     # by content and options, not by folder (ngc2py/cache.py), so checking
     # a library again compiles nothing that has not changed.
     cache = cache_dir()
     inputs = None
     if text is None:
+        saved_environ = dict(os.environ)
         os.environ["NGC2PY_CACHE"] = cache  # the same entries as the run's
         try:
             inputs = run_inputs(program, args)
@@ -388,43 +388,55 @@ def run(
             os.environ.clear()
             os.environ.update(saved_environ)
     with Scratch(program, text, inputs) as scratch:
-        out, err = io.BytesIO(), io.BytesIO()
-        new_out = io.TextIOWrapper(out, encoding="utf-8", write_through=True)
-        new_err = io.TextIOWrapper(err, encoding="utf-8", write_through=True)
-        saved = (sys.stdout, sys.stderr, os.getcwd(), dict(os.environ))
-        alarm = timeout is not None and threading.current_thread() is threading.main_thread()
+        argv = ["run", "-q", scratch.program.name, *args]
+        return run_in(scratch, lambda: cli.main(argv), cache, timeout)
 
-        def on_alarm(signum, frame):
-            raise _Timeout()
 
-        old_handler = signal.signal(signal.SIGALRM, on_alarm) if alarm else None
-        os.environ["HOME"] = str(scratch.home)
-        os.environ["NGC2PY_CACHE"] = cache
-        os.environ.pop("INI_FILE_NAME", None)
-        os.chdir(scratch.work)
-        sys.stdout, sys.stderr = new_out, new_err
+def run_in(
+    scratch: "Scratch", call, cache: str, timeout: Optional[float] = None
+) -> Result:
+    """``call()`` as a command run in ``scratch``'s folder with its HOME and
+    the compile cache ``cache``: what it prints captured as bytes, its exit
+    status what it returns or the SystemExit it raises (None when it ran
+    past ``timeout`` seconds: SIGALRM, in the main thread only). The
+    process's folder, environment and streams are restored after."""
+    out, err = io.BytesIO(), io.BytesIO()
+    new_out = io.TextIOWrapper(out, encoding="utf-8", write_through=True)
+    new_err = io.TextIOWrapper(err, encoding="utf-8", write_through=True)
+    saved = (sys.stdout, sys.stderr, os.getcwd(), dict(os.environ))
+    alarm = timeout is not None and threading.current_thread() is threading.main_thread()
+
+    def on_alarm(signum, frame):
+        raise _Timeout()
+
+    old_handler = signal.signal(signal.SIGALRM, on_alarm) if alarm else None
+    os.environ["HOME"] = str(scratch.home)
+    os.environ["NGC2PY_CACHE"] = cache
+    os.environ.pop("INI_FILE_NAME", None)
+    os.chdir(scratch.work)
+    sys.stdout, sys.stderr = new_out, new_err
+    if alarm:
+        signal.setitimer(signal.ITIMER_REAL, timeout)
+    try:
+        rc: Optional[int] = call()
+    except SystemExit as stop:
+        rc = stop.code if isinstance(stop.code, int) else 1
+    except _Timeout:
+        rc = None
+    finally:
         if alarm:
-            signal.setitimer(signal.ITIMER_REAL, timeout)
-        try:
-            rc: Optional[int] = cli.main(["run", "-q", scratch.program.name, *args])
-        except SystemExit as stop:
-            rc = stop.code if isinstance(stop.code, int) else 1
-        except _Timeout:
-            rc = None
-        finally:
-            if alarm:
-                signal.setitimer(signal.ITIMER_REAL, 0)
-                signal.signal(signal.SIGALRM, old_handler)
-            for stream in (new_out, new_err):
-                try:
-                    stream.flush()
-                except ValueError:
-                    pass
-            sys.stdout, sys.stderr = saved[0], saved[1]
-            os.chdir(saved[2])
-            os.environ.clear()
-            os.environ.update(saved[3])
-        return Result(out.getvalue(), first_error_line(err.getvalue()), rc, err.getvalue())
+            signal.setitimer(signal.ITIMER_REAL, 0)
+            signal.signal(signal.SIGALRM, old_handler)
+        for stream in (new_out, new_err):
+            try:
+                stream.flush()
+            except ValueError:
+                pass
+        sys.stdout, sys.stderr = saved[0], saved[1]
+        os.chdir(saved[2])
+        os.environ.clear()
+        os.environ.update(saved[3])
+    return Result(out.getvalue(), first_error_line(err.getvalue()), rc, err.getvalue())
 
 
 def record(program: Path, args: Optional[Sequence[str]] = None, timeout: Optional[float] = None) -> Result:

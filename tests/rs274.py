@@ -20,6 +20,7 @@ file name do not depend on where the scratch directory is.
 from __future__ import annotations
 
 import os
+import runpy
 import shutil
 import stat
 import subprocess
@@ -34,7 +35,7 @@ if str(REPO) not in sys.path:
 # The recording format, the comparison and the in-process runner are the
 # ones `ngc2py golden` uses for users' programs (ngc2py/golden.py); only the
 # reference differs: this corpus is recorded from rs274.
-from ngc2py import golden  # noqa: E402
+from ngc2py import cli, golden  # noqa: E402
 from ngc2py.golden import Result, first_error_line, read_args  # noqa: E402,F401
 
 #: How the two sides of a comparison are named in messages and diffs.
@@ -42,6 +43,14 @@ SIDES = ("rs274", "ngc2py")
 
 #: Seconds before a run is declared hung.
 DEFAULT_TIMEOUT = float(os.environ.get("NGC2PY_TEST_TIMEOUT", "60"))
+
+#: NGC2PY_TEST_PROCESSES=1: every ngc2py run of the tests in new processes,
+#: as a user starts them (``inprocess`` as ``run``, ``convert`` as
+#: ``convert-process``): slower, for a release check. By default those two
+#: modes run in the test's own process, a new interpreter's start-up being
+#: most of the cost of a small program; tests/test_golden.py keeps a share of
+#: the corpus in new processes either way.
+PROCESSES = os.environ.get("NGC2PY_TEST_PROCESSES", "") not in ("", "0")
 
 
 def rs274_path() -> Optional[str]:
@@ -88,7 +97,19 @@ def null_device_problem() -> Optional[str]:
 
 class Scratch(golden.Scratch):
     """A temporary working copy of a program's folder plus a private HOME
-    (ngc2py.golden's), with the environment for subprocesses."""
+    (ngc2py.golden's), with the environment for subprocesses.
+
+    ``args``: the options of an ngc2py run; given, only the files that run
+    can read are copied (``ngc2py.golden.run_inputs``: what ``ngc2py
+    golden`` copies), not a golden folder of hundreds of programs. For
+    ngc2py's side: rs274's own runs copy the whole folder, so a file
+    ngc2py fails to look for still shows as a difference."""
+
+    def __init__(self, program, text=None, inputs=None, *, args=None):
+        program = Path(program)
+        if text is None and inputs is None and args is not None:
+            inputs = golden.run_inputs(program, list(args))
+        super().__init__(program, text, inputs)
 
     def env(self, extra: Optional[dict] = None) -> dict:
         env = dict(os.environ)
@@ -156,44 +177,79 @@ def run_ngc2py(
     """Run ngc2py on a program the way rs274 is run by :func:`run_rs274`.
 
     ``mode="run"``: ``python -m ngc2py run PROGRAM [args]``.
-    ``mode="convert"``: ``python -m ngc2py convert PROGRAM -o prog.py`` then
-    ``python prog.py [args]`` -- the generated module on its own. A failing
-    conversion is reported as the result (its stderr, its exit status).
     ``mode="inprocess"``: see :func:`run_ngc2py_inprocess`.
+    ``mode="convert-process"``: ``python -m ngc2py convert PROGRAM -o
+    prog.py`` then ``python prog.py [args]`` -- the generated module on its
+    own. A failing conversion is reported as the result (its stderr, its
+    exit status).
+    ``mode="convert"``: the same two commands run in this process (the
+    module file run as ``python prog.py`` runs it, as ``__main__`` with its
+    own ``sys.argv``).
+    :data:`PROCESSES` turns ``inprocess`` into ``run`` and ``convert`` into
+    ``convert-process``.
     """
     program = Path(program)
     args = list(args)
+    if PROCESSES:
+        mode = {"inprocess": "run", "convert": "convert-process"}.get(mode, mode)
     if mode == "inprocess":
         return run_ngc2py_inprocess(program, args, text=text, timeout=timeout)
-    with Scratch(program, text) as s:
+    if mode not in ("run", "convert", "convert-process"):
+        raise ValueError(f"unknown mode {mode!r}")
+    with Scratch(program, text, args=args) as s:
         if mode == "run":
             return _run(
                 [sys.executable, "-m", "ngc2py", "run", s.program.name, *args], s, timeout
             )
+        module = s.tmp / "generated" / (_module_name(program.stem) + ".py")
+        module.parent.mkdir()
+        convert = ["convert", s.program.name, *_convert_options(args), "-o", str(module)]
         if mode == "convert":
-            module = s.tmp / "generated" / (_module_name(program.stem) + ".py")
-            module.parent.mkdir()
-            # the ini file's SUBROUTINE_PATH matters at compile time too
-            options = []
-            if "-i" in args and args.index("-i") + 1 < len(args):
-                options = ["-i", args[args.index("-i") + 1]]
-            # and block delete, where /-lines carry O-words (compiler.py)
-            if args.count("-b") % 2:
-                options.append("-b")
-            conv = _run(
-                [sys.executable, "-m", "ngc2py", "convert", s.program.name, *options, "-o", str(module)],
-                s,
-                timeout,
+            cache = golden_cache()
+            conv = golden.run_in(s, lambda: cli.main(convert), cache, timeout)
+        else:
+            conv = _run([sys.executable, "-m", "ngc2py", *convert], s, timeout)
+        if conv.rc != 0 or not module.exists():
+            return Result(
+                conv.stdout,
+                conv.err or "ngc2py convert failed",
+                conv.rc if conv.rc else 99,
+                conv.stderr,
             )
-            if conv.rc != 0 or not module.exists():
-                return Result(
-                    conv.stdout,
-                    conv.err or "ngc2py convert failed",
-                    conv.rc if conv.rc else 99,
-                    conv.stderr,
-                )
-            return _run([sys.executable, str(module), *args], s, timeout)
-        raise ValueError(f"unknown mode {mode!r}")
+        if mode == "convert":
+            return golden.run_in(s, lambda: _run_script(module, args), cache, timeout)
+        return _run([sys.executable, str(module), *args], s, timeout)
+
+
+def _convert_options(args: List[str]) -> List[str]:
+    """The options of a run that ``ngc2py convert`` takes too."""
+    # the ini file's SUBROUTINE_PATH matters at compile time too
+    options = []
+    if "-i" in args and args.index("-i") + 1 < len(args):
+        options = ["-i", args[args.index("-i") + 1]]
+    # and block delete, where /-lines carry O-words (compiler.py)
+    if args.count("-b") % 2:
+        options.append("-b")
+    return options
+
+
+def _run_script(module: Path, args: List[str]):
+    """``python MODULE ARGS`` in this process: the file run as ``__main__``
+    with its own ``sys.argv``; its exit status is the SystemExit it raises."""
+    saved = sys.argv
+    sys.argv = [str(module), *args]
+    try:
+        runpy.run_path(str(module), run_name="__main__")
+    finally:
+        sys.argv = saved
+    return 0
+
+
+def golden_cache() -> str:
+    """The compile cache in-process runs share (ngc2py.golden.run's)."""
+    from ngc2py.cache import cache_dir
+
+    return cache_dir()
 
 
 def run_ngc2py_inprocess(

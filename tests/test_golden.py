@@ -6,16 +6,22 @@ One test per program in golden/<feature>/<name>.ngc and per way of running it:
   this process (the same code path as the console script, without paying
   for a new interpreter per program; tests/test_cli.py runs the real
   subprocess)
-* ``convert``   -- ``python -m ngc2py convert PROG -o prog.py`` then
-  ``python prog.py [args]`` (the generated module on its own, in a new
-  interpreter)
+* ``convert``   -- ``ngc2py convert PROG -o prog.py`` then ``python prog.py
+  [args]`` (the generated module on its own), both run in this process
+  (tests/rs274.py)
+
+and, for every SAMPLE-th program (a tenth of the corpus, spread over every
+folder), the same two in new interpreters, as a user starts them: ``run``
+(``python -m ngc2py run``) and ``convert-process``. They hold the in-process
+runners to what the processes print, byte for byte.
 
 Pass = stdout byte-identical to ``<name>.out``, the same exit status as
 ``<name>.rc`` and the same error message as ``<name>.err``. These tests use
 only the recordings, so they run without rs274 installed. Programs with a
 ``<name>.expect`` (rs274 crashes or hangs on them) are checked against the
 better behaviour it describes. Set NGC2PY_GOLDEN_MODES=inprocess (or convert) to
-run one way only (``run`` is also accepted: the subprocess CLI).
+run every program one way only (``run`` and ``convert-process`` are also
+accepted); NGC2PY_TEST_PROCESSES=1 runs them all in new processes.
 """
 
 from __future__ import annotations
@@ -29,6 +35,9 @@ import rs274 as harness
 
 MODES = [m for m in os.environ.get("NGC2PY_GOLDEN_MODES", "inprocess,convert").split(",") if m]
 PROGRAMS = harness.golden_programs()
+#: One program in SAMPLE also runs in new processes (PROCESS_MODES).
+SAMPLE = 10
+PROCESS_MODES = [m for m in ("run", "convert-process") if m not in MODES]
 
 
 def _id(path):
@@ -45,8 +54,14 @@ def test_corpus_is_recorded():
             assert p.with_suffix(ext).exists(), f"{_id(p)}: missing {ext} (run golden/record.py)"
 
 
-@pytest.mark.parametrize("mode", MODES)
-@pytest.mark.parametrize("program", PROGRAMS, ids=_id)
+def _cases():
+    for index, program in enumerate(PROGRAMS):
+        extra = PROCESS_MODES if index % SAMPLE == 0 else []
+        for mode in MODES + extra:
+            yield pytest.param(program, mode, id="%s-%s" % (_id(program), mode))
+
+
+@pytest.mark.parametrize("program, mode", _cases())
 def test_golden(program, mode):
     args = harness.read_args(program)
     if program.with_suffix(".expect").exists():

@@ -44,9 +44,10 @@ NCFILES = Path("/usr/share/linuxcnc/ncfiles")
 
 
 @contextmanager
-def scratch_run(program: Path, text=None):
-    """cwd in a scratch copy of the program's folder, with a private cache."""
-    with harness.Scratch(program, text) as s:
+def scratch_run(program: Path, text=None, args=()):
+    """cwd in a scratch copy of the files of the program's folder a run of
+    it with ``args`` reads (tests/rs274.py's Scratch), with a private cache."""
+    with harness.Scratch(program, text, args=args) as s:
         saved_cwd, saved_env = os.getcwd(), dict(os.environ)
         os.environ["NGC2PY_CACHE"] = str(s.tmp / "cache")
         os.environ["HOME"] = str(s.home)
@@ -178,8 +179,9 @@ def recorded(program: Path) -> bool:
 def test_extents_equal_the_golden_trace(program):
     trace = program.with_suffix(".out").read_text("utf-8", "replace")
     failed = program.with_suffix(".rc").read_text().strip() != "0"
-    with scratch_run(program) as s:
-        canon = stats_of(s.program.name, harness.read_args(program))
+    args = harness.read_args(program)
+    with scratch_run(program, args=args) as s:
+        canon = stats_of(s.program.name, args)
         try:
             assert_same_extents(canon, trace, s.program.name, failed)
         except NoReference as missing:
