@@ -16,7 +16,11 @@ Lookup rules (LinuxCNC's IniFile reader):
 
 What ``rs274 -g`` uses (everything else, e.g. [RS274NGC]PARAMETER_FILE,
 [EMCIO]TOOL_TABLE, [TRAJ]COORDINATES, USER_M_PATH, is ignored by it): see
-:class:`IniSettings`. Integer settings must be plain integers (``yes`` or
+:class:`IniSettings`. rs274 also reads [RS274NGC]HAL_PIN_VARS (the
+stand-alone rs274 has no HAL pins to find) and NO_DOWNCASE_OWORD (it looks
+names up regardless of case), which change nothing it prints, and
+OWORD_WARNONLY, which ngc2py does not model (rs274 goes on past a bad
+O-word label with values it never set). Integer settings must be plain integers (``yes`` or
 ``1x`` leave the default, silently). An arc tolerance outside its allowed
 range, or not a number, keeps the default and makes rs274 print
 ``invalid [RS274NGC]<KEY> in INI file`` and an empty line on stderr. A file
