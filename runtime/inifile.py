@@ -16,7 +16,11 @@ Lookup rules (LinuxCNC's IniFile reader):
 
 What ``rs274 -g`` uses (everything else, e.g. [RS274NGC]PARAMETER_FILE,
 [EMCIO]TOOL_TABLE, [TRAJ]COORDINATES, USER_M_PATH, is ignored by it): see
-:class:`IniSettings`. Integer settings must be plain integers (``yes`` or
+:class:`IniSettings`. rs274 also reads [RS274NGC]HAL_PIN_VARS (the
+stand-alone rs274 has no HAL pins to find) and NO_DOWNCASE_OWORD (it looks
+names up regardless of case), which change nothing it prints, and
+OWORD_WARNONLY, which ngc2py does not model (rs274 goes on past a bad
+O-word label with values it never set). Integer settings must be plain integers (``yes`` or
 ``1x`` leave the default, silently). An arc tolerance outside its allowed
 range, or not a number, keeps the default and makes rs274 print
 ``invalid [RS274NGC]<KEY> in INI file`` and an empty line on stderr. A file
@@ -48,6 +52,9 @@ MIN_CENTER_ARC_RADIUS_TOLERANCE_MM = 0.001
 
 #: rs274 keeps at most this many SUBROUTINE_PATH directories.
 MAX_SUBROUTINE_DIRS = 10
+
+#: LOCKING_INDEXER_JOINT's "none".
+NO_INDEXER = -1
 
 #: FEATURES bit that enables #<_ini[SECTION]KEY> parameters.
 FEATURE_INI_VARS = 4
@@ -154,9 +161,12 @@ _SETTINGS = (
     ("tool_change_quill_up", False),
     ("tool_change_with_spindle_on", False),
     ("random_toolchanger", False),
-    #: [AXIS_3], [AXIS_4], [AXIS_5] (A, B, C) WRAPPED_ROTARY / LOCKING_INDEXER.
+    #: [AXIS_A], [AXIS_B], [AXIS_C] WRAPPED_ROTARY: angles taken modulo 360
+    #: (runtime.rotary).
     ("wrapped_rotary", (False, False, False)),
-    ("locking_indexer", (False, False, False)),
+    #: [AXIS_A], [AXIS_B], [AXIS_C] LOCKING_INDEXER_JOINT: the joint of a
+    #: locking indexer, -1 for none (runtime.rotary).
+    ("indexer_joints", (NO_INDEXER, NO_INDEXER, NO_INDEXER)),
     #: [RS274NGC]INI_VARS (on unless "0"): #<_ini[SECTION]KEY> parameters.
     ("ini_vars", True),
     #: [RS274NGC]RETAIN_G43 ("1"): G43 follows every tool change.
@@ -243,9 +253,8 @@ def settings_from(ini: IniFile) -> IniSettings:
         value = ini.find(key, section)
         return value == "1" if value in ("0", "1") else default
 
-    def axes(key: str) -> Tuple[bool, bool, bool]:
-        a, b, c = (bool(integer(key, f"AXIS_{n}")) for n in (3, 4, 5))
-        return a, b, c
+    def rotary(key: str, read) -> tuple:
+        return tuple(read(ini.find(key, f"AXIS_{axis}")) for axis in "ABC")
 
     # Keys are read in rs274's order, so the stderr report comes out in order.
     settings = IniSettings(
@@ -254,13 +263,13 @@ def settings_from(ini: IniFile) -> IniSettings:
         tool_change_with_spindle_on=bool(
             integer("TOOL_CHANGE_WITH_SPINDLE_ON", "EMCIO")
         ),
-        wrapped_rotary=axes("WRAPPED_ROTARY"),
+        wrapped_rotary=rotary("WRAPPED_ROTARY", _lexical_int_truth),
         random_toolchanger=bool(integer("RANDOM_TOOLCHANGER", "EMCIO")),
         features=integer("FEATURES", "RS274NGC"),
         ini_vars=flag("INI_VARS", "RS274NGC", True),
         retain_g43=flag("RETAIN_G43", "RS274NGC", False),
         oword_nargs=flag("OWORD_NARGS", "RS274NGC", False),
-        locking_indexer=axes("LOCKING_INDEXER"),
+        indexer_joints=rotary("LOCKING_INDEXER_JOINT", _atol_int),
         orient_offset=number("ORIENT_OFFSET", "RS274NGC", 0.0),
         program_prefix=_existing_dir(ini.find("PROGRAM_PREFIX", "DISPLAY")),
         subroutine_path=_subroutine_dirs(ini.find("SUBROUTINE_PATH", "RS274NGC")),
@@ -279,6 +288,30 @@ def settings_from(ini: IniFile) -> IniSettings:
         ini=ini,
     )
     return settings._replace(stderr_report="".join(report))
+
+
+def _lexical_int_truth(value: Optional[str]) -> bool:
+    """An int setting read by boost::lexical_cast<int>, as a truth value: a
+    value that is not a plain integer of 32 bits leaves the default, 0."""
+    if value is None or not _INTEGER.fullmatch(value):
+        return False
+    return -(2**31) <= int(value) < 2**31 and int(value) != 0
+
+
+#: What C's atol reads: blanks, a sign and digits, the rest ignored.
+_ATOL = Pattern(r"[ \t\n\v\f\r]*([+-]?\d+)")
+
+
+def _atol_int(value: Optional[str]) -> int:
+    """``(int) atol(value)``: the leading number (0 when there is none),
+    held at the range of a long, then cut to an int's 32 bits."""
+    if value is None:
+        return NO_INDEXER  # the key absent: rs274 keeps its default
+    match = _ATOL.match(value)
+    number = int(match.group(1)) if match else 0
+    number = max(-(2**63), min(2**63 - 1, number))
+    number &= 0xFFFFFFFF
+    return number - 2**32 if number >= 2**31 else number
 
 
 def _existing_dir(entry: Optional[str]) -> Optional[str]:

@@ -139,6 +139,7 @@ from runtime.motion import (
 from runtime.lathe import ThreadingMixin
 from runtime.lathe_cycles import LatheCyclesMixin
 from runtime.probing import ProbingMixin
+from runtime.rotary import RotaryMixin, rotary_rules
 from runtime.spindle_select import check_dollar
 from runtime.splines import SplinesMixin
 from runtime.offsets import COORD_SYSTEM, G92_ENABLED, OffsetsMixin
@@ -213,6 +214,7 @@ class Machine(
     OffsetsMixin,
     ToolsMixin,
     ModalSaveMixin,
+    RotaryMixin,
     StepBudgetMixin,
     CommentLines,
     MachineState,
@@ -256,6 +258,9 @@ class Machine(
         #: Calls need no more than fresh locals: no #<n_args> to set and no
         #: M70/M73 state to manage (then _enter_sub and _left_frame do).
         self._plain_frames = not self.settings.oword_nargs
+        #: Wrapped rotary axes or locking indexers: moves of A, B and C
+        #: take the general path (runtime.rotary).
+        self._rotary_rules = rotary_rules(self.settings)
         # rs274 closes with one ON_RESET when it could read an INI file, two otherwise.
         ini_read = ini is not None and self.settings.opened
         self._closing_resets = 1 if ini_read else 2
@@ -964,6 +969,12 @@ class Machine(
 
     def _motion(self, motion: int, block: Block) -> None:
         """rs274's convert_motion."""
+        if self._rotary_rules:
+            indexer = self._indexer_axis(motion, block.words)
+            if indexer is not None:
+                self._end_cycle_series()
+                self._straight_indexer(indexer, block)
+                return
         if motion in DRILL_CYCLES:
             self._cycle(motion, block)
             return

@@ -16,7 +16,7 @@ import math
 
 TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
-    from typing import List
+    from typing import List, Optional
 
 from runtime import arcs
 from runtime.blockcheck import Block
@@ -29,6 +29,7 @@ from runtime.codes import (
     G53,
 )
 from runtime.errors import GCodeError
+from runtime.rotary import defined_point
 from runtime.ops import c_hypot
 
 AXES = "xyzabcuvw"
@@ -77,6 +78,8 @@ class MotionMixin:
                 if letter in words:
                     end[i] = words[letter]
             self._polar_absolute(words, end)
+            if self._rotary_rules:
+                self._unwrap_words(words, end)
         return end
 
     @staticmethod
@@ -133,16 +136,23 @@ class MotionMixin:
         x, y = rotate(x, y, -self.rotation)
         end = list(cur)
         end[0], end[1] = x - g92[0], y - g92[1]
+        wrapped = (False,) * 3 + self.settings.wrapped_rotary + (False,) * 3
         for i in range(2, 9):
             letter = AXES[i]
             if letter in words:
+                if wrapped[i]:  # (and then it takes the tool offset off)
+                    end[i] = self._unwrap_machine(i, words[letter])
+                    continue
                 # rs274 leaves the tool offset out for A, B and C here.
                 tool_part = 0.0 if 3 <= i <= 5 else tool[i]
                 end[i] = words[letter] - origin[i] - g92[i] - tool_part
         return end
 
-    def _find_relative(self, absolute: List[float]) -> List[float]:
-        """rs274's find_relative: machine coordinates -> the active system."""
+    def _find_relative(self, absolute: List[float]) -> List[Optional[float]]:
+        """rs274's find_relative: machine coordinates -> the active system.
+
+        A wrapped axis' angle of 360 or more makes rs274 stop there and
+        leave it and the axes after it unset: None here."""
         origin, g92, tool = self.origin, self.g92, self.tool_offset
         x, y = rotate(
             absolute[0] - origin[0] - tool[0],
@@ -150,7 +160,14 @@ class MotionMixin:
             -self.rotation,
         )
         out = [x - g92[0], y - g92[1]]
+        wrapped = (False,) * 3 + self.settings.wrapped_rotary + (False,) * 3
         for i in range(2, 9):
+            if wrapped[i]:
+                try:
+                    out.append(self._unwrap_machine(i, absolute[i]))
+                except GCodeError:
+                    return out + [None] * (9 - i)
+                continue
             tool_part = 0.0 if 3 <= i <= 5 else tool[i]
             out.append(absolute[i] - origin[i] - g92[i] - tool_part)
         return out
@@ -265,6 +282,8 @@ class MotionMixin:
         waypoint = self._find_ends(block)
         if self.cutter_comp:
             raise GCodeError("Cannot use g28 or g30 with cutter radius comp")
+        if self._rotary_rules:
+            self._index_first(waypoint)
         self._emit_move(True, waypoint)
         first = 5161 if code == G28 else 5181
         stored = [self.params[first + i] for i in range(9)]
@@ -274,6 +293,8 @@ class MotionMixin:
         for i in range(9):
             if named[i] or not any(named):
                 end[i] = home[i]
+        if self._rotary_rules:
+            self._index_first(defined_point(end))
         self._emit_move(True, end)
 
     def _save_home(self, code: int) -> None:
@@ -283,7 +304,8 @@ class MotionMixin:
                 "Cannot set reference point with cutter compensation in effect"
             )
         first = 5161 if code == G28_1 else 5181
-        for i, value in enumerate(self._program_to_user(self.machine_position())):
+        values = self._program_to_user(self.machine_position())
+        for i, value in enumerate(self._saved_angles(values)):
             self.params.set_internal(first + i, value)
 
     def machine_position(self) -> List[float]:

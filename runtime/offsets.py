@@ -19,6 +19,7 @@ if TYPE_CHECKING:
 
 from runtime.errors import GCodeError
 from runtime.motion import AXES, LINEAR, rotate
+from runtime.rotary import check_wrapped_words
 
 MM_PER_INCH = 25.4
 
@@ -140,6 +141,8 @@ class OffsetsMixin:
             raise GCodeError("I J words not allowed with G10 L2")
         index = int(words.get("p", -1.0) + 0.0001) or self.origin_index
         relative = int(words["l"]) == 20
+        if relative:
+            check_wrapped_words(self.settings.wrapped_rotary, words)
         if self.cutter_comp and index == self.origin_index:
             raise GCodeError(
                 "Cannot change the active coordinate system with cutter radius compensation on"
@@ -203,13 +206,15 @@ class OffsetsMixin:
     # ------------------------------------------------------------------
     # G92, G92.1, G92.2, G92.3, G52
     # ------------------------------------------------------------------
-    def _check_axis_offsets_allowed(self) -> None:
+    def _check_axis_offsets_allowed(self, words=None) -> None:
         if self.cutter_comp:
             raise GCodeError("Cannot change axis offsets with cutter radius comp")
+        if words is not None:
+            check_wrapped_words(self.settings.wrapped_rotary, words)
 
     def _g92(self, words) -> None:
         """Offset so the current point reads as the given values."""
-        self._check_axis_offsets_allowed()
+        self._check_axis_offsets_allowed(words)
         self.params.set_internal(G92_ENABLED, 1.0)
         for i, letter in enumerate(AXES):
             if letter in words:
@@ -220,7 +225,7 @@ class OffsetsMixin:
 
     def _g52(self, words) -> None:
         """A local offset: the G92 offsets become the given values."""
-        self._check_axis_offsets_allowed()
+        self._check_axis_offsets_allowed(words)
         self.params.set_internal(G92_ENABLED, 1.0)
         for i, letter in enumerate(AXES):
             if letter in words:

@@ -83,7 +83,10 @@ class ProbingMixin:
         self.probe_flag = False
         self.current = self.world.reported_position()
         set_param = self.params.set_internal
-        for i, value in enumerate(self._probe_point):
+        point = list(self._probe_point)
+        if self._rotary_rules:
+            point = self._saved_angles(point)
+        for i, value in enumerate(point):
             set_param(PROBE_PARAMS + i, value)
         set_param(PROBE_PARAMS + 9, 0.0)  # the canon's probe never trips
         self._publish_position()

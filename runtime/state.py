@@ -53,6 +53,7 @@ class MachineState:
     step: Callable[[], None]  # takes one step (StopIteration: budget spent)
     # RETAIN_G43 only: every block runs the M code step (runtime.tools)
     _execute: Callable
+    _rotary_rules: bool  # the INI has wrapped rotary axes or indexers
 
     # --- where the program is ----------------------------------------------
     line: int  # the G-code line executing (errors and tracebacks name it)

@@ -29,6 +29,7 @@ from runtime.codes import G43, G43_1, G49
 from runtime.errors import GCodeError
 from runtime.motion import AXES, rotate
 from runtime.offsets import G92_ENABLED, system_base
+from runtime.rotary import defined_point
 from runtime.tooltable import ToolEntry, ToolTable
 
 #: G10 L11 measures tool offsets against this coordinate system (G59.3).
@@ -78,7 +79,8 @@ class ToolsMixin:
             self._hidden_traverse(up)
         if settings.tool_change_at_g30:
             stored = [self.params[5181 + i] for i in range(9)]
-            self._hidden_traverse(self._find_relative(self._user_to_program(stored)))
+            end = self._find_relative(self._user_to_program(stored))
+            self._hidden_traverse(defined_point(end), index_first=True)
         self.canon.change_tool(self.selected_pocket)
         # rs274's own copy of the spindle entry changes only on the next line.
         self._spindle_before_change = self._entry(0)
@@ -131,9 +133,12 @@ class ToolsMixin:
             block.m[RETAIN_STEP] = 0
         type(self)._execute(self, block, comment)
 
-    def _hidden_traverse(self, end: List[float]) -> None:
-        """A move the INI asks for around a tool change, hidden from AXIS's preview."""
+    def _hidden_traverse(self, end: List[float], index_first: bool = False) -> None:
+        """A move the INI asks for around a tool change, hidden from AXIS's
+        preview; to G30's point, locking indexers move first, alone."""
         self.canon.comment("AXIS,hide")
+        if index_first and self._rotary_rules:
+            self._index_first(end)
         self._emit_move(True, end)
         self.canon.comment("AXIS,show")
 

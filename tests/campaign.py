@@ -67,6 +67,19 @@ def _subfiles(program):
     return dict(files), list(args)
 
 
+def _cam_rotary():
+    """CAM rows (A, B, C words among them) under wrapped axes and indexers."""
+    import cam_strategies
+    import strategies as s
+    from hypothesis import strategies as st
+
+    def files(drawn):
+        text, ini = drawn
+        return {"prog.ngc": text, "rotary.ini": ini}, ["-i", "rotary.ini"]
+
+    return st.tuples(cam_strategies.cam_programs(), s.rotary_inis()).map(files)
+
+
 def _profiles():
     import strategies as s
 
@@ -85,6 +98,8 @@ def _profiles():
         "subfiles": (s.subroutine_file_programs(), _subfiles, "main.ngc", 20),
         "comp": (s.compensated_programs(), _text, "prog.ngc", 20),
         "comp_table": (s.compensated_programs(tool_table=True), _comp_table, "prog.ngc", 20),
+        "rotary": (s.rotary_programs(), _subfiles, "prog.ngc", 20),
+        "cam_rotary": (_cam_rotary(), _subfiles, "prog.ngc", 20),
     }
 
 

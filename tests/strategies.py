@@ -2424,3 +2424,108 @@ def subroutine_file_programs(draw) -> tuple:
         # each -b flips block delete, as rs274's option loop does
         args += ["-b"] * draw(st.sampled_from([0, 1, 1, 2, 3]))
     return files, args
+
+
+# --------------------------------------------------------------------------
+# rotary axes the INI makes special (runtime/rotary.py)
+# --------------------------------------------------------------------------
+
+#: WRAPPED_ROTARY values: rs274 reads an int (lexical_cast): 2 and -1 wrap,
+#: "yes", "1.0" and a number past 32 bits leave it off.
+WRAPPED_VALUES = ["1", "1", "0", "2", "-1", "yes", "1.0", "4294967297", ""]
+#: LOCKING_INDEXER_JOINT values: rs274 takes atol's int, -1 meaning none.
+INDEXER_VALUES = ["4", "0", "3abc", "abc", "-1", "-2", "4294967295", ""]
+
+
+@st.composite
+def rotary_ini_sections(draw) -> tuple:
+    """(INI text, letters of the axes with both keys): some of A, B, C
+    wrapped and/or locking indexers (odd values too), now and then under
+    the old [AXIS_3]..[AXIS_5] names, which rs274 2.9 does not read."""
+    sections, both = [], ""
+    for letter, joint in zip("ABC", "345"):
+        lines = []
+        if draw(st.integers(0, 2)):
+            lines.append("WRAPPED_ROTARY = " + draw(st.sampled_from(WRAPPED_VALUES)))
+        if draw(st.integers(0, 3)) == 0:
+            lines.append("LOCKING_INDEXER_JOINT = " + draw(st.sampled_from(INDEXER_VALUES)))
+        if lines:
+            name = joint if draw(st.integers(0, 9)) == 0 else letter
+            sections.append(f"[AXIS_{name}]\n" + "\n".join(lines) + "\n")
+            both += letter if len(lines) == 2 else ""
+    extra = ""
+    if draw(st.booleans()):
+        extra = "[EMCIO]\nTOOL_CHANGE_AT_G30 = 1\n"
+    return "".join(draw(st.permutations(sections))) + extra, both
+
+
+def rotary_inis():
+    """INI texts of :func:`rotary_ini_sections`."""
+    return rotary_ini_sections().map(lambda drawn: drawn[0])
+
+
+def _angle(draw, small: bool) -> str:
+    """An A/B/C value: mostly within a turn, at times a turn or more
+    (rs274's "Invalid absolute position" for a wrapped axis), -0 too."""
+    if small or draw(st.integers(0, 4)):
+        value = draw(st.sampled_from(["0", "-0", "10", "-10", "90", "180", "-180", "359.9999", "-359.9999", "45.5"]))
+        return value if draw(st.integers(0, 2)) else fmt(draw(st.floats(-359.9, 359.9)), 1)
+    return draw(st.sampled_from(["360", "-360", "400", "-720.5", "1000"]))
+
+
+def _rotary_words(draw, small: bool, both: str) -> str:
+    letters = draw(st.lists(st.sampled_from("ABC"), min_size=1, max_size=2, unique=True))
+    # (a wrapped indexer's failing end point leaves rs274 moving to garbage)
+    return " ".join(letter + _angle(draw, small or letter in both) for letter in sorted(letters))
+
+
+@st.composite
+def rotary_programs(draw, max_statements: int = 14) -> tuple:
+    """(files, args): a program of A/B/C moves (G0 G1 G2 G3, G91, G53,
+    G28/G30 and G28.1/G30.1, G92/G52, G10 L2/L20, canned cycles and probes
+    with A words, M6 at G30, path control modes) run with an INI from
+    :func:`rotary_inis`. Reference points stay within a turn: beyond it rs274
+    homes a wrapped axis to a value it never computed."""
+    ini, both = draw(rotary_ini_sections())
+    lines = ["G21 G90 G17 F100"]
+    for _ in range(draw(st.integers(1, max_statements))):
+        kind = draw(st.integers(0, 15))
+        xy = draw(st.sampled_from(["", "", "X1 ", "Y-2 ", "X3 Y1 "]))
+        rotary = _rotary_words(draw, draw(st.booleans()), both)
+        if kind <= 3:
+            lines.append(f"{draw(st.sampled_from(['G0', 'G0', 'G1', '']))} {xy}{rotary}".strip())
+        elif kind == 4:
+            lines.append(f"G{draw(st.sampled_from(['2', '3']))} X1 Y0 I0.5 J0 {rotary}")
+            lines.append("G0 X0 Y0")
+        elif kind == 5:
+            lines += ["G91", f"G0 {rotary}", "G90"]
+        elif kind == 6:
+            lines.append(f"G53 G0 {xy}{rotary}")
+        elif kind == 7:
+            lines.append(f"G{draw(st.sampled_from(['28', '30']))} {draw(st.sampled_from(['', xy, rotary]))}".strip())
+        elif kind == 8:
+            lines.append(draw(st.sampled_from(["G28.1", "G30.1"])))
+        elif kind == 9:
+            lines.append(f"{draw(st.sampled_from(['G92', 'G52']))} {rotary}")
+            if draw(st.booleans()):
+                lines.append(draw(st.sampled_from(["G92.1", "G92.2", "G52 A0 B0 C0"])))
+        elif kind == 10:
+            lines.append(f"G10 L{draw(st.sampled_from(['2', '20']))} P{draw(st.integers(0, 2))} {rotary}")
+        elif kind == 11 and draw(st.integers(0, 3)) == 0:  # an error always
+            lines.append(f"G81 X1 Y1 Z-1 R1 {rotary}")
+            lines.append("G80")
+        elif kind in (11, 12):
+            lines.append(f"G38.{draw(st.sampled_from(['2', '3']))} X{draw(st.integers(1, 5))} {rotary}")
+            lines.append("(debug, probe #5061 #5064 #5065 #5066)")
+        elif kind == 13:
+            axis = draw(st.sampled_from(["5164", "5165", "5166", "5184", "5185", "5186"]))
+            lines.append(f"#{axis} = {_angle(draw, True)}")
+        elif kind == 14:
+            lines.append(draw(st.sampled_from(["G64 P0.5 Q0.1", "G64", "G61", "G61.1"])))
+        else:
+            lines.append(f"T{draw(st.integers(0, 2))} M6")
+        if draw(st.integers(0, 3)) == 0:
+            lines.append("(debug, at #5420 #5423 #5424 #5425 ref #5164 #5165 #5184)")
+    lines.append("M2")
+    files = {"prog.ngc": "\n".join(lines) + "\n", "rotary.ini": ini}
+    return files, ["-i", "rotary.ini"]

@@ -44,6 +44,7 @@ def test_settings_and_validation():
             "[EMCIO]\nTOOL_CHANGE_QUILL_UP = 1\nTOOL_CHANGE_AT_G30 = yes\n"
             "[RS274NGC]\nFEATURES = 4 \nCENTER_ARC_RADIUS_TOLERANCE_MM = 0.01\n"
             "CENTER_ARC_RADIUS_TOLERANCE_INCH = 0.5\n[AXIS_4]\nWRAPPED_ROTARY = 1\n"
+            "[AXIS_C]\nWRAPPED_ROTARY = 2\nLOCKING_INDEXER_JOINT = 3abc\n"
         )
     )
     assert settings.tool_change_quill_up and not settings.tool_change_at_g30
@@ -53,7 +54,9 @@ def test_settings_and_validation():
         settings.center_arc_radius_tolerance_inch
         == arcs.CENTER_ARC_RADIUS_TOLERANCE_INCH
     )
-    assert settings.wrapped_rotary == (False, True, False)
+    # rs274 2.9 reads [AXIS_A]..[AXIS_C], not the joints' [AXIS_3]..[AXIS_5]
+    assert settings.wrapped_rotary == (False, False, True)
+    assert settings.indexer_joints == (-1, -1, 3)
     assert (
         settings.stderr_report
         == "invalid [RS274NGC]CENTER_ARC_RADIUS_TOLERANCE_INCH in INI file\n\n"

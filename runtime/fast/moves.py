@@ -15,8 +15,9 @@ that is true when none of the cases that make a straight move more than
 * no tool change waiting to be finished;
 * no canned-cycle series open (the next motion that is not a cycle must
   end it: runtime.cycles);
-* no G7x profile being read (its lines go to the profile reader) and no
-  RETAIN_G43 (every block runs the M code step).
+* no G7x profile being read (its lines go to the profile reader), no
+  RETAIN_G43 (every block runs the M code step), and no wrapped rotary
+  axis or locking indexer in the INI (runtime.rotary).
 
 The flag is recomputed by :meth:`refresh_plain` after every general block
 (only a general block can change those modes), and written nowhere else
@@ -121,6 +122,7 @@ class FastPathMixin:
             and self.cycle_initial_level is None
             and not self.reading_profile  # a G7x profile's lines go to its reader
             and not self.settings.retain_g43  # every block runs the M step
+            and not self._rotary_rules  # A, B, C words obey the INI (runtime.rotary)
         )
         if self.batches_only:
             self._batchable, self._plain = plain, False
