@@ -154,6 +154,9 @@ _SETTINGS = (
     ("tool_change_quill_up", False),
     ("tool_change_with_spindle_on", False),
     ("random_toolchanger", False),
+    #: [TRAJ]SPINDLES: how many spindles M2, M6, M48/M49, M51 and $-1 reach
+    #: (rs274 keeps any int, even 0, negative or past its eight spindles).
+    ("num_spindles", 1),
     #: [AXIS_3], [AXIS_4], [AXIS_5] (A, B, C) WRAPPED_ROTARY / LOCKING_INDEXER.
     ("wrapped_rotary", (False, False, False)),
     ("locking_indexer", (False, False, False)),
@@ -256,6 +259,7 @@ def settings_from(ini: IniFile) -> IniSettings:
         ),
         wrapped_rotary=axes("WRAPPED_ROTARY"),
         random_toolchanger=bool(integer("RANDOM_TOOLCHANGER", "EMCIO")),
+        num_spindles=_lexical_int(ini.find("SPINDLES", "TRAJ"), 1),
         features=integer("FEATURES", "RS274NGC"),
         ini_vars=flag("INI_VARS", "RS274NGC", True),
         retain_g43=flag("RETAIN_G43", "RS274NGC", False),
@@ -279,6 +283,19 @@ def settings_from(ini: IniFile) -> IniSettings:
         ini=ini,
     )
     return settings._replace(stderr_report="".join(report))
+
+
+#: The range of a C int (boost::lexical_cast<int> refuses anything past it).
+_INT_RANGE = range(-(2**31), 2**31)
+
+
+def _lexical_int(value: Optional[str], default: int) -> int:
+    """An INI int as boost::lexical_cast<int> reads it: a plain integer in
+    range, or the default (silently)."""
+    if value is None or not _INTEGER.fullmatch(value):
+        return default
+    number = int(value)
+    return number if number in _INT_RANGE else default
 
 
 def _existing_dir(entry: Optional[str]) -> Optional[str]:
