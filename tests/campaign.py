@@ -67,6 +67,13 @@ def _subfiles(program):
     return dict(files), list(args)
 
 
+def _with_spindles(program):
+    import strategies
+
+    text, count = program
+    return {"prog.ngc": text, "m.ini": strategies.spindles_ini(count)}, ["-i", "m.ini"]
+
+
 def _profiles():
     import strategies as s
 
@@ -85,6 +92,8 @@ def _profiles():
         "subfiles": (s.subroutine_file_programs(), _subfiles, "main.ngc", 20),
         "comp": (s.compensated_programs(), _text, "prog.ngc", 20),
         "comp_table": (s.compensated_programs(tool_table=True), _comp_table, "prog.ngc", 20),
+        "spindles": (s.spindle_ini_programs(), _with_spindles, "prog.ngc", 20),
+        "valid_spindles": (s.valid_spindle_programs(), _with_spindles, "prog.ngc", 20),
     }
 
 
