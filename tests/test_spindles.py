@@ -137,6 +137,64 @@ def test_odd_spindle_counts_as_rs274(tmp_path, text, count):
     check_same(tmp_path, text, count)
 
 
+#: Programs whose errors leave a state the next lines read (rs274's -n 0
+#: goes on after an error): M19 stops every spindle before it checks $, a
+#: cycle or a thread makes its $ the active spindle before it fails.
+CONTINUED_PROGRAMS = [
+    "M3 S100 $-1\nM19 R1 $5\n(debug,#<_spindle_on>)\nG33 X1 K0.1 $1\nM2\n",
+    # (G0 to all three axes: after a failed cycle under -i, rs274 keeps a
+    # position of its own that ngc2py does not follow, spindles or not)
+    "M4 S100 $1\nG84 X1 Y1 Z-1 R1 F10 S100 $1\nG80 G0 X0 Y0 Z0\nG33 X1 K0.1\nM2\n",
+    "S100 M3\nG33 X1 K0.1 $1\nG33 X2 K0.1\nG95 F1\nG33 X3 K0.1\nM2\n",
+    "S100 M3\nG76 P0.1 Z-1 I-0.1 J0.05 K0.1 $1\nG95 $1 F1\nG1 X3\nM2\n",
+    "M3 $-1\nS100 $-1\nM3 $7\nG1 X1 F1\nM2\n",
+]
+
+
+@pytest.mark.parametrize("count", ["0", "2", "3"])
+@pytest.mark.parametrize("text", CONTINUED_PROGRAMS)
+def test_state_after_errors_as_rs274(tmp_path, text, count):
+    check_same(tmp_path, text, count, ["-n", "0"])
+
+
+def _cam_program() -> str:
+    """Over 64 constant lines, spindle codes among the moves: the compiler
+    writes them as data rows (runtime.fast.rows), which must step aside
+    for each spindle line."""
+    lines = ["G21 G90 G94 F100"]
+    for i in range(90):
+        lines.append(f"G1 X{i % 7}.5 Y{i % 5}.25")
+        if i % 9 == 0:
+            lines.append(f"S{100 + i} M3 $1")
+        if i % 13 == 0:
+            lines.append(f"S{200 + i} $-1")
+        if i % 17 == 0:
+            lines.append("M5 $-1")
+        if i % 19 == 0:
+            lines += [f"G95 $1 S{i}", "G1 X1 F0.1", "G94 F100"]
+        if i % 23 == 0:
+            lines.append("M51 P0 $1")
+        if i % 29 == 0:
+            lines.append("M19 R10 $1")
+    return "\n".join(lines + ["M2"]) + "\n"
+
+
+@pytest.mark.parametrize("count", ["1", "2", "8"])
+def test_data_rows_of_spindle_codes_as_rs274(tmp_path, count):
+    check_same(tmp_path, _cam_program(), count)
+
+
+@pytest.mark.parametrize("text", [EVERY_CODE, PROGRAMS[3], _cam_program()])
+def test_converted_module_reads_spindles_as_rs274(tmp_path, text):
+    """A generated module on its own takes -i too."""
+    (tmp_path / "m.ini").write_text(ini_text("3"))
+    program = tmp_path / "p.ngc"
+    program.write_text(text)
+    expected = harness.run_rs274(program, ["-i", "m.ini"])
+    actual = harness.run_ngc2py(program, ["-i", "m.ini"], mode="convert")
+    assert harness.compare(expected, actual) == []
+
+
 def test_the_number_of_spindles_shows(tmp_path):
     """The comparisons above would pass if SPINDLES had no effect on either
     side: rs274's M2 really stops one spindle more for each one more."""
