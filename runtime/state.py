@@ -74,9 +74,7 @@ class MachineState:
     _repeat_counts: Dict[str, int]  # counts left of repeat loops left early
     fanuc_levels: List[int]  # call levels of running M98 calls (and M98 L0 frames)
     _fanuc_found: Dict[str, object]  # Fanuc subroutines an M98 search found, by number
-    _l0_frames: List[
-        tuple
-    ]  # frames M98 .. L0 entered: (level, caller's locals, their values)
+    _l0_frames: List[tuple]  # frames M98 .. L0 entered: (level, caller's locals, their values)
     _frame_marks: Dict[str, int]  # call level where each if/loop around M98 L0 opened
     python_namespace: Dict[str, object]  # (py, ...) comments' variables
 

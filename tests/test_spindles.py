@@ -29,7 +29,20 @@ pytestmark = pytest.mark.rs274
 
 #: SPINDLES values as an INI file may spell them (None: no such key).
 COUNTS = ["1", "2", "3", "8"]
-ODD_COUNTS = [None, "0", "-1", "9", "12", "2.5", "abc", "+2", "02", "3x", "2147483648", ""]
+ODD_COUNTS = [
+    None,
+    "0",
+    "-1",
+    "9",
+    "12",
+    "2.5",
+    "abc",
+    "+2",
+    "02",
+    "3x",
+    "2147483648",
+    "",
+]
 
 
 def ini_text(count) -> str:
@@ -216,6 +229,7 @@ PROFILE = settings(
     suppress_health_check=list(HealthCheck),
     print_blob=False,
 )
+
 
 @PROFILE
 @given(
