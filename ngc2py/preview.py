@@ -74,8 +74,8 @@ from runtime.machine import Machine
 from runtime.mcodes import ProgramEnd
 from runtime.nurbs import preview_points
 from runtime.params import unset_variable
+from runtime.spindle_select import CONSTANT_RPM, m_code_of
 from runtime.fast.rows import BatchesOnly
-
 
 INTERP_OK = 0
 INTERP_EXIT = 1
@@ -803,12 +803,12 @@ class PreviewMachine(BatchesOnly, Machine):
             990 if self.retract_r_plane else 980,
             self.control_mode if self.path_mode_set else 611,  # starts in G61.1
             -1,
-            960 if self.css_mode else 970,
+            970 if self.spindles.mode(0) == CONSTANT_RPM else 960,
             901 if self.ijk_absolute else 911,
             70 if self.lathe_diameter else 80,
             923 if self.params.get_internal(5210) else 922,
         )
-        spindle = {"stopped": 5, "cw": 3, "ccw": 4}.get(self.spindle, 5)
+        spindle = m_code_of(self.spindles.turning(0))
         mist = 7 if self.mist else (-1 if self.flood else 9)
         # rs274's write_m_codes tests its per-spindle speed_override array
         # itself, never empty: speed override always reads as on
@@ -825,7 +825,8 @@ class PreviewMachine(BatchesOnly, Machine):
             53 if self.feed_hold else -1,
             0,
         )
-        return gcodes, mcodes, (float(line), self.feed_rate, self.speed, 0.0, 0.0)
+        speed = self.spindles.speed(0)
+        return gcodes, mcodes, (float(line), self.feed_rate, speed, 0.0, 0.0)
 
 
 #: O-word errors rs274 finds while executing control flow: "<line>: ..."

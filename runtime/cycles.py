@@ -52,6 +52,13 @@ from runtime.codes import (
 from runtime.errors import GCodeError
 from runtime.motion import AXES, INVERSE_TIME
 from runtime.ops import c_hypot
+from runtime.spindle_select import (
+    CLOCKWISE,
+    COUNTERCLOCKWISE,
+    STOPPED,
+    check_dollar,
+    dollar,
+)
 
 #: For each plane, the position indexes of the two in-plane coordinates the
 #: cycle moves between holes ("aa", "bb" in rs274) and of the hole axis.
@@ -331,6 +338,8 @@ class CyclesMixin:
             drill.delta = self.cycle_q = self.cycle_q if q == _ABSENT else q
         elif motion in (G74, G84):
             p = words.get("p", _ABSENT)
+            drill.direction = self._tapping_spindle(words, plane)
+            drill.spindle = self.active_spindle
             drill.dwell = self.cycle_p = self.cycle_p if p == _ABSENT else p
         elif motion == G87:
             if first:
@@ -349,28 +358,32 @@ class CyclesMixin:
     # ------------------------------------------------------------------
     # Spindle
     # ------------------------------------------------------------------
-    def _spindle_direction(self, name: str) -> bool:
-        """G86-G88 need the spindle turning; True when it turns clockwise."""
-        if self.spindle == "stopped":
-            raise GCodeError(f"Spindle not turning in {name.lower()}")
-        return self.spindle == "cw"
+    def _tapping_spindle(self, words, plane: str) -> int:
+        """G74/G84's $ becomes the active spindle; the direction the cycle
+        checks is that spindle's, but in the YZ plane rs274 reads the
+        direction of the spindle active before the line."""
+        direction = self.spindles.turning(self.active_spindle)
+        if "dollar" in words:
+            check_dollar(words, "tap XZ" if plane == "XZ" else "tap", self.num_spindles)
+            self.active_spindle = dollar(words)
+        if plane == "YZ":
+            return direction
+        return self.spindles.turning(self.active_spindle)
 
-    def _check_tapping_spindle(self, motion: int) -> None:
-        """G84 taps right-hand (spindle clockwise), G74 left-hand."""
-        name = _code_name(motion)
-        if self.spindle == "stopped":
-            raise GCodeError(f"Spindle not turning in {name}")
-        if self.spindle == "cw" and motion == G74:
-            raise GCodeError("Spindle turning clockwise in G74")
-        if self.spindle == "ccw" and motion == G84:
-            raise GCodeError("Spindle turning counterclockwise in G84")
+    def _spindle_direction(self, name: str) -> bool:
+        """G86-G88 need the active spindle turning; True when it turns
+        clockwise."""
+        direction = self.spindles.turning(self.active_spindle)
+        if direction not in (CLOCKWISE, COUNTERCLOCKWISE):
+            raise GCodeError(f"Spindle not turning in {name.lower()}")
+        return direction == CLOCKWISE
 
     def _start_spindle(self, clockwise: bool) -> None:
         """The canon call only: the interpreter's spindle state stays as it was."""
         if clockwise:
-            self.canon.start_spindle_clockwise(0)
+            self.canon.start_spindle_clockwise(self.active_spindle)
         else:
-            self.canon.start_spindle_counterclockwise(0)
+            self.canon.start_spindle_counterclockwise(self.active_spindle)
 
 
 class _Drill:
@@ -390,6 +403,8 @@ class _Drill:
         "dwell",
         "delta",
         "offsets",
+        "spindle",
+        "direction",
     )
 
     def __init__(self, machine, motion: int, name: str, r, clear, bottom) -> None:
@@ -400,6 +415,8 @@ class _Drill:
         self.r, self.clear, self.bottom = r, clear, bottom
         self.dwell = self.delta = 0.0
         self.offsets = (0.0, 0.0, 0.0)
+        self.spindle = machine.active_spindle
+        self.direction = STOPPED  # (the tapping cycles' own, from the line)
 
     def g81(self, aa, bb):
         self.move(False, aa, bb, self.bottom)
@@ -435,24 +452,25 @@ class _Drill:
 
     def tap(self, aa, bb):
         """G84 (right hand) and G74 (left hand)."""
-        m, canon, motion = self.machine, self.canon, self.motion
+        m, canon, motion, spindle = self.machine, self.canon, self.motion, self.spindle
         plane = m.plane
-        m._check_tapping_spindle(motion)
-        # The override switches are the canon's, which follow M48-M51.
-        feed_override, speed_override = m.feed_override, m.speed_override
+        _check_tapping_direction(motion, self.direction)
+        # The override switches are the canon's, which follow M48-M51 (and
+        # keep one speed switch for all spindles).
+        feed_override, speed_override = m.feed_override, m.world.speed_override
         canon.disable_feed_override()
-        canon.disable_speed_override(0)
+        m._speed_override(spindle, False)
         self.move(False, *_tapping_order(plane, aa, bb, self.bottom))
-        canon.stop_spindle_turning(0)
+        canon.stop_spindle_turning(spindle)
         m._start_spindle(motion == G74)
         canon.dwell(self.dwell)
         self.move(False, *_tapping_order(plane, aa, bb, self.clear))
-        canon.stop_spindle_turning(0)
+        canon.stop_spindle_turning(spindle)
         m._start_spindle(motion == G84)
         if feed_override:
             canon.enable_feed_override()
         if speed_override:
-            canon.enable_speed_override(0)
+            m._speed_override(spindle, True)
 
     def g85(self, aa, bb):
         self.move(False, aa, bb, self.bottom)
@@ -463,7 +481,7 @@ class _Drill:
         clockwise = self.machine._spindle_direction(self.name)
         self.move(False, aa, bb, self.bottom)
         self.canon.dwell(self.dwell)
-        self.canon.stop_spindle_turning(0)
+        self.canon.stop_spindle_turning(self.spindle)
         self.move(True, aa, bb, self.clear)
         self.machine._start_spindle(clockwise)
 
@@ -477,15 +495,15 @@ class _Drill:
         off_a, off_b, middle = self.offsets
         out_a, out_b = aa + off_a, bb + off_b
         move(True, out_a, out_b, self.r)
-        canon.stop_spindle_turning(0)
-        canon.orient_spindle(0, 0.0, direction)
+        canon.stop_spindle_turning(self.spindle)
+        canon.orient_spindle(self.spindle, 0.0, direction)
         move(True, out_a, out_b, bottom)
         move(True, aa, bb, bottom)
         m._start_spindle(clockwise)
         move(False, aa, bb, middle)
         move(False, aa, bb, bottom)
-        canon.stop_spindle_turning(0)
-        canon.orient_spindle(0, 0.0, direction)
+        canon.stop_spindle_turning(self.spindle)
+        canon.orient_spindle(self.spindle, 0.0, direction)
         move(True, out_a, out_b, bottom)
         move(True, out_a, out_b, self.clear)
         move(True, aa, bb, self.clear)
@@ -495,7 +513,7 @@ class _Drill:
         clockwise = self.machine._spindle_direction(self.name)
         self.move(False, aa, bb, self.bottom)
         self.canon.dwell(self.dwell)
-        self.canon.stop_spindle_turning(0)
+        self.canon.stop_spindle_turning(self.spindle)
         self.canon.program_stop()  # the operator retracts by hand
         self.machine._start_spindle(clockwise)
 
@@ -519,6 +537,22 @@ _HOLES = {
     G88: "g88",
     G89: "g89",
 }
+
+
+def _check_tapping_direction(motion: int, direction: int) -> None:
+    """G84 taps right-hand (spindle clockwise), G74 left-hand; a spindle
+    never started or stopped has no direction rs274 knows."""
+    name = _code_name(motion)
+    if direction == STOPPED:
+        raise GCodeError(f"Spindle not turning in {name}")
+    if direction == CLOCKWISE:
+        if motion == G74:
+            raise GCodeError("Spindle turning clockwise in G74")
+    elif direction == COUNTERCLOCKWISE:
+        if motion == G84:
+            raise GCodeError("Spindle turning counterclockwise in G84")
+    else:
+        raise GCodeError(f"Spindle state unknown for {name}")
 
 
 def _tapping_order(plane: str, aa: float, bb: float, level: float):

@@ -161,6 +161,9 @@ _SETTINGS = (
     ("tool_change_quill_up", False),
     ("tool_change_with_spindle_on", False),
     ("random_toolchanger", False),
+    #: [TRAJ]SPINDLES: how many spindles M2, M6, M48/M49, M51 and $-1 reach
+    #: (rs274 keeps any int, even 0, negative or past its eight spindles).
+    ("num_spindles", 1),
     #: [AXIS_A], [AXIS_B], [AXIS_C] WRAPPED_ROTARY: angles taken modulo 360
     #: (runtime.rotary).
     ("wrapped_rotary", (False, False, False)),
@@ -263,8 +266,9 @@ def settings_from(ini: IniFile) -> IniSettings:
         tool_change_with_spindle_on=bool(
             integer("TOOL_CHANGE_WITH_SPINDLE_ON", "EMCIO")
         ),
-        wrapped_rotary=rotary("WRAPPED_ROTARY", _lexical_int_truth),
+        wrapped_rotary=rotary("WRAPPED_ROTARY", _wraps),
         random_toolchanger=bool(integer("RANDOM_TOOLCHANGER", "EMCIO")),
+        num_spindles=_lexical_int(ini.find("SPINDLES", "TRAJ"), 1),
         features=integer("FEATURES", "RS274NGC"),
         ini_vars=flag("INI_VARS", "RS274NGC", True),
         retain_g43=flag("RETAIN_G43", "RS274NGC", False),
@@ -290,14 +294,6 @@ def settings_from(ini: IniFile) -> IniSettings:
     return settings._replace(stderr_report="".join(report))
 
 
-def _lexical_int_truth(value: Optional[str]) -> bool:
-    """An int setting read by boost::lexical_cast<int>, as a truth value: a
-    value that is not a plain integer of 32 bits leaves the default, 0."""
-    if value is None or not _INTEGER.fullmatch(value):
-        return False
-    return -(2**31) <= int(value) < 2**31 and int(value) != 0
-
-
 #: What C's atol reads: blanks, a sign and digits, the rest ignored.
 _ATOL = Pattern(r"[ \t\n\v\f\r]*([+-]?\d+)")
 
@@ -312,6 +308,24 @@ def _atol_int(value: Optional[str]) -> int:
     number = max(-(2**63), min(2**63 - 1, number))
     number &= 0xFFFFFFFF
     return number - 2**32 if number >= 2**31 else number
+
+
+#: The range of a C int (boost::lexical_cast<int> refuses anything past it).
+_INT_RANGE = range(-(2**31), 2**31)
+
+
+def _lexical_int(value: Optional[str], default: int) -> int:
+    """An INI int as boost::lexical_cast<int> reads it: a plain integer in
+    range, or the default (silently)."""
+    if value is None or not _INTEGER.fullmatch(value):
+        return default
+    number = int(value)
+    return number if number in _INT_RANGE else default
+
+
+def _wraps(value: Optional[str]) -> bool:
+    """WRAPPED_ROTARY, an int setting (lexical_cast) read as a truth value."""
+    return bool(_lexical_int(value, 0))
 
 
 def _existing_dir(entry: Optional[str]) -> Optional[str]:

@@ -20,6 +20,7 @@ from runtime.blockcheck import Block
 from runtime.codes import G33, G76
 from runtime.errors import GCodeError
 from runtime.ops import c_hypot, long_double_product, PI_L_OVER_180
+from runtime.spindle_select import CLOCKWISE, COUNTERCLOCKWISE, check_dollar, dollar
 
 
 class ThreadingMixin:
@@ -35,21 +36,20 @@ class ThreadingMixin:
             # before their spindle checks (and fails: see _comp_straight)
             self._comp_straight(None, end)
             return
-        if "dollar" in words and int(words["dollar"]) != 0:
-            # $ (read as an int) must name one of rs274's spindles: it has one.
-            if motion == G76:
-                raise GCodeError("Invalid D-number in G76 cycle")
-            name = "G33" if motion == G33 else "G33.1"
-            raise GCodeError(f"Invalid spindle ($) number in {name} move")
+        name = {G33: "G33", G76: "G76"}.get(motion, "G33.1")
+        if "dollar" in words:
+            # the line's spindle stays the active one (G95 and the cycles)
+            check_dollar(words, name, self.num_spindles)
+            self.active_spindle = dollar(words)
         if motion == G76:
             self._check_spindle_turning_for_g76()
             if end[3:] != self.current[3:]:
                 raise GCodeError("Cannot move rotary axes with G76")
             self._threading_cycle(words, end)
             return
-        self._check_spindle_turning("G33" if motion == G33 else "G33.1")
+        self._check_spindle_turning(name)
         canon = self.canon
-        canon.start_speed_feed_synch(0, words["k"], False)
+        canon.start_speed_feed_synch(self.active_spindle, words["k"], False)
         if motion == G33:
             self._emit_move(False, end)
             canon.stop_speed_feed_synch()
@@ -64,13 +64,19 @@ class ThreadingMixin:
         self.canon.rigid_tap(end[0], end[1], end[2], scale)
         self.current = self.current[:3] + end[3:]
 
+    def _active_spindle_turning(self) -> bool:
+        direction = self.spindles.turning(self.active_spindle)
+        return direction in (CLOCKWISE, COUNTERCLOCKWISE)
+
     def _check_spindle_turning(self, name: str) -> None:
-        if self.spindle == "stopped":
+        if not self._active_spindle_turning():
             raise GCodeError(f"Spindle not turning in {name}")
 
     def _check_spindle_turning_for_g76(self) -> None:
-        if self.spindle == "stopped":
-            raise GCodeError("Chosen spindle (0) not turning in G76")
+        if not self._active_spindle_turning():
+            raise GCodeError(
+                "Chosen spindle (%d) not turning in G76" % self.active_spindle
+            )
 
     # ------------------------------------------------------------------
     # G76
@@ -154,18 +160,18 @@ class ThreadingMixin:
         move(True, x_at(cut.end_depth), start_z)  # back
         if cut.taper_dist and cut.entry_taper:
             canon.disable_feed_override()
-            canon.start_speed_feed_synch(0, cut.taper_pitch, False)
+            canon.start_speed_feed_synch(self.active_spindle, cut.taper_pitch, False)
             move(False, x_at(cut.full_threadheight), start_z)  # in
             move(False, x_at(0.0), start_z - cut.taper_dist)  # angled in
-            canon.start_speed_feed_synch(0, cut.pitch, False)
+            canon.start_speed_feed_synch(self.active_spindle, cut.pitch, False)
         else:
             move(True, x_at(0.0), start_z)  # in
             canon.disable_feed_override()
-            canon.start_speed_feed_synch(0, cut.pitch, False)
+            canon.start_speed_feed_synch(self.active_spindle, cut.pitch, False)
         end_z = cut.target_z - zoff
         if cut.taper_dist and cut.exit_taper:
             move(False, x_at(0.0), end_z + cut.taper_dist)  # over
-            canon.start_speed_feed_synch(0, cut.taper_pitch, False)
+            canon.start_speed_feed_synch(self.active_spindle, cut.taper_pitch, False)
             move(False, x_at(cut.full_threadheight), end_z)  # angled out
         else:
             move(False, x_at(0.0), end_z)  # over

@@ -140,7 +140,15 @@ from runtime.lathe import ThreadingMixin
 from runtime.lathe_cycles import LatheCyclesMixin
 from runtime.probing import ProbingMixin
 from runtime.rotary import RotaryMixin, rotary_rules
-from runtime.spindle_select import check_dollar
+from runtime.spindle_select import (
+    CLOCKWISE,
+    CONSTANT_RPM,
+    CONSTANT_SURFACE,
+    STOPPED,
+    check_dollar,
+    chosen,
+    dollar,
+)
 from runtime.splines import SplinesMixin
 from runtime.offsets import COORD_SYSTEM, G92_ENABLED, OffsetsMixin
 from runtime.params import (
@@ -255,6 +263,7 @@ class Machine(
         self.source = source
         self._set_budget(max_steps)
         self.settings = IniSettings() if ini is None else load_ini(ini)
+        self.num_spindles = self.settings.num_spindles
         #: Calls need no more than fresh locals: no #<n_args> to set and no
         #: M70/M73 state to manage (then _enter_sub and _left_frame do).
         self._plain_frames = not self.settings.oword_nargs
@@ -780,16 +789,18 @@ class Machine(
         if comment is not None:
             execute_comment(self, comment)
         if SPINDLE_MODE in g:
+            self._choose_spindle(words, "mode")
             self._spindle_mode(g[SPINDLE_MODE], words)
         if FEED_MODE in g:
-            check_dollar(words, "feed")
+            self._choose_spindle(words, "feed")
             self._feed_mode(g[FEED_MODE])
         if "f" in words and self.feed_mode != INVERSE_TIME:
             self._set_feed_rate(words["f"])
-        if "s" in words:
-            check_dollar(words, "speed")
-            self.speed = words["s"]
-            self.canon.set_spindle_speed(0, self.speed)
+        if "s" in words and not self._spindle_speed(words):
+            if not self._stepped_before_speed(block, comment):
+                # rs274's step status is still its initial "exit": the
+                # program ends there, without M2's calls
+                raise ProgramEnd()
         if "t" in words:
             self._select_tool(int(words["t"]))
         if block.m and self._execute_m(block):
@@ -910,20 +921,58 @@ class Machine(
         )
         self.retract_r_plane = not old_z
 
+    def _choose_spindle(self, words, step: str) -> None:
+        """G93-G97 make their line's $ (spindle 0 without one) the spindle
+        feed per revolution, threading and the cycles use from then on."""
+        self.active_spindle = 0
+        check_dollar(words, step, self.num_spindles)
+        if "dollar" in words:
+            self.active_spindle = dollar(words)
+
     def _spindle_mode(self, code: int, words) -> None:
-        check_dollar(words, "mode")
+        """G96/G97 for the active spindle, if the machine has it."""
+        spindle = self.active_spindle
+        if not 0 <= spindle < self.num_spindles:
+            return
         if code == G97:
-            self.css_mode = False
-            self.canon.set_spindle_mode(0, 0.0)
+            self.spindles.set_mode(spindle, CONSTANT_RPM)
+            self.canon.set_spindle_mode(spindle, 0.0)
         else:
-            self.css_mode = True
-            self.canon.set_spindle_mode(0, abs(words["d"]) if "d" in words else 1e30)
+            self.spindles.set_mode(spindle, CONSTANT_SURFACE)
+            rate = abs(words["d"]) if "d" in words else 1e30
+            self.canon.set_spindle_mode(spindle, rate)
+
+    def _spindle_speed(self, words) -> bool:
+        """S for spindle 0, the line's $, or every spindle ($-1); a spindle
+        the machine does not have takes none. False when rs274 went through
+        no spindle at all ($-1 on a machine of none)."""
+        check_dollar(words, "speed", self.num_spindles)
+        rpm = words["s"]
+        spindles = chosen(words, self.num_spindles)
+        for spindle in spindles:
+            if 0 <= spindle < self.num_spindles:
+                self.canon.set_spindle_speed(spindle, rpm)
+                self.spindles.set_speed(spindle, rpm)
+        return len(spindles) > 0
+
+    def _stepped_before_speed(self, block: Block, comment) -> bool:
+        """Did one of the steps rs274 takes before S run on this line (a
+        comment, G93-G97, F)?"""
+        return (
+            comment is not None
+            or SPINDLE_MODE in block.g
+            or FEED_MODE in block.g
+            or ("f" in block.words and self.feed_mode != INVERSE_TIME)
+        )
 
     def _feed_mode(self, code: int) -> None:
         mode = _FEED_MODES[code]
         self.canon.comment(_FEED_MODE_COMMENTS[mode])
         self.feed_mode = mode
-        self.canon.set_feed_mode(0, 1 if mode == UNITS_PER_REVOLUTION else 0)
+        if mode == UNITS_PER_REVOLUTION:
+            self.canon.set_feed_mode(self.active_spindle, 1)
+        else:
+            self.canon.set_feed_mode(0, 0)
         if mode != INVERSE_TIME:
             self._set_feed_rate(0.0)
 
@@ -1055,21 +1104,22 @@ _PREDEFINED_VALUES: Dict[str, Callable[[Machine], float]] = {
     "_tool_offset": lambda m: any(m.tool_offset),
     "_retract_r_plane": lambda m: m.retract_r_plane,
     "_retract_old_z": lambda m: not m.retract_r_plane,
-    "_spindle_rpm_mode": lambda m: not m.css_mode,
-    "_spindle_css_mode": lambda m: m.css_mode,
+    # spindle 0's, whatever the number of spindles
+    "_spindle_rpm_mode": lambda m: m.spindles.mode(0) == CONSTANT_RPM,
+    "_spindle_css_mode": lambda m: m.spindles.mode(0) == CONSTANT_SURFACE,
     "_ijk_absolute_mode": lambda m: m.ijk_absolute,
     "_lathe_diameter_mode": lambda m: m.lathe_diameter,
     "_lathe_radius_mode": lambda m: not m.lathe_diameter,
-    "_spindle_on": lambda m: m.spindle != "stopped",
-    "_spindle_cw": lambda m: m.spindle == "cw",
+    "_spindle_on": lambda m: m.spindles.turning(0) != STOPPED,
+    "_spindle_cw": lambda m: m.spindles.turning(0) == CLOCKWISE,
     "_mist": lambda m: m.mist,
     "_flood": lambda m: m.flood,
-    "_speed_override": lambda m: m.speed_override,
+    "_speed_override": lambda m: m.spindles.override(0),
     "_feed_override": lambda m: m.feed_override,
     "_adaptive_feed": lambda m: m.adaptive_feed,
     "_feed_hold": lambda m: m.feed_hold,
     "_feed": lambda m: m.feed_rate,
-    "_rpm": lambda m: m.speed,
+    "_rpm": lambda m: abs(m.spindles.speed(0)),
     "_current_tool": lambda m: m.params[5400],
     "_current_pocket": lambda m: m.current_pocket_number(),
     "_selected_tool": lambda m: m.selected_tool,

@@ -20,10 +20,21 @@ from runtime.codes import G1
 from runtime.errors import GCodeError
 from runtime.motion import UNITS_PER_MINUTE, rotate
 from runtime.offsets import COORD_SYSTEM
-from runtime.spindle_select import check_dollar
+from runtime.spindle_select import (
+    CLOCKWISE,
+    COUNTERCLOCKWISE,
+    STOPPED,
+    check_dollar,
+    chosen,
+    dollar,
+)
 
 #: Where M66 leaves the value of the input it read.
 INPUT_PARAM = 5399
+
+
+#: What M3, M4 and M5 make of a spindle.
+_DIRECTIONS = {3: CLOCKWISE, 4: COUNTERCLOCKWISE, 5: STOPPED}
 
 
 class ProgramEnd(Exception):
@@ -106,18 +117,10 @@ class MCodesMixin:
 
     def _spindle(self, code: int, words) -> bool:
         """Group 7: spindle and modal state; True when M72 replaced the line."""
-        canon = self.canon
-        if code in (3, 4, 5, 19):
-            check_dollar(words, "m%d" % code)
-        if code == 3:
-            canon.start_spindle_clockwise(0)
-            self.spindle = "cw"
-        elif code == 4:
-            canon.start_spindle_counterclockwise(0)
-            self.spindle = "ccw"
-        elif code == 5:
-            canon.stop_spindle_turning(0)
-            self.spindle = "stopped"
+        if code in (3, 4, 5):
+            check_dollar(words, "m%d" % code, self.num_spindles)
+            for spindle in chosen(words, self.num_spindles):
+                self._turn_spindle(spindle, _DIRECTIONS[code])
         elif code == 19:
             self._orient_spindle(words)
         elif code in (70, 73):
@@ -128,16 +131,31 @@ class MCodesMixin:
             return self._restore_context()
         return False
 
+    def _turn_spindle(self, spindle: int, direction: int) -> None:
+        """M3, M4 or M5 for one spindle: the canon call and rs274's record."""
+        canon = self.canon
+        if direction == CLOCKWISE:
+            canon.start_spindle_clockwise(spindle)
+        elif direction == COUNTERCLOCKWISE:
+            canon.start_spindle_counterclockwise(spindle)
+        else:
+            canon.stop_spindle_turning(spindle)
+        self.spindles.set_turning(spindle, direction)
+
     def _orient_spindle(self, words) -> None:
-        """M19 [R angle] [P direction] [Q timeout]; the INI may offset the angle."""
-        self.spindle = "stopped"
+        """M19 [R angle] [P direction] [Q timeout] [$ spindle]; the INI may
+        offset the angle. rs274 records every spindle as stopped first."""
+        for spindle in range(self.num_spindles):
+            self.spindles.set_turning(spindle, STOPPED)
+        check_dollar(words, "m19", self.num_spindles)
+        spindle = dollar(words) or 0
         if "r" in words or "p" in words:
             angle = words.get("r", 0.0) + self.settings.orient_offset
-            self.canon.orient_spindle(0, angle, int(words.get("p", 0.0)))
+            self.canon.orient_spindle(spindle, angle, int(words.get("p", 0.0)))
         if "q" in words:
             if words["q"] <= 0.0:
                 raise GCodeError("Q word with M19 requires a value > 0")
-            self.canon.wait_spindle_orient_complete(0, words["q"])
+            self.canon.wait_spindle_orient_complete(spindle, words["q"])
 
     def _wait_input(self, words) -> None:
         """M66: rs274's stand-alone canon has no inputs and never waits.
@@ -189,7 +207,7 @@ class MCodesMixin:
     def _overrides(self, code: int, words) -> None:
         on = code == 48 or (code != 49 and words.get("p", -1.0) != 0)
         if code == 51:
-            check_dollar(words, "m51")
+            check_dollar(words, "m51", self.num_spindles)
         if self.cutter_comp:
             raise GCodeError(
                 f"Cannot {'enable' if on else 'disable'} overrides"
@@ -200,14 +218,27 @@ class MCodesMixin:
             (canon.enable_feed_override if on else canon.disable_feed_override)()
             self.feed_override = on
         if code in (48, 49, 51):
-            (canon.enable_speed_override if on else canon.disable_speed_override)(0)
-            self.speed_override = on
+            # M51 without $ switches every spindle, as M48 and M49 do
+            only = dollar(words) if code == 51 else None
+            for spindle in range(self.num_spindles):
+                if only is None or spindle == only:
+                    self._speed_override(spindle, on)
+                    self.spindles.set_override(spindle, on)
         if code == 52:
             (canon.enable_adaptive_feed if on else canon.disable_adaptive_feed)()
             self.adaptive_feed = on
         if code == 53:
             (canon.enable_feed_hold if on else canon.disable_feed_hold)()
             self.feed_hold = on
+
+    def _speed_override(self, spindle: int, on: bool) -> None:
+        """ENABLE/DISABLE_SPEED_OVERRIDE: the canon keeps one switch for all
+        spindles, the last one told (what a tapping cycle reads back)."""
+        if on:
+            self.canon.enable_speed_override(spindle)
+        else:
+            self.canon.disable_speed_override(spindle)
+        self.world.speed_override = on
 
     # ------------------------------------------------------------------
     # M0, M1, M2, M30, M60
@@ -249,12 +280,14 @@ class MCodesMixin:
         if not self.feed_override:
             canon.enable_feed_override()
             self.feed_override = True
-        # (rs274 2.9 re-enables only the feed override, not the speed override.)
         self._comp_stop()
-        canon.stop_spindle_turning(0)
-        self.spindle = "stopped"
-        canon.set_spindle_mode(0, 0.0)
-        self.css_mode = False
+        # Each spindle is stopped and told G97; rs274 marks its speed
+        # override on without telling the canon, and keeps the G96 mode.
+        for spindle in range(self.num_spindles):
+            canon.stop_spindle_turning(spindle)
+            self.spindles.set_turning(spindle, STOPPED)
+            self.spindles.set_override(spindle, True)
+            canon.set_spindle_mode(spindle, 0.0)
         self.motion_mode = G1
         if self.mist:
             canon.mist_off()

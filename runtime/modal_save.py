@@ -80,6 +80,7 @@ from runtime.codes import (
 from runtime.errors import GCodeError
 from runtime.motion import INVERSE_TIME, UNITS_PER_MINUTE
 from runtime.offsets import G92_ENABLED
+from runtime.spindle_select import CONSTANT_RPM, m_code_of
 
 _PLANE_CODES = {"XY": G17, "XZ": G18, "YZ": G19, "UV": G17_1, "UW": G18_1, "VW": G19_1}
 _SYSTEM_CODES = (G54, G55, G56, G57, G58, G59, G59_1, G59_2, G59_3)
@@ -129,12 +130,12 @@ class ModalSaveMixin:
             G43 if any(self.tool_offset) else G49,
             G99 if self.retract_r_plane else G98,
             self.control_mode,
-            G96 if self.css_mode else G97,
+            G97 if self.spindles.mode(0) == CONSTANT_RPM else G96,
             G90_1 if self.ijk_absolute else G91_1,
             G7 if self.lathe_diameter else G8,
             G92_3 if self.params[G92_ENABLED] else G92_2,
         )
-        spindle = {"cw": 3, "ccw": 4}.get(self.spindle, 5)
+        spindle = m_code_of(self.spindles.turning(0))
         # rs274 means to encode both switches (M48-M51), but it tests the
         # address of its per-spindle speed switches, always true: only the
         # feed switch counts, as M48 (on) or M51 (off).
@@ -150,7 +151,7 @@ class ModalSaveMixin:
         return ModalState(
             G20 if self.inches else G21,
             self.feed_rate,
-            self.speed,
+            self.spindles.speed(0),
             self.path_tolerance,
             self.naivecam_tolerance,
             g,

@@ -198,8 +198,12 @@ class MotionMixin:
             return
         if self.feed_rate == 0.0:
             raise GCodeError("Cannot do g1 with zero feed rate")
-        if self.feed_mode == UNITS_PER_REVOLUTION and self.speed == 0.0:
+        if self.feed_mode == UNITS_PER_REVOLUTION and self._feed_spindle_speed() == 0.0:
             raise GCodeError("Cannot feed with zero spindle speed in feed per rev mode")
+
+    def _feed_spindle_speed(self) -> float:
+        """The speed feed per revolution follows: the active spindle's."""
+        return self.spindles.speed(self.active_spindle)
 
     def _inverse_time_feed(self, length: float, f: float) -> None:
         rate = max(0.1, length * f)
@@ -227,7 +231,9 @@ class MotionMixin:
         plane = self.plane
         self._comp_check_arc_allowed()
         arcs.check_arc_format(plane, words)
-        arcs.check_arc_feed(self.feed_mode, self.feed_rate, self.speed, "f" in words)
+        arcs.check_arc_feed(
+            self.feed_mode, self.feed_rate, self._feed_spindle_speed(), "f" in words
+        )
         centre_words = arcs.arc_center_words(plane, words, self.ijk_absolute)
         end = self._find_ends(block)
         self.motion_mode = move

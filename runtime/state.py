@@ -28,6 +28,7 @@ if TYPE_CHECKING:
 
 from runtime.arcs import UNITS_PER_MINUTE
 from runtime.codes import G64, G80
+from runtime.spindle_select import Spindles
 
 
 class MachineState:
@@ -39,6 +40,7 @@ class MachineState:
     block_delete: bool  # rs274's -b: generated code skips "/" lines
     source: object  # the program's SourceMap (file names, line map, text)
     settings: IniSettings  # the INI file's [RS274NGC] settings
+    num_spindles: int  # [TRAJ]SPINDLES, as rs274 keeps it (any int)
     var_file: Optional[str]  # the parameter file (-v), rewritten at the end
     messages: TextIO  # rs274's complaints while running (parameter file)
     params: Params  # numbered parameters (#1-#5xxx), bound to p in code
@@ -85,13 +87,11 @@ class MachineState:
     ijk_absolute: bool  # G90.1 (True) or G91.1
     feed_mode: int  # G93, G94 or G95
     feed_rate: float  # F, in program units (per minute or per rev)
-    speed: float  # S
-    spindle: str  # "stopped", "clockwise" or "counterclockwise"
-    css_mode: bool  # G96 (True) or G97
+    active_spindle: int  # the spindle G95, G33, G76 and the cycles use ($)
+    spindles: Spindles  # each spindle's S, G96/G97, M48-M51 and M3-M5
     mist: bool  # M7
     flood: bool  # M8
     feed_override: bool  # M50 (M48/M49 set both overrides)
-    speed_override: bool  # M51
     adaptive_feed: bool  # M52
     feed_hold: bool  # M53
     control_mode: int  # G61, G61.1 or G64
@@ -195,13 +195,11 @@ class MachineState:
         self.ijk_absolute = False
         self.feed_mode = UNITS_PER_MINUTE
         self.feed_rate = 0.0
-        self.speed = 0.0
-        self.spindle = "stopped"
-        self.css_mode = False
+        self.active_spindle = 0
+        self.spindles = Spindles()
         self.mist = False
         self.flood = False
         self.feed_override = True
-        self.speed_override = True
         self.adaptive_feed = False
         self.feed_hold = True
         # The stand-alone canon starts in G64 without tolerances.

@@ -30,6 +30,7 @@ from runtime.errors import GCodeError
 from runtime.motion import AXES, rotate
 from runtime.offsets import G92_ENABLED, system_base
 from runtime.rotary import defined_point
+from runtime.spindle_select import STOPPED
 from runtime.tooltable import ToolEntry, ToolTable
 
 #: G10 L11 measures tool offsets against this coordinate system (G59.3).
@@ -71,8 +72,9 @@ class ToolsMixin:
         settings = self.settings
         self.canon.start_change()
         if not settings.tool_change_with_spindle_on:
-            self.canon.stop_spindle_turning(0)
-            self.spindle = "stopped"
+            for spindle in range(self.num_spindles):
+                self.canon.stop_spindle_turning(spindle)
+                self.spindles.set_turning(spindle, STOPPED)
         if settings.tool_change_quill_up:
             up = list(self.current)
             up[2] = self._find_relative([0.0] * 9)[2]

@@ -13,7 +13,9 @@ differ from the interpreter's own idea:
   and the model never converts them to the new units;
 * a canned cycle reads back the path control mode (which starts as
   continuous with tolerance 0 in the model, while the interpreter starts in
-  G61) to switch to exact path and restore it afterwards.
+  G61) to switch to exact path and restore it afterwards;
+* a tapping cycle reads back the speed override switch, of which the model
+  keeps one for all spindles (the interpreter keeps one per spindle).
 
 :class:`World` models exactly that, independently of the canon back end, so
 every back end (trace, null, recording) sees the same calls.
@@ -41,6 +43,7 @@ class World:
         "control_mode",
         "control_tolerance",
         "naivecam_tolerance",
+        "speed_override",
     )
 
     def __init__(self) -> None:
@@ -55,6 +58,8 @@ class World:
         self.control_mode = "CONTINUOUS"
         self.control_tolerance = 0.0
         self.naivecam_tolerance = 0.0
+        # one switch for every spindle: the last ENABLE/DISABLE_SPEED_OVERRIDE
+        self.speed_override = True
 
     def set_control_mode(self, mode: str, tolerance: float) -> None:
         """SET_MOTION_CONTROL_MODE: only the continuous mode keeps a tolerance."""

@@ -80,6 +80,13 @@ def _cam_rotary():
     return st.tuples(cam_strategies.cam_programs(), s.rotary_inis()).map(files)
 
 
+def _with_spindles(program):
+    import strategies
+
+    text, count = program
+    return {"prog.ngc": text, "m.ini": strategies.spindles_ini(count)}, ["-i", "m.ini"]
+
+
 def _profiles():
     import strategies as s
 
@@ -100,6 +107,8 @@ def _profiles():
         "comp_table": (s.compensated_programs(tool_table=True), _comp_table, "prog.ngc", 20),
         "rotary": (s.rotary_programs(), _subfiles, "prog.ngc", 20),
         "cam_rotary": (_cam_rotary(), _subfiles, "prog.ngc", 20),
+        "spindles": (s.spindle_ini_programs(), _with_spindles, "prog.ngc", 20),
+        "valid_spindles": (s.valid_spindle_programs(), _with_spindles, "prog.ngc", 20),
     }
 
 

@@ -2529,3 +2529,158 @@ def rotary_programs(draw, max_statements: int = 14) -> tuple:
     lines.append("M2")
     files = {"prog.ngc": "\n".join(lines) + "\n", "rotary.ini": ini}
     return files, ["-i", "rotary.ini"]
+# several spindles: [TRAJ]SPINDLES and the $ word
+# --------------------------------------------------------------------------
+
+#: SPINDLES values for an INI file: the usual ones, and the odd ones rs274
+#: takes as they are (none, negative, past its eight) or refuses (not a
+#: plain int: one spindle).
+SPINDLE_COUNTS = ["1", "2", "3", "4", "8"]
+ODD_SPINDLE_COUNTS = ["0", "-1", "9", "12", "2.5", "abc", "+2"]
+
+
+def spindles_ini(count: str) -> str:
+    return f"[TRAJ]\nSPINDLES = {count}\n"
+
+
+def _spindle_number(count: str) -> int:
+    """The number of spindles rs274 reads from ``SPINDLES = count``."""
+    try:
+        return int(count)
+    except ValueError:
+        return 1
+
+
+class _SpindleWriter:
+    """Lines of spindle codes for a machine of ``count`` spindles."""
+
+    def __init__(self, draw, count: int):
+        self.draw = draw
+        self.count = count
+        self.lines: List[str] = []
+
+    def dollar(self, all_allowed: bool = True) -> str:
+        """A $ word: mostly a spindle the machine has (or -1, "all"),
+        sometimes one it has not, sometimes a fraction rs274 truncates;
+        sometimes none."""
+        draw = self.draw
+        kind = draw(st.integers(0, 24))
+        if kind < 4:
+            return ""
+        if kind == 4:
+            return f" ${draw(st.sampled_from([-2, self.count, self.count + 1, 9]))}"
+        if kind == 5:
+            return f" ${draw(st.sampled_from(['-0.9', '0.5', '1.7', '-1.2']))}"
+        low = -1 if all_allowed and draw(st.integers(0, 3)) == 0 else 0
+        return f" ${draw(st.integers(low, max(self.count - 1, 0)))}"
+
+    def speed(self) -> str:
+        return f"S{self.draw(numbers(0, 3000, 1))}"
+
+    def turn(self) -> None:
+        code = self.draw(st.sampled_from(["M3", "M4", "M5", "M3", "M4"]))
+        speed = self.speed() + " " if self.draw(st.booleans()) else ""
+        self.lines.append(f"{speed}{code}{self.dollar()}")
+
+    def mode(self) -> None:
+        code = self.draw(st.sampled_from(["G96", "G97", "G95", "G94", "G93"]))
+        extra = f" D{self.draw(numbers(1, 5000, 1))}" if code == "G96" and self.draw(st.booleans()) else ""
+        self.lines.append(f"{code} {self.speed()}{self.dollar(False)}{extra}")
+        if code in ("G95", "G93"):
+            # a move under the mode: G95 reads the active spindle's speed
+            self.lines.append(f"G1 X{self.draw(numbers(-20, 20, 1))} F{self.draw(numbers(1, 20, 10))}")
+            if self.draw(st.booleans()):
+                self.lines.append(f"G2 X0 Y0 R{self.draw(numbers(20, 40, 1))} F1")
+            self.lines.append("G94 F100")
+
+    def orient(self) -> None:
+        words = [f"R{self.draw(numbers(0, 360, 1))}"]
+        if self.draw(st.booleans()):
+            words.append(f"P{self.draw(st.integers(0, 2))}")
+        if self.draw(st.booleans()):
+            words.append(f"Q{self.draw(numbers(1, 30, 10))}")
+        self.lines.append("M19 " + " ".join(words) + self.dollar(False))
+
+    def overrides(self) -> None:
+        kind = self.draw(st.integers(0, 3))
+        if kind == 0:
+            self.lines.append(self.draw(st.sampled_from(["M48", "M49"])))
+        elif kind == 1:
+            self.lines.append(f"M50 P{self.draw(st.integers(0, 1))}")
+        else:
+            self.lines.append(f"M51 P{self.draw(st.integers(0, 1))}{self.dollar(False)}")
+
+    def tool_change(self) -> None:
+        self.lines.append(self.draw(st.sampled_from(["T1 M6", "T2 M6", "T0 M6", "M61 Q1"])))
+
+    def thread(self) -> None:
+        kind = self.draw(st.integers(0, 2))
+        if kind == 0:
+            line = f"G33 X{self.draw(numbers(-10, 10, 1))} K{self.draw(numbers(1, 20, 10))}"
+        elif kind == 1:
+            line = f"G33.1 Z{self.draw(numbers(-10, -1, 1))} K{self.draw(numbers(1, 20, 10))}"
+        else:
+            line = "G76 P0.1 Z-1 I-0.1 J0.05 K0.1"
+        self.lines.append(line + self.dollar(False))
+        self.lines.append("G0 X0 Y0 Z0")
+
+    def cycle(self) -> None:
+        draw = self.draw
+        plane = draw(st.sampled_from(["G17", "G18", "G19"]))
+        code = draw(st.sampled_from(["G84", "G74", "G86", "G87", "G88"]))
+        words = {"G17": "X1 Y1 Z-1", "G18": "X1 Y-1 Z1", "G19": "X-1 Y1 Z1"}[plane]
+        extra = {"G86": " P1", "G88": " P0.5", "G87": " I1 J1 K-0.5"}.get(code, "")
+        # $ needs a word that uses it on the line: S or a spindle M code
+        user = draw(st.sampled_from([" S100", " M3", " M4", ""]))
+        dollar = self.dollar(False) if user else ""
+        self.lines.append(f"{plane} {code} {words} R2{extra} F10{user}{dollar}")
+        if draw(st.booleans()):
+            self.lines.append("X2")
+        self.lines.append("G80 G17 G0 X0 Y0 Z0")
+
+    def report(self) -> None:
+        self.lines.append(
+            "(debug,#<_spindle_on> #<_spindle_cw> #<_rpm> #<_speed_override>"
+            " #<_spindle_css_mode> #<_spindle_rpm_mode>)"
+        )
+
+    def modal_save(self) -> None:
+        self.lines.append("M70")
+        self.turn()
+        self.mode()
+        self.lines.append("M72")
+
+
+@st.composite
+def spindle_programs(draw, count: int = 2, max_statements: int = 10) -> str:
+    """A program of spindle codes with $ words, for a machine of ``count``
+    spindles: M3-M5 and S for one or every spindle, G93-G97, M19, the
+    override switches, tool changes, threading and the cycles that turn
+    the spindle, and reports of the spindle parameters; then M2 or M30,
+    which stop every spindle. Some $ words name a spindle the machine does
+    not have (rs274's errors)."""
+    w = _SpindleWriter(draw, count)
+    w.lines.append(draw(st.sampled_from(["G21 G90 G17 G94 F100", "G20 G90 F10"])))
+    steps = [w.turn] * 4 + [w.mode] * 2 + [w.orient, w.overrides, w.overrides, w.tool_change]
+    steps += [w.thread, w.cycle, w.report, w.report, w.modal_save]
+    for _ in range(draw(st.integers(1, max_statements))):
+        draw(st.sampled_from(steps))()
+    w.lines.append(draw(st.sampled_from(["M2", "M30"])))
+    return "\n".join(w.lines) + "\n"
+
+
+@st.composite
+def spindle_ini_programs(draw) -> tuple:
+    """(program, SPINDLES value): spindle programs for any INI setting,
+    the odd values among them."""
+    count = draw(st.sampled_from(SPINDLE_COUNTS + ODD_SPINDLE_COUNTS))
+    return draw(spindle_programs(_spindle_number(count))), count
+
+
+@st.composite
+def valid_spindle_programs(draw) -> tuple:
+    """(program, SPINDLES value): valid_programs() (whose $ words are 0 or
+    -1) on a machine of several spindles, where M2, M6, M48/M49, M51 and
+    $-1 reach every spindle."""
+    count = draw(st.sampled_from(SPINDLE_COUNTS + ODD_SPINDLE_COUNTS))
+    return draw(valid_programs(feed_modes=True)), count

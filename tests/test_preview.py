@@ -182,7 +182,7 @@ def compare(
 ) -> None:
     """Both runs of ``program`` must make the same calls; when the module
     crashes, ``crashed()`` (default: skip the test, with the reason)."""
-    with scratch_run(program, text) as s:
+    with scratch_run(program, text, args=()) as s:
         expected = reference(s, s.program.name, list(extra))
         if expected is None:
             (crashed or (lambda: pytest.skip(CRASH_REASON)))()

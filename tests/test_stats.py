@@ -44,9 +44,10 @@ NCFILES = Path("/usr/share/linuxcnc/ncfiles")
 
 
 @contextmanager
-def scratch_run(program: Path, text=None, args=()):
-    """cwd in a scratch copy of the files of the program's folder a run of
-    it with ``args`` reads (tests/rs274.py's Scratch), with a private cache."""
+def scratch_run(program: Path, text=None, args=None):
+    """cwd in a scratch copy of the program's folder, with a private cache;
+    given the options ``args`` of a run, only the files that run reads
+    (tests/rs274.py's Scratch)."""
     with harness.Scratch(program, text, args=args) as s:
         saved_cwd, saved_env = os.getcwd(), dict(os.environ)
         os.environ["NGC2PY_CACHE"] = str(s.tmp / "cache")
