@@ -187,7 +187,16 @@ class CyclesMixin:
             raise GCodeError("Cannot do zero repeats of cycle")
         if self.plane in _UVW_PLANES:
             self._uvw_cycle(words)
-        self._plane_cycle(motion, block, r_word, repeats)
+        start = self.current
+        try:
+            self._plane_cycle(motion, block, r_word, repeats)
+        except GCodeError:
+            # rs274 sets its current point once, after the last hole: a cycle
+            # that fails part way (the spindle's direction, a peck's Q) leaves
+            # it where the line began, though the canon made the moves before
+            # the error, and -n 0 goes on from there
+            self.current = start
+            raise
         self.cycle_r = r_word
         self.motion_mode = motion
 

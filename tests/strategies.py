@@ -151,6 +151,8 @@ class Writer:
         self.subs: List[tuple] = []  # (name, nargs, returns)
         self.depth = 0
         self.fanuc = False  # a Fanuc subroutine O9001 follows the program end
+        #: cycles may fail part way (run with -n 0: cycle_programs)
+        self.failing = False
 
     def emit(self, line: str) -> None:
         self.lines.append("  " * self.depth + line)
@@ -360,21 +362,29 @@ def stmt_cycle(w: Writer) -> None:
     words += [f"{hole}{fmt(bottom)}", f"R{fmt(r)}"]
     if code in ("G82", "G86", "G88", "G89") or (code in ("G74", "G84") and w.draw(st.booleans())):
         words.append(f"P{w.draw(numbers(0, 20, 10))}")
+    # a cycle that fails after its first moves: the spindle the wrong way or
+    # stopped, a Q of zero or less
+    fails = w.failing and w.draw(st.integers(0, 2)) == 0
     if code in ("G73", "G83"):
-        words.append(f"Q{fmt(w.draw(st.integers(2, 20)) / 10)}")
+        q = w.draw(st.integers(-10, 0)) if fails else w.draw(st.integers(2, 20))
+        words.append(f"Q{fmt(q / 10)}")
     if code == "G87":
         words += [f"{letter}{w.draw(numbers(-30, 30, 10))}" for letter in "IJK"]
     if code != "G74" and w.draw(st.integers(0, 2)) == 0:
         words.append(f"L{w.draw(st.integers(1, 3))}")
     prefix = []
     if code in ("G74", "G84", "G86", "G87", "G88"):
-        if code == "G84" or (code != "G74" and w.draw(st.booleans())):
-            prefix.append(f"S{w.draw(numbers(0, 2000, 1))} M3")
-        else:
-            prefix.append(f"S{w.draw(numbers(0, 2000, 1))} M4")
+        clockwise = code == "G84" or (code != "G74" and w.draw(st.booleans()))
+        turning = "M3" if clockwise != (fails and code in ("G74", "G84")) else "M4"
+        if fails and code not in ("G74", "G84"):
+            turning = "M5"
+        prefix.append(f"S{w.draw(numbers(0, 2000, 1))} {turning}")
     if w.draw(st.booleans()):
         prefix.append(w.draw(st.sampled_from(["G98", "G99"])))
     w.emit(" ".join(prefix + [f"G{plane}", f"G{dist}", code] + [x for x in words if x]))
+    if fails:
+        # where the failed line left the current point, as the next lines see it
+        w.emit("(debug, #5420 #5421 #5422)")
     for _ in range(w.draw(st.integers(0, 2))):
         w.emit(_axes(w, in_plane))  # the same cycle again, elsewhere
     if w.draw(st.booleans()):
@@ -762,10 +772,13 @@ def valid_programs(draw, max_statements: int = 12, feed_modes: bool = False) -> 
 
 
 @st.composite
-def cycle_programs(draw, max_statements: int = 8) -> str:
+def cycle_programs(draw, max_statements: int = 8, failing: bool = False) -> str:
     """A program that is mostly canned cycles, with moves and modal changes
-    (units, distance mode, offsets, spindle, path control) in between."""
+    (units, distance mode, offsets, spindle, path control) in between.
+    ``failing``: some cycles fail after their first moves (for rs274's
+    ``-n 0``, which goes on from what the failed line left)."""
     w = Writer(draw)
+    w.failing = failing
     w.emit(draw(st.sampled_from(["G21 G90 G17 G94", "G20 G90", "G21 G90 G64 P0.01"])))
     w.emit(f"F{draw(numbers(50, 1000, 1))}")
     w.emit(f"G0 {_axes(w, 'XYZ')}")

@@ -114,6 +114,15 @@ def test_cycle_programs_run(text):
     check_same(text, "inprocess")
 
 
+@PROFILE
+@given(strategies.cycle_programs(failing=True))
+def test_failing_cycles_go_on_as_rs274(text):
+    """Cycles that fail after their first moves, under -n 0: rs274 keeps its
+    current point where the failed line began (it sets it after the last
+    hole), though its canon made the moves before the error."""
+    check_same(text, "inprocess", ["-n", "0"])
+
+
 @settings(PROFILE, max_examples=PROFILE.max_examples * 2)
 @given(strategies.invalid_programs())
 def test_invalid_programs_run(text):
