@@ -195,7 +195,7 @@ def test_generator_writes_valid_programs(text):
 @settings(PROFILE, max_examples=PROFILE.max_examples * 2)
 @given(strategies.compensated_programs())
 def test_compensated_profiles_run(text):
-    check_same(text)
+    check_same(text, "inprocess")
 
 
 #: Programs drawn with a tool table run in its folder (never written there).
@@ -214,7 +214,9 @@ def test_compensated_profiles_with_tool_table_run(text):
         expected = harness.run_rs274(program, ["-t", "tools.tbl"], timeout=TIMEOUT)
         if expected.timed_out or (expected.rc is not None and expected.rc < 0):
             reject()
-        actual = harness.run_ngc2py(program, ["-t", "tools.tbl"], timeout=TIMEOUT * 3)
+        actual = harness.run_ngc2py(
+            program, ["-t", "tools.tbl"], mode="inprocess", timeout=TIMEOUT * 3
+        )
     problems = harness.compare(expected, actual)
     if problems:
         pytest.fail(
