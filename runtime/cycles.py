@@ -80,6 +80,7 @@ _ABSENT = -1.0
 
 _DWELL_CYCLES = (G82, G86, G88, G89)  # P is required when the cycle starts
 _PECK_CYCLES = (G73, G83)  # Q is required when the cycle starts
+_P_CYCLES = _DWELL_CYCLES + (G74, G84)  # P is kept for the next lines
 
 
 def _code_name(code: int) -> str:
@@ -272,7 +273,8 @@ class CyclesMixin:
         if saved[0] != "EXACT_PATH":
             self._canon_control_mode("EXACT_PATH", 0.0)
 
-        run = self._cycle_body(motion, words, plane, r, clear, bottom)
+        drill = self._cycle_body(motion, words, plane, r, clear, bottom)
+        run = getattr(drill, _HOLES[motion])
         for repeat in range(repeats):
             aa += step_a
             bb += step_b
@@ -297,6 +299,11 @@ class CyclesMixin:
         end[ia], end[ib], end[ic] = aa, bb, clear
         self.current = end
         self.cycle_depth = depth_word
+        # P and Q stay for the next lines only once every hole is drilled
+        if motion in _PECK_CYCLES:
+            self.cycle_q = drill.delta
+        elif motion in _P_CYCLES:
+            self.cycle_p = drill.dwell
         if saved[0] != "EXACT_PATH":
             self._canon_control_mode(saved[0], saved[1])
             self._canon_naivecam(saved[2])
@@ -331,7 +338,7 @@ class CyclesMixin:
     # ------------------------------------------------------------------
     def _cycle_body(self, motion, words, plane, r, clear, bottom):
         """Check and settle the cycle's own words (in rs274's order, after
-        the first moves), and return what drills one hole at (aa, bb)."""
+        the first moves): the :class:`_Drill` of this line's holes."""
         name = _code_name(motion)
         first = self.motion_mode != motion
         drill = _Drill(self, motion, name, r, clear, bottom)
@@ -339,17 +346,17 @@ class CyclesMixin:
             p = words.get("p", _ABSENT)
             if first and p == _ABSENT:
                 raise GCodeError(f"Dwell time p word missing with {name.lower()}")
-            drill.dwell = self.cycle_p = self.cycle_p if p == _ABSENT else p
+            drill.dwell = self.cycle_p if p == _ABSENT else p
         elif motion in _PECK_CYCLES:
             q = words.get("q", _ABSENT)
             if first and q == _ABSENT:
                 raise GCodeError(f"Q word missing with {name.lower()}")
-            drill.delta = self.cycle_q = self.cycle_q if q == _ABSENT else q
+            drill.delta = self.cycle_q if q == _ABSENT else q
         elif motion in (G74, G84):
             p = words.get("p", _ABSENT)
             drill.direction = self._tapping_spindle(words, plane)
             drill.spindle = self.active_spindle
-            drill.dwell = self.cycle_p = self.cycle_p if p == _ABSENT else p
+            drill.dwell = self.cycle_p if p == _ABSENT else p
         elif motion == G87:
             if first:
                 for letter in "ijk":
@@ -362,7 +369,7 @@ class CyclesMixin:
             ia, ib, ic = _GEOMETRY[plane]
             middle = offsets[ic] + bottom if self.distance_incremental else offsets[ic]
             drill.offsets = (offsets[ia], offsets[ib], middle)
-        return getattr(drill, _HOLES[motion])
+        return drill
 
     # ------------------------------------------------------------------
     # Spindle

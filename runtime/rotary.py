@@ -22,10 +22,12 @@ path mode, the canon's path mode put back after (the stand-alone canon
 prints nothing for the unlocking and locking). G28, G30 and a tool change
 at G30 first index each indexer that must move, one at a time, A B C.
 
-What rs274 does with values it never computed is left out: where a failed
-unwrap leaves its results unset (a reference point of 360 degrees or more
-that G28/G30 uses; an indexer move whose end point fails), ngc2py says it
-does not support the case instead of moving somewhere.
+An indexer move whose end point fails (a wrapped indexer told to go a turn
+or more) is rs274's "BUG: An axis incorrectly moved along with an indexer":
+rs274 ignores the failure and finds the axes it never computed differ from
+where they are. A reference point of 360 degrees or more that G28/G30 uses
+on a wrapped axis is left out: rs274 moves to values it never computed, and
+ngc2py says it does not support the case instead of moving somewhere.
 """
 
 from __future__ import annotations
@@ -48,6 +50,7 @@ _LETTERS = "abc"
 _OTHER_AXES = "xyzuvw"
 
 _INVALID = "Invalid absolute position %5.2f for wrapped rotary axis %c"
+_MOVED_ALONG = "BUG: An axis incorrectly moved along with an indexer"
 
 
 def unwrap(sign_of: float, commanded: float, current: float, letter: str) -> float:
@@ -158,14 +161,14 @@ class RotaryMixin:
         mode stays as it was)."""
         try:
             end = self._find_ends(block)
-        except GCodeError as error:
-            # rs274 ignores the failure and moves to whatever it left unset
-            raise _unsupported(
-                "an indexer move whose end point fails (%s)" % error
-            ) from error
+        except GCodeError:
+            # rs274 ignores find_ends' failure and compares the values it
+            # left unset (at least U, V and W, found after A, B and C) with
+            # the current point: they differ, in every case tried
+            raise GCodeError(_MOVED_ALONG) from None
         cur = self.current
         if any(end[i] != cur[i] for i in range(9) if i != axis):
-            raise GCodeError("BUG: An axis incorrectly moved along with an indexer")
+            raise GCodeError(_MOVED_ALONG)
         self._index(axis, end[axis])
 
     def _index_first(self, end: Sequence[float]) -> None:

@@ -2451,11 +2451,11 @@ INDEXER_VALUES = ["4", "0", "3abc", "abc", "-1", "-2", "4294967295", ""]
 
 
 @st.composite
-def rotary_ini_sections(draw) -> tuple:
-    """(INI text, letters of the axes with both keys): some of A, B, C
-    wrapped and/or locking indexers (odd values too), now and then under
-    the old [AXIS_3]..[AXIS_5] names, which rs274 2.9 does not read."""
-    sections, both = [], ""
+def rotary_inis(draw) -> str:
+    """INI texts: some of A, B, C wrapped and/or locking indexers (odd
+    values too), now and then under the old [AXIS_3]..[AXIS_5] names, which
+    rs274 2.9 does not read."""
+    sections = []
     for letter, joint in zip("ABC", "345"):
         lines = []
         if draw(st.integers(0, 2)):
@@ -2465,16 +2465,10 @@ def rotary_ini_sections(draw) -> tuple:
         if lines:
             name = joint if draw(st.integers(0, 9)) == 0 else letter
             sections.append(f"[AXIS_{name}]\n" + "\n".join(lines) + "\n")
-            both += letter if len(lines) == 2 else ""
     extra = ""
     if draw(st.booleans()):
         extra = "[EMCIO]\nTOOL_CHANGE_AT_G30 = 1\n"
-    return "".join(draw(st.permutations(sections))) + extra, both
-
-
-def rotary_inis():
-    """INI texts of :func:`rotary_ini_sections`."""
-    return rotary_ini_sections().map(lambda drawn: drawn[0])
+    return "".join(draw(st.permutations(sections))) + extra
 
 
 def _angle(draw, small: bool) -> str:
@@ -2486,10 +2480,9 @@ def _angle(draw, small: bool) -> str:
     return draw(st.sampled_from(["360", "-360", "400", "-720.5", "1000"]))
 
 
-def _rotary_words(draw, small: bool, both: str) -> str:
+def _rotary_words(draw, small: bool) -> str:
     letters = draw(st.lists(st.sampled_from("ABC"), min_size=1, max_size=2, unique=True))
-    # (a wrapped indexer's failing end point leaves rs274 moving to garbage)
-    return " ".join(letter + _angle(draw, small or letter in both) for letter in sorted(letters))
+    return " ".join(letter + _angle(draw, small) for letter in sorted(letters))
 
 
 @st.composite
@@ -2499,12 +2492,12 @@ def rotary_programs(draw, max_statements: int = 14) -> tuple:
     with A words, M6 at G30, path control modes) run with an INI from
     :func:`rotary_inis`. Reference points stay within a turn: beyond it rs274
     homes a wrapped axis to a value it never computed."""
-    ini, both = draw(rotary_ini_sections())
+    ini = draw(rotary_inis())
     lines = ["G21 G90 G17 F100"]
     for _ in range(draw(st.integers(1, max_statements))):
         kind = draw(st.integers(0, 15))
         xy = draw(st.sampled_from(["", "", "X1 ", "Y-2 ", "X3 Y1 "]))
-        rotary = _rotary_words(draw, draw(st.booleans()), both)
+        rotary = _rotary_words(draw, draw(st.booleans()))
         if kind <= 3:
             lines.append(f"{draw(st.sampled_from(['G0', 'G0', 'G1', '']))} {xy}{rotary}".strip())
         elif kind == 4:

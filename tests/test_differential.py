@@ -21,7 +21,7 @@ import tempfile
 from pathlib import Path
 
 import pytest
-from hypothesis import HealthCheck, Phase, given, reject, settings
+from hypothesis import HealthCheck, Phase, example, given, reject, settings
 
 import rs274 as harness
 import strategies
@@ -116,10 +116,16 @@ def test_cycle_programs_run(text):
 
 @PROFILE
 @given(strategies.cycle_programs(failing=True))
+@example(
+    # found by hypothesis: the failed lines' Q and P were kept for the next
+    text="G21 G90 F50\nG91 G83 Z-0.1 R0 Q0.2\nG90\nG91 G83 Z-0.1 R0 Q0\nX0\n"
+    "S100 M3\nG82 Z-1 R1 P2\nM4\nG84 Z-1 R1 P3\nX1\nM2\n"
+)
 def test_failing_cycles_go_on_as_rs274(text):
     """Cycles that fail after their first moves, under -n 0: rs274 keeps its
     current point where the failed line began (it sets it after the last
-    hole), though its canon made the moves before the error."""
+    hole), though its canon made the moves before the error, and keeps the
+    sticky words (P, Q, R, depth, motion) of the last cycle that ended."""
     check_same(text, "inprocess", ["-n", "0"])
 
 

@@ -135,6 +135,12 @@ PROGRAMS = [
     "G64 P0.5 Q0.2\nG0 B10\nG28 B0\nG28.1\nG0 B5\nG0 Y1\nG30 Y2 B20\nG28\n"
     "(debug,#5420 #5425)\nM2\n",
     "G0 B10 C10\nM2\n",
+    # a wrapped indexer told to go a turn or more: rs274 ignores the failed
+    # unwrap and finds the axes it never computed moved (the "both" INI)
+    "G0 C-400\nM2\n",
+    "G1 X1 F100\nG0 X0 Y0\nG0 C10\nG0 C360\nM2\n",
+    "G53 G0 C500\nM2\n",
+    "G91 G0 C500\nG90 G0 C-370\nM2\n",
     "G0 C10\nG0 B20\nG28\nM2\n",
     # a tool change at G30: indexers first, between the AXIS comments
     "#5185=1\n#5186=0\n#5185=50\n#5186=20\nT1 M6\nM2\n",
