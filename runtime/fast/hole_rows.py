@@ -282,8 +282,9 @@ class _Capture:
             self.told = None
 
 
-#: Fields the cycle line's hole sets that a row's hole leaves as they are.
-_TOLD_APART = frozenset(("current", "line", "cycle_depth"))
+#: Fields the cycle line's hole sets that a row's hole leaves as they are
+#: (the depth, P and Q are the line's, kept once its holes are drilled).
+_TOLD_APART = frozenset(("current", "line", "cycle_depth", "cycle_p", "cycle_q"))
 
 
 class HoleRows:
