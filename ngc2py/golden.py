@@ -51,6 +51,8 @@ REFERENCE_MARK = ".golden-from-rs274"
 
 #: Folders larger than this are not copied for a run (only the program is).
 MAX_COPY_BYTES = 5_000_000
+#: What a scratch copy of a folder leaves out besides its recordings.
+NOT_COPIED = ("__pycache__", ".ngc2py_cache", ".git")
 
 #: Exit statuses of ``ngc2py golden``.
 EXIT_OK, EXIT_CHANGED, EXIT_USAGE = 0, 1, 2
@@ -283,9 +285,7 @@ class Scratch:
             shutil.copytree(
                 source,
                 self.work,
-                ignore=shutil.ignore_patterns(
-                    "*.out", "*.err", "*.rc", "__pycache__", ".ngc2py_cache", ".git"
-                ),
+                ignore=shutil.ignore_patterns("*.out", "*.err", "*.rc", *NOT_COPIED),
                 symlinks=True,
             )
         else:

@@ -105,10 +105,19 @@ class Scratch(golden.Scratch):
     ngc2py's side: rs274's own runs copy the whole folder, so a file
     ngc2py fails to look for still shows as a difference."""
 
-    def __init__(self, program, text=None, inputs=None, *, args=None):
+    def __init__(self, program, text=None, inputs=None, *, args=None, linked=False):
+        """``linked``: for rs274's runs, the program's folder is in the
+        scratch folder whole, its G-code files linked rather than copied
+        (golden/oword alone holds hundreds: copying them took five times
+        the run), the files rs274 may write (var files, tool tables, logs)
+        copied."""
         program = Path(program)
         if text is None and inputs is None and args is not None:
             inputs = golden.run_inputs(program, list(args))
+        if linked and text is None and inputs is None and program.parent.is_dir():
+            super().__init__(program, None, ())  # the program alone, copied
+            _link_folder(program.parent, self.work, skip=program.name)
+            return
         super().__init__(program, text, inputs)
 
     def env(self, extra: Optional[dict] = None) -> dict:
@@ -126,6 +135,26 @@ class Scratch(golden.Scratch):
 
     def cleanup(self) -> None:
         shutil.rmtree(self.tmp, ignore_errors=True)
+
+
+#: Files rs274 only reads (subroutine files): linked into a scratch folder.
+_READ_ONLY = (".ngc", ".nc")
+#: What a golden folder holds beside its programs that no run reads.
+_RECORDINGS = (".out", ".err", ".rc", ".expect", ".partial", ".args")
+
+
+def _link_folder(source: Path, work: Path, skip: str) -> None:
+    for entry in os.scandir(source):
+        name = entry.name
+        suffix = os.path.splitext(name)[1]
+        if name == skip or suffix in _RECORDINGS or name in golden.NOT_COPIED:
+            continue
+        if entry.is_dir():
+            shutil.copytree(entry.path, work / name, symlinks=True)
+        elif suffix in _READ_ONLY:
+            os.symlink(os.path.abspath(entry.path), work / name)
+        else:
+            shutil.copy2(entry.path, work / name)
 
 
 def _run(cmd: Sequence[str], scratch: Scratch, timeout: float) -> Result:
@@ -162,7 +191,7 @@ def run_rs274(
     if exe is None:
         raise RuntimeError("rs274 is not installed (LinuxCNC's linuxcnc-uspace package)")
     program = Path(program)
-    with Scratch(program, text) as s:
+    with Scratch(program, text, linked=True) as s:
         return _run([exe, "-g", *args, s.program.name], s, timeout)
 
 

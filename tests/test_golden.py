@@ -11,9 +11,10 @@ One test per program in golden/<feature>/<name>.ngc and per way of running it:
   (tests/rs274.py)
 
 and, for every SAMPLE-th program (a tenth of the corpus, spread over every
-folder), the same two in new interpreters, as a user starts them: ``run``
-(``python -m ngc2py run``) and ``convert-process``. They hold the in-process
-runners to what the processes print, byte for byte.
+folder), one of the two in a new interpreter, as a user starts it, in turn:
+``run`` (``python -m ngc2py run``) or ``convert-process`` (``python
+prog.py``). They hold the in-process runners to what the processes print,
+byte for byte.
 
 Pass = stdout byte-identical to ``<name>.out``, the same exit status as
 ``<name>.rc`` and the same error message as ``<name>.err``. These tests use
@@ -35,7 +36,7 @@ import rs274 as harness
 
 MODES = [m for m in os.environ.get("NGC2PY_GOLDEN_MODES", "inprocess,convert").split(",") if m]
 PROGRAMS = harness.golden_programs()
-#: One program in SAMPLE also runs in new processes (PROCESS_MODES).
+#: One program in SAMPLE also runs in a new process (PROCESS_MODES in turn).
 SAMPLE = 10
 PROCESS_MODES = [m for m in ("run", "convert-process") if m not in MODES]
 
@@ -56,7 +57,9 @@ def test_corpus_is_recorded():
 
 def _cases():
     for index, program in enumerate(PROGRAMS):
-        extra = PROCESS_MODES if index % SAMPLE == 0 else []
+        extra = []
+        if index % SAMPLE == 0 and PROCESS_MODES:
+            extra = [PROCESS_MODES[index // SAMPLE % len(PROCESS_MODES)]]
         for mode in MODES + extra:
             yield pytest.param(program, mode, id="%s-%s" % (_id(program), mode))
 

@@ -52,7 +52,7 @@ QUICK = settings(
 )
 
 
-@settings(QUICK, max_examples=400)
+@settings(QUICK, max_examples=150)
 @given(cam_strategies.odd_cam_programs(), SIZES)
 def test_the_lane_writes_the_module_the_line_reader_writes(text, sizes):
     with ExitStack() as stack:
@@ -61,7 +61,7 @@ def test_the_lane_writes_the_module_the_line_reader_writes(text, sizes):
     assert fast == slow
 
 
-@settings(QUICK, max_examples=100)
+@settings(QUICK, max_examples=50)
 @given(cam_strategies.cam_programs())
 def test_the_lane_on_plain_cam_programs(text):
     fast, slow = _both(text)
