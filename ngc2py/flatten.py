@@ -716,6 +716,8 @@ class FlattenCanon(Canon):
                 i += 1
                 continue
             name, args = calls[i]
+            if name in _SPINDLE_ALONE:
+                self._check_spindle(name, args[0])
             at.i = i
             at.nxt = nxt = calls[i + 1][0] if i + 1 < len(calls) else None
             if name == "set_feed_rate" and nxt in ("straight_feed", "arc_feed"):
@@ -1250,13 +1252,12 @@ class FlattenCanon(Canon):
         if name == "dwell":
             return "G4 P" + number(args[0])
         if name == "set_spindle_speed":
-            return "S" + number(args[1])
+            return "S" + number(args[1]) + _dollar(args[0])
+        if name in _SPINDLE_CODES:
+            return _SPINDLE_CODES[name] + _dollar(args[0])
         if name == "set_spindle_mode":
             return "G97" if args[1] == 0 else None
         simple = {
-            "start_spindle_clockwise": "M3",
-            "start_spindle_counterclockwise": "M4",
-            "stop_spindle_turning": "M5",
             "mist_on": "M7",
             "flood_on": "M8",
             "program_stop": "M0",
@@ -1315,6 +1316,20 @@ class FlattenCanon(Canon):
             % name.upper()
         )
 
+    def _check_spindle(self, name: str, spindle: int) -> None:
+        """A spindle's call that flatten writes without ``$``: the first
+        spindle's, on a machine of one spindle for the override switches
+        (M48-M51 without ``$`` switch every spindle, and rs274 refuses
+        ``M51 $0``)."""
+        if spindle != 0 or (
+            name in _SPINDLE_SWITCHES and self.machine.num_spindles > 1
+        ):
+            raise FlattenError(
+                "flatten: the program makes %s(%d) on a machine of %d spindles,"
+                " which flatten cannot write as G-code yet"
+                % (name.upper(), spindle, self.machine.num_spindles)
+            )
+
     def text(self, header: Sequence[str] = ()) -> str:
         """The flat program."""
         self._flush()
@@ -1364,6 +1379,33 @@ _WRITERS = {
     "set_spindle_mode": FlattenCanon._w_spindle_mode,
     "pallet_shuttle": FlattenCanon._w_shuttle,
 }
+
+#: Spindle calls written with the spindle's ``$`` (none for the first).
+_SPINDLE_CODES = {
+    "start_spindle_clockwise": "M3",
+    "start_spindle_counterclockwise": "M4",
+    "stop_spindle_turning": "M5",
+}
+#: The spindle's override switch (M48-M51).
+_SPINDLE_SWITCHES = ("enable_speed_override", "disable_speed_override")
+#: The other calls with a spindle: written without ``$`` (_check_spindle).
+_SPINDLE_ALONE = frozenset(
+    (
+        "set_spindle_mode",
+        "orient_spindle",
+        "wait_spindle_orient_complete",
+        "start_speed_feed_synch",
+        "set_feed_mode",
+    )
+    + _SPINDLE_SWITCHES
+)
+
+
+def _dollar(spindle: int) -> str:
+    """The ``$`` word of a spindle's call: none for the first spindle, the
+    one a program without ``$`` drives."""
+    return " $%d" % spindle if spindle else ""
+
 
 #: Two calls one M code makes (None: no code makes that pair).
 _PAIRS = {

@@ -399,6 +399,41 @@ def test_what_no_plain_g_code_can_say_is_refused_by_name(tmp_path):
     )
 
 
+#: Spindle words a flat program writes with the spindle's $ on a machine of
+#: several spindles ([TRAJ]SPINDLES), and what it refuses.
+SPINDLE_PROGRAMS = [
+    "S100 M3 $1\nS200 M4 $0\nM5 $1\nS300 M3\nM5\nS50 $1\nM3 $1\nG1 X1 F100\nM2\n",
+    "M3 $-1 S20\nG0 X1\nM5 $-1\nS10 M4 $2\nM5 $2\nM30\n",
+    "S1000 M3 $1\nM51 P1\nM48\nM2\n",
+]
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize("spindles", [2, 3])
+@pytest.mark.parametrize("text", SPINDLE_PROGRAMS)
+def test_several_spindles_are_written_with_their_dollar_or_refused(
+    text, spindles, tmp_path
+):
+    (tmp_path / "m.ini").write_text("[TRAJ]\nSPINDLES = %d\n" % spindles)
+    program = tmp_path / "p.ngc"
+    program.write_text(text)
+    expected = harness.run_rs274(program, ["-i", "m.ini"])
+    if expected.rc != 0:
+        # (a spindle number the machine does not have: nothing to flatten)
+        assert "$" in text and spindles == 2, expected.describe()
+        return
+    if "M51" in text or "M48" in text:
+        # M48-M51 without $ switch every spindle, and rs274 refuses M51 $0:
+        # the first spindle's switch alone has no G-code; said by name
+        rc, out, err = run_flatten(tmp_path, text, "-i", "m.ini")
+        assert rc == 1 and out == ""
+        assert err.startswith("flatten: the program makes ENABLE_SPEED_OVERRIDE(0)")
+        return
+    original, flat_run, flat = flatten_and_run(program, ["-i", "m.ini"])
+    assert flat_run.returncode == 0, flat
+    assert calls(flat_run.stdout) == calls(original.stdout), flat
+
+
 def _centres_a_short_offset_away(data, columns, pos, plane: str) -> None:
     """Now and then an arc's centre four decimals from where it starts (the
     row before's end), as a program's I and J put it: the offset flatten
