@@ -64,7 +64,7 @@ def _cases():
             yield pytest.param(program, mode, id="%s-%s" % (_id(program), mode))
 
 
-@pytest.mark.parametrize("program, mode", _cases())
+@pytest.mark.parametrize("program, mode", list(_cases()))
 def test_golden(program, mode):
     args = harness.read_args(program)
     if program.with_suffix(".expect").exists():
