@@ -578,6 +578,71 @@ static PyObject *distances(PyObject *self, PyObject *const *args, Py_ssize_t nar
     return lengths;
 }
 
+/* hole_sums(lengths, timed, kinds, rates, acceleration, sums): holes
+ * drilled alike (runtime.stats.StatsCanon.hole_moves), as
+ * runtime.stats.python_hole_sums adds them up. ``lengths`` and ``timed``
+ * are a column each of a hole's moves (lists of floats, one a hole: the
+ * move's length, and the travel it is timed by), ``kinds`` a 0 (rapid) or
+ * 1 (feed) each, ``rates`` the two rates, ``sums`` the (rapid length, feed
+ * length, time) so far. Hole by hole, move by move: the length onto its
+ * kind's total, the move's time onto the time. Returns the three totals and
+ * the count of moves of no usable rate. */
+static PyObject *hole_sums(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    if (nargs != 6) {
+        PyErr_SetString(PyExc_TypeError, "hole_sums takes 6 arguments");
+        return NULL;
+    }
+    PyObject *lengths = args[0], *timed = args[1], *kinds = args[2];
+    if (!PyList_CheckExact(lengths) || !PyList_CheckExact(timed) ||
+        !PyList_CheckExact(kinds) || PyList_GET_SIZE(timed) != PyList_GET_SIZE(lengths) ||
+        PyList_GET_SIZE(kinds) != PyList_GET_SIZE(lengths)) {
+        PyErr_SetString(PyExc_TypeError, "hole_sums: as many columns and kinds as moves");
+        return NULL;
+    }
+    Py_ssize_t moves = PyList_GET_SIZE(lengths), count = -1;
+    for (Py_ssize_t j = 0; j < moves; j++) {
+        PyObject *length = PyList_GET_ITEM(lengths, j), *time = PyList_GET_ITEM(timed, j);
+        if (!PyList_CheckExact(length) || !PyList_CheckExact(time) ||
+            PyList_GET_SIZE(time) != PyList_GET_SIZE(length) ||
+            (count >= 0 && PyList_GET_SIZE(length) != count)) {
+            PyErr_SetString(PyExc_TypeError, "hole_sums: columns are lists of one length");
+            return NULL;
+        }
+        count = PyList_GET_SIZE(length);
+        long kind = PyLong_AsLong(PyList_GET_ITEM(kinds, j));
+        if (kind != 0 && kind != 1) {
+            if (!PyErr_Occurred()) {
+                PyErr_SetString(PyExc_ValueError, "hole_sums: a kind is 0 or 1");
+            }
+            return NULL;
+        }
+    }
+    double rate[2], sum[2], time_sum, acceleration = PyFloat_AsDouble(args[4]);
+    if (!PyArg_ParseTuple(args[3], "dd", &rate[0], &rate[1]) ||
+        !PyArg_ParseTuple(args[5], "ddd", &sum[0], &sum[1], &time_sum) ||
+        (acceleration == -1.0 && PyErr_Occurred())) {
+        return NULL;
+    }
+    Py_ssize_t untimed = 0;
+    for (Py_ssize_t k = 0; k < count; k++) {
+        for (Py_ssize_t j = 0; j < moves; j++) {
+            int kind = (int) PyLong_AsLong(PyList_GET_ITEM(kinds, j));
+            double length, travel;
+            if (item_double(PyList_GET_ITEM(lengths, j), k, &length) ||
+                item_double(PyList_GET_ITEM(timed, j), k, &travel)) {
+                return NULL;
+            }
+            sum[kind] += length;
+            if (rate[kind] <= 0.0) {
+                untimed += travel != 0.0;
+            } else {
+                time_sum += move_time(travel, rate[kind], acceleration);
+            }
+        }
+    }
+    return Py_BuildValue("(dddn)", sum[0], sum[1], time_sum, untimed);
+}
+
 static PyMethodDef methods[] = {
     {"hypot", (PyCFunction) (void (*)(void)) c_hypot, METH_FASTCALL,
      "The C library's hypot(a, b)."},
@@ -585,6 +650,8 @@ static PyMethodDef methods[] = {
      "The X Y Z lengths between the points of two triples of columns."},
     {"straight_sums", (PyCFunction) (void (*)(void)) straight_sums, METH_FASTCALL,
      "Lengths, times and extents of a run of straight moves."},
+    {"hole_sums", (PyCFunction) (void (*)(void)) hole_sums, METH_FASTCALL,
+     "A batch of holes' lengths and times added in order."},
     {"arc_sums", (PyCFunction) (void (*)(void)) arc_sums, METH_FASTCALL,
      "A batch of arcs' lengths and times added in order, their extremes in the box"},
     {NULL, NULL, 0, NULL},

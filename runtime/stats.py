@@ -32,7 +32,6 @@ from __future__ import annotations
 import math
 from collections import namedtuple
 from functools import reduce
-from itertools import chain, repeat
 from operator import add
 
 TYPE_CHECKING = False  # typing and dataclasses cost milliseconds at every start
@@ -89,21 +88,6 @@ def move_time(length: float, rate_per_minute: float, acceleration: float) -> flo
     if length >= ramp:
         return length / speed + speed / acceleration
     return 2.0 * math.sqrt(length / acceleration)
-
-
-def move_times(lengths, rate_per_minute: float, acceleration: float):
-    """:func:`move_time` of each of ``lengths`` (positive or zero), with the
-    same arithmetic, as one list comprehension."""
-    speed = rate_per_minute / 60.0
-    if not acceleration or math.isinf(acceleration):
-        return [length / speed for length in lengths]
-    ramp = speed * speed / acceleration
-    tail = speed / acceleration
-    sqrt = math.sqrt
-    return [
-        length / speed + tail if length >= ramp else 2.0 * sqrt(length / acceleration)
-        for length in lengths
-    ]
 
 
 def python_arc_sums(
@@ -216,11 +200,34 @@ def python_distances(x0, y0, z0, x1, y1, z1):
     return list(map(distance, zip(x0, y0, z0), zip(x1, y1, z1)))
 
 
+def python_hole_sums(lengths, timed, kinds, rates, acceleration, sums):
+    """Holes drilled alike (:meth:`StatsCanon.hole_moves`): ``lengths`` and
+    ``timed`` a column each of a hole's moves (the move's length at each
+    hole, and the travel it is timed by), ``kinds`` 0 (rapid) or 1 (feed)
+    each, ``rates`` the two rates, ``sums`` the (rapid length, feed length,
+    time) so far. Hole by hole, move by move, the length goes onto its
+    kind's total and the move's time (:func:`move_time`) onto the time.
+    Returns the three totals and the count of moves of no usable rate.
+    runtime._arc_stats.hole_sums does the same in C."""
+    totals = [sums[0], sums[1]]
+    time = sums[2]
+    untimed = 0
+    for k in range(len(lengths[0]) if lengths else 0):
+        for length, travel, kind in zip(lengths, timed, kinds):
+            totals[kind] += length[k]
+            rate = rates[kind]
+            if rate <= 0.0:
+                untimed += travel[k] != 0.0
+            else:
+                time += move_time(travel[k], rate, acceleration)
+    return totals[0], totals[1], time, untimed
+
+
 try:  # the same in C (runtime/_arc_stats.c)
-    from runtime._arc_stats import arc_sums, distances, straight_sums
+    from runtime._arc_stats import arc_sums, distances, hole_sums, straight_sums
 except ImportError:  # not built
     arc_sums, straight_sums = python_arc_sums, python_straight_sums
-    distances = python_distances
+    distances, hole_sums = python_distances, python_hole_sums
 
 
 class StatsCanon(ToolpathCanon):
@@ -384,16 +391,14 @@ class StatsCanon(ToolpathCanon):
         # where the hole before ended, the very first at the position). A
         # move that starts and ends at the same place in the plane (down and
         # up at the hole) is as long at every hole: measured once, at the
-        # first hole it is so for (``alike``: from which hole on).
+        # first hole it is so for.
         lengths: List[list] = []
-        alike: List[Optional[int]] = []
         for j, (_, args, where) in enumerate(moves):
             _, was, place = moves[j - 1]
             if j and place == where:
                 lengths.append(
                     [distance(xyz(was, where, 0), xyz(args, where, 0))] * count
                 )
-                alike.append(0)
             elif not j and place == "hole" and where == "start" and count > 1:
                 # from the hole before to the point above it: alike but the first
                 begin = [self.position[i] for i in range(3)]
@@ -401,7 +406,6 @@ class StatsCanon(ToolpathCanon):
                 lengths.append(
                     [distance(begin, xyz(args, where, 0))] + [length] * (count - 1)
                 )
-                alike.append(1)
             else:
                 finish = columns(args, where)
                 if j:
@@ -412,7 +416,6 @@ class StatsCanon(ToolpathCanon):
                 lengths.append(
                     distances(*begin, *finish) or python_distances(*begin, *finish)
                 )
-                alike.append(None)
         timed = lengths[:]
         for j, (_, args, _) in enumerate(moves):
             if 0.0 in lengths[j]:  # rotary axes alone: degrees at the same rate
@@ -426,12 +429,8 @@ class StatsCanon(ToolpathCanon):
                 ]
                 timed[j] = [length or turned[1] for length in lengths[j]]
                 timed[j][0] = lengths[j][0] or turned[0]
-        for kind in set(kinds):
-            mine = [lengths[j] for j, each in enumerate(kinds) if each == kind]
-            self.counts[kind] += count * len(mine)
-            self.lengths[kind] = reduce(
-                add, chain.from_iterable(zip(*mine)), self.lengths[kind]
-            )
+        for kind in kinds:
+            self.counts[kind] += count
         # the holes' box on the plane: each move's two corners of it
         boxes = {
             "hole": (min(first), min(second), max(first), max(second)),
@@ -452,22 +451,17 @@ class StatsCanon(ToolpathCanon):
         # of equals, as adding them one by one would)
         self.extents.add([min(values) for values in zip(*lows)])
         self.extents.add([max(values) for values in zip(*highs)])
-        acceleration = self.model.acceleration
-        rates = {"rapid": self.model.rapid_rate, "feed": self._feed_per_minute()}
-        times = []
-        for kind, column, same in zip(kinds, timed, alike):
-            rate = rates[kind]
-            if rate <= 0.0:
-                self.untimed_moves += count - column.count(0.0)
-                times.append(repeat(0.0, count))
-            elif same is None or 0.0 in column:
-                times.append(move_times(column, rate, acceleration))
-            else:  # the time of the length that repeats, worked out once
-                head = move_times(column[: same + 1], rate, acceleration)
-                times.append(head + head[-1:] * (count - same - 1))
-        self.motion_time = reduce(
-            add, chain.from_iterable(zip(*times)), self.motion_time
+        lengths_of = self.lengths
+        rapid, feed, self.motion_time, untimed = hole_sums(
+            lengths,
+            timed,
+            [1 if kind == "feed" else 0 for kind in kinds],
+            (self.model.rapid_rate, self._feed_per_minute()),
+            self.model.acceleration,
+            (lengths_of["rapid"], lengths_of["feed"], self.motion_time),
         )
+        lengths_of["rapid"], lengths_of["feed"] = rapid, feed
+        self.untimed_moves += untimed
         if dwells:
             self.dwells += count * len(dwells)
             self.dwell_time = reduce(add, dwells * count, self.dwell_time)

@@ -614,6 +614,45 @@ def test_the_c_straight_sums_give_the_python_ones_bit_for_bit(data, rate, accele
 
 
 @pytest.mark.skipif(
+    stats.hole_sums is stats.python_hole_sums,
+    reason="runtime._arc_stats not built here",
+)
+@settings(max_examples=200, deadline=None)
+@given(
+    st.data(),
+    st.sampled_from([300.0, 0.0, -5.0]),
+    st.sampled_from([500.0, 0.0, math.inf, 1e-3]),
+)
+def test_the_c_hole_sums_give_the_python_ones_bit_for_bit(data, feed, acceleration):
+    """runtime._arc_stats.hole_sums against runtime.stats.python_hole_sums
+    (a hole batch's totals): the same doubles and count, added in the same
+    order; lengths that repeat from hole to hole, zero travel, and a rate of
+    zero or less (untimed) included."""
+    count = data.draw(st.integers(1, 12))
+    moves = data.draw(st.integers(1, 9))
+    length = st.one_of(
+        st.sampled_from([0.0, -0.0, 1.5, 1e-9, 40.0]),
+        st.floats(0.0, 1e6, allow_nan=False),
+    )
+    lengths, timed = [], []
+    for _ in range(moves):
+        if data.draw(st.booleans()):  # as long at every hole
+            column = [data.draw(length)] * count
+        else:
+            column = [data.draw(length) for _ in range(count)]
+        lengths.append(column)
+        timed.append([value or data.draw(length) for value in column])
+    kinds = [data.draw(st.integers(0, 1)) for _ in range(moves)]
+    rapid = data.draw(st.sampled_from([3000.0, 0.0]))
+    sums = tuple(data.draw(st.sampled_from([0.0, 12.25, 1e9])) for _ in range(3))
+    answers = [
+        repr(function(lengths, timed, kinds, (rapid, feed), acceleration, sums))
+        for function in (stats.hole_sums, stats.python_hole_sums)
+    ]
+    assert answers[0] == answers[1]
+
+
+@pytest.mark.skipif(
     stats.distances is stats.python_distances,
     reason="runtime._arc_stats not built here",
 )
