@@ -393,12 +393,18 @@ class StatsCanon(ToolpathCanon):
         # up at the hole) is as long at every hole: measured once, at the
         # first hole it is so for.
         lengths: List[list] = []
+        level = 3 - ia - ib
         for j, (_, args, where) in enumerate(moves):
             _, was, place = moves[j - 1]
             if j and place == where:
-                lengths.append(
-                    [distance(xyz(was, where, 0), xyz(args, where, 0))] * count
-                )
+                a, b = places[where][0][0], places[where][1][0]
+                if a - a == 0.0 and b - b == 0.0:
+                    # the plane's two differences are zeros (finite
+                    # coordinates): the very double of the level's alone
+                    length = distance((0.0, 0.0, was[level]), (0.0, 0.0, args[level]))
+                else:
+                    length = distance(xyz(was, where, 0), xyz(args, where, 0))
+                lengths.append([length] * count)
             elif not j and place == "hole" and where == "start" and count > 1:
                 # from the hole before to the point above it: alike but the first
                 begin = [self.position[i] for i in range(3)]
