@@ -108,8 +108,15 @@ def cache_key(path: str, ini: Optional[str], block_delete: bool = False) -> str:
 
 def write_atomic(target, data: Union[str, bytes]) -> None:
     """Write ``data`` (text is UTF-8) to ``target`` so that readers see the
-    old file or the new one, never half of one; the file keeps its mode."""
+    old file or the new one, never half of one; the file keeps its mode. A
+    device or a pipe (``-o /dev/null``) is written to, not replaced."""
+    from runtime.atomic import special_file
+
     target = os.fspath(target)
+    if special_file(target):
+        with open(target, "wb") as handle:
+            handle.write(data.encode("utf-8") if isinstance(data, str) else data)
+        return
     folder = os.path.dirname(target) or "."
     os.makedirs(folder, exist_ok=True)
     import tempfile  # here: a cached `ngc2py run` never writes

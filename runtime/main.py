@@ -220,9 +220,17 @@ class _Output:
     def __init__(self, path: str) -> None:
         import tempfile
 
+        from runtime.atomic import special_file
+
         self.path = path
-        folder, name = os.path.split(os.path.abspath(path))
-        handle, self.temporary = tempfile.mkstemp(prefix="." + name + ".", dir=folder)
+        self.temporary = None
+        if special_file(path):  # a device or a pipe: written to, not replaced
+            handle = path
+        else:
+            folder, name = os.path.split(os.path.abspath(path))
+            handle, self.temporary = tempfile.mkstemp(
+                prefix="." + name + ".", dir=folder
+            )
         # the G-code's bytes as they were read (surrogateescape), lines as written
         self.file = open(
             handle, "w", encoding="utf-8", errors="surrogateescape", newline=""
@@ -237,12 +245,14 @@ class _Output:
 
         try:
             self.file.close()
-            os.chmod(self.temporary, file_mode(self.path))  # as fopen makes it
-            os.replace(self.temporary, self.path)
+            if self.temporary is not None:
+                os.chmod(self.temporary, file_mode(self.path))  # as fopen makes it
+                os.replace(self.temporary, self.path)
         except OSError as error:
             stderr.write("could not write output file %s: %s\n" % (self.path, error))
             try:
-                os.unlink(self.temporary)
+                if self.temporary is not None:
+                    os.unlink(self.temporary)
             except OSError:
                 pass
             return False

@@ -216,3 +216,32 @@ def test_the_output_file_has_the_mode_fopen_gives_it(tmp_path):
                 modes.append(os.stat(target).st_mode & 0o7777)
             assert modes[0] == modes[1]
             assert modes[0] == (existing or modes[0]) and modes[0] != 0o600
+
+
+@pytest.mark.parametrize("command", ["run", "convert"])
+def test_a_device_or_a_pipe_is_written_to_not_replaced(command, tmp_path):
+    """``-o /dev/null`` or a FIFO a reader waits on: the output goes into it,
+    as rs274's fopen sends it, and it stays what it was (a rename over it
+    would put a regular file in its place: as root, /dev/null itself)."""
+    import os
+    import stat
+    import threading
+
+    (tmp_path / "p.ngc").write_text("G0 X1\nM2\n")
+    fifo = tmp_path / "out.fifo"
+    os.mkfifo(fifo)
+    got = []
+    # (a daemon: where the FIFO was replaced, no writer ever releases it)
+    reader = threading.Thread(target=lambda: got.append(fifo.read_bytes()), daemon=True)
+    reader.start()
+    if command == "run":
+        cmd = [sys.executable, "-m", "ngc2py", "run", "p.ngc", str(fifo)]
+    else:
+        cmd = [sys.executable, "-m", "ngc2py", "convert", "p.ngc", "-o", str(fifo), "-q"]
+    env = dict(os.environ, PYTHONPATH=str(harness.REPO))
+    done = subprocess.run(cmd, cwd=tmp_path, env=env, capture_output=True, timeout=60)
+    reader.join(timeout=20)
+    assert done.returncode == 0, done.stderr
+    assert stat.S_ISFIFO(os.stat(fifo).st_mode)
+    assert got and (b"STRAIGHT_TRAVERSE(1.0000" in got[0] or b"def main" in got[0])
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.fifo", "p.ngc"]

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 from itertools import repeat, takewhile
 from marshal import dumps
+from operator import attrgetter
 
 from runtime.canon import CALLS, Canon, TraceCanon, trace_rows
 from runtime.cycles import CyclesMixin
@@ -196,9 +197,21 @@ def _snapshot(machine) -> tuple:
     return dict(vars(machine)), _world_snapshot(machine)
 
 
-def _world_snapshot(machine) -> list:
+def _world_snapshot(machine) -> tuple:
+    """The canon's world model but its position: what a hole must leave
+    as it found it."""
     world = machine.world
-    return [getattr(world, name) for name in type(world).__slots__]
+    kind = type(world)
+    getter = _WORLD_GETTERS.get(kind)
+    if getter is None:
+        names = [name for name in kind.__slots__ if name != "position"]
+        # (two names at least: attrgetter of one gives no tuple)
+        getter = _WORLD_GETTERS[kind] = attrgetter(*names, *names[:1])
+    return getter(world)
+
+
+#: world model type -> attrgetter of its fields but the position
+_WORLD_GETTERS: dict = {}
 
 
 def _only_position_changed(before: tuple, machine) -> bool:
@@ -213,11 +226,7 @@ def _only_position_changed(before: tuple, machine) -> bool:
                 probe[name] = fields[name]
         if probe != fields:
             return False
-    world = machine.world
-    for name, old in zip(type(world).__slots__, world_before):
-        if name != "position" and old != getattr(world, name):
-            return False
-    return True
+    return _world_snapshot(machine) == world_before
 
 
 class _Capture:
@@ -270,15 +279,14 @@ class _Capture:
         row = [("set_block_number", (None,))] + calls[begin:enter] + moves
         self.told = row + calls[body:], machine.current[:]
         # the row's hole changes nothing but the position, as the line's did
-        fields, after = self.fields, dict(vars(machine))
+        # (the fields a row's hole leaves as they are taken as they are now)
+        fields, after = self.fields, vars(machine)
         for name in _TOLD_APART | type(machine).replayed_fields:
-            after.pop(name, None)
-            fields.pop(name, None)
-        world = machine.world
-        if fields != after or any(
-            name != "position" and old != getattr(world, name)
-            for name, old in zip(type(world).__slots__, self.world)
-        ):
+            if name in after:
+                fields[name] = after[name]
+            else:
+                fields.pop(name, None)
+        if fields != after or _world_snapshot(machine) != self.world:
             self.told = None
 
 
