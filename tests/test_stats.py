@@ -566,16 +566,18 @@ def test_the_c_arc_sums_give_the_python_ones_bit_for_bit(
     assert answers[0] == answers[1]
 
 
+#: Feed rates (none usable among them) and accelerations (instant among
+#: them) the C sums are held to the Python ones with.
+RATES = st.sampled_from([300.0, 0.0, -5.0])
+ACCELERATIONS = st.sampled_from([500.0, 0.0, math.inf, 1e-3])
+
+
 @pytest.mark.skipif(
     stats.straight_sums is stats.python_straight_sums,
     reason="runtime._arc_stats not built here",
 )
 @settings(max_examples=300, deadline=None)
-@given(
-    st.data(),
-    st.sampled_from([300.0, 0.0, -5.0]),
-    st.sampled_from([500.0, 0.0, math.inf, 1e-3]),
-)
+@given(st.data(), RATES, ACCELERATIONS)
 def test_the_c_straight_sums_give_the_python_ones_bit_for_bit(data, rate, acceleration):
     """runtime._arc_stats.straight_sums against
     runtime.stats.python_straight_sums: the same totals, count and extents,
@@ -618,11 +620,7 @@ def test_the_c_straight_sums_give_the_python_ones_bit_for_bit(data, rate, accele
     reason="runtime._arc_stats not built here",
 )
 @settings(max_examples=200, deadline=None)
-@given(
-    st.data(),
-    st.sampled_from([300.0, 0.0, -5.0]),
-    st.sampled_from([500.0, 0.0, math.inf, 1e-3]),
-)
+@given(st.data(), RATES, ACCELERATIONS)
 def test_the_c_hole_sums_give_the_python_ones_bit_for_bit(data, feed, acceleration):
     """runtime._arc_stats.hole_sums against runtime.stats.python_hole_sums
     (a hole batch's totals): the same doubles and count, added in the same
