@@ -600,12 +600,17 @@ static PyObject *hole_sums(PyObject *self, PyObject *const *args, Py_ssize_t nar
         return NULL;
     }
     Py_ssize_t moves = PyList_GET_SIZE(lengths), count = -1;
+    int *kind_of = PyMem_New(int, moves ? moves : 1); /* read once, not a hole each */
+    if (kind_of == NULL) {
+        return PyErr_NoMemory();
+    }
     for (Py_ssize_t j = 0; j < moves; j++) {
         PyObject *length = PyList_GET_ITEM(lengths, j), *time = PyList_GET_ITEM(timed, j);
         if (!PyList_CheckExact(length) || !PyList_CheckExact(time) ||
             PyList_GET_SIZE(time) != PyList_GET_SIZE(length) ||
             (count >= 0 && PyList_GET_SIZE(length) != count)) {
             PyErr_SetString(PyExc_TypeError, "hole_sums: columns are lists of one length");
+            PyMem_Free(kind_of);
             return NULL;
         }
         count = PyList_GET_SIZE(length);
@@ -614,22 +619,26 @@ static PyObject *hole_sums(PyObject *self, PyObject *const *args, Py_ssize_t nar
             if (!PyErr_Occurred()) {
                 PyErr_SetString(PyExc_ValueError, "hole_sums: a kind is 0 or 1");
             }
+            PyMem_Free(kind_of);
             return NULL;
         }
+        kind_of[j] = (int) kind;
     }
     double rate[2], sum[2], time_sum, acceleration = PyFloat_AsDouble(args[4]);
     if (!PyArg_ParseTuple(args[3], "dd", &rate[0], &rate[1]) ||
         !PyArg_ParseTuple(args[5], "ddd", &sum[0], &sum[1], &time_sum) ||
         (acceleration == -1.0 && PyErr_Occurred())) {
+        PyMem_Free(kind_of);
         return NULL;
     }
     Py_ssize_t untimed = 0;
     for (Py_ssize_t k = 0; k < count; k++) {
         for (Py_ssize_t j = 0; j < moves; j++) {
-            int kind = (int) PyLong_AsLong(PyList_GET_ITEM(kinds, j));
+            int kind = kind_of[j];
             double length, travel;
             if (item_double(PyList_GET_ITEM(lengths, j), k, &length) ||
                 item_double(PyList_GET_ITEM(timed, j), k, &travel)) {
+                PyMem_Free(kind_of);
                 return NULL;
             }
             sum[kind] += length;
@@ -640,6 +649,7 @@ static PyObject *hole_sums(PyObject *self, PyObject *const *args, Py_ssize_t nar
             }
         }
     }
+    PyMem_Free(kind_of);
     return Py_BuildValue("(dddn)", sum[0], sum[1], time_sum, untimed);
 }
 
