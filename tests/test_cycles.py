@@ -252,9 +252,22 @@ def _without_replay(run, text: str):
         HoleRows.run, HoleRows.opening = saved
 
 
+@pytest.fixture
+def replay_every_series():
+    """Replay series of any length (hole_rows._FEWEST 1): the tables drawn
+    mix rows of one, two and three hole words, so fewer runs of rows would
+    be long enough to be replayed by default."""
+    saved = hole_rows._FEWEST
+    hole_rows._FEWEST = 1
+    yield
+    hole_rows._FEWEST = saved
+
+
 @PROFILE
 @given(cycle_tables())
-def test_replayed_holes_give_a_canon_the_reference_calls(text):
+def test_replayed_holes_give_a_canon_the_reference_calls(
+    replay_every_series, text
+):
     """runtime.fast.hole_rows replays a recorded hole for the next rows of
     hole words: any canon (here one that records) gets the very calls,
     values, N numbers and error the reference path gives it row by row, and
@@ -275,7 +288,9 @@ class _HoleBatches(RecordingCanon):
 
 @PROFILE
 @given(cycle_tables())
-def test_holes_in_batches_give_a_canon_the_reference_calls(text):
+def test_holes_in_batches_give_a_canon_the_reference_calls(
+    replay_every_series, text
+):
     """A canon that takes holes in batches (Canon.hole_moves), by the
     protocol's default, gets the calls the reference path makes row by
     row: the batch's recording, lines and coordinates say it all."""
@@ -298,7 +313,9 @@ def _stats_report(text: str):
 
 @PROFILE
 @given(cycle_tables())
-def test_stats_of_holes_in_batches_are_the_stats_of_each_call(text):
+def test_stats_of_holes_in_batches_are_the_stats_of_each_call(
+    replay_every_series, text
+):
     """StatsCanon.hole_moves (columns, sums in program order) against its
     own per-call path: the same report to the last bit."""
     from runtime.canon import Canon
@@ -338,7 +355,7 @@ def _cycle_trace(text: str) -> tuple:
 
 @PROFILE
 @given(cycle_tables())
-def test_replayed_holes_trace_the_reference_text(text):
+def test_replayed_holes_trace_the_reference_text(replay_every_series, text):
     """For the trace, runtime.fast.hole_rows writes the text of many holes
     at once from one hole's template, a piece of at most _MOST rows at a
     time (three here, so that pieces follow pieces): the very text and
@@ -391,6 +408,29 @@ def test_holes_are_replayed(monkeypatch):
         )
     )
     assert learnt == ["told"]
+
+
+@pytest.mark.parametrize("rows", [1, 2, 3, 4, 5])
+@pytest.mark.parametrize("opening", ["G98 G83 X1 Y1 Z-1 R2 Q0.4", "N5 G99 G81 X1 Y1 Z-1 R2"])
+def test_a_row_or_two_go_by_the_reference_path(monkeypatch, rows, opening):
+    """A replay's set-up costs about what the reference path spends on two
+    rows: a series of fewer than hole_rows._FEWEST rows of one shape is
+    drilled row by row, a longer one replayed (told by its cycle's line, or
+    its first row recorded), with the same calls and trace either way."""
+    learnt = _learnt(monkeypatch)
+    holes = "\n".join("X%d Y%d" % (k, k % 3) for k in range(2, 2 + rows))
+    text = cam_sized(
+        "G21 G17 F100\nG0 Z5\n%s\n%s\nG80\nG0 X0 Y0\nM2\n" % (opening, holes)
+    )
+    assert _cycle_calls(text) == _without_replay(_cycle_calls, text)
+    assert _cycle_trace(text) == _without_replay(_cycle_trace, text)
+    if opening.startswith("N"):
+        # the first row changes the N the line left: drilled by the
+        # reference path, not replayed; the series begins with the second
+        how, series = "recorded", rows - 1
+    else:
+        how, series = "told", rows
+    assert learnt == ([how, how] if series >= hole_rows._FEWEST else [])
 
 
 def test_a_cycle_line_tells_the_rows_after_it(monkeypatch):

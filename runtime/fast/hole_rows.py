@@ -77,6 +77,11 @@ _STAND_IN_TEXTS = {
 #: Rows of holes whose trace is made in one piece, at most.
 _MOST = 4096
 
+#: Rows of one shape that make a series worth replaying: the set-up (the
+#: recording, its checks, a trace template) costs about what the reference
+#: path spends on two rows, so fewer are drilled by the reference path.
+_FEWEST = 3
+
 #: Machine fields a hole changes, which the replay sets itself.
 _SET_BY_REPLAY = frozenset(("current", "line"))
 
@@ -342,8 +347,7 @@ class HoleRows:
         words = dict(zip(plan.letters, map(float, cells[at + 2 : after])))
         self.told = None
         if (
-            after >= end
-            or not self.plans[int(cells[after + 1])].cycle
+            not self._series(cells, after, end)
             or machine.cutter_comp
             or machine.plane not in _HOLE_AXES
         ):
@@ -360,6 +364,21 @@ class HoleRows:
         if capture.told is not None and not recording.keywords:
             self.told = after, capture
         return after
+
+    def _series(self, cells: List[str], at: int, end: int) -> bool:
+        """Whether the rows from ``cells[at]`` begin with _FEWEST rows of one
+        shape that a canned cycle reads: a series worth replaying."""
+        if at >= end:
+            return False
+        key = cells[at + 1]
+        plan = self.plans[int(key)]
+        stride = 2 + plan.width
+        last = at + 1 + (_FEWEST - 1) * stride
+        return (
+            plan.cycle
+            and last < end
+            and cells[at + 1 : last + 1 : stride].count(key) == _FEWEST
+        )
 
     def _hole_words(self, plane: str, key: str):
         """For a row of shape ``key``: (index of the first hole axis' value
@@ -396,40 +415,42 @@ class HoleRows:
         if told is not None and told[0] == at:
             replay = self._told(told[1], ia, ib)
         if replay is False:
+            if not self._series(cells, at, end):
+                return at  # a row or two: the reference path is quicker
             replay = self._record(cells, at, hole, ia, ib)
             if replay is None:
                 return at
             at += 2 + self.plans[int(cells[at + 1])].width
         if replay is False:
             return at  # drilled, but not to be replayed
-        calls, final = replay
         if type(machine.canon) is TraceCanon and (ia, ib) == (0, 1):
-            return self._trace_text(cells, at, end, final)
-        return self._replay(cells, at, end, calls, final, ia, ib)
+            return self._trace_text(cells, at, end, replay)
+        return self._replay(cells, at, end, replay, ia, ib)
 
     def _trace_text(self, cells: List[str], at: int, end: int, final) -> int:
         """For the trace, in the XY plane: the text of the next rows of hole
         words, a piece of at most _MOST rows at a time (_trace_piece);
         returns where it stopped."""
-        while at < end:
-            stop = self._trace_piece(cells, at, end, final)
-            if stop == at:
-                break
+        while True:
+            stop, rows = self._trace_piece(cells, at, end, final)
+            if rows < _MOST or stop == at:  # (a piece short of full: no more)
+                return stop
             at = stop
-        return at
 
     def _trace_piece(self, cells: List[str], at: int, end: int, final) -> int:
         """The trace text of at most _MOST next rows of hole words, made from
         one hole's template (_template), written in one piece: their X and
         Y as the trace prints them (a table written as printed gives them as
-        they are); returns where it stopped."""
+        they are); returns where it stopped and the number of rows."""
+        begin = at
+        runs, at = self._runs(cells, at, end, "XY")
+        if not runs:
+            return at, 0
         machine = self.machine
         canon = machine.canon
         cur = machine.current
         xs, ys = ["%.4f" % cur[0]], ["%.4f" % cur[1]]
         last = [None, None]  # the last X and Y cells written
-        begin = at
-        runs, at = self._runs(cells, at, end, "XY")
         for start, stop, first, second, stride in runs:
             # a run of rows of one shape, a column at a time
             for axis, index, written in ((0, first, xs), (1, second, ys)):
@@ -444,8 +465,6 @@ class HoleRows:
                     written += map("%.4f".__mod__, map(float, found))
             row = stop - stride
         rows = len(xs) - 1
-        if not rows:
-            return at
         # one template for every series of holes drilled alike, whatever
         # their levels (the moves' Z, written in at the first stage)
         recorded = self.recorded
@@ -470,7 +489,7 @@ class HoleRows:
             map("%.4f".__mod__, [args[2] for _, args, move in recorded if move])
         )
         if made is None or "n" in "".join(levels):  # (nan, inf: C's own words)
-            return begin  # no template: the holes go by the reference path
+            return begin, 0  # no template: the holes go by the reference path
         template, layout, lines, column = made
         base, span = canon._count, lines * rows
         pool = [range(b, b + span, lines) for b in range(base + 1, base + 1 + lines)]
@@ -486,14 +505,22 @@ class HoleRows:
         machine.current = point[:]
         machine.params.position = tuple(point)
         machine.line = int(cells[row])
-        return at
+        return at, rows
 
-    def _replay(self, cells, at: int, end: int, calls, final, ia: int, ib: int) -> int:
+    def _replay(self, cells, at: int, end: int, final, ia: int, ib: int) -> int:
         """The recorded calls again for each next row of hole words, at its
-        point; returns where it stopped."""
+        point, ending at ``final`` but in the plane; returns where it
+        stopped."""
         machine = self.machine
-        if type(machine.canon).hole_moves is not Canon.hole_moves:
+        canon = machine.canon
+        if type(canon).hole_moves is not Canon.hole_moves:
             return self._batches(cells, at, end, final, ia, ib)
+        # each bound to the canon (X and Y of a move in the XY plane go
+        # first: the usual case, quicker)
+        calls = [
+            (getattr(canon, name), args[2:] if move and ia == 0 and ib == 1 else args, move)
+            for name, args, move in self.recorded
+        ]
         known = self.holes[machine.plane]
         world, params = machine.world, machine.params
         # what a subclass keeps for each row (the preview's line state)
@@ -614,9 +641,10 @@ class HoleRows:
         return runs, at
 
     def _record(self, cells: List[str], at: int, hole, ia: int, ib: int):
-        """Drill the row at ``at`` by the reference path, recording it:
-        (calls to replay, end point), False when it may not be replayed, or
-        None when the reference path did not take the row (nothing done)."""
+        """Drill the row at ``at`` by the reference path, recording it: its
+        end point (its calls kept in ``recorded``: _replayable), False when
+        it may not be replayed, or None when the reference path did not take
+        the row (nothing done)."""
         machine = self.machine
         plan = self.plans[int(cells[at + 1])]
         values = cells[at + 2 : at + 2 + plan.width]
@@ -632,11 +660,8 @@ class HoleRows:
         if not done:
             return None
         final = list(machine.current)
-        if any(
-            after != was
-            for axis, (after, was) in enumerate(zip(final, origin))
-            if axis not in (ia, ib)
-        ):
+        level = 3 - ia - ib
+        if final[level] != origin[level] or final[3:] != origin[3:]:
             # it ended off the level it began at (the first hole after the
             # tool came from elsewhere): the next hole begins elsewhere
             return False
@@ -650,7 +675,6 @@ class HoleRows:
         be replayed."""
         machine = self.machine
         calls, final = capture.told
-        level = 3 - ia - ib
         kind = type(machine)
         if (
             # a machine that keeps something of its own for each row it
@@ -659,40 +683,34 @@ class HoleRows:
             and kind.hole_replayed is CyclesMixin.hole_replayed
         ):
             return False
-        if machine.cycle_row_refused({}) or any(
-            after != was
-            for axis, (after, was) in enumerate(zip(final, capture.start))
-            if axis not in (ia, ib, level)
-        ):
+        # (the plane's three axes are 0, 1 and 2: the others must stay)
+        if machine.cycle_row_refused({}) or final[3:] != capture.start[3:]:
             return False
         return self._replayable(calls, capture.start, final, ia, ib)
 
     def _replayable(self, recorded_calls, origin, final, ia: int, ib: int):
-        """The calls of a hole drilled from ``origin`` to ``final`` to be
-        replayed (each bound to the canon, its moves told apart: at the
-        hole, or where the tool was before it), or False where a call is
+        """The end point of a hole drilled from ``origin`` to ``final``, its
+        calls kept to be replayed (``recorded``: its moves told apart, at
+        the hole or where the tool was before it), or False where a call is
         not a hole's or which moves are at the hole is not to be told."""
-        canon = self.machine.canon
         start = origin[ia], origin[ib]
         hole = final[ia], final[ib]
         if hole == start:
             return False  # which moves are at the hole is not to be told
-        calls, recorded = [], []
+        recorded = []
         for name, args in recorded_calls:
-            move = None
             if name in HOLE_MOVES:
                 # at the hole, or (up to the R plane first) where it was
                 spot = args[ia], args[ib]
-                move = (
-                    _AT_HOLE if spot == hole else _AT_START if spot == start else None
-                )
-                if move is None:
+                if spot == hole:
+                    recorded.append((name, args, _AT_HOLE))
+                elif spot == start:
+                    recorded.append((name, args, _AT_START))
+                else:
                     return False  # elsewhere (G87's offsets)
-            elif name not in HOLE_SWITCHES:
+            elif name in HOLE_SWITCHES:
+                recorded.append((name, args, None))
+            else:
                 return False
-            recorded.append((name, args, move))
-            if move is not None and (ia, ib) == (0, 1):
-                args = args[2:]  # the replay puts X and Y first
-            calls.append((getattr(canon, name), args, move))
         self.recorded, self.shape = recorded, None
-        return calls, final
+        return final
