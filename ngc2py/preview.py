@@ -362,12 +362,19 @@ class PreviewCanon(Canon):
             "hole": (first, second),
             "start": ([start[0]] + first[:-1], [start[1]] + second[:-1]),
         }
+        shown = places  # the places in the target's units, each divided once
+        if k != 1.0:
+            first, second = [v / k for v in first], [v / k for v in second]
+            shown = {
+                "hole": (first, second),
+                "start": ([start[0] / k] + first[:-1], [start[1] / k] + second[:-1]),
+            }
         columns = []  # per call of a hole: (the target's method, its columns)
         for name, args, where in recording:
             if where is not None:
                 steps = [repeat(value, count) for value in self._pose(*args)]
-                for axis, values in zip(axes, places[where]):
-                    steps[axis] = values if k == 1.0 else [v / k for v in values]
+                for axis, values in zip(axes, shown[where]):
+                    steps[axis] = values
                 columns.append((getattr(target, name), steps))
             elif name == "dwell":
                 columns.append((target.dwell, [repeat(args[0], count)]))

@@ -129,7 +129,7 @@ def _recorder(name: str):
     return record
 
 
-for _name in CALLS:
+for _name in (*CALLS, "set_block_number"):
     setattr(_Recording, _name, _recorder(_name))
 del _name
 
