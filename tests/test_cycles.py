@@ -265,9 +265,7 @@ def replay_every_series():
 
 @PROFILE
 @given(cycle_tables())
-def test_replayed_holes_give_a_canon_the_reference_calls(
-    replay_every_series, text
-):
+def test_replayed_holes_give_a_canon_the_reference_calls(replay_every_series, text):
     """runtime.fast.hole_rows replays a recorded hole for the next rows of
     hole words: any canon (here one that records) gets the very calls,
     values, N numbers and error the reference path gives it row by row, and
@@ -288,9 +286,7 @@ class _HoleBatches(RecordingCanon):
 
 @PROFILE
 @given(cycle_tables())
-def test_holes_in_batches_give_a_canon_the_reference_calls(
-    replay_every_series, text
-):
+def test_holes_in_batches_give_a_canon_the_reference_calls(replay_every_series, text):
     """A canon that takes holes in batches (Canon.hole_moves), by the
     protocol's default, gets the calls the reference path makes row by
     row: the batch's recording, lines and coordinates say it all."""
@@ -411,7 +407,9 @@ def test_holes_are_replayed(monkeypatch):
 
 
 @pytest.mark.parametrize("rows", [1, 2, 3, 4, 5])
-@pytest.mark.parametrize("opening", ["G98 G83 X1 Y1 Z-1 R2 Q0.4", "N5 G99 G81 X1 Y1 Z-1 R2"])
+@pytest.mark.parametrize(
+    "opening", ["G98 G83 X1 Y1 Z-1 R2 Q0.4", "N5 G99 G81 X1 Y1 Z-1 R2"]
+)
 def test_a_row_or_two_go_by_the_reference_path(monkeypatch, rows, opening):
     """A replay's set-up costs about what the reference path spends on two
     rows: a series of fewer than hole_rows._FEWEST rows of one shape is
