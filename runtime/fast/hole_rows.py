@@ -437,7 +437,7 @@ class HoleRows:
                 return stop
             at = stop
 
-    def _trace_piece(self, cells: List[str], at: int, end: int, final) -> int:
+    def _trace_piece(self, cells: List[str], at: int, end: int, final) -> tuple:
         """The trace text of at most _MOST next rows of hole words, made from
         one hole's template (_template), written in one piece: their X and
         Y as the trace prints them (a table written as printed gives them as
@@ -518,7 +518,11 @@ class HoleRows:
         # each bound to the canon (X and Y of a move in the XY plane go
         # first: the usual case, quicker)
         calls = [
-            (getattr(canon, name), args[2:] if move and ia == 0 and ib == 1 else args, move)
+            (
+                getattr(canon, name),
+                args[2:] if move and ia == 0 and ib == 1 else args,
+                move,
+            )
             for name, args, move in self.recorded
         ]
         known = self.holes[machine.plane]
