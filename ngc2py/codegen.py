@@ -189,13 +189,13 @@ def _walk_bodies(stmt):
 
 def l0_span(stmts: List[st.Stmt]) -> Optional[Tuple[int, int]]:
     """``(i, j)``: ``stmts[i]`` an M98 that may enter a frame without a call
-    (``m98_may_strand``), ``stmts[j]`` the first M99 after it (a block, its
+    (``structure.m98_may_strand``), ``stmts[j]`` the first M99 after it (a block, its
     failure, or a Fanuc subroutine's return), with no break or continue
     between (the loop :meth:`CodeGen.m99_loop` writes would catch it)."""
     start = None
     for k, stmt in enumerate(stmts):
         if start is None:
-            if isinstance(stmt, st.FanucCall) and m98_may_strand(stmt.line):
+            if isinstance(stmt, st.FanucCall) and st.m98_may_strand(stmt.line):
                 start = k
             continue
         word = getattr(stmt, "line", None) and stmt.line.oword
@@ -209,15 +209,6 @@ def l0_span(stmts: List[st.Stmt]) -> Optional[Tuple[int, int]]:
                 return None
             return start, k
     return None
-
-
-def m98_may_strand(line: nodes.Line) -> bool:
-    """An M98 line whose L word is not a non-zero number (``L0``, or a
-    value known only at run time)."""
-    for w in line.words:
-        if w.letter == "l":
-            return not (isinstance(w.value, nodes.Num) and w.value.value != 0)
-    return False
 
 
 class ExprWriter:
@@ -740,7 +731,7 @@ class CodeGen:
         #: Enough constant blocks for short runs to become tables too.
         self.cam_sized = constant_rows(bodies) >= MIN_PROGRAM_ROWS
         self.any_strand = any(
-            isinstance(stmt, st.FanucCall) and m98_may_strand(stmt.line)
+            isinstance(stmt, st.FanucCall) and st.m98_may_strand(stmt.line)
             for body in bodies
             for stmt in st.walk(body)
         )
@@ -1647,6 +1638,22 @@ class CodeGen:
             self.do_test(loop)
         self.w.stmt("continue", line)
 
+    def anew_test(self, loop: st.Loop) -> None:
+        """The closing ``while`` of a do-loop left one call level down by an
+        ``M98 .. L0`` in its body: rs274 does not find the do's label in
+        that frame and reads the line as a new while-loop (structure
+        Loop.anew) -- true, it goes on past the line; false, it skips ahead
+        for the label."""
+        line = loop.end
+        self.w.stmt("if m.left_frame(%s):" % string(self.frame_key(loop)), line)
+        self.w.depth += 1
+        self.w.stmt("if %s:" % self.x.condition(line.oword.expr), line)
+        self.w.depth += 1
+        self.w.stmt("break", line)
+        self.w.depth -= 1
+        self.statement(loop.anew)
+        self.w.depth -= 1
+
     def do_test(self, loop: st.Loop) -> None:
         """``if not <cond>: break`` for the closing ``while`` of a do-loop
         (which also ends the loop, once, after a while-loop's break)."""
@@ -1709,7 +1716,7 @@ class CodeGen:
         if not self.any_strand:
             return False
         for inner in _walk_bodies(stmt):
-            if isinstance(inner, st.FanucCall) and m98_may_strand(inner.line):
+            if isinstance(inner, st.FanucCall) and st.m98_may_strand(inner.line):
                 return True
         return False
 
@@ -2098,6 +2105,8 @@ class CodeGen:
             # (the end of the file or of the subroutine), never looping.
             self.w.raw(self.indent() + "break")
         elif stmt.kind == "do":
+            if stmt.anew is not None and id(stmt) in self.stranding:
+                self.anew_test(stmt)
             self.do_test(stmt)
         self.loops.pop()
         self.w.depth -= 1

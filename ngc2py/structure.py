@@ -161,6 +161,12 @@ class Loop:
     #: ending by its condition or count, rs274 skips forward to it and goes
     #: on from there (the statements from it on, as If.landings).
     landing: Optional[List["Stmt"]] = None
+    #: A do-loop whose body holds an M98 that may enter a frame without a
+    #: call (m98_may_strand): its while line, run in that frame, is one
+    #: whose label rs274 does not find there, so it reads the line as a new
+    #: while-loop -- true, it goes on past it; false, it skips ahead for the
+    #: label, and this is where that skip fails.
+    anew: Optional[Union[Fail, "LabelCheck"]] = None
 
 
 @dataclass
@@ -1272,6 +1278,11 @@ class _Builder:
         if top is not None:
             top.node.end = line
             key = self._key(str(word.name))
+            if any(
+                type(stmt) is FanucCall and m98_may_strand(stmt.line)
+                for stmt in walk(top.node.body, False)
+            ):
+                top.node.anew = self._eof_fail(key, line)
             if key in self.tracked:
                 top.node.body.append(LabelCheck(line, key, "do-end"))
             self.stack.pop()
@@ -2271,6 +2282,16 @@ def build(
         last=last,
         open_error=opening_error(lines),
     )
+
+
+def m98_may_strand(line: nodes.Line) -> bool:
+    """An M98 line whose L word is not a non-zero number (``L0``, or a
+    value known only at run time): rs274 may enter the call's frame and
+    never run or leave it."""
+    for w in line.words:
+        if w.letter == "l":
+            return not (isinstance(w.value, nodes.Num) and w.value.value != 0)
+    return False
 
 
 def children(stmt: Stmt, into_subs: bool = True) -> List[List[Stmt]]:

@@ -92,6 +92,7 @@ MACHINE = (
     "top_level_return",
     "check_label",
     "frame_mark",
+    "left_frame",
     "same_frame",
     "repeat",
     "repeat_again",

@@ -678,13 +678,18 @@ class Machine(
         (rs274 records its label under the frame's subroutine name)."""
         self._frame_marks[key] = self.call_level
 
+    def left_frame(self, key: str) -> bool:
+        """Whether an ``M98 .. L0`` inside the construct ``key`` has left
+        the call level where the construct opened (see frame_mark)."""
+        marks = self._frame_marks
+        return bool(marks) and marks.get(key, self.call_level) != self.call_level
+
     def same_frame(self, key: str, line: int, text: str) -> None:
         """A closing line (else, endif, endwhile, endrepeat, break,
         continue) of the construct ``key`` runs: after an ``M98 .. L0``
         inside it, rs274 looks its label up under the new frame's name and
         does not find it."""
-        marks = self._frame_marks
-        if marks and marks.get(key, self.call_level) != self.call_level:
+        if self.left_frame(key):
             self.fail(line, olabels.UNDEFINED_LABEL % (line, text))
 
     def _run_sub(self, fn: Callable) -> Optional[float]:

@@ -365,32 +365,50 @@ WHOLE_PROGRAMS = {
 }
 
 
-#: A do-loop whose body runs ``M98 .. L0``: its closing ``while`` runs one
-#: call level down, where rs274 does not find the do's label and reads the
-#: line as a new while-loop (interp_o_word.cc, O_while): true, it goes on
-#: past it, never looping; false, it skips ahead for an endwhile (none:
-#: the file ends). ngc2py still loops as a do-loop does. Found by the
-#: valid_feed campaign (seed 28002); kept here until it is mended.
+#: The closing ``while`` of a do-loop left one call level down by an
+#: ``M98 .. L0`` in its body: rs274 does not find the do's label in that
+#: frame and reads the line as a new while-loop (interp_o_word.cc,
+#: O_while) -- true, it goes on past it, never looping; false, it skips
+#: ahead for the label (none: the file ends). Found by the valid_feed
+#: campaign (seed 28002). Each program ends with a Fanuc subroutine.
 STRANDED_DO = {
     "true": "#1 = 0\no103 do\n#1 = [#1 + 1]\n(print, a #1)\nM98 P9001 L0\n"
-    "o103 while [#1 LT 4]\n(print, after)\nG0 X1\nM2\n"
-    "O9001\nG91 G0 X1\nG90\nM99\n",
+    "o103 while [#1 LT 4]\n(print, after)\nG0 X1\nM2\n",
     "false": "#1 = 0\no103 do\n#1 = [#1 + 1]\n(print, a #1)\nM98 P9001 L0\n"
-    "o103 while [#1 LT 1]\n(print, after)\nG0 X1\nM2\n"
-    "O9001\nG91 G0 X1\nG90\nM99\n",
+    "o103 while [#1 LT 1]\n(print, after)\nG0 X1\nM2\n",
+    # false, the skip stops at a line it cannot read
+    "false_unreadable": "#1 = 0\no103 do\n#1 = [#1 + 1]\nM98 P9001 L0\n"
+    "o103 while [#1 GT 3]\n(print, after)\no104 if [1]\no104 endif\n"
+    "G0 X[1/0]\nM2\n",
+    # in an o-sub: the frame marks are the call's
+    "in_sub": "o<s> sub\n#<i> = 0\no103 do\n#<i> = [#<i> + 1]\n(print, s #<i>)\n"
+    "M98 P9001 L0\no103 while [#<i> LT 3]\n(print, after)\no<s> endsub\n"
+    "o<s> call\n(print, back)\nM2\n",
+    # an M99 returns from the frame first: a do-loop as ever
+    "m99_first": "#1 = 0\no103 do\n#1 = [#1 + 1]\n(print, a #1)\nM98 P9001 L0\n"
+    "M99\no103 while [#1 LT 3]\n(print, after)\nM2\n",
+    # L known at run time: 1 the first time round, 0 the second
+    "computed_l": "#1 = 0\n#2 = 1\no103 do\n#1 = [#1 + 1]\n(print, a #1)\n"
+    "M98 P9001 L[#2]\n#2 = 0\no103 while [#1 LT 4]\n(print, after)\nM2\n",
+    # an M98 L0 in an if inside the loop, on the second round
+    "in_if": "#1 = 0\no103 do\n#1 = [#1 + 1]\no105 if [#1 EQ 2]\nM98 P9001 L0\n"
+    "o105 endif\n(print, a #1)\no103 while [#1 LT 4]\n(print, after)\nM2\n",
+    # nested do-loops: the inner's while read anew, then the outer's
+    "nested": "#1 = 0\no1 do\no2 do\n#1 = [#1 + 1]\n(print, a #1)\n"
+    "M98 P9001 L0\no2 while [#1 LT 3]\n(print, mid)\no1 while [#1 LT 5]\n"
+    "(print, after)\nM2\n",
+    # the condition read fails first
+    "condition_fails": "#1 = 0\no103 do\n#1 = [#1 + 1]\nM98 P9001 L0\n"
+    "o103 while [1/0]\nM2\n",
 }
 
 
 @pytest.mark.rs274
-@pytest.mark.xfail(
-    reason="a do-loop's while after M98 L0 is not read as a new while yet",
-    strict=True,
-)
 @pytest.mark.parametrize("name", sorted(STRANDED_DO))
 def test_do_loop_left_by_m98_l0_reads_its_while_anew(name, tmp_path):
     need_rs274()
     program = tmp_path / "prog.ngc"
-    program.write_text(STRANDED_DO[name])
+    program.write_text(STRANDED_DO[name] + "O9001\nG91 G0 X1\nG90\nM99\n")
     expected = harness.run_rs274(program, [])
     actual = harness.run_ngc2py(program, [])
     assert (actual.stdout, actual.err, actual.rc) == (
