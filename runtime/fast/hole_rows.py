@@ -123,7 +123,9 @@ def _recorder(name: str):
         self.calls.append((name, args))
         if keywords:
             self.keywords = True
-        return getattr(self.canon, name)(*args, **keywords)
+            return getattr(self.canon, name)(*args, **keywords)
+        # (no keywords to pass on: the call is made without unpacking any)
+        return getattr(self.canon, name)(*args)
 
     record.__name__ = name
     return record
