@@ -43,6 +43,7 @@ from __future__ import annotations
 import argparse
 import math
 from array import array
+from marshal import dumps
 from math import hypot
 from itertools import groupby
 from operator import add, eq, itemgetter, ne, sub
@@ -278,6 +279,50 @@ def _hole_calls(recording, axes, here, before) -> List[tuple]:
     return calls
 
 
+def _free_levels(recording, axes, pos):
+    """A recorded hole with its levels (the hole axis' value of each move)
+    taken out: (its shape: what a template of it is kept by, the levels in
+    the order they first come, (the recording with a stand-in for each
+    level, the stand-in for the flat program's place on that axis)); None
+    where a level is not a number (NaN, infinity) or there are too many."""
+    level = 3 - sum(axes)
+    index: dict = {}
+    levels: List[float] = []
+    shape = []
+    standing = []
+    for name, args, at in recording:
+        if at is None:
+            shape.append((name, args))
+            standing.append((name, args, at))
+            continue
+        value = args[level]
+        if not math.isfinite(value):
+            return None
+        k = index.setdefault(repr(value), len(levels))
+        if k == len(levels):
+            levels.append(value)
+        rest = list(args)
+        rest[level] = _LEVEL_STAND_IN + k
+        standing.append((name, tuple(rest), at))
+        rest[axes[0]] = rest[axes[1]] = 0.0  # (each hole's own: _hole_calls)
+        rest[level] = k
+        shape.append((name, tuple(rest), at))
+    if not levels or len(levels) > _MOST_LEVELS:
+        return None
+    # where the tool is on that axis matters only as the level it is at
+    here = pos[level]
+    at_level = (
+        index.get(repr(here), len(levels)) if math.isfinite(here) else len(levels)
+    )
+    shape.append((at_level, tuple(pos[3:6])))
+    return dumps((shape, axes)), levels, (standing, _LEVEL_STAND_IN + at_level)
+
+
+def _level_index(text: str) -> int:
+    """Which level a stand-in's text stands for."""
+    return int(float(text) - _LEVEL_STAND_IN)
+
+
 #: Stand-ins for a hole's two coordinates, the hole before's, and its line,
 #: while FlattenCanon._hole_template makes a hole's text: numbers no two of
 #: whose texts hold one another.
@@ -285,6 +330,20 @@ _STAND_INS = (7777777.015625, 6666666.046875, 5555555.078125, 4444444.109375)
 _STAND_IN_LINE = 987654321987
 _STAND_IN_TEXTS = tuple(map(repr, _STAND_INS)) + ("%d" % _STAND_IN_LINE,)
 _STAND_IN_SPLIT = re.compile("(%s)" % "|".join(map(re.escape, _STAND_IN_TEXTS)))
+
+#: Stand-ins for the levels of a hole's moves (the hole axis' values, in the
+#: order they first come) while a template for every batch of holes drilled
+#: alike is made (FlattenCanon._batch_template): numbers of one width, so no
+#: text of one holds another's, and none of the hole stand-ins' width.
+_LEVEL_STAND_IN = 3000000.0078125
+_LEVEL_TEXT = re.compile(r"(?<![\d.])(3\d{6}\.0078125)(?!\d)")
+_LEVEL_WIDTH = len(repr(_LEVEL_STAND_IN))
+#: How much longer than a stand-in a level's number may be: the template's
+#: lines keep that much more room (a line holds one level at most).
+_LEVEL_ROOM = 30
+#: Levels a hole may have at most for its template to be made level-free
+#: (a deep peck cycle has two a peck): more go batch by batch.
+_MOST_LEVELS = 999999
 
 
 #: The straight moves, and the code :meth:`FlattenCanon._move` writes each with.
@@ -346,6 +405,8 @@ class FlattenCanon(Canon):
         #: the flat program's current point as far as moves tell it; UNKNOWN
         #: after an offset, unit or tool-offset change until the next move
         self._pos = [UNKNOWN] * 6
+        #: _batch_template's templates of holes, whatever their levels
+        self._level_free: dict = {}
 
     # --- bookkeeping ---------------------------------------------------
     def set_block_number(self, n) -> None:
@@ -567,6 +628,7 @@ class FlattenCanon(Canon):
             zip(map(eq, firsts[1:], firsts[:-1]), map(eq, seconds[1:], seconds[:-1]))
         )
         templates: dict = {}
+        free = False  # (the hole's levels taken out, once a batch: _free_levels)
         texts: List[str] = []
         k = 0
         for case, run in cases:
@@ -576,8 +638,10 @@ class FlattenCanon(Canon):
                 continue
             made = templates.get(case)
             if made is None:
-                made = templates[case] = self._hole_template(
-                    group, recording, axes, case, prefix, where
+                if free is False:
+                    free = _free_levels(recording, axes, pos)
+                made = templates[case] = self._batch_template(
+                    group, recording, axes, case, prefix, where, free
                 )
             if made is False:  # (a template not to be trusted: hole by hole)
                 if texts:
@@ -598,7 +662,73 @@ class FlattenCanon(Canon):
         # (what the holes leave of parameters is written before the next block)
         self._after_batch = True
 
-    def _hole_template(self, group, recording, axes, case, prefix: str, where: str):
+    def _batch_template(
+        self, group, recording, axes, case, prefix: str, where: str, free
+    ):
+        """:meth:`_hole_template` for this batch, made from one that serves
+        every batch of holes drilled alike whatever their levels (the hole
+        axis' values of its moves, which differ from one series of holes to
+        the next): that one has stand-ins for the levels, which each batch
+        fills in. Which moves write the hole axis depends only on which
+        levels are equal (to each other, and to where the flat program's
+        tool is), so that is part of what the template is kept by. Made for
+        this batch alone where the levels cannot be stood in for
+        (``free``: what _free_levels tells of the batch's hole)."""
+        if free is None:
+            return self._hole_template(group, recording, axes, case, prefix, where)
+        shape, levels, standing = free
+        key = (shape, case, prefix, where)
+        made = self._level_free.get(key)
+        if made is None:
+            made = self._level_free[key] = self._level_free_template(
+                group, standing, axes, case, prefix, where
+            )
+        texts = _numbers(levels)
+        if made is False or max(map(len, texts)) > _LEVEL_WIDTH + _LEVEL_ROOM:
+            # (a longer number could change where a long line's comment goes:
+            # a line has a level at most, its move's)
+            return self._hole_template(group, recording, axes, case, prefix, where)
+        pieces, order, slots = made
+        filled = [None] * (2 * len(order) + 1)
+        filled[0::2] = pieces
+        filled[1::2] = [texts[k] for k in order]
+        return "".join(filled), slots
+
+    def _level_free_template(self, group, standing, axes, case, prefix, where):
+        """:meth:`_hole_template` of a hole whose levels are stand-ins
+        (``standing``: the recording with them, and the hole axis' place
+        before the hole), cut at each level: (the text between levels,
+        which level each is, the slots), or False."""
+        recording, here = standing
+        # a stand-in's text must be the stand-in's alone: not in the comment,
+        # the N word or another number of the hole (a number written as one
+        # is the stand-in itself, or its negative: so is its repr)
+        written = [prefix, where]
+        for _, args, at in recording:
+            values = args if at is None else args[3:]
+            written += [repr(value) for value in values if type(value) is float]
+        if _LEVEL_TEXT.search(" ".join(written)):
+            return False
+        pos = self._pos
+        level = 3 - sum(axes)
+        saved = pos[level]
+        pos[level] = here
+        try:
+            made = self._hole_template(
+                group, recording, axes, case, prefix, where, 60 + _LEVEL_ROOM
+            )
+        finally:
+            pos[level] = saved
+        if made is False:
+            return False
+        template, slots = made
+        pieces = _LEVEL_TEXT.split(template)
+        order = [_level_index(text) for text in pieces[1::2]]
+        return pieces[0::2], order, slots
+
+    def _hole_template(
+        self, group, recording, axes, case, prefix: str, where: str, room: int = 60
+    ):
         """The lines of a hole of a batch as one %-template, and its slots'
         values (0, 1: the hole's coordinates as text; 2, 3: the hole
         before's; 4: the hole's line), for ``case``: whether each coordinate
@@ -624,7 +754,7 @@ class FlattenCanon(Canon):
             texts = self._texts(group, _hole_calls(recording, axes, here, before))
         finally:
             pos[:] = saved
-        if any(len(prefix + text + comment) > MAX_LINE - 60 for text in texts):
+        if any(len(prefix + text + comment) > MAX_LINE - room for text in texts):
             return False
         pieces = _STAND_IN_SPLIT.split(
             "\n".join(prefix + text + comment for text in texts).replace("%", "%%")

@@ -202,6 +202,57 @@ def cycle_tables(draw) -> str:
     return cam_sized(text) if draw(st.integers(0, 3)) else text
 
 
+@st.composite
+def series_drilled_alike(draw) -> str:
+    """Several series of holes in one program, a cycle line and rows of hole
+    words each: the same cycle again at other levels (its R, its depth, a
+    peck's Q, where the tool comes from), at the very levels of an earlier
+    series, at 0 or -0, and now and then another cycle, retract mode or
+    plane between them. The trace's and flatten's templates of a hole are
+    kept whatever its levels and reused by the next series drilled alike;
+    pecks make levels whose numbers are long (``R - 3 Q + 0.254``)."""
+    plane, first, second, hole = draw(
+        st.sampled_from(
+            [("G17", "X", "Y", "Z"), ("G18", "Z", "X", "Y"), ("G19", "Y", "Z", "X")]
+        )
+    )
+    units = draw(st.sampled_from(["G21", "G20"]))
+    lines = ["%s G90 %s F300" % (units, plane), "M3 S1000", "G0 %s5" % hole]
+    codes = ["G81", "G82 P0.5", "G83", "G73", "G85", "G89 P0.2"]
+    code = draw(st.sampled_from(codes))
+    for _ in range(draw(st.integers(2, 5))):
+        if draw(st.integers(0, 3)) == 0:
+            code = draw(st.sampled_from(codes))
+        retract = draw(st.sampled_from(["G98", "G99"]))
+        r = draw(st.sampled_from(["0", "-0", "1", "1.5", "2.25", "0.1"]))
+        depth = float(r) - draw(st.sampled_from([0.5, 1.0, 2.7, 3.3]))
+        words = "%s%.4g R%s" % (hole, depth, r)
+        if code in ("G83", "G73"):
+            words += " Q%s" % draw(st.sampled_from(["0.3", "0.7", "1.1"]))
+        a, b = draw(st.integers(-20, 20)), draw(st.integers(-20, 20))
+        lines.append("%s %s %s%d %s%d %s" % (retract, code, first, a, second, b, words))
+        for _ in range(draw(st.integers(3, 9))):
+            a += draw(st.sampled_from([1, 2, 2.5, 0]))
+            b += draw(st.sampled_from([0, 1, -1.5]))
+            lines.append("%s%g %s%g" % (first, a, second, b))
+        if draw(st.booleans()):
+            lines.append("G80")
+            if draw(st.booleans()):  # the tool elsewhere on the hole axis
+                lines.append(
+                    "G0 %s%s" % (hole, draw(st.sampled_from(["5", "1.5", "-0"])))
+                )
+    lines += ["G80", "M2"]
+    return cam_sized("\n".join(lines) + "\n")
+
+
+@PROFILE
+@given(series_drilled_alike())
+def test_series_drilled_alike_match_rs274(text):
+    """Series of holes whose trace comes from one template made level-free
+    (runtime.fast.hole_rows): the same trace as rs274."""
+    check_same(text, "run")
+
+
 @PROFILE
 @given(cycle_tables())
 def test_tables_of_cycle_rows_match_rs274(text):

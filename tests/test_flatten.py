@@ -612,6 +612,67 @@ def test_holes_in_batches_are_written_as_hole_by_hole(text, tmp_path_factory):
     assert answers[0] == answers[1]
 
 
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(text=test_cycles.series_drilled_alike())
+def test_series_drilled_alike_are_written_as_hole_by_hole(text, tmp_path_factory):
+    """One template of a hole serves every series drilled alike whatever
+    its levels (FlattenCanon._batch_template): each batch fills in its own,
+    and the text is the holes' written call by call."""
+    answers = _flat_by_batches_and_hole_by_hole(text, tmp_path_factory.mktemp("holes"))
+    assert answers[0] == answers[1]
+
+
+def test_series_at_other_levels_share_a_template(tmp_path, monkeypatch):
+    """Series of one cycle at other depths and R planes (pecks included)
+    are written from templates made once, not once a series."""
+    from ngc2py import flatten as flat
+
+    made = []
+    making = flat.FlattenCanon._level_free_template
+
+    def counting(self, *args):
+        made.append(1)
+        return making(self, *args)
+
+    monkeypatch.setattr(flat.FlattenCanon, "_level_free_template", counting)
+    lines = ["G21 G90 G17 F300", "M3 S1000", "G0 Z5"]
+    for k in range(12):
+        cycle = "G81" if k % 2 else "G83 Q0.7"
+        lines.append("G98 %s X%d Y0 Z%g R%g" % (cycle, 10 * k, -1 - k / 7, 1 + k / 9))
+        lines += ["X%d Y%d" % (10 * k, j) for j in range(1, 8)]
+        lines.append("G80")
+    lines.append("M2")
+    text = "\n".join(lines) + "\n"
+    answers = _flat_by_batches_and_hole_by_hole(text, tmp_path)
+    assert answers[0] == answers[1]
+    # a G81 hole is one shape whatever its levels; a G83 hole's pecks differ
+    # with its depth, so its series make a few
+    assert 2 <= len(made) < 12
+
+
+@pytest.mark.parametrize(
+    "words",
+    [
+        "P3000001.0078125",  # a dwell of a level stand-in's text
+        "P13000002.0078125",  # ... holding one
+    ],
+)
+def test_a_number_like_a_level_stand_in_is_kept_apart(words, tmp_path):
+    """A hole whose other numbers hold a level stand-in's text is written
+    from a template of its own levels: the same text as hole by hole."""
+    lines = ["G21 G90 G17 F300", "M3 S1000", "G0 Z5"]
+    for k in range(3):
+        lines.append("G98 G82 X0 Y%d Z%g R1 %s" % (10 * k, -1 - k / 3, words))
+        lines += ["X%d Y%d" % (j, 10 * k) for j in range(1, 6)]
+        lines.append("G80")
+    lines.append("M2")
+    answers = _flat_by_batches_and_hole_by_hole(
+        cam_strategies.cam_sized("\n".join(lines) + "\n"), tmp_path
+    )
+    assert answers[0] == answers[1]
+    assert words[1:] in answers[0]
+
+
 #: A table of holes (as long as the code generator writes as a row table):
 #: both coordinates moving, one, none.
 HOLES = (
