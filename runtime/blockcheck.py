@@ -68,6 +68,7 @@ from runtime.codes import (  # the codes this module reasons about, and helpers
     G91,
     G92,
     G96,
+    CHECKED_LETTERS,
     M_OFFSET,
     check_word,
     group_codes,
@@ -151,10 +152,25 @@ def read_block(codes, words: Dict[str, float]) -> Block:
     so these checks (the same functions) can only fail for values computed
     at run time, such as ``G[#1]`` next to ``G1`` or ``F[#1]``.
     """
-    g, m = group_codes(codes)
-    for letter, value in words.items():
-        words[letter] = check_word(letter, value)
-    return Block(g, {group: code - M_OFFSET for group, code in m.items()}, words)
+    grouped = _GROUPED.get(codes) if type(codes) is tuple else None
+    if grouped is None:
+        g, m = group_codes(codes)
+        grouped = g, {group: code - M_OFFSET for group, code in m.items()}
+        if type(codes) is tuple and len(_GROUPED) < _MOST_GROUPED:
+            _GROUPED[codes] = grouped
+    for letter in words:
+        if letter in CHECKED_LETTERS:  # (check_word returns the others as they are)
+            words[letter] = check_word(letter, words[letter])
+    # copies: executing the block may change them (runtime.tools)
+    return Block(dict(grouped[0]), dict(grouped[1]), words)
+
+
+#: A line's codes (a tuple, as generated code passes them) -> what
+#: group_codes made of them: a program has a few combinations of codes
+#: (``G80``, ``G99 G81``, ``M3``) on many lines. (Codes that fail are never
+#: kept: they fail again.)
+_GROUPED: Dict[tuple, tuple] = {}
+_MOST_GROUPED = 4096
 
 
 def enhance(block: Block, plane: str, motion_mode: Optional[int]) -> None:
@@ -260,6 +276,13 @@ def _check_other_words(block: Block) -> None:
     words = block.words
     motion = block.motion
     g = block.g
+    if _OTHER_LETTERS.isdisjoint(words):
+        # none of the words checked below (a line of modes, axes, F or S):
+        # what is left are the checks that do not start from a word
+        if "s" not in words and g.get(SPINDLE_MODE) == G96:
+            raise GCodeError("S word missing with G96")
+        _check_motion_words(motion, words)
+        return
     m = block.m
     mode0 = g.get(NON_MODAL)
     comp = g.get(CUTTER_COMP)
@@ -311,6 +334,11 @@ def _check_other_words(block: Block) -> None:
     if "s" not in words and g.get(SPINDLE_MODE) == G96:
         raise GCodeError("S word missing with G96")
     _check_motion_words(motion, words)
+
+
+#: The words _check_other_words checks by letter (S apart: it is checked
+#: whether or not it is there).
+_OTHER_LETTERS = frozenset(("dollar", *"abcdehijklpqr"))
 
 
 def _check_dollar_word(block: Block) -> None:

@@ -173,6 +173,11 @@ _NON_NEGATIVE_WORDS = {
 }
 
 
+#: The letters whose values check_word checks or changes: any other word's
+#: value it returns as it is.
+CHECKED_LETTERS = frozenset(("g", "m", *_INTEGER_WORDS, *_NON_NEGATIVE_WORDS))
+
+
 def record_code(seen: Dict[int, int], code: int) -> None:
     """Add one G or M code of a line to ``seen`` (modal group -> code), with
     rs274's rule for two codes of one group on a line.
