@@ -124,8 +124,12 @@ static int python_float(buffer *b, double x) {
     return result;
 }
 
-/* 1 done, 0 fall back to PyUnicode_Format, -1 error. */
-static int render(buffer *b, const char *t, Py_ssize_t length, PyObject *args) {
+/* 1 done, 0 fall back to PyUnicode_Format, -1 error. Where ``numbers`` is
+ * given, an argument k with is_number[k] set is numbers[k] (a range's
+ * item, never made an int object), for %d alone: any other conversion of
+ * it falls back, the caller putting the int in the tuple first. */
+static int render(buffer *b, const char *t, Py_ssize_t length, PyObject *args,
+                  const long long *numbers, const char *is_number) {
     Py_ssize_t count = PyTuple_GET_SIZE(args), used = 0;
     const char *end = t + length;
     while (t < end) {
@@ -173,8 +177,13 @@ static int render(buffer *b, const char *t, Py_ssize_t length, PyObject *args) {
             return 0;
         }
         char conversion = *t++;
-        PyObject *arg = PyTuple_GET_ITEM(args, used++);
+        Py_ssize_t k = used++;
+        int numeric = numbers != NULL && is_number[k];
+        PyObject *arg = numeric ? NULL : PyTuple_GET_ITEM(args, k);
         Py_ssize_t before = b->size;
+        if (numeric && !(conversion == 'd' && precision < 0)) {
+            return 0;
+        }
         if (conversion == 's' && precision < 0) {
             if (!PyUnicode_CheckExact(arg) || (width && !PyUnicode_IS_ASCII(arg))) {
                 return 0;  /* padding counts characters, not bytes */
@@ -185,14 +194,19 @@ static int render(buffer *b, const char *t, Py_ssize_t length, PyObject *args) {
                 return -1;
             }
         } else if (conversion == 'd' && precision < 0) {
-            if (!PyLong_CheckExact(arg)) {
-                return 0;
-            }
-            int overflow;
-            long long value = PyLong_AsLongLongAndOverflow(arg, &overflow);
-            if (overflow || (value == -1 && PyErr_Occurred())) {
-                PyErr_Clear();
-                return 0;
+            long long value;
+            if (numeric) {
+                value = numbers[k];
+            } else {
+                if (!PyLong_CheckExact(arg)) {
+                    return 0;
+                }
+                int overflow;
+                value = PyLong_AsLongLongAndOverflow(arg, &overflow);
+                if (overflow || (value == -1 && PyErr_Occurred())) {
+                    PyErr_Clear();
+                    return 0;
+                }
             }
             char text[32];
             char *digits_end = text + sizeof(text);
@@ -253,7 +267,7 @@ static PyObject *percent(PyObject *self, PyObject *const *args, Py_ssize_t nargs
     b.size = 0;
     b.capacity = sizeof(b.inline_data);
     PyObject *result = NULL;
-    int done = render(&b, t, length, args[1]);
+    int done = render(&b, t, length, args[1], NULL, NULL);
     if (done > 0) {
         result = PyUnicode_DecodeUTF8(b.data, b.size, NULL);
     } else if (done == 0) {
@@ -269,8 +283,39 @@ static PyObject *percent(PyObject *self, PyObject *const *args, Py_ssize_t nargs
 /*
  * percent_rows(template, columns): "".join(template % row for row in
  * zip(*columns)) -- a batch of trace lines, one per row of the columns (lists,
- * ranges...), made in one buffer: no tuple, call or string per line.
+ * ranges...), made in one buffer: no tuple, call or string per line. A range
+ * (the lines' numbers) is read as its start and step, its items never made
+ * int objects.
  */
+
+/* A column that is a range of modest numbers: its start, step and length
+ * (1), or not (0; an error cleared). */
+static int range_column(PyObject *column, long long *start, long long *step,
+                        Py_ssize_t *length) {
+    if (!PyRange_Check(column)) {
+        return 0;
+    }
+    PyObject *first = PyObject_GetAttrString(column, "start");
+    PyObject *stride = PyObject_GetAttrString(column, "step");
+    Py_ssize_t size = PyObject_Size(column);
+    int overflow_first = 1, overflow_stride = 1;
+    if (first && stride && size >= 0) {
+        *start = PyLong_AsLongLongAndOverflow(first, &overflow_first);
+        *step = PyLong_AsLongLongAndOverflow(stride, &overflow_stride);
+    }
+    Py_XDECREF(first);
+    Py_XDECREF(stride);
+    PyErr_Clear();
+    /* start + i * step stays far inside a long long */
+    const long long most = 1LL << 40;
+    if (overflow_first || overflow_stride || size < 0 || size > most ||
+        *start > most || *start < -most || *step > most || *step < -most) {
+        return 0;
+    }
+    *length = size;
+    return 1;
+}
+
 static PyObject *percent_rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
     if (nargs != 2 || !PyUnicode_CheckExact(args[0])) {
         PyErr_SetString(PyExc_TypeError, "percent_rows(template: str, columns)");
@@ -286,25 +331,38 @@ static PyObject *percent_rows(PyObject *self, PyObject *const *args, Py_ssize_t 
         return NULL;
     }
     Py_ssize_t count = PySequence_Fast_GET_SIZE(given), rows = PY_SSIZE_T_MAX;
-    PyObject **columns = PyMem_Calloc(count ? count : 1, sizeof(PyObject *));
+    Py_ssize_t slots = count ? count : 1;
+    PyObject **columns = PyMem_Calloc(slots, sizeof(PyObject *));
+    long long *starts = PyMem_Calloc(slots, sizeof(long long));
+    long long *steps = PyMem_Calloc(slots, sizeof(long long));
+    long long *numbers = PyMem_Calloc(slots, sizeof(long long));
+    char *is_number = PyMem_Calloc(slots, 1);
     PyObject *row = PyTuple_New(count);
     PyObject *result = NULL;
     buffer b;
     b.data = b.inline_data;
     b.size = 0;
     b.capacity = sizeof(b.inline_data);
-    if (!columns || !row) {
+    if (!columns || !starts || !steps || !numbers || !is_number || !row) {
         PyErr_NoMemory();
         goto done;
     }
     for (Py_ssize_t c = 0; c < count; c++) {
-        columns[c] = PySequence_Fast(PySequence_Fast_GET_ITEM(given, c),
-                                     "percent_rows(): each column must be a sequence");
-        if (!columns[c]) {
-            goto done;
+        PyObject *column = PySequence_Fast_GET_ITEM(given, c);
+        Py_ssize_t size;
+        if (range_column(column, &starts[c], &steps[c], &size)) {
+            is_number[c] = 1;
+            Py_INCREF(Py_None);  /* (the row's slot, until a fallback needs the int) */
+            PyTuple_SET_ITEM(row, c, Py_None);
+        } else {
+            columns[c] = PySequence_Fast(column, "percent_rows(): each column must be a sequence");
+            if (!columns[c]) {
+                goto done;
+            }
+            size = PySequence_Fast_GET_SIZE(columns[c]);
         }
-        if (PySequence_Fast_GET_SIZE(columns[c]) < rows) {
-            rows = PySequence_Fast_GET_SIZE(columns[c]);  /* zip: the shortest */
+        if (size < rows) {
+            rows = size;  /* zip: the shortest */
         }
     }
     if (!count) {
@@ -312,18 +370,32 @@ static PyObject *percent_rows(PyObject *self, PyObject *const *args, Py_ssize_t 
     }
     for (Py_ssize_t i = 0; i < rows; i++) {
         for (Py_ssize_t c = 0; c < count; c++) {
+            if (is_number[c]) {
+                numbers[c] = starts[c] + (long long) i * steps[c];
+                continue;
+            }
             PyObject *item = PySequence_Fast_GET_ITEM(columns[c], i);
             Py_INCREF(item);
             Py_XDECREF(PyTuple_GET_ITEM(row, c));
             PyTuple_SET_ITEM(row, c, item);
         }
         Py_ssize_t before = b.size;
-        int rendered = render(&b, t, length, row);
+        int rendered = render(&b, t, length, row, numbers, is_number);
         if (rendered < 0) {
             goto done;
         }
         if (rendered == 0) {  /* Python's own formatting, for this line */
             b.size = before;
+            for (Py_ssize_t c = 0; c < count; c++) {
+                if (is_number[c]) {
+                    PyObject *item = PyLong_FromLongLong(numbers[c]);
+                    if (!item) {
+                        goto done;
+                    }
+                    Py_XDECREF(PyTuple_GET_ITEM(row, c));
+                    PyTuple_SET_ITEM(row, c, item);
+                }
+            }
             PyObject *line = PyUnicode_Format(args[0], row);
             if (!line) {
                 goto done;
@@ -345,6 +417,10 @@ done:
         }
         PyMem_Free(columns);
     }
+    PyMem_Free(starts);
+    PyMem_Free(steps);
+    PyMem_Free(numbers);
+    PyMem_Free(is_number);
     Py_XDECREF(row);
     Py_DECREF(given);
     if (b.data != b.inline_data) {
@@ -406,7 +482,7 @@ static PyObject *formatted(const char *template, PyObject *args) {
     b.size = 0;
     b.capacity = sizeof(b.inline_data);
     PyObject *result = NULL;
-    int done = render(&b, template, (Py_ssize_t) strlen(template), args);
+    int done = render(&b, template, (Py_ssize_t) strlen(template), args, NULL, NULL);
     if (done > 0) {
         result = PyUnicode_DecodeUTF8(b.data, b.size, NULL);
     } else if (done == 0) {

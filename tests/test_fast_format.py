@@ -254,6 +254,44 @@ def test_rows_of_lines_are_pythons_join(pieces, columns):
         assert percent_rows(template, columns) == expected
 
 
+_BOUND = st.integers(-(2**45), 2**45) | st.integers(-20, 20)
+_RANGE = st.builds(range, _BOUND, _BOUND, _BOUND.filter(bool) | st.integers(1, 3))
+
+
+@st.composite
+def _lines_with_ranges(draw):
+    """A template and one column for each of its conversions: a list, or a
+    range (of ten items at most) as the lines' numbers are given."""
+    pieces = draw(st.lists(st.tuples(st.text(max_size=3), _SPEC), max_size=4))
+    rows = draw(st.integers(0, 6))
+    columns = []
+    for _ in pieces:
+        if draw(st.booleans()):
+            columns.append(draw(_RANGE.filter(lambda r: len(r) < 10)))
+        else:
+            columns.append(draw(st.lists(_ARGUMENT, min_size=rows, max_size=rows)))
+    template = "".join(text.replace("%", "") + spec for text, spec in pieces)
+    return template, columns
+
+
+@pytest.mark.skipif(percent is None, reason="runtime._fast_format not built here")
+@given(_lines_with_ranges())
+@settings(max_examples=1000, deadline=None)
+def test_rows_of_lines_with_ranges_are_pythons_join(lines):
+    """A range column (the lines' numbers) is read as its start and step:
+    the same text as Python's, for any conversion and any size of number."""
+    from runtime._fast_format import percent_rows
+
+    template, columns = lines
+    try:
+        expected = "".join(template % tuple(row) for row in zip(*columns))
+    except Exception as exc:
+        with pytest.raises(type(exc)):
+            percent_rows(template, columns)
+    else:
+        assert percent_rows(template, columns) == expected
+
+
 @pytest.mark.skipif(percent is None, reason="runtime._fast_format not built here")
 def test_rows_of_trace_lines():
     from runtime._fast_format import percent_rows
