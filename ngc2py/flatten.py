@@ -56,7 +56,7 @@ if TYPE_CHECKING:
     from typing import List, Optional, Sequence, Tuple
 
 from ngc2py.flags import add_block_delete
-from runtime.canon import CALLS, Canon
+from runtime.canon import CALLS, Canon, trace_rows
 from runtime.errors import g_code_frames_of_stack
 from runtime.fast.hole_rows import HOLE_MOVES, HOLE_SWITCHES
 
@@ -282,40 +282,47 @@ def _hole_calls(recording, axes, here, before) -> List[tuple]:
 def _free_levels(recording, axes, pos):
     """A recorded hole with its levels (the hole axis' value of each move)
     taken out: (its shape: what a template of it is kept by, the levels in
-    the order they first come, (the recording with a stand-in for each
-    level, the stand-in for the flat program's place on that axis)); None
-    where a level is not a number (NaN, infinity) or there are too many."""
+    the order they first come, which level each value is by its repr, which
+    level the flat program's tool is at: len(levels) for none); None where
+    a level is not a number (NaN, infinity) or there are too many."""
     level = 3 - sum(axes)
+    values = [args[level] for _, args, at in recording if at is not None]
+    if not values or not all(map(math.isfinite, values)):
+        return None
+    texts = list(map(repr, values))  # (equal exactly where same() is)
     index: dict = {}
     levels: List[float] = []
-    shape = []
-    standing = []
-    for name, args, at in recording:
-        if at is None:
-            shape.append((name, args))
-            standing.append((name, args, at))
-            continue
-        value = args[level]
-        if not math.isfinite(value):
-            return None
-        k = index.setdefault(repr(value), len(levels))
-        if k == len(levels):
+    for text, value in zip(texts, values):
+        if text not in index:
+            index[text] = len(levels)
             levels.append(value)
-        rest = list(args)
-        rest[level] = _LEVEL_STAND_IN + k
-        standing.append((name, tuple(rest), at))
-        rest[axes[0]] = rest[axes[1]] = 0.0  # (each hole's own: _hole_calls)
-        rest[level] = k
-        shape.append((name, tuple(rest), at))
-    if not levels or len(levels) > _MOST_LEVELS:
+    if len(levels) > _MOST_LEVELS:
         return None
     # where the tool is on that axis matters only as the level it is at
     here = pos[level]
     at_level = (
         index.get(repr(here), len(levels)) if math.isfinite(here) else len(levels)
     )
-    shape.append((at_level, tuple(pos[3:6])))
-    return dumps((shape, axes)), levels, (standing, _LEVEL_STAND_IN + at_level)
+    # a move's plane coordinates are each hole's own (_hole_calls)
+    calls = [
+        (name, args if at is None else args[3:], at) for name, args, at in recording
+    ]
+    pattern = list(map(index.__getitem__, texts))
+    shape = dumps((axes, calls, pattern, at_level, tuple(pos[3:6])))
+    return shape, levels, index, at_level
+
+
+def _standing(recording, axes, index: dict) -> list:
+    """``recording`` with a stand-in for each level (see _free_levels)."""
+    level = 3 - sum(axes)
+    standing = []
+    for name, args, at in recording:
+        if at is not None:
+            args = list(args)
+            args[level] = _LEVEL_STAND_IN + index[repr(args[level])]
+            args = tuple(args)
+        standing.append((name, args, at))
+    return standing
 
 
 def _level_index(text: str) -> int:
@@ -655,7 +662,9 @@ class FlattenCanon(Canon):
                     )
                 continue
             template, slots = made
-            texts += map(template.__mod__, zip(*[columns[j][at:stop] for j in slots]))
+            # the run's holes in one item of lines (text() joins them all)
+            filled = trace_rows(template + "\n", [columns[j][at:stop] for j in slots])
+            texts.append(filled[:-1])
         if texts:
             self.lines += texts
         pos[ia], pos[ib] = first[-1], second[-1]
@@ -676,10 +685,11 @@ class FlattenCanon(Canon):
         (``free``: what _free_levels tells of the batch's hole)."""
         if free is None:
             return self._hole_template(group, recording, axes, case, prefix, where)
-        shape, levels, standing = free
+        shape, levels, index, at_level = free
         key = (shape, case, prefix, where)
         made = self._level_free.get(key)
         if made is None:
+            standing = _standing(recording, axes, index), _LEVEL_STAND_IN + at_level
             made = self._level_free[key] = self._level_free_template(
                 group, standing, axes, case, prefix, where
             )
@@ -759,8 +769,11 @@ class FlattenCanon(Canon):
         pieces = _STAND_IN_SPLIT.split(
             "\n".join(prefix + text + comment for text in texts).replace("%", "%%")
         )
-        # the text between stand-ins, and which value each stand-in is
-        return "%s".join(pieces[0::2]), tuple(marks.index(m) for m in pieces[1::2])
+        # the text between stand-ins, and which value each stand-in is (the
+        # line, an int, as %d: runtime.canon.trace_rows' quick conversions)
+        slots = tuple(marks.index(m) for m in pieces[1::2])
+        conversions = ["%d" if slot == 4 else "%s" for slot in slots] + [""]
+        return "".join(map(add, pieces[0::2], conversions)), slots
 
     def _where_format(self) -> str:
         """Where the current data rows come from (:meth:`_where`), as a
