@@ -796,11 +796,13 @@ class FlattenCanon(Canon):
         share a file and a call stack)."""
         out = self.lines
         where = "  ; " + self._where_format()
-        comments = list(map(where.__mod__, lines))
-        if texts and max(map(len, texts)) + max(map(len, comments)) <= MAX_LINE:
-            out += map(add, texts, comments)
+        # (the longest comment is the one of the line of most digits)
+        if texts and max(map(len, texts)) + len(where % max(lines)) <= MAX_LINE:
+            # one C format for the batch, one item of lines (text() joins them)
+            out.append(trace_rows("%s" + where + "\n", [texts, lines])[:-1])
             self._after_batch = True
             return
+        comments = list(map(where.__mod__, lines))
         for text, comment in zip(texts, comments):
             if len(text) + len(comment) > MAX_LINE:
                 out.append(comment.strip())
