@@ -348,6 +348,9 @@ _LEVEL_WIDTH = len(repr(_LEVEL_STAND_IN))
 #: How much longer than a stand-in a level's number may be: the template's
 #: lines keep that much more room (a line holds one level at most).
 _LEVEL_ROOM = 30
+#: Level-free templates kept at most (a file of endless kinds of holes makes
+#: the rest batch by batch).
+_MOST_TEMPLATES = 4096
 #: Levels a hole may have at most for its template to be made level-free
 #: (a deep peck cycle has two a peck): more go batch by batch.
 _MOST_LEVELS = 999999
@@ -690,9 +693,9 @@ class FlattenCanon(Canon):
         made = self._level_free.get(key)
         if made is None:
             standing = _standing(recording, axes, index), _LEVEL_STAND_IN + at_level
-            made = self._level_free[key] = self._level_free_template(
-                group, standing, axes, case, prefix, where
-            )
+            made = self._level_free_template(group, standing, axes, case, prefix, where)
+            if len(self._level_free) < _MOST_TEMPLATES:  # (memory stays bounded)
+                self._level_free[key] = made
         texts = _numbers(levels)
         if made is False or max(map(len, texts)) > _LEVEL_WIDTH + _LEVEL_ROOM:
             # (a longer number could change where a long line's comment goes:

@@ -650,6 +650,33 @@ def test_series_at_other_levels_share_a_template(tmp_path, monkeypatch):
     assert 2 <= len(made) < 12
 
 
+def test_level_free_templates_kept_are_bounded(tmp_path, monkeypatch):
+    """Past _MOST_TEMPLATES kinds of holes the rest are made batch by batch:
+    the same text, no more kept."""
+    from ngc2py import flatten as flat
+
+    kept = []
+    original = flat.FlattenCanon._batch_template
+
+    def watching(self, *args):
+        made = original(self, *args)
+        kept.append(len(self._level_free))
+        return made
+
+    monkeypatch.setattr(flat, "_MOST_TEMPLATES", 1)
+    monkeypatch.setattr(flat.FlattenCanon, "_batch_template", watching)
+    lines = ["G21 G90 G17 F300", "M3 S1000", "G0 Z5"]
+    for k in range(6):  # a dwell of its own each: six kinds of holes
+        lines.append("G98 G82 X0 Y%d Z-1 R1 P0.%d" % (10 * k, k + 1))
+        lines += ["X%d Y%d" % (j, 10 * k) for j in range(1, 6)]
+        lines.append("G80")
+    lines.append("M2")
+    text = cam_strategies.cam_sized("\n".join(lines) + "\n")
+    answers = _flat_by_batches_and_hole_by_hole(text, tmp_path)
+    assert answers[0] == answers[1]
+    assert kept and max(kept) == 1
+
+
 @pytest.mark.parametrize(
     "words",
     [
