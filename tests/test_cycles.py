@@ -532,6 +532,30 @@ def test_one_trace_template_serves_holes_drilled_alike_at_other_levels(
     assert traced == _without_replay(_cycle_trace, cam_sized(text))
 
 
+def test_trace_templates_kept_are_bounded(monkeypatch):
+    """With no room to keep templates (hole_rows._MOST_KEPT 0), each series
+    makes its own and none is kept: the reference path's text all the same."""
+    kept = []
+    trace_piece = HoleRows._trace_piece
+
+    def watching(self, *args):
+        answer = trace_piece(self, *args)
+        kept.append(len(self.hole_templates))
+        return answer
+
+    monkeypatch.setattr(hole_rows, "_MOST_KEPT", 0)
+    monkeypatch.setattr(HoleRows, "_trace_piece", watching)
+    rows = "\n".join("X%d Y%d" % (k, k % 3) for k in range(2, 12))
+    series = [
+        "G0 Z5\nG98 G82 X1 Y1 Z-%d R2 P0.%d\n%s\nG80" % (k, k, rows)
+        for k in range(1, 5)
+    ]
+    text = cam_sized("G21 G17 F100 M3 S1000\n" + "\n".join(series) + "\nM2\n")
+    traced = _cycle_trace(text)
+    assert kept and max(kept) == 0
+    assert traced == _without_replay(_cycle_trace, text)
+
+
 def test_rotary_axes_at_minus_zero_are_not_those_at_zero():
     """Two series of holes drilled alike but for an A axis at 0 and then at
     -0 (equal numbers, printed apart): the second's lines are its own."""

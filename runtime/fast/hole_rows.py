@@ -82,6 +82,10 @@ _MOST = 4096
 #: path spends on two rows, so fewer are drilled by the reference path.
 _FEWEST = 3
 
+#: Trace templates kept at most, of holes and of their calls (a file of
+#: endless kinds of holes makes the rest when it needs them).
+_MOST_KEPT = 4096
+
 #: Machine fields a hole changes, which the replay sets itself.
 _SET_BY_REPLAY = frozenset(("current", "line"))
 
@@ -484,9 +488,11 @@ class HoleRows:
                 import io
 
                 self.scratch = TraceCanon(io.StringIO())
-            made = self.hole_templates[key] = _template(
-                self.scratch, recorded, canon._column, self.templates
-            )
+            if len(self.templates) > _MOST_KEPT:  # (memory stays bounded)
+                self.templates.clear()
+            made = _template(self.scratch, recorded, canon._column, self.templates)
+            if len(self.hole_templates) < _MOST_KEPT:
+                self.hole_templates[key] = made
         levels = tuple(
             map("%.4f".__mod__, [args[2] for _, args, move in recorded if move])
         )
