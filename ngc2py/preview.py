@@ -159,6 +159,14 @@ class _RowCode(LineCode):
 _row_code = partial(tuple.__new__, _RowCode)
 
 
+def _sequence_numbers(lines: List[int], skipped: int) -> List[int]:
+    """The sequence numbers the preview gives ``lines``: less the lines
+    skipped before the program's first, if any (most files skip none)."""
+    if not skipped:
+        return lines
+    return [line - skipped if line > skipped else line for line in lines]
+
+
 def _in_inches(column: List[float]) -> List[float]:
     """A column of millimetres in inches, as :meth:`PreviewCanon._pose`
     divides each value; a column of zeros (U, V, W, seldom used) as it is:
@@ -381,8 +389,7 @@ class PreviewCanon(Canon):
             elif getattr(type(self), name) is not getattr(Canon, name):
                 # a call the module passes on that a hole seldom makes
                 return super().hole_moves(recording, lines, first, second, axes, start)
-        skipped = self.skipped
-        numbers = [line - skipped if line > skipped else line for line in lines]
+        numbers = _sequence_numbers(lines, self.skipped)
         if numbers[0] == self.last_sequence:  # announced already: row by row
             return super().hole_moves(recording, lines, first, second, axes, start)
         now = time.monotonic()  # asked once a batch: a batch takes milliseconds
@@ -423,8 +430,7 @@ class PreviewCanon(Canon):
             self._checked = now
             if target.check_abort():
                 raise KeyboardInterrupt("Load aborted")
-        skipped = self.skipped
-        numbers = [line - skipped if line > skipped else line for line in lines]
+        numbers = _sequence_numbers(lines, self.skipped)
         if len(modes) == 1:
             states = repeat(modes[motions[0]])
         else:
