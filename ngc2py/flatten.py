@@ -281,8 +281,8 @@ def _hole_calls(recording, axes, here, before) -> List[tuple]:
 
 def _free_levels(recording, axes, pos):
     """A recorded hole with its levels (the hole axis' value of each move)
-    taken out: (its shape: what a template of it is kept by, the levels in
-    the order they first come, which level each value is by its repr, which
+    taken out: (its shape: what a template of it is kept by, the levels' texts
+    in the order they first come, which level each value is by its repr, which
     level the flat program's tool is at: len(levels) for none); None where
     a level is not a number (NaN, infinity) or there are too many."""
     level = 3 - sum(axes)
@@ -309,7 +309,7 @@ def _free_levels(recording, axes, pos):
     ]
     pattern = list(map(index.__getitem__, texts))
     shape = dumps((axes, calls, pattern, at_level, tuple(pos[3:6])))
-    return shape, levels, index, at_level
+    return shape, _numbers(levels), index, at_level
 
 
 def _standing(recording, axes, index: dict) -> list:
@@ -688,7 +688,7 @@ class FlattenCanon(Canon):
         (``free``: what _free_levels tells of the batch's hole)."""
         if free is None:
             return self._hole_template(group, recording, axes, case, prefix, where)
-        shape, levels, index, at_level = free
+        shape, texts, index, at_level = free
         key = (shape, case, prefix, where)
         made = self._level_free.get(key)
         if made is None:
@@ -696,7 +696,6 @@ class FlattenCanon(Canon):
             made = self._level_free_template(group, standing, axes, case, prefix, where)
             if len(self._level_free) < _MOST_TEMPLATES:  # (memory stays bounded)
                 self._level_free[key] = made
-        texts = _numbers(levels)
         if made is False or max(map(len, texts)) > _LEVEL_WIDTH + _LEVEL_ROOM:
             # (a longer number could change where a long line's comment goes:
             # a line has a level at most, its move's)
