@@ -2,9 +2,10 @@
 arrays of the standard library, for ``ngc2py.toolpath()``
 (:mod:`ngc2py.moves` makes them NumPy arrays) and the workflows built on it.
 
-Recording needs no NumPy (drilled holes aside): ``ngc2py plot`` records in a
-child process while its parent imports NumPy and matplotlib, and the
-child's moves cross back as these arrays.
+Recording needs no NumPy: ``ngc2py plot`` records in a child process
+while its parent imports NumPy and matplotlib, and the child's moves cross
+back as these arrays. Each batch of moves is packed into them column by
+column in C (struct, strided memoryviews), not a Python object per value.
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ import argparse
 import io
 import math
 from array import array
-from itertools import chain, repeat
+from struct import pack
 from typing import List, Optional, Tuple
 
 from runtime.canon import Canon
@@ -131,10 +132,10 @@ class Recorder(ToolpathCanon):
             for i in LINEAR:
                 columns[i] = [value * MM_PER_INCH for value in columns[i]]
         self._rows(FEED if feed else RAPID, lines, self._rate if feed else math.nan)
-        self.ends.extend(chain.from_iterable(zip(*columns)))
-        self.centre.extend(repeat(math.nan, 2 * rows))
-        self.normal.extend(repeat(-1, rows))
-        self.turns.extend(repeat(0, rows))
+        self.ends += _rows_of(columns)
+        self.centre += _same("d", math.nan, 2 * rows)
+        self.normal += _same("b", -1, rows)
+        self.turns += _same("l", 0, rows)
         self.position = self._last = tuple(column[-1] for column in columns)
 
     def arc_moves(self, lines, *columns):
@@ -166,22 +167,22 @@ class Recorder(ToolpathCanon):
             nan = math.nan
             c1 = [value if turns else nan for value, turns in zip(c1, rotation)]
             c2 = [value if turns else nan for value, turns in zip(c2, rotation)]
-            self.kinds.extend([ARC if turns else FEED for turns in rotation])
-            self.normal.extend([normal if turns else -1 for turns in rotation])
+            self.kinds += _packed("b", [ARC if turns else FEED for turns in rotation])
+            self.normal += _packed("b", [normal if turns else -1 for turns in rotation])
         else:
-            self.kinds.extend(repeat(ARC, rows))
-            self.normal.extend(repeat(normal, rows))
-        self.lines.extend(lines)
-        self.tools.extend(repeat(self._current_tool(), rows))
-        self.feeds.extend(repeat(self._rate, rows))
-        self.ends.extend(chain.from_iterable(zip(*columns)))
-        self.centre.extend(chain.from_iterable(zip(c1, c2)))
-        self.turns.extend(rotation)
+            self.kinds += _same("b", ARC, rows)
+            self.normal += _same("b", normal, rows)
+        self.lines += _packed("l", lines)
+        self.tools += _same("l", self._current_tool(), rows)
+        self.feeds += _same("d", self._rate, rows)
+        self.ends += _rows_of(columns)
+        self.centre += _rows_of((c1, c2))
+        self.turns += _packed("l", rotation)
         self.position = self._last = tuple(column[-1] for column in columns)
 
     def hole_moves(self, recording, lines, first, second, axes, start):
         """Holes drilled alike (``Canon.hole_moves``): each hole's moves as
-        rows, made from columns (one ``extend`` per array and batch)."""
+        rows, made from columns (each array extended once a batch)."""
         moves = [(name, args, where) for name, args, where in recording if where]
         ignored = all(
             getattr(type(self), name) is getattr(Canon, name)
@@ -189,44 +190,56 @@ class Recorder(ToolpathCanon):
             if where is None
         )
         names = {name for name, _, _ in moves}
-        if not ignored or not names <= {"straight_traverse", "straight_feed"}:
+        if (
+            not moves
+            or not ignored
+            or not names <= {"straight_traverse", "straight_feed"}
+        ):
             return super().hole_moves(recording, lines, first, second, axes, start)
-        import numpy as np  # (here: recording plain moves needs none)
-
         count, per_hole = len(lines), len(moves)
-        self._begin(self.position, count * per_hole)
+        rows = count * per_hole
+        self._begin(self.position, rows)
+        k = MM_PER_INCH if self.inches else 1.0
+        if k != 1.0:
+            first, second = [v * k for v in first], [v * k for v in second]
+            start = (start[0] * k, start[1] * k)
         places = {
             "hole": (first, second),
             "start": ([start[0]] + first[:-1], [start[1]] + second[:-1]),
         }
-        # hole by hole, move by move: nine ends, in millimetres
-        ends = np.empty((count, per_hole, 9))
-        k = MM_PER_INCH if self.inches else 1.0
-        for j, (_, args, where) in enumerate(moves):
-            ends[:, j, :] = self._point(args)
+        # one hole's moves (nine ends each, in millimetres) repeated for
+        # every hole, then the plane's two coordinates of each move written
+        # over them, a column with a stride
+        width = 9 * per_hole
+        ends = array("d", [v for _, args, _ in moves for v in self._point(args)])
+        ends *= count
+        view = memoryview(ends)
+        for j, (_, _, where) in enumerate(moves):
             for axis, values in zip(axes, places[where]):
-                ends[:, j, axis] = values
-                if k != 1.0:
-                    ends[:, j, axis] *= k
+                view[9 * j + axis :: width] = memoryview(_packed("d", values))
+        numbers = array("l", bytes(8 * rows))
+        view = memoryview(numbers)
+        column = memoryview(_packed("l", lines))
+        for j in range(per_hole):
+            view[j::per_hole] = column
         kinds = [RAPID if name == "straight_traverse" else FEED for name, _, _ in moves]
         feeds = [math.nan if kind == RAPID else self._rate for kind in kinds]
-        rows = count * per_hole
-        self.kinds.extend(kinds * count)
-        self.lines.extend(chain.from_iterable(zip(*[lines] * per_hole)))
-        self.tools.extend(repeat(self._current_tool(), rows))
-        self.feeds.extend(feeds * count)
-        self.ends.frombytes(ends.tobytes())
-        self.centre.frombytes(np.full(2 * rows, math.nan).tobytes())
-        self.normal.extend(repeat(-1, rows))
-        self.turns.extend(repeat(0, rows))
-        self.position = self._last = tuple(ends[-1, -1].tolist())
+        self.kinds += array("b", kinds) * count
+        self.lines += numbers
+        self.tools += _same("l", self._current_tool(), rows)
+        self.feeds += array("d", feeds) * count
+        self.ends += ends
+        self.centre += _same("d", math.nan, 2 * rows)
+        self.normal += _same("b", -1, rows)
+        self.turns += _same("l", 0, rows)
+        self.position = self._last = tuple(ends[-9:])
 
     def _rows(self, kind: int, lines, rate: float) -> None:
         rows = len(lines)
-        self.kinds.extend(repeat(kind, rows))
-        self.lines.extend(lines)
-        self.tools.extend(repeat(self._current_tool(), rows))
-        self.feeds.extend(repeat(rate, rows))
+        self.kinds += _same("b", kind, rows)
+        self.lines += _packed("l", lines)
+        self.tools += _same("l", self._current_tool(), rows)
+        self.feeds += _same("d", rate, rows)
 
     def toolpath(self):
         """The moves so far as a :class:`ngc2py.moves.Toolpath`."""
@@ -242,6 +255,30 @@ class Recorder(ToolpathCanon):
         for name in Moves.__slots__:
             setattr(moves, name, getattr(self, name))
         return moves
+
+
+def _packed(typecode: str, values) -> array:
+    """The sequence ``values`` as an array of ``typecode``, packed in C by
+    struct: array's own constructor and ``extend`` take a list item by
+    item, several times slower (a batch of moves is nine such columns)."""
+    return array(typecode, pack("%d%s" % (len(values), typecode), *values))
+
+
+def _same(typecode: str, value, count: int) -> array:
+    """``count`` times ``value`` as an array of ``typecode``."""
+    return array(typecode, (value,)) * count
+
+
+def _rows_of(columns) -> array:
+    """Equally long columns of floats as one array of their rows, row after
+    row (X Y Z A B C U V W of each move): each column packed and written
+    with a stride, not a Python object per value."""
+    width, count = len(columns), len(columns[0])
+    rows = array("d", bytes(8 * width * count))
+    view = memoryview(rows)
+    for i, column in enumerate(columns):
+        view[i::width] = memoryview(_packed("d", column))
+    return rows
 
 
 class Moves:

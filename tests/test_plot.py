@@ -423,20 +423,32 @@ def test_the_program_run_beside_the_import_draws_what_it_draws_here(
     assert beside[1:3] == ("printed while it ran\n", "and on stderr\n")
 
 
-def test_the_child_records_without_numpy(tmp_path):
+@pytest.mark.parametrize(
+    "text, count",
+    [
+        ("G0 X3\nG2 X0 Y3 R3 F100\nG1 Y9\nG1 X1\nG1 X2\nG1 X3\nM2\n", 6),
+        # rows of holes (enough for a row table), recorded in batches
+        # (Recorder.hole_moves): the G0, 4 moves at the cycle's own line
+        # (over, down to R, in, out), then 3 at each row
+        ("G0 Z5\nG81 X0 Y0 Z-1 R1 F100\n" + "".join("X%d\n" % k for k in range(1, 81))
+         + "G80\nM2\n", 1 + 4 + 80 * 3),
+    ],
+)  # fmt: skip
+def test_the_child_records_without_numpy(tmp_path, text, count):
     """The child only runs the program into stdlib arrays: NumPy (a tenth
     of a second to import) is imported by the parent, beside matplotlib,
-    and the moves become arrays there. Drilled holes aside."""
+    and the moves become arrays there. Drilled holes too."""
     program = tmp_path / "p.ngc"
-    program.write_text("G0 X3\nG2 X0 Y3 R3 F100\nG1 Y9\nG1 X1\nG1 X2\nG1 X3\nM2\n")
+    program.write_text(text)
     code = (
         "import sys, argparse\n"
         "from ngc2py import plot\n"
         "args = argparse.Namespace(program=sys.argv[1], tool_table=None,"
         " var_file=None, ini=None, block_delete=False)\n"
         "status, report, moves = plot._recorded(args)\n"
-        "assert status == 0 and len(moves.kinds) == 6, (status, report)\n"
-        "print('numpy' in sys.modules)\n"
+        "assert status == 0 and len(moves.kinds) == %d, (status, report,"
+        " len(moves.kinds))\n"
+        "print('numpy' in sys.modules)\n" % count
     )
     env = dict(os.environ, PYTHONPATH=str(harness.REPO), NGC2PY_CACHE=str(tmp_path))
     proc = subprocess.run(
