@@ -136,12 +136,14 @@ def rasterise(flat: np.ndarray, limits, size, width: int) -> np.ndarray:
     # Pillow has no NaN breaks: one line call per run of the polyline.
     ends = np.append(breaks, len(px))
     starts = np.insert(breaks + 1, 0, 0)
-    points = np.column_stack((px, py))
-    for a, b in zip(starts.tolist(), ends.tolist()):
-        if b - a >= 2:
-            line(points[a:b].ravel().tolist())
-        elif b - a == 1:
-            point(points[a].tolist())
+    # the coordinates as one flat list, made at once: a run is a slice of
+    # it (a NumPy slice made into a list costs a microsecond a run more)
+    coordinates = np.column_stack((px, py)).ravel().tolist()
+    for a, b in zip((2 * starts).tolist(), (2 * ends).tolist()):
+        if b - a >= 4:
+            line(coordinates[a:b])
+        elif b - a == 2:
+            point(coordinates[a:b])
     thin = np.asarray(mask, dtype=bool)
     wide = thin.copy()
     # Wider lines by shifting the one-pixel mask (Pillow's own wide lines
@@ -312,8 +314,7 @@ def draw(path: Toolpath, view: str, title: str, out, fmt: str) -> None:
             if len(flat) > RASTER_FROM:
                 style = "solid"
                 dense[kind] = flat
-                corners = (np.nanmin(flat, axis=0), np.nanmax(flat, axis=0))
-                axes.update_datalim(np.array(corners))
+                axes.update_datalim(np.array(_extremes(flat)))
             else:
                 _add_lines(axes, flat, kind)
             if kind == "feed":
@@ -365,10 +366,23 @@ def _raster_groups(dense: dict) -> List[List[str]]:
 def _projected(vertices, view: str, extents: List) -> "np.ndarray":
     """``vertices`` (m, 3) seen from ``view`` as (m, 2); ``extents`` (low,
     high) grow to take them in."""
-    extents[0] = np.fmin(extents[0], np.nanmin(vertices, axis=0))
-    extents[1] = np.fmax(extents[1], np.nanmax(vertices, axis=0))
+    low, high = _extremes(vertices)
+    extents[0] = np.fmin(extents[0], low)
+    extents[1] = np.fmax(extents[1], high)
     u, v = project(vertices, view)
     return np.column_stack((u, v))
+
+
+def _extremes(points: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+    """The least and greatest of each column of ``points`` (m, n), NaN rows
+    left out (``nanmin`` and ``nanmax`` along axis 0), a column at a time:
+    a reduction along the short axis of millions of rows is five times
+    slower."""
+    columns = range(points.shape[1])
+    return (
+        np.array([np.fmin.reduce(points[:, k]) for k in columns]),
+        np.array([np.fmax.reduce(points[:, k]) for k in columns]),
+    )
 
 
 def _add_lines(axes, flat, kind: str) -> None:
