@@ -20,7 +20,8 @@ and radii vary, a trigonometry loop, canned cycles) it times, medians of
 
 ``--big`` adds a 1M-move CAM file (stats and plot). Then the golden check of
 a library: this project's golden/ corpus checked by ``ngc2py golden check``
-(warm cache) against ``rs274 -g`` run on each program. Ratio = LinuxCNC's
+(warm cache), and by pytest with ngc2py's plugin (the only plugin loaded),
+against ``rs274 -g`` run on each program. Ratio = LinuxCNC's
 time / ngc2py's (higher is better). Timings belong here, never in tests.
 """
 
@@ -233,6 +234,20 @@ def main(argv=None) -> int:
             print(row % ("golden/ (%d)" % count, "golden check (warm)", "%.2fs" % theirs,
                          "%.2fs" % med(runs), fmt_ratio(theirs, med(runs)), "%.0f" % peak(runs),
                          "rs274 -g on each program" + ("" if runs[0].status == 0 else "; CHANGED")))
+            # the same recordings as pytest tests: ngc2py's plugin alone (other
+            # plugins this machine has installed would be timed too), no ini
+            # file of this project's, one process
+            copy = work / "golden-copy"
+            shutil.rmtree(copy, ignore_errors=True)
+            shutil.copytree(library, copy)
+            (work / "empty.ini").write_text("[pytest]\n")
+            tests = [py, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-p", "ngc2py.pytest_plugin",
+                     "-c", str(work / "empty.ini"), "--rootdir", str(copy), str(copy)]
+            plugin_env = dict(env, PYTEST_DISABLE_PLUGIN_AUTOLOAD="1")
+            runs = timed(tests, work, plugin_env, args.repeat)
+            print(row % ("golden/ (%d)" % count, "pytest plugin (warm)", "%.2fs" % theirs,
+                         "%.2fs" % med(runs), fmt_ratio(theirs, med(runs)), "%.0f" % peak(runs),
+                         "the same, as pytest items" + ("" if runs[0].status == 0 else "; FAILED")))
     finally:
         if not args.keep:
             shutil.rmtree(work, ignore_errors=True)
