@@ -1,13 +1,20 @@
 """On-disk cache of generated modules (Mako's idea: regenerate on change).
 
 An entry is keyed by a hash of the source bytes, the compiler (version and
-a hash of its sources), the options that change the output (the ini file's
-path and content, and the folders it makes rs274 look in for external
-subroutines) and the file name (it appears in messages). Not by the current
-directory: subroutine files found there are named relative to it, so a
-copy of a folder (a golden check's scratch copy) hits the same entry. Next to the module a small JSON file
-records the external-subroutine paths that were probed; a hit is only used
-if each still exists (or not) with the same content hash.
+a hash of its sources) and the options that change the output (the ini
+file's path and content, and the folders it makes rs274 look in for
+external subroutines). Not by the program's name or folder: the module
+names its file in one place, its source map's first file, which
+:func:`load_cached` sets to the name the program is run by, so the same
+program under another name (a CAM tool's temporary file, a copy in another
+folder) is not converted again. (A program that finds itself as an
+external subroutine file, under the very name it was given, shares that
+name's place in the source map: such an entry is keyed by the name too.)
+Not by the current directory either: subroutine files found there are
+named relative to it, so a copy of a folder (a golden check's scratch
+copy) hits the same entry. Next to the module a small JSON file records
+the external-subroutine paths that were probed; a hit is only used if each
+still exists (or not) with the same content hash.
 
 Entries are written atomically (temporary file + ``os.replace``) so a
 concurrent reader never sees half a module. The directory is
@@ -87,14 +94,13 @@ def compiler_fingerprint() -> str:
 
 
 def cache_key(path: str, ini: Optional[str], block_delete: bool = False) -> str:
-    """The entry name for compiling ``path`` (with ``ini``, for
-    ``block_delete``) now."""
+    """The entry name for compiling ``path``'s content (with ``ini``, for
+    ``block_delete``) now, whatever its name."""
     with open(path, "rb") as handle:
         source = handle.read()
     parts = [
         compiler_fingerprint(),
         _digest(source),
-        path,
         ini or "",
         (_file_digest(ini) or "") if ini else "",
         # where subroutine files are looked for (relative ones: in the
@@ -104,6 +110,12 @@ def cache_key(path: str, ini: Optional[str], block_delete: bool = False) -> str:
     if block_delete:  # (the key of every other entry stays as it was)
         parts.append("-b")
     return _digest("\0".join(parts).encode("utf-8", "surrogateescape"))
+
+
+def _named_key(key: str, path: str) -> str:
+    """The entry name of :func:`cache_key`'s ``key`` for ``path`` alone (see
+    the module's doc)."""
+    return _digest(("%s\0%s" % (key, path)).encode("utf-8", "surrogateescape"))
 
 
 def write_atomic(target, data: Union[str, bytes]) -> None:
@@ -170,6 +182,26 @@ def cached_module(
     except OSError as error:
         raise open_failure(path, error) from None
     folder = cache_dir()
+    for entry in (key, _named_key(key, path)):
+        module = _current_entry(folder, entry)
+        if module is not None:
+            return module
+    import json
+
+    compiled = compile_program(path, ini, block_delete)
+    probes = [(p, _file_digest(p) if found else None) for p, found in compiled.probes]
+    if path in (p for p, found in compiled.probes if found):
+        key = _named_key(key, path)  # it finds itself under its own name
+    text = json.dumps(probes)
+    module = _module_path(folder, key, text)
+    write_atomic(module, compiled.text)
+    write_atomic(os.path.join(folder, "m_%s.json" % key), text)
+    return module
+
+
+def _current_entry(folder: str, key: str) -> Optional[str]:
+    """The module of entry ``key``, if there is one and the external
+    subroutine files it probed are as they were."""
     meta = os.path.join(folder, "m_%s.json" % key)
     try:
         with open(meta, encoding="utf-8") as handle:
@@ -185,15 +217,7 @@ def cached_module(
             return module
     except (OSError, ValueError, TypeError):
         pass
-    import json
-
-    compiled = compile_program(path, ini, block_delete)
-    probes = [(p, _file_digest(p) if found else None) for p, found in compiled.probes]
-    text = json.dumps(probes)
-    module = _module_path(folder, key, text)
-    write_atomic(module, compiled.text)
-    write_atomic(meta, text)
-    return module
+    return None
 
 
 def _module_path(folder: str, key: str, probes: str) -> str:
@@ -207,9 +231,11 @@ def _module_path(folder: str, key: str, probes: str) -> str:
     return os.path.join(folder, "m_%s_%s.py" % (key, _digest(probes.encode())[:24]))
 
 
-def load_cached(module: str):
+def load_cached(module: str, program: Optional[str] = None):
     """Import the entry ``module`` (a path :func:`cached_module` returned)
-    under a private name, its bytecode kept (see the module's doc)."""
+    under a private name, its bytecode kept (see the module's doc); its
+    source map names the program ``program`` (the name it is run by, which
+    may not be the name it was compiled by)."""
     import importlib.util
 
     loader = _KeepingLoader("ngc2py_program", module)
@@ -218,6 +244,9 @@ def load_cached(module: str):
     )
     loaded = importlib.util.module_from_spec(spec)
     loader.exec_module(loaded)
+    source = loaded.__ngc__
+    if program is not None and source.files[:1] != (program,):
+        source.files = (program,) + source.files[1:]
     return loaded
 
 

@@ -207,6 +207,95 @@ def test_cache_never_pairs_one_compile_s_probes_with_another_s_module(tmp_path, 
     assert cache.module_probes(module)
 
 
+#: Programs whose messages name their file, run under several names below:
+#: an error in the program, and one in an external subroutine file it calls.
+NAMED_PROGRAMS = {
+    "error": "G0 X1\nG1 X[1/0]\nM2\n",
+    "subroutine": "o<ext> call\nM2\n",
+}
+
+
+def _run_in_process(program: str):
+    """``ngc2py run program`` in this process: (status, stdout, stderr)."""
+    import contextlib
+    import io
+
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        status = cli.main(["run", program])
+    return status, out.getvalue(), err.getvalue()
+
+
+def _counting_compiles(monkeypatch) -> list:
+    """The paths ngc2py.cache compiles from now on."""
+    compiled = []
+    original = cache.compile_program
+
+    def counting(path, *args, **kwargs):
+        compiled.append(path)
+        return original(path, *args, **kwargs)
+
+    monkeypatch.setattr(cache, "compile_program", counting)
+    return compiled
+
+
+@pytest.mark.parametrize("kind", sorted(NAMED_PROGRAMS))
+def test_a_program_under_another_name_reuses_its_entry(tmp_path, monkeypatch, kind):
+    """The same program in another folder, by another name, absolute or
+    relative: converted once, and every run names the file it was run by,
+    as a run on an empty cache does (the source map's first file is set on
+    loading; see ngc2py/cache.py)."""
+    text = NAMED_PROGRAMS[kind]
+    for folder in ("a", "b"):
+        (tmp_path / folder).mkdir()
+        (tmp_path / folder / "ext.ngc").write_text(
+            "o<ext> sub\nG1 X[2/0] F10\no<ext> endsub\nM2\n"
+        )
+    (tmp_path / "a" / "p.ngc").write_text(text)
+    (tmp_path / "b" / "q.ngc").write_text(text)
+    names = [
+        ("a", "p.ngc"),
+        ("b", "q.ngc"),
+        ("a", str(tmp_path / "b" / "q.ngc")),
+        ("b", str(tmp_path / "a" / "p.ngc")),
+    ]
+    alone = {}
+    for k, (folder, name) in enumerate(names):
+        monkeypatch.setenv(cache.ENV, str(tmp_path / ("alone%d" % k)))
+        monkeypatch.chdir(tmp_path / folder)
+        alone[folder, name] = _run_in_process(name)
+    assert all(report[0] == 1 for report in alone.values())
+    assert any(str(tmp_path) in report[2] for report in alone.values())
+
+    monkeypatch.setenv(cache.ENV, str(tmp_path / "shared"))
+    compiled = _counting_compiles(monkeypatch)
+    for folder, name in names + names[::-1]:
+        monkeypatch.chdir(tmp_path / folder)
+        assert _run_in_process(name) == alone[folder, name], (folder, name)
+    assert compiled == ["p.ngc"]
+
+
+def test_a_program_that_finds_itself_keeps_an_entry_of_its_own(tmp_path, monkeypatch):
+    """A program that calls a subroutine by its own file's name finds itself
+    as that file, which then shares the source map's first place with it:
+    its entry is its name's alone, and a copy by another name beside it is
+    compiled for itself (it finds the original, named apart)."""
+    for name in ("p.ngc", "q.ngc"):
+        (tmp_path / name).write_text("o<p> call\nM2\n")
+    monkeypatch.chdir(tmp_path)
+    alone = {}
+    for name in ("p.ngc", "q.ngc"):
+        monkeypatch.setenv(cache.ENV, str(tmp_path / ("alone-" + name)))
+        alone[name] = _run_in_process(name)
+    assert "called from q.ngc:1" in alone["q.ngc"][2]
+    assert "at p.ngc:2" in alone["q.ngc"][2]
+    monkeypatch.setenv(cache.ENV, str(tmp_path / "shared"))
+    compiled = _counting_compiles(monkeypatch)
+    for name in ("p.ngc", "q.ngc", "p.ngc", "q.ngc"):
+        assert _run_in_process(name) == alone[name], name
+    assert compiled == ["p.ngc", "q.ngc"]
+
+
 def test_default_output_name():
     assert cli.default_output("dir/part.ngc") == "dir/part.py"
 
