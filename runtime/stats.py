@@ -393,19 +393,32 @@ class StatsCanon(ToolpathCanon):
         # up at the hole) is as long at every hole: measured once, at the
         # first hole it is so for.
         lengths: List[list] = []
+        #: each move's length where it is as long at every hole (else None)
+        alike: List[Optional[float]] = []
         level = 3 - ia - ib
+        # where the plane's two differences of a move within one place are
+        # zeros (finite coordinates): its length is the very double of the
+        # level's alone
+        finite = {
+            where: a - a == 0.0 and b - b == 0.0
+            for where, (a, b) in (
+                ("hole", (first[0], second[0])),
+                ("start", (start[0], start[1])),
+            )
+        }
+        _, was, place = moves[-1]
         for j, (_, args, where) in enumerate(moves):
-            _, was, place = moves[j - 1]
             if j and place == where:
-                a, b = places[where][0][0], places[where][1][0]
-                if a - a == 0.0 and b - b == 0.0:
-                    # the plane's two differences are zeros (finite
-                    # coordinates): the very double of the level's alone
+                if finite[where]:
                     length = distance((0.0, 0.0, was[level]), (0.0, 0.0, args[level]))
                 else:
                     length = distance(xyz(was, where, 0), xyz(args, where, 0))
                 lengths.append([length] * count)
-            elif not j and place == "hole" and where == "start" and count > 1:
+                alike.append(length)
+                was, place = args, where
+                continue
+            alike.append(None)
+            if not j and place == "hole" and where == "start" and count > 1:
                 # from the hole before to the point above it: alike but the first
                 begin = [self.position[i] for i in range(3)]
                 length = distance(xyz(was, where, 1), xyz(args, where, 1))
@@ -422,9 +435,12 @@ class StatsCanon(ToolpathCanon):
                 lengths.append(
                     distances(*begin, *finish) or python_distances(*begin, *finish)
                 )
+            was, place = args, where
         timed = lengths[:]
         for j, (_, args, _) in enumerate(moves):
-            if 0.0 in lengths[j]:  # rotary axes alone: degrees at the same rate
+            same = alike[j]
+            if 0.0 in lengths[j] if same is None else same == 0.0:
+                # rotary axes alone: degrees at the same rate
                 # (the same for every hole but the very first move's)
                 turned = [
                     max(abs(args[i] - before[i]) for i in (3, 4, 5))
@@ -435,8 +451,9 @@ class StatsCanon(ToolpathCanon):
                 ]
                 timed[j] = [length or turned[1] for length in lengths[j]]
                 timed[j][0] = lengths[j][0] or turned[0]
-        for kind in kinds:
-            self.counts[kind] += count
+        feeds = kinds.count("feed")
+        self.counts["feed"] += feeds * count
+        self.counts["rapid"] += (len(kinds) - feeds) * count
         # the holes' box on the plane: each move's two corners of it
         boxes = {
             "hole": (min(first), min(second), max(first), max(second)),
@@ -447,16 +464,16 @@ class StatsCanon(ToolpathCanon):
                 max(before_second),
             ),
         }
-        lows, highs = [], []
-        for _, args, where in moves:
-            low, high = list(args), list(args)
-            low[ia], low[ib], high[ia], high[ib] = boxes[where]
-            lows.append(low)
-            highs.append(high)
-        # the corners of them all, axis by axis (min and max keep the first
-        # of equals, as adding them one by one would)
-        self.extents.add([min(values) for values in zip(*lows)])
-        self.extents.add([max(values) for values in zip(*highs)])
+        # the corners of them all, axis by axis, the moves in order (min and
+        # max keep the first of equals, as adding them one by one would):
+        # the other axes from the moves' own ends, the plane's from the boxes
+        ends = list(zip(*[args for _, args, _ in moves]))
+        low, high = list(map(min, ends)), list(map(max, ends))
+        corners = list(zip(*[boxes[where] for _, _, where in moves]))
+        low[ia], low[ib] = min(corners[0]), min(corners[1])
+        high[ia], high[ib] = max(corners[2]), max(corners[3])
+        self.extents.add(low)
+        self.extents.add(high)
         lengths_of = self.lengths
         rapid, feed, self.motion_time, untimed = hole_sums(
             lengths,
