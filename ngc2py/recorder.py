@@ -217,7 +217,7 @@ class Recorder(ToolpathCanon):
         for j, (_, _, where) in enumerate(moves):
             for axis, values in zip(axes, places[where]):
                 view[9 * j + axis :: width] = memoryview(_packed("d", values))
-        numbers = array("l", bytes(8 * rows))
+        numbers = _same("l", 0, rows)
         view = memoryview(numbers)
         column = memoryview(_packed("l", lines))
         for j in range(per_hole):
@@ -274,7 +274,7 @@ def _rows_of(columns) -> array:
     row (X Y Z A B C U V W of each move): each column packed and written
     with a stride, not a Python object per value."""
     width, count = len(columns), len(columns[0])
-    rows = array("d", bytes(8 * width * count))
+    rows = _same("d", 0.0, width * count)
     view = memoryview(rows)
     for i, column in enumerate(columns):
         view[i::width] = memoryview(_packed("d", column))
