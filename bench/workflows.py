@@ -87,7 +87,7 @@ print(time.perf_counter() - start, sorted(canon.counts.items()))
 #: A user's canon that counts moves, against the same run with NullCanon.
 USER_CANON = """\
 import sys, time
-from ngc2py.cli import load_program
+from ngc2py.loading import load_program
 from runtime.canon import Canon, NullCanon
 from runtime.machine import Machine
 from runtime.main import start

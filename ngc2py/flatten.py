@@ -1632,7 +1632,7 @@ def flatten(
     GCodeError where the program fails, FlattenError for what flatten
     cannot write. With ``continue_mode`` 0 (rs274's ``-n 0``) errors are
     reported on stderr and the flat program holds what the other lines made."""
-    from ngc2py.cli import load_program, unopened
+    from ngc2py.loading import load_program, unopened
     from ngc2py.compiler import OpenError
     from runtime import continue_mode as continuing
     from runtime.main import report, start

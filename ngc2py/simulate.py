@@ -70,7 +70,7 @@ def run_program(
     """Run ``args.program`` against ``canon``; the exit status (0, or 1 after
     an error was reported on ``stderr``). ``on_machine`` is given the
     machine before the program runs (a canon that reads its line numbers)."""
-    from ngc2py.cli import load_program, unopened
+    from ngc2py.loading import load_program, unopened
     from ngc2py.compiler import CompileError, OpenError
     from runtime.machine import Machine
     from runtime import continue_mode
