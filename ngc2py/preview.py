@@ -37,7 +37,9 @@ switch to ngc2py:
   LinuxCNC's code (1 after M2/M30, 3 at a closing ``%``, 4 when the file
   cannot be opened, 5 for an error: :func:`strerror` gives its message) and
   the line number, one past the line when the error came while reading it;
-* an exception raised by a canon method stops the run and propagates.
+* an exception raised by a canon method stops the run and propagates
+  (StopIteration raised in a batch of moves, which runs as an iterator of
+  calls, comes out as a RuntimeError, as it would from a generator).
 
 Differences, on purpose: ``(PRINT, ...)`` text goes to the canon's
 ``print_text`` method if it has one, never to stdout (the module prints it
@@ -60,14 +62,14 @@ from __future__ import annotations
 
 import re
 import time
-from functools import partial
-from itertools import repeat
-from operator import itemgetter
+from itertools import chain, compress, repeat, starmap
+from operator import itemgetter, not_
 from typing import Any, List, Optional, Sequence, Tuple
 
 from runtime.arcs import INVERSE_TIME, UNITS_PER_MINUTE, UNITS_PER_REVOLUTION
 from runtime.blockcheck import M_USER
-from runtime.canon import Canon
+from runtime.budget import DEFAULT_MAX_STEPS, RUNAWAY
+from runtime.canon import Canon, make_calls
 from runtime.codes import G0, G1, G2, G3, M_OFFSET, g_code, m_code
 from runtime.errors import GCodeError, g_code_frames, g_code_frames_of_stack, locate
 from runtime.machine import Machine
@@ -105,14 +107,12 @@ def strerror(code: int) -> str:
     return _last_error
 
 
-class LineCode(tuple):
-    """What ``next_line`` receives: ``gcode.linecode``'s fields. A tuple
-    underneath, so that a batch makes its lines' in C (:class:`_RowCode`)."""
+class _LineFields(tuple):
+    """``gcode.linecode``'s fields, read from a tuple (gcodes, mcodes,
+    settings). A tuple underneath, so that a batch makes its lines' in C
+    (:class:`_RowCode`)."""
 
     __slots__ = ()
-
-    def __new__(cls, gcodes: Tuple[int, ...], mcodes: Tuple[int, ...], settings):
-        return tuple.__new__(cls, (gcodes, mcodes, settings))
 
     gcodes = property(itemgetter(0))
     mcodes = property(itemgetter(1))
@@ -142,21 +142,27 @@ class LineCode(tuple):
         return "<linecode %d %r %r>" % (self.sequence_number, self.gcodes, self.mcodes)
 
 
-class _RowCode(LineCode):
-    """A batch row's LineCode, made without a Python call (:func:`_row_codes`):
-    (sequence number, line, the modes after the line's own as
-    :meth:`PreviewMachine.line_state` gives them); its fields are joined
-    when read."""
+class LineCode(_LineFields):
+    """What ``next_line`` receives."""
+
+    __slots__ = ()
+
+    def __new__(cls, gcodes: Tuple[int, ...], mcodes: Tuple[int, ...], settings):
+        return tuple.__new__(cls, (gcodes, mcodes, settings))
+
+
+class _RowCode(_LineFields):
+    """A batch row's line code, made from a (sequence number, line, the
+    modes after the line's own as :meth:`PreviewMachine.line_state` gives
+    them) tuple by tuple's own constructor, in C (no ``__new__`` of its
+    own: :class:`LineCode`'s would be a Python call a row); its fields are
+    joined when read."""
 
     __slots__ = ()
 
     gcodes = property(lambda self: (self[0],) + self[2][0])
     mcodes = property(lambda self: (self[1],) + self[2][1])
     settings = property(lambda self: (float(self[1]),) + self[2][2])
-
-
-#: _RowCode of (number, line, modes) tuples, in C
-_row_code = partial(tuple.__new__, _RowCode)
 
 
 def _sequence_numbers(lines: List[int], skipped: int) -> List[int]:
@@ -170,10 +176,14 @@ def _sequence_numbers(lines: List[int], skipped: int) -> List[int]:
 def _in_inches(column: List[float]) -> List[float]:
     """A column of millimetres in inches, as :meth:`PreviewCanon._pose`
     divides each value; a column of zeros (U, V, W, seldom used) as it is:
-    zero divided is the very same zero, its sign kept."""
+    zero divided is the very same zero, its sign kept. A column of one value
+    (``[v] * n``: ``count`` finds it by identity, in C) is divided once."""
     if not any(column):
         return column
     k = MM_PER_INCH
+    first = column[0]
+    if first is column[-1] and column.count(first) == len(column):
+        return [first / k] * len(column)  # an axis the rows do not name
     return [value / k for value in column]
 
 
@@ -292,11 +302,11 @@ class PreviewCanon(Canon):
         if not machine.inches:
             x, y, z, u, v, w = map(_in_inches, (x, y, z, u, v, w))
         target = self.target
+        call = target.straight_feed if feed else target.straight_traverse
         self._announce_batch(
             lines,
             [G1 if feed else G0] * len(lines),
-            target.straight_feed if feed else target.straight_traverse,
-            zip(x, y, z, a, b, c, u, v, w),
+            starmap(call, zip(x, y, z, a, b, c, u, v, w)),
         )
 
     def arc_moves(self, lines, *columns):
@@ -315,43 +325,50 @@ class PreviewCanon(Canon):
         self._announce_batch(
             lines,
             [G3 if turn > 0 else G2 for turn in rotation],
-            self.target.arc_feed,
-            zip(e1, e2, c1, c2, rotation, normal, a, b, c, u, v, w),
+            starmap(
+                self.target.arc_feed,
+                zip(e1, e2, c1, c2, rotation, normal, a, b, c, u, v, w),
+            ),
         )
 
     def contour_moves(self, axes, lines, *columns):
         """A contour (runtime.canon.Canon.contour_moves): arcs and the plain
         G1 rows between them, announced line by line as :meth:`arc_moves`
-        and :meth:`straight_moves` do, in one batch."""
+        and :meth:`straight_moves` do, in one batch. The arcs' calls and the
+        lines' are two iterators of calls; a list of which one each row
+        takes is walked by ``map(next, ...)``, so no row costs a Python
+        statement."""
         machine = self.machine
         rotation = columns[4]
         if self.motion_line is not None or not isinstance(machine, PreviewMachine):
             return super().contour_moves(axes, lines, *columns)
         if 0 not in rotation:
             return self.arc_moves(lines, *columns)
-        target = self.target
-        arc_feed, straight_feed = target.arc_feed, target.straight_feed
-        k = 1.0 if machine.inches else MM_PER_INCH  # (divided by, as _pose does)
         f, s, n = axes
-        motions, calls, arguments = [], [], []
-        pose = None
-        for e1, e2, c1, c2, turn, en, a, b, c, u, v, w in zip(*columns):
-            if turn:
-                motions.append(G3 if turn > 0 else G2)
-                calls.append(arc_feed)
-                arguments.append(
-                    (e1 / k, e2 / k, c1 / k, c2 / k, turn, en / k,
-                     a, b, c, u / k, v / k, w / k)
-                )  # fmt: skip
-            else:
-                pose = [0.0, 0.0, 0.0, a, b, c, u, v, w]
-                pose[f], pose[s], pose[n] = e1, e2, en
-                motions.append(G1)
-                calls.append(straight_feed)
-                arguments.append(self._pose(*pose))
-        if pose is not None:  # the module's own position: the last line's end
-            self._pos = tuple(pose)
-        self._announce_batch(lines, motions, calls, iter(arguments))
+        if sorted(axes) != [0, 1, 2]:  # a plane of U, V, W: seldom
+            return super().contour_moves(axes, lines, *columns)
+        # the module's own position: the last straight row's end
+        last = len(rotation) - 1 - rotation[::-1].index(0)
+        pose = [column[last] for column in columns[6:]]
+        pose[0:0] = [0.0, 0.0, 0.0]
+        pose[f], pose[s], pose[n] = columns[0][last], columns[1][last], columns[5][last]
+        target = self.target
+        e1, e2, c1, c2, _, en, a, b, c, u, v, w = columns
+        if not machine.inches:
+            e1, e2, c1, c2, en, u, v, w = map(_in_inches, (e1, e2, c1, c2, en, u, v, w))
+        line_columns = [e1, e2, en, a, b, c, u, v, w]
+        line_columns[0:3] = [line_columns[(f, s, n).index(axis)] for axis in range(3)]
+        arcs = zip(e1, e2, c1, c2, rotation, en, a, b, c, u, v, w)
+        arc_calls = starmap(target.arc_feed, compress(arcs, rotation))
+        line_calls = starmap(
+            target.straight_feed, compress(zip(*line_columns), map(not_, rotation))
+        )
+        self._announce_batch(
+            lines,
+            [G1 if not turn else G3 if turn > 0 else G2 for turn in rotation],
+            map(next, [arc_calls if turn else line_calls for turn in rotation]),
+        )
+        self._pos = tuple(pose)
 
     def hole_moves(self, recording, lines, first, second, axes, start):
         """Holes drilled alike (runtime.canon.Canon.hole_moves): each hole's
@@ -364,7 +381,7 @@ class PreviewCanon(Canon):
         if self.motion_line is not None or not isinstance(machine, PreviewMachine):
             return super().hole_moves(recording, lines, first, second, axes, start)
         target = self.target
-        count = len(lines)
+        holes = len(lines)
         k = 1.0 if machine.inches else MM_PER_INCH
         places = {
             "hole": (first, second),
@@ -380,12 +397,12 @@ class PreviewCanon(Canon):
         columns = []  # per call of a hole: (the target's method, its columns)
         for name, args, where in recording:
             if where is not None:
-                steps = [repeat(value, count) for value in self._pose(*args)]
+                steps = [repeat(value, holes) for value in self._pose(*args)]
                 for axis, values in zip(axes, shown[where]):
                     steps[axis] = values
                 columns.append((getattr(target, name), steps))
             elif name == "dwell":
-                columns.append((target.dwell, [repeat(args[0], count)]))
+                columns.append((target.dwell, [repeat(args[0], holes)]))
             elif getattr(type(self), name) is not getattr(Canon, name):
                 # a call the module passes on that a hole seldom makes
                 return super().hole_moves(recording, lines, first, second, axes, start)
@@ -398,15 +415,13 @@ class PreviewCanon(Canon):
             if target.check_abort():
                 raise KeyboardInterrupt("Load aborted")
         gcodes, mcodes, settings = machine.active
-        codes = [LineCode((numbers[0],) + gcodes[1:], mcodes, settings)]
+        first = LineCode((numbers[0],) + gcodes[1:], mcodes, settings)
         state = repeat((gcodes[1:], mcodes[1:], settings[1:]))
-        codes += map(_row_code, zip(numbers[1:], lines, state))
-        # each call's column mapped over by its method; zip asks them in
-        # turn, so the calls come in program order, hole after hole
-        calls = [map(target.next_line, codes)]
-        calls += [map(method, *steps) for method, steps in columns]
-        for _ in zip(*calls):
-            pass
+        codes = chain((first,), map(_RowCode, zip(numbers[1:], lines, state)))
+        # each call's column mapped over by its method, asked in turn: the
+        # calls come in program order, hole after hole
+        calls = [map(method, *steps) for method, steps in columns]
+        make_calls(holes, map(target.next_line, codes), *calls)
         self.last_sequence = numbers[-1]
         for _, args, where in reversed(recording):
             if where is not None:  # the module's own position: the last move's
@@ -416,14 +431,12 @@ class PreviewCanon(Canon):
                 self._pos = tuple(position)
                 break
 
-    def _announce_batch(self, lines, motions, call, arguments) -> None:
-        """``call(*arguments[k])`` for each line of a batch, each line
-        announced first with the modes the line before left: those of
-        ``motions[k - 1]``, its motion mode, since nothing else changes.
-        ``call`` is one method, or a list of one a line (a contour's)."""
+    def _announce_batch(self, lines, motions, calls) -> None:
+        """Each line of a batch announced with the modes the line before
+        left (those of ``motions[k - 1]``, its motion mode, since nothing
+        else changes), then its move made: ``next(calls)`` makes it."""
         machine = self.machine
         target = self.target
-        next_line = target.next_line
         modes = {motion: machine.line_state(motion) for motion in set(motions)}
         now = time.monotonic()  # asked once a batch: a batch takes milliseconds
         if now - self._checked > ABORT_INTERVAL:
@@ -435,16 +448,18 @@ class PreviewCanon(Canon):
             states = repeat(modes[motions[0]])
         else:
             states = map(modes.__getitem__, motions)
-        codes = list(map(_row_code, zip(numbers[1:], lines, states)))
-        if numbers[0] != self.last_sequence:
-            g, m, s = machine.active
-            codes.insert(0, LineCode((numbers[0],) + g[1:], m, s))
-        methods = iter(call) if isinstance(call, list) else repeat(call)
+        # made as they are asked for: a code the target keeps no reference
+        # to is freed at once
+        codes = map(_RowCode, zip(numbers[1:], lines, states))
+        rows = len(lines)
         if numbers[0] == self.last_sequence:  # announced already
-            next(methods)(*next(arguments))
-        for code, method, values in zip(codes, methods, arguments):
-            next_line(code)
-            method(*values)
+            next(calls)
+            rows -= 1
+        else:
+            g, m, s = machine.active
+            codes = chain((LineCode((numbers[0],) + g[1:], m, s),), codes)
+        # the announcement first, then the move, row by row
+        make_calls(rows, map(target.next_line, codes), calls)
         self.last_sequence = numbers[-1]
         last = lines[-1]
         gcodes, mcodes, settings = modes[motions[-1]]
@@ -853,6 +868,8 @@ _EXECUTE_PREFIXES = (
     "Fanuc 'O....' subroutine must be called with",
     "'O.... sub' subroutine must be called with",
     "Fanuc 'O....' subroutine definition must end with",
+    # ngc2py's own (rs274 runs on): a loop or call spent the step budget
+    RUNAWAY,
 )
 #: G61, G61.1, G64.
 _PATH_MODES = frozenset((610, 611, 640))
@@ -921,12 +938,16 @@ def parse(
     *args: Any,
     tool_table: Optional[str] = None,
     ini: Optional[str] = None,
+    max_steps: int = DEFAULT_MAX_STEPS,
 ):
     """Run ``filename`` against ``canon`` as ``gcode.parse`` does; see the
     module docstring. ``tool_table`` and ``ini`` are ngc2py's: rs274's
-    ``-t`` and ``-i`` files. Returns ``(result, last_sequence_number)``."""
+    ``-t`` and ``-i`` files; ``max_steps`` the loop iterations and calls
+    allowed (runtime.budget; 0: no limit): a program that never ends,
+    which LinuxCNC's preview loads forever, returns an error result.
+    Returns ``(result, last_sequence_number)``."""
     global _last_error
-    from ngc2py.cli import load_program, unopened
+    from ngc2py.loading import load_program, unopened
     from ngc2py.compiler import OpenError
 
     init_codes = _init_codes(args)
@@ -943,7 +964,12 @@ def parse(
     adapter = PreviewCanon(canon)
     var_file = getattr(canon, "parameter_file", None) or None
     machine = PreviewMachine(
-        adapter, tool_table=tool_table, var_file=var_file, ini=ini, source=source_map
+        adapter,
+        tool_table=tool_table,
+        var_file=var_file,
+        ini=ini,
+        source=source_map,
+        max_steps=max_steps,
     )
     adapter.machine = machine
     _last_error = ""
@@ -980,10 +1006,16 @@ def parse(
         elif frames and len(frames) > 1:
             # a lone % in a subroutine file ended the program: its line
             ended_in_sub = frames[-1].line
-    except (GCodeError, UnboundLocalError) as caught:
+    except (GCodeError, UnboundLocalError, StopIteration) as caught:
         # a named local held in a Python variable read unset: the store's
-        # error (runtime.params.unset_variable)
-        error = unset_variable(caught) if type(caught) is UnboundLocalError else caught
+        # error (runtime.params.unset_variable); the step budget spent: the
+        # runaway error (runtime.budget), at the loop or call that spent it
+        if type(caught) is UnboundLocalError:
+            error = unset_variable(caught)
+        elif type(caught) is StopIteration and machine.budget_spent():
+            error = machine.runaway().with_traceback(caught.__traceback__)
+        else:
+            error = caught
         if not isinstance(error, GCodeError):
             raise
         _last_error = error.message

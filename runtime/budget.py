@@ -19,6 +19,7 @@ if TYPE_CHECKING:
     from typing import Iterator
 
 from itertools import repeat
+from operator import length_hint
 
 from runtime.errors import GCodeError
 
@@ -28,10 +29,15 @@ from runtime.errors import GCodeError
 DEFAULT_MAX_STEPS = 10_000_000
 
 
+#: How the runaway error begins.
+RUNAWAY = "Step limit reached"
+
+
 def runaway_message(max_steps: int) -> str:
     return (
-        "Step limit reached: more than %d loop iterations and subroutine calls"
-        " (a program that never ends?); --max-steps raises the limit" % max_steps
+        "%s: more than %d loop iterations and subroutine calls"
+        " (a program that never ends?); --max-steps raises the limit"
+        % (RUNAWAY, max_steps)
     )
 
 
@@ -54,6 +60,13 @@ class StepBudgetMixin:
         """The error for a spent budget (what step()'s StopIteration means)."""
         return GCodeError(runaway_message(self.max_steps))
 
+    def budget_spent(self) -> bool:
+        """Is the budget spent? A StopIteration that reached the program's
+        top means so only then: a canon method may raise one too (a
+        ``next()`` on an iterator of its own run out), and that one is the
+        canon's error, raised as it is."""
+        return self.max_steps > 0 and length_hint(self.step.__self__) == 0
+
     def repeat(self, n: float) -> Iterator[int]:
         """``o.. repeat [n]``: n rounded to the nearest integer times (none
         if negative), each iteration one step."""
@@ -67,4 +80,4 @@ class StepBudgetMixin:
             yield index
 
 
-__all__ = ["DEFAULT_MAX_STEPS", "StepBudgetMixin", "runaway_message"]
+__all__ = ["DEFAULT_MAX_STEPS", "RUNAWAY", "StepBudgetMixin", "runaway_message"]

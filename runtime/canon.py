@@ -23,14 +23,30 @@ executing a line.
 
 from __future__ import annotations
 
-from itertools import starmap
+from collections import deque
+from itertools import count, starmap
 from math import copysign
 
 from runtime.lazy_re import Pattern
 
 TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
-    from typing import IO, List, Optional, Tuple
+    from typing import IO, Iterator, List, Optional, Tuple
+
+#: Runs an iterator to its end in C, keeping nothing
+_drain = deque(maxlen=0).extend
+
+
+def make_calls(rows: int, *calls: Iterator) -> None:
+    """Run ``rows`` rows of the iterators of canon calls ``calls`` (a
+    ``starmap`` or ``map`` of a method): a call of each in turn a row,
+    asked by zip in C. A method raising StopIteration would only look like
+    the end of its iterator and stop the batch in silence: counting the rows
+    made turns that into an error."""
+    made = count()
+    _drain(zip(*calls, made))
+    if next(made) != rows:
+        raise RuntimeError("a canon method raised StopIteration")
 
 
 class Canon:
@@ -91,8 +107,7 @@ class Canon:
     def straight_moves(self, feed: bool, lines, x, y, z, a, b, c, u, v, w):
         """Straight moves, all feeds (``feed``) or all traverses."""
         call = self.straight_feed if feed else self.straight_traverse
-        for _ in starmap(call, zip(x, y, z, a, b, c, u, v, w)):
-            pass
+        make_calls(len(lines), starmap(call, zip(x, y, z, a, b, c, u, v, w)))
 
     def arc_moves(
         self,
@@ -116,8 +131,8 @@ class Canon:
         one batch (``machine.line`` is then the batch's last line); by
         default, one ``arc_feed`` an arc."""
         columns = (first_end, second_end, first_axis, second_axis, rotation)
-        for _ in starmap(self.arc_feed, zip(*columns, axis_end, a, b, c, u, v, w)):
-            pass
+        arguments = zip(*columns, axis_end, a, b, c, u, v, w)
+        make_calls(len(lines), starmap(self.arc_feed, arguments))
 
     def contour_moves(
         self,

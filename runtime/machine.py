@@ -337,7 +337,7 @@ class Machine(
             except UnboundLocalError as error:
                 raise unset_variable(error) from None
             except StopIteration as spent:  # the step budget (runtime.budget)
-                if self.max_steps <= 0:
+                if not self.budget_spent():
                     raise
                 raise self.runaway().with_traceback(spent.__traceback__) from None
             finally:

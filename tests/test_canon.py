@@ -13,6 +13,7 @@ import io
 import pytest
 
 import rs274 as harness
+from runtime.machine import Machine
 from runtime.canon import (
     BUFFERED_LINES,
     CALLS,
@@ -184,3 +185,59 @@ def test_trace_lines_are_written_in_batches_and_all_by_flush():
     assert lines[: len(written)] == written
     assert [line.split()[0] for line in lines[:2]] == ["1", "2"]
     assert lines[2] == "text 2" and lines[-1].startswith("%5d" % (total - total // 3))
+
+
+#: Programs whose moves reach a canon in batches: a CAM table, a contour
+#: (arcs with lines between), a series of drilled holes.
+BATCHED = {
+    "rows": "G21 G1 F500\n"
+    + "".join("X%d.5 Y%d\n" % (k, k % 7) for k in range(300))
+    + "M2\n",
+    "contour": "G21 G0 X0 Y0\nG1 F500\n"
+    + "".join(
+        (
+            "G2 X%d Y0 R0.5\nG1 X%d.5\n" % (k + 1, k + 1)
+            if k % 2
+            else "G3 X%d Y0 R0.6\n" % (k + 1)
+        )
+        for k in range(200)
+    )
+    + "M2\n",
+    "holes": "G21 G0 Z5\nF100\nG99 G81 X0 Y0 Z-1 R1\n"
+    + "".join("X%d Y%d\n" % (k, k % 3) for k in range(1, 60))
+    + "G80\nM2\n",
+}
+
+
+#: the call that raises: one inside a batch (the holes' first is drilled alone)
+AT = 150
+
+
+@pytest.mark.parametrize("program", sorted(BATCHED))
+@pytest.mark.parametrize("raised", [ValueError, StopIteration])
+def test_a_canon_exception_in_a_batch_stops_the_run_at_that_call(
+    tmp_path, program, raised
+):
+    """A user's canon that defines only straight_feed & co. gets batches one
+    call a move (Canon.straight_moves, the rows' C loops): its exception
+    stops the run at the very call. A StopIteration (a ``next()`` on an
+    iterator of its own run out) is neither swallowed by the iterator a
+    batch's calls are made from (there it becomes a RuntimeError) nor taken
+    for the step budget running out (runtime.budget)."""
+    from test_not_copied import compiled
+
+    module = compiled(BATCHED[program], tmp_path)
+    made = []
+
+    class Broken(Canon):
+        def _move(self, *args):
+            made.append(args)
+            if len(made) == AT:
+                raise raised("canon broke")
+
+        straight_feed = straight_traverse = arc_feed = _move
+
+    expected = (RuntimeError, StopIteration) if raised is StopIteration else raised
+    with pytest.raises(expected, match="canon broke|raised StopIteration"):
+        Machine(Broken(), source=module.__ngc__).run(module.main)
+    assert len(made) == AT

@@ -8,7 +8,9 @@ crashes on over-long comment expansions are golden programs with an
 1. A program that never ends (``o1 while [1]`` with nothing in it, a call
    chain that loops) runs rs274 forever. ngc2py counts loop iterations and
    calls (runtime.budget) and stops with an error naming the file and the
-   loop line once ``--max-steps`` (default DEFAULT_MAX_STEPS) is spent.
+   loop line once ``--max-steps`` (default DEFAULT_MAX_STEPS) is spent;
+   ``ngc2py.parse`` (``max_steps=``) returns that error where LinuxCNC's
+   preview loads the file forever.
 2. ``rs274 -n 0`` on a file that ends without ``%`` or M2 reports "File
    ended with no percent sign or program end" again and again, forever.
    ngc2py reports it once and exits 1.
@@ -104,6 +106,25 @@ def test_endless_loop_stops_with_an_error_naming_the_loop(tmp_path):
     # Everything before the loop was printed, then rs274's closing calls.
     assert "STRAIGHT_TRAVERSE(1.0000" in proc.stdout
     assert proc.stdout.endswith("ON_RESET()\n")
+
+
+def test_the_preview_of_an_endless_loop_returns_an_error(tmp_path, monkeypatch):
+    """LinuxCNC's preview (gcode.parse) loads such a file forever, as rs274
+    runs it; ``ngc2py.parse`` returns the runaway error, at the loop's line,
+    after the calls made before it."""
+    import ngc2py
+    from ngc2py.preview import INTERP_ERROR
+    from test_preview import Recorder
+
+    monkeypatch.setenv("NGC2PY_CACHE", str(tmp_path / "c"))
+    (tmp_path / "prog.ngc").write_text(ENDLESS)
+    canon = Recorder()
+    result = ngc2py.parse(str(tmp_path / "prog.ngc"), canon, max_steps=1000)
+    assert result == (INTERP_ERROR, 2)
+    assert ngc2py.strerror(result[0]) == runaway_message(1000)
+    # the G0's move, then the loop's line announced, as an error's line is
+    (move, _), (announced, (line, *_)) = canon.calls[-2:]
+    assert (move, announced, line) == ("straight_traverse", "next_line", 2)
 
 
 @pytest.mark.parametrize(

@@ -30,6 +30,7 @@ from hypothesis import strategies as st
 
 import cam_strategies
 import test_cycles
+from test_canon import AT, BATCHED
 import rs274 as harness
 from gcode_answers import ANSWERS, QUESTIONS  # the canon's answers, shared
 import strategies
@@ -349,6 +350,31 @@ def test_canon_exceptions_propagate(tmp_path):
 
     with scratch_run(path) as s, pytest.raises(ValueError, match="preview broke"):
         ngc2py.parse(s.program.name, Broken())
+
+
+@pytest.mark.parametrize("program", sorted(BATCHED))
+@pytest.mark.parametrize("raised", [ValueError, StopIteration])
+def test_an_exception_in_a_batch_stops_the_run_at_that_call(tmp_path, program, raised):
+    """A canon method's exception stops the run at the very call, batch or
+    not. StopIteration would only end the iterator of calls a batch is
+    made from, silently: there it becomes a RuntimeError (as in a
+    generator); a call made alone raises it as it is."""
+    path = tmp_path / "prog.ngc"
+    path.write_text(BATCHED[program])
+    made = []
+
+    class Broken(Recorder):
+        def _move(self, *args):
+            made.append(args)
+            if len(made) == AT:
+                raise raised("preview broke")
+
+        straight_feed = straight_traverse = arc_feed = _move
+
+    expected = (RuntimeError, StopIteration) if raised is StopIteration else ValueError
+    with scratch_run(path) as s, pytest.raises(expected):
+        ngc2py.parse(s.program.name, Broken())
+    assert len(made) == AT
 
 
 def test_print_reaches_the_canon_not_stdout(tmp_path, capfd):

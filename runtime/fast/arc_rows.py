@@ -53,6 +53,17 @@ def python_radius_bounds(c1, c2, s1, s2, e1, e2) -> Optional[Tuple[float, ...]]:
     )
 
 
+def table_lines(cells: List[str], at: int, stop: int, stride: int) -> List[int]:
+    """The G-code lines of the table rows from ``cells[at]`` to before
+    ``cells[stop]``. A table's rows are lines of one region, in order: when
+    the last is as many lines after the first as there are rows in between,
+    the rows are every line from first to last, and no cell is parsed."""
+    first, last = int(cells[at]), int(cells[stop - stride])
+    if last - first == (stop - at) // stride - 1:
+        return list(range(first, last + 1))
+    return list(map(int, cells[at:stop:stride]))
+
+
 try:  # the same in C, without a map per step (None: a value not finite)
     from runtime._libm_trig import floats as column_floats
     from runtime._libm_trig import radius_bounds
@@ -774,7 +785,7 @@ class ArcRows:
         for axis in (p3, 3, 4, 5, 6, 7, 8):
             i = named.get(axis)
             columns.append([cur[axis]] * rows if i is None else column_floats(texts[i]))
-        lines = list(map(int, cells[at:stop:stride]))
+        lines = table_lines(cells, at, stop, stride)
         # the machine at the batch's start (held arcs flushed before it
         # left it at theirs)
         machine = self.machine

@@ -38,7 +38,7 @@ if TYPE_CHECKING:
 
     Shape = Tuple[Tuple[int, ...], Tuple[str, ...]]
 
-from runtime.fast.arc_rows import ArcRows, column_floats
+from runtime.fast.arc_rows import ArcRows, column_floats, table_lines
 from runtime.fast.hole_rows import HoleRows
 from runtime.blockcheck import DRILL_CYCLES
 from runtime.canon import Canon, TraceCanon
@@ -187,7 +187,7 @@ def straight_batch(
         columns = [[value] * rows for value in cur]
         for i, axis in plan.slots:
             columns[axis] = column_floats(cells[at + 2 + i : stop : stride])
-        lines = list(map(int, cells[at:stop:stride]))
+        lines = table_lines(cells, at, stop, stride)
         try:
             canon.straight_moves(feed, lines, *columns)
             done = rows
@@ -200,6 +200,8 @@ def straight_batch(
         try:
             for done, _ in enumerate(starmap(call, zip(*arguments)), 1):
                 pass
+            if done < rows:  # only a StopIteration the call raised ends it early
+                raise RuntimeError("a canon method raised StopIteration")
         except Exception as failed:  # noqa: BLE001 - handed back, raised by the caller
             error = failed
     if not done:
