@@ -345,8 +345,6 @@ class PreviewCanon(Canon):
         if 0 not in rotation:
             return self.arc_moves(lines, *columns)
         f, s, n = axes
-        if sorted(axes) != [0, 1, 2]:  # a plane of U, V, W: seldom
-            return super().contour_moves(axes, lines, *columns)
         # the module's own position: the last straight row's end
         last = len(rotation) - 1 - rotation[::-1].index(0)
         pose = [column[last] for column in columns[6:]]
@@ -356,8 +354,9 @@ class PreviewCanon(Canon):
         e1, e2, c1, c2, _, en, a, b, c, u, v, w = columns
         if not machine.inches:
             e1, e2, c1, c2, en, u, v, w = map(_in_inches, (e1, e2, c1, c2, en, u, v, w))
-        line_columns = [e1, e2, en, a, b, c, u, v, w]
-        line_columns[0:3] = [line_columns[(f, s, n).index(axis)] for axis in range(3)]
+        # a line's straight_feed: its pose (as _pose has it) a column at a time
+        line_columns = [repeat(0.0)] * 3 + [a, b, c, u, v, w]
+        line_columns[f], line_columns[s], line_columns[n] = e1, e2, en
         arcs = zip(e1, e2, c1, c2, rotation, en, a, b, c, u, v, w)
         arc_calls = starmap(target.arc_feed, compress(arcs, rotation))
         line_calls = starmap(
