@@ -213,6 +213,29 @@ BATCHED = {
 AT = 150
 
 
+def breaking(base: type, raised: type, made: list) -> type:
+    """A canon class of ``base`` whose moves are kept in ``made`` and whose
+    move number AT raises ``raised``."""
+
+    class Broken(base):
+        def _move(self, *args):
+            made.append(args)
+            if len(made) == AT:
+                raise raised("canon broke")
+
+        straight_feed = straight_traverse = arc_feed = _move
+
+    return Broken
+
+
+def raises(raised: type):
+    """What a run raises for a canon's ``raised``: StopIteration becomes a
+    RuntimeError in a batch, and comes out as it is from a call made alone."""
+    if raised is StopIteration:
+        return pytest.raises((RuntimeError, StopIteration))
+    return pytest.raises(raised, match="canon broke")
+
+
 @pytest.mark.parametrize("program", sorted(BATCHED))
 @pytest.mark.parametrize("raised", [ValueError, StopIteration])
 def test_a_canon_exception_in_a_batch_stops_the_run_at_that_call(
@@ -227,17 +250,7 @@ def test_a_canon_exception_in_a_batch_stops_the_run_at_that_call(
     from test_not_copied import compiled
 
     module = compiled(BATCHED[program], tmp_path)
-    made = []
-
-    class Broken(Canon):
-        def _move(self, *args):
-            made.append(args)
-            if len(made) == AT:
-                raise raised("canon broke")
-
-        straight_feed = straight_traverse = arc_feed = _move
-
-    expected = (RuntimeError, StopIteration) if raised is StopIteration else raised
-    with pytest.raises(expected, match="canon broke|raised StopIteration"):
-        Machine(Broken(), source=module.__ngc__).run(module.main)
+    made: list = []
+    with raises(raised):
+        Machine(breaking(Canon, raised, made)(), source=module.__ngc__).run(module.main)
     assert len(made) == AT

@@ -30,7 +30,7 @@ from hypothesis import strategies as st
 
 import cam_strategies
 import test_cycles
-from test_canon import AT, BATCHED
+from test_canon import AT, BATCHED, breaking, raises
 import rs274 as harness
 from gcode_answers import ANSWERS, QUESTIONS  # the canon's answers, shared
 import strategies
@@ -361,19 +361,9 @@ def test_an_exception_in_a_batch_stops_the_run_at_that_call(tmp_path, program, r
     generator); a call made alone raises it as it is."""
     path = tmp_path / "prog.ngc"
     path.write_text(BATCHED[program])
-    made = []
-
-    class Broken(Recorder):
-        def _move(self, *args):
-            made.append(args)
-            if len(made) == AT:
-                raise raised("preview broke")
-
-        straight_feed = straight_traverse = arc_feed = _move
-
-    expected = (RuntimeError, StopIteration) if raised is StopIteration else ValueError
-    with scratch_run(path) as s, pytest.raises(expected):
-        ngc2py.parse(s.program.name, Broken())
+    made: list = []
+    with scratch_run(path) as s, raises(raised):
+        ngc2py.parse(s.program.name, breaking(Recorder, raised, made)())
     assert len(made) == AT
 
 
