@@ -196,6 +196,9 @@ def cached_module(
     module = _module_path(folder, key, text)
     write_atomic(module, compiled.text)
     write_atomic(os.path.join(folder, "m_%s.json" % key), text)
+    from ngc2py.cache_sweep import maybe_sweep
+
+    maybe_sweep(folder)  # (now and then: the cache keeps to its size)
     return module
 
 
@@ -214,10 +217,21 @@ def _current_entry(folder: str, key: str) -> Optional[str]:
             probes = [tuple(p) for p in json.loads(text)]
         module = _module_path(folder, key, text)
         if os.path.isfile(module) and _probes_current(probes):
+            _touch(meta)
             return module
     except (OSError, ValueError, TypeError):
         pass
     return None
+
+
+def _touch(meta: str) -> None:
+    """Mark an entry used now (ngc2py/cache_sweep.py keeps the entries used
+    last): its ``.json``'s mtime, not the module's, which its bytecode is
+    checked against. A cache that cannot be written is only read."""
+    try:
+        os.utime(meta)
+    except OSError:
+        pass
 
 
 def _module_path(folder: str, key: str, probes: str) -> str:

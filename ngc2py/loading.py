@@ -38,7 +38,12 @@ def load_program(program: str, ini: Optional[str], block_delete: bool = False):
     if program == STDIN:
         return load_text(compile_stdin(ini, block_delete))
     try:
-        return load_cached(cached_module(program, ini, block_delete), program)
+        try:
+            return load_cached(cached_module(program, ini, block_delete), program)
+        except FileNotFoundError:
+            # the entry went between finding and loading it (another run
+            # swept the cache: ngc2py/cache_sweep.py): compiled again
+            return load_cached(cached_module(program, ini, block_delete), program)
     except PermissionError:
         return load_text(compile_file(program, ini, block_delete))
 

@@ -1,0 +1,158 @@
+"""Keeping the compile cache to a size: the entries used least recently go.
+
+Every program compiled adds an entry (ngc2py/cache.py), and a program that
+changes, a CAM tool's fresh output, or a new compiler (which keys every
+program anew) adds more: left alone, the cache of a shop that runs its
+library every night grows without end. So after a miss has written its
+entry, now and then (at most once every :data:`INTERVAL` seconds, told by
+the mtime of a stamp file) the cache is swept: when its entries together
+are larger than the limit, the least recently used go until they fill
+:data:`AFTER` of it.
+
+An entry's last use is the mtime of its ``.json`` file, which a hit touches
+(the module's own mtime stays: its bytecode is checked against it). An
+entry used within the last :data:`GRACE` seconds is never removed, so a run
+that has just found one finds it still there to load; a run that loses
+that race anyway compiles the program again (ngc2py/loading.py). The limit
+is ``$NGC2PY_CACHE_SIZE`` (bytes, or with K, M, G: ``500M``; ``0`` for no
+limit), :data:`DEFAULT_SIZE` otherwise.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import time
+
+from ngc2py.compiler import CompileError
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import Dict, List
+
+SIZE_ENV = "NGC2PY_CACHE_SIZE"
+DEFAULT_SIZE = 1 << 30
+#: A sweep leaves the entries filling this much of the limit (so that the
+#: next misses do not each find it over again).
+AFTER = 0.8
+#: Seconds between sweeps, and the age of an entry (or of a left-over
+#: temporary file) below which it is never removed.
+INTERVAL = 3600.0
+GRACE = 600.0
+#: Entries removed by one sweep, at most (a few thousand files: a second or
+#: two); a cache further over its limit is swept again by a miss
+#: :data:`AGAIN` seconds later, not an interval later (a cache grown large
+#: before it had a limit shrinks a sweep at a time, a run now and then
+#: paying for one).
+MOST = 2000
+AGAIN = 60.0
+STAMP = ".swept"
+
+_SIZE = re.compile(r"\s*(\d+(?:\.\d*)?)\s*([kKmMgG]?)[bB]?\s*")
+_UNITS = {"": 1, "k": 1 << 10, "m": 1 << 20, "g": 1 << 30}
+#: m_<key>.py, m_<key>_<probes>.py, m_<key>.json, and their bytecode
+_ENTRY_FILE = re.compile(r"m_([0-9a-f]{64})(?:_[0-9a-f]+)?[.]")
+
+
+class SizeError(CompileError):
+    """``$NGC2PY_CACHE_SIZE`` is not a size."""
+
+
+def size_limit() -> int:
+    """The limit in bytes (0: none)."""
+    text = os.environ.get(SIZE_ENV, "")
+    if not text.strip():
+        return DEFAULT_SIZE
+    match = _SIZE.fullmatch(text)
+    if match is None:
+        raise SizeError(
+            "%s=%r: not a size (bytes, or e.g. 500M, 2G; 0 for no limit)"
+            % (SIZE_ENV, text)
+        )
+    return int(float(match.group(1)) * _UNITS[match.group(2).lower()])
+
+
+def maybe_sweep(folder: str) -> None:
+    """Sweep ``folder`` if the last sweep is :data:`INTERVAL` old (or there
+    was none); never fails a run: a cache that cannot be swept is left."""
+    limit = size_limit()
+    stamp = os.path.join(folder, STAMP)
+    now = time.time()
+    try:
+        if now - os.stat(stamp).st_mtime < INTERVAL:
+            return
+    except OSError:
+        pass
+    try:
+        with open(stamp, "w"):
+            pass  # (first: another run starting now does not sweep too)
+        if limit and len(sweep(folder, limit, now)) == MOST:
+            soon = now - INTERVAL + AGAIN  # (more to do)
+            os.utime(stamp, (soon, soon))
+    except OSError:
+        pass
+
+
+def sweep(folder: str, limit: int, now: float) -> List[str]:
+    """Remove the least recently used entries of ``folder`` (at most
+    :data:`MOST`) while they are over ``limit`` bytes on disk, down to
+    :data:`AFTER` of it, and temporary files a crashed write left; returns
+    the keys removed."""
+    sizes: Dict[str, int] = {}
+    used: Dict[str, float] = {}  # an entry's .json's mtime
+    newest: Dict[str, float] = {}  # of its newest file
+    files: Dict[str, List[str]] = {}
+    for where in (folder, os.path.join(folder, "__pycache__")):
+        try:
+            listing = list(os.scandir(where))
+        except OSError:
+            continue
+        for item in listing:
+            try:
+                status = item.stat(follow_symlinks=False)
+            except OSError:
+                continue
+            if item.name.startswith(".tmp-"):
+                if now - status.st_mtime > GRACE:
+                    _remove(item.path)
+                continue
+            match = _ENTRY_FILE.match(item.name)
+            if match is None or not item.is_file(follow_symlinks=False):
+                continue
+            key = match.group(1)
+            sizes[key] = sizes.get(key, 0) + _disk_size(status)
+            files.setdefault(key, []).append(item.path)
+            if item.name.endswith(".json"):
+                used[key] = status.st_mtime
+            newest[key] = max(newest.get(key, 0.0), status.st_mtime)
+    total = sum(sizes.values())
+    removed: List[str] = []
+    if total <= limit:
+        return removed
+    # an entry without its .json (being written, or bytecode left behind)
+    # was last used when its newest file was written
+    last = {key: used.get(key, newest[key]) for key in sizes}
+    for key in sorted(last, key=last.__getitem__):
+        if total <= limit * AFTER or len(removed) == MOST:
+            break
+        if now - last[key] < GRACE:
+            break  # the rest were used as recently
+        for path in sorted(files[key], key=lambda path: path.endswith(".json")):
+            _remove(path)  # (the .json last: the entry is gone when it is)
+        total -= sizes[key]
+        removed.append(key)
+    return removed
+
+
+def _disk_size(status: os.stat_result) -> int:
+    """What a file takes on disk: its blocks where the system says (a small
+    module takes a whole block), else its size."""
+    blocks = getattr(status, "st_blocks", None)
+    return status.st_size if blocks is None else blocks * 512
+
+
+def _remove(path: str) -> None:
+    try:
+        os.unlink(path)
+    except OSError:
+        pass
