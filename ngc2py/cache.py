@@ -188,6 +188,9 @@ def cached_module(
             return module
     import json
 
+    from ngc2py.cache_sweep import maybe_sweep, size_limit
+
+    limit = size_limit()  # (a bad setting fails the run before it writes)
     compiled = compile_program(path, ini, block_delete)
     probes = [(p, _file_digest(p) if found else None) for p, found in compiled.probes]
     if path in (p for p, found in compiled.probes if found):
@@ -196,9 +199,7 @@ def cached_module(
     module = _module_path(folder, key, text)
     write_atomic(module, compiled.text)
     write_atomic(os.path.join(folder, "m_%s.json" % key), text)
-    from ngc2py.cache_sweep import maybe_sweep
-
-    maybe_sweep(folder)  # (now and then: the cache keeps to its size)
+    maybe_sweep(folder, limit)  # (now and then: the cache keeps to its size)
     return module
 
 

@@ -72,10 +72,10 @@ def size_limit() -> int:
     return int(float(match.group(1)) * _UNITS[match.group(2).lower()])
 
 
-def maybe_sweep(folder: str) -> None:
-    """Sweep ``folder`` if the last sweep is :data:`INTERVAL` old (or there
-    was none); never fails a run: a cache that cannot be swept is left."""
-    limit = size_limit()
+def maybe_sweep(folder: str, limit: int) -> None:
+    """Sweep ``folder`` to ``limit`` bytes (0: none) if the last sweep is
+    :data:`INTERVAL` old (or there was none); never fails a run: a cache
+    that cannot be swept is left."""
     stamp = os.path.join(folder, STAMP)
     now = time.time()
     try:

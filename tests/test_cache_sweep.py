@@ -193,3 +193,12 @@ def test_a_cache_far_over_its_limit_shrinks_a_sweep_at_a_time(tmp_path, monkeypa
         assert 0 < next_sweep <= cache_sweep.AGAIN if k < 2 else next_sweep > GRACE
         earlier = time.time() - INTERVAL  # (as if AGAIN seconds went by)
         os.utime(folder / STAMP, (earlier, earlier))
+
+
+def test_a_bad_size_fails_a_miss_before_anything_is_written(tmp_path, monkeypatch):
+    monkeypatch.setenv(cache.ENV, str(tmp_path / "c"))
+    monkeypatch.setenv(cache_sweep.SIZE_ENV, "lots")
+    (tmp_path / "p.ngc").write_text(PROGRAM)
+    with pytest.raises(SizeError):
+        cache.cached_module(str(tmp_path / "p.ngc"))
+    assert not (tmp_path / "c").exists()
