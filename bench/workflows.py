@@ -10,7 +10,9 @@ and radii vary, a trigonometry loop, canned cycles) it times, medians of
 * preview: LinuxCNC's ``gcode.parse`` (system Python) against
   ``ngc2py.parse`` with the same counting canon, in-process time of the
   parse call; ngc2py's with its module cached, and its first parse of a
-  new file (an empty compile cache: conversion included);
+  new file (an empty compile cache: conversion included); and the canon's
+  own calls alone (each call the parse made, made again from a list): the
+  least any parse can take, so its ratio is the best one could reach;
 * ``ngc2py stats`` and ``ngc2py flatten`` against ``rs274 -g`` (whole
   commands, wall time and peak memory);
 * ``ngc2py plot`` (a PNG) against ``rs274 -g``, on the CAM, arc and drilling files;
@@ -82,6 +84,37 @@ canon = Canon()
 start = time.perf_counter()
 parser.parse(sys.argv[1], canon, "G21", "")
 print(time.perf_counter() - start, sorted(canon.counts.items()))
+"""
+
+#: The same canon's calls alone: every call ngc2py.parse made on it (the
+#: same objects), made again from a prepared list in C. No parse can take
+#: less; gcode.parse's time over this is the best ratio one could reach.
+CANON_CALLS = COUNTING_PARSE.split("if sys.argv[2]")[0] + """\
+import operator
+from collections import deque
+from itertools import starmap
+import ngc2py
+calls = []
+class Recording:
+    def __init__(self, canon):
+        self.canon = canon
+    def __getattr__(self, name):
+        method = getattr(self.canon, name)
+        def record(*args):
+            calls.append((name, args))
+            return method(*args)
+        return record
+ngc2py.parse(sys.argv[1], Recording(Canon()), "G21", "")
+canon = Canon()
+made = [(getattr(canon, name),) + args for name, args in calls]
+call = getattr(operator, "call", None)  # (Python 3.11)
+start = time.perf_counter()
+if call is not None:
+    deque(starmap(call, made), maxlen=0)
+else:
+    for method, *args in made:
+        method(*args)
+print(time.perf_counter() - start, len(made))
 """
 
 #: A user's canon that counts moves, against the same run with NullCanon.
@@ -174,6 +207,7 @@ def main(argv=None) -> int:
     has_gcode = subprocess.run([SYSTEM_PYTHON, "-c", "import gcode"], capture_output=True).returncode == 0
     (work / "parse.py").write_text(COUNTING_PARSE)
     (work / "user_canon.py").write_text(USER_CANON)
+    (work / "canon_calls.py").write_text(CANON_CALLS)
     print("ratio = LinuxCNC's time / ngc2py's (higher is better); medians of %d runs\n" % args.repeat)
     row = "%-14s %-22s %9s %9s %8s %8s  %s"
     print(row % ("workload", "workflow", "LinuxCNC", "ngc2py", "ratio", "peakMB", "note"))
@@ -200,6 +234,11 @@ def main(argv=None) -> int:
                 if theirs and first:
                     print(row % (name, "parse (first, converts)", "%.2fs" % theirs, "%.2fs" % first,
                                  fmt_ratio(theirs, first), "", ""))
+                alone, made = in_process([py, "canon_calls.py", src.name], work, env, args.repeat)
+                if theirs and alone:
+                    print(row % (name, "parse: canon calls alone", "%.2fs" % theirs, "%.2fs" % alone,
+                                 fmt_ratio(theirs, alone), "",
+                                 "%s calls: no parse can be quicker" % made))
             Run([py, "-m", "ngc2py", "run", src.name], work, env, None)  # warm the cache
             for workflow, cmd in (
                 ("stats", [py, "-m", "ngc2py", "stats", src.name]),
