@@ -396,7 +396,9 @@ class PreviewCanon(Canon):
         columns = []  # per call of a hole: (the target's method, its columns)
         for name, args, where in recording:
             if where is not None:
-                steps = [repeat(value, holes) for value in self._pose(*args)]
+                # (every move's two hole axes are columns of ``holes`` values:
+                # they end its map, the other values repeat without end)
+                steps = list(map(repeat, self._pose(*args)))
                 for axis, values in zip(axes, shown[where]):
                     steps[axis] = values
                 columns.append((getattr(target, name), steps))
@@ -414,9 +416,9 @@ class PreviewCanon(Canon):
             if target.check_abort():
                 raise KeyboardInterrupt("Load aborted")
         gcodes, mcodes, settings = machine.active
-        first = LineCode((numbers[0],) + gcodes[1:], mcodes, settings)
+        code = LineCode((numbers[0],) + gcodes[1:], mcodes, settings)
         state = repeat((gcodes[1:], mcodes[1:], settings[1:]))
-        codes = chain((first,), map(_RowCode, zip(numbers[1:], lines, state)))
+        codes = chain((code,), map(_RowCode, zip(numbers[1:], lines, state)))
         # each call's column mapped over by its method, asked in turn: the
         # calls come in program order, hole after hole
         calls = [map(method, *steps) for method, steps in columns]
