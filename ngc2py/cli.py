@@ -37,7 +37,12 @@ EPILOG = """\
 exit status: 0 success; 1 the G-code program failed (as rs274 fails:
 message on stderr), or ngc2py could not do what was asked (missing file,
 bad usage); golden: 1 a program changed, 2 nothing to check. See the
-README's "Exit status" section."""
+README's "Exit status" section.
+
+environment: NGC2PY_CACHE the compile cache's folder (default ngc2py in
+$XDG_CACHE_HOME or ~/.cache; removing it is always safe);
+NGC2PY_CACHE_SIZE its limit (default 1G; e.g. 500M; 0 for none): the
+entries used least recently go first."""
 
 
 def build_parser(workflows: Sequence[str] = WORKFLOWS) -> argparse.ArgumentParser:

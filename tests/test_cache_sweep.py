@@ -202,3 +202,13 @@ def test_a_bad_size_fails_a_miss_before_anything_is_written(tmp_path, monkeypatc
     with pytest.raises(SizeError):
         cache.cached_module(str(tmp_path / "p.ngc"))
     assert not (tmp_path / "c").exists()
+
+
+def test_the_help_names_the_cache_settings_and_the_default(monkeypatch):
+    from ngc2py import cli
+
+    text = cli.build_parser().format_help()
+    assert cache.ENV in text and cache_sweep.SIZE_ENV in text
+    default = text.split("(default ")[-1].split(";")[0]
+    monkeypatch.setenv(cache_sweep.SIZE_ENV, default)
+    assert cache_sweep.size_limit() == cache_sweep.DEFAULT_SIZE
