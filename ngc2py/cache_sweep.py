@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import os
 import re
-import time
 
 from ngc2py.compiler import CompileError
 
@@ -74,18 +73,24 @@ def size_limit() -> int:
 
 def maybe_sweep(folder: str, limit: int) -> None:
     """Sweep ``folder`` to ``limit`` bytes (0: none) if the last sweep is
-    :data:`INTERVAL` old (or there was none); never fails a run: a cache
-    that cannot be swept is left."""
+    :data:`INTERVAL` old (or there was none); called just after an entry
+    was written into it. Never fails a run: a cache that cannot be swept
+    is left. Times are the cache's file system's, which its mtimes are in
+    (a network share's clock may not be this machine's): the folder's
+    mtime is the moment the entry went in."""
     stamp = os.path.join(folder, STAMP)
-    now = time.time()
     try:
+        now = os.stat(folder).st_mtime
         if now - os.stat(stamp).st_mtime < INTERVAL:
             return
+    except FileNotFoundError:
+        pass  # no stamp: never swept
     except OSError:
-        pass
+        return
     try:
         with open(stamp, "w"):
             pass  # (first: another run starting now does not sweep too)
+        now = os.stat(stamp).st_mtime
         if limit and len(sweep(folder, limit, now)) == MOST:
             soon = now - INTERVAL + AGAIN  # (more to do)
             os.utime(stamp, (soon, soon))

@@ -31,21 +31,23 @@ def load_module(path: str):
 def load_program(program: str, ini: Optional[str], block_delete: bool = False):
     """The generated module for ``program`` (to run with block delete
     ``block_delete``): from the cache, or compiled in a temporary directory
-    when the cache cannot be written."""
+    when the cache cannot be written (or keeps losing the entry)."""
     from ngc2py.cache import cached_module, load_cached
     from ngc2py.stdin import STDIN, compile_stdin
 
     if program == STDIN:
         return load_text(compile_stdin(ini, block_delete))
     try:
-        try:
-            return load_cached(cached_module(program, ini, block_delete), program)
-        except FileNotFoundError:
-            # the entry went between finding and loading it (another run
-            # swept the cache: ngc2py/cache_sweep.py): compiled again
-            return load_cached(cached_module(program, ini, block_delete), program)
+        for _ in range(2):
+            try:
+                return load_cached(cached_module(program, ini, block_delete), program)
+            except FileNotFoundError:
+                # the entry went between finding and loading it (another
+                # run swept the cache: ngc2py/cache_sweep.py): compiled again
+                continue
     except PermissionError:
-        return load_text(compile_file(program, ini, block_delete))
+        pass
+    return load_text(compile_file(program, ini, block_delete))
 
 
 def load_text(text: str):

@@ -9,6 +9,7 @@ import time
 import pytest
 
 from ngc2py import cache, cache_sweep, loading
+from runtime.canon import RecordingCanon
 from ngc2py.cache_sweep import AFTER, GRACE, INTERVAL, STAMP, SizeError
 
 PROGRAM = "G0 X1 Y2\nG1 Z-1 F100\nM2\n"
@@ -212,3 +213,41 @@ def test_the_help_names_the_cache_settings_and_the_default(monkeypatch):
     default = text.split("(default ")[-1].split(";")[0]
     monkeypatch.setenv(cache_sweep.SIZE_ENV, default)
     assert cache_sweep.size_limit() == cache_sweep.DEFAULT_SIZE
+
+
+def test_an_entry_lost_again_is_compiled_into_a_temporary_module(tmp_path, monkeypatch):
+    monkeypatch.setenv(cache.ENV, str(tmp_path / "c"))
+    program = tmp_path / "p.ngc"
+    program.write_text(PROGRAM)
+    finding = cache.cached_module
+    lost = []
+
+    def always_swept(*args, **options):
+        module = finding(*args, **options)
+        lost.append(module)
+        os.unlink(module)
+        return module
+
+    monkeypatch.setattr(cache, "cached_module", always_swept)
+    module = loading.load_program(str(program), None)
+    assert len(lost) == 2
+    assert module.__ngc__.files[0] == str(program)
+    canon = RecordingCanon()
+    module.run(canon)
+    assert ("straight_traverse", (1.0, 2.0, 0.0, 0.0, 0.0, 0.0)) in [
+        (name, args[:6]) for name, args in canon.calls
+    ]
+
+
+def test_a_sweep_tells_time_by_the_cache_s_file_system(tmp_path):
+    """A network share's clock may not be this machine's: whether the last
+    sweep is an interval old is told by the folder's mtime (an entry was
+    just written into it), not by time.time()."""
+    stamp = tmp_path / STAMP
+    stamp.write_text("")
+    half = time.time() - INTERVAL / 2  # by this machine's clock: recent
+    os.utime(stamp, (half, half))
+    ahead = time.time() + INTERVAL  # the share's clock: an hour ahead
+    os.utime(tmp_path, (ahead, ahead))
+    cache_sweep.maybe_sweep(str(tmp_path), 1 << 30)
+    assert os.stat(stamp).st_mtime > half + INTERVAL / 4  # swept: stamped anew
