@@ -9,8 +9,8 @@ import time
 import pytest
 
 from ngc2py import cache, cache_sweep, loading
-from runtime.canon import RecordingCanon
 from ngc2py.cache_sweep import AFTER, GRACE, INTERVAL, STAMP, SizeError
+from runtime.canon import RecordingCanon
 
 PROGRAM = "G0 X1 Y2\nG1 Z-1 F100\nM2\n"
 
