@@ -5,9 +5,9 @@ changes, a CAM tool's fresh output, or a new compiler (which keys every
 program anew) adds more: left alone, the cache of a shop that runs its
 library every night grows without end. So after a miss has written its
 entry, now and then (at most once every :data:`INTERVAL` seconds, told by
-the mtime of a stamp file) the cache is swept: when its entries together
-are larger than the limit, the least recently used go until they fill
-:data:`AFTER` of it.
+the mtime of a stamp file) the cache is swept, by a process of its own that
+no run waits for: when its entries together are larger than the limit, the
+least recently used go until they fill :data:`AFTER` of it.
 
 An entry's last use is the mtime of its ``.json`` file, which a hit touches
 (the module's own mtime stays: its bytecode is checked against it). An
@@ -22,12 +22,14 @@ from __future__ import annotations
 
 import os
 import re
+import subprocess
+import sys
 
 from ngc2py.compiler import CompileError
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:
-    from typing import Dict, List
+    from typing import Dict, List, Optional
 
 SIZE_ENV = "NGC2PY_CACHE_SIZE"
 DEFAULT_SIZE = 1 << 30
@@ -41,8 +43,7 @@ GRACE = 600.0
 #: Entries removed by one sweep, at most (a few thousand files: a second or
 #: two); a cache further over its limit is swept again by a miss
 #: :data:`AGAIN` seconds later, not an interval later (a cache grown large
-#: before it had a limit shrinks a sweep at a time, a run now and then
-#: paying for one).
+#: before it had a limit shrinks a sweep at a time).
 MOST = 2000
 AGAIN = 60.0
 STAMP = ".swept"
@@ -71,27 +72,64 @@ def size_limit() -> int:
     return int(float(match.group(1)) * _UNITS[match.group(2).lower()])
 
 
-def maybe_sweep(folder: str, limit: int) -> None:
+def maybe_sweep(folder: str, limit: int) -> Optional[subprocess.Popen]:
     """Sweep ``folder`` to ``limit`` bytes (0: none) if the last sweep is
-    :data:`INTERVAL` old (or there was none); called just after an entry
-    was written into it. Never fails a run: a cache that cannot be swept
-    is left. Times are the cache's file system's, which its mtimes are in
-    (a network share's clock may not be this machine's): the folder's
-    mtime is the moment the entry went in."""
+    :data:`INTERVAL` old; called just after an entry was written into it.
+    A cache without a stamp yet (new, or older than sweeps) is stamped,
+    and swept an interval later. The sweep runs in a process of its own,
+    not waited for (as ``git gc --auto`` does): reading the sizes of tens
+    of thousands of files took a run 3 to 5 s. Returns that process (None:
+    no sweep). Never fails a run: a cache that cannot be swept is left.
+    Times are the cache's file system's, which its mtimes are in (a
+    network share's clock may not be this machine's): the folder's mtime
+    is the moment the entry went in."""
     stamp = os.path.join(folder, STAMP)
     try:
         now = os.stat(folder).st_mtime
         if now - os.stat(stamp).st_mtime < INTERVAL:
-            return
+            return None
+        due = True
     except FileNotFoundError:
-        pass  # no stamp: never swept
+        due = False  # no stamp: counted from now
     except OSError:
-        return
+        return None
     try:
         with open(stamp, "w"):
             pass  # (first: another run starting now does not sweep too)
+    except OSError:
+        return None
+    if not (due and limit):
+        return None
+    return _spawn(folder, limit)
+
+
+def _spawn(folder: str, limit: int) -> Optional[subprocess.Popen]:
+    """:func:`main` on ``folder`` in a new process, not waited for."""
+    # the package's folder and the arguments are data (argv), never code
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    code = "import sys; sys.path.insert(0, sys.argv[1]); import " + __name__
+    code += "; %s.main(sys.argv[2:])" % __name__
+    try:
+        return subprocess.Popen(
+            [sys.executable, "-c", code, root, folder, str(limit)],
+            stdin=subprocess.DEVNULL,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+            close_fds=True,
+            start_new_session=True,  # (not stopped by the run's Ctrl-C)
+        )
+    except OSError:
+        return None
+
+
+def main(argv: List[str]) -> None:
+    """The sweep's own process: ``FOLDER LIMIT``. When it removed all it
+    may (:data:`MOST`), the stamp is set for another sweep soon."""
+    folder, limit = argv[0], int(argv[1])
+    stamp = os.path.join(folder, STAMP)
+    try:
         now = os.stat(stamp).st_mtime
-        if limit and len(sweep(folder, limit, now)) == MOST:
+        if len(sweep(folder, limit, now)) == MOST:
             soon = now - INTERVAL + AGAIN  # (more to do)
             os.utime(stamp, (soon, soon))
     except OSError:

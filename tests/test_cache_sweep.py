@@ -15,6 +15,25 @@ from runtime.canon import RecordingCanon
 PROGRAM = "G0 X1 Y2\nG1 Z-1 F100\nM2\n"
 
 
+@pytest.fixture
+def inline_sweeps(monkeypatch):
+    """Sweeps run in this process, done when the miss returns (a run's own
+    sweep is a process apart: test_a_sweep_runs_apart_from_the_run)."""
+    monkeypatch.setattr(
+        cache_sweep,
+        "_spawn",
+        lambda folder, limit: cache_sweep.main([folder, str(limit)]),
+    )
+
+
+def stamped(folder, age: float) -> None:
+    """The cache's last sweep ``age`` seconds ago."""
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / STAMP).write_text("")
+    when = time.time() - age
+    os.utime(folder / STAMP, (when, when))
+
+
 def fake_entry(folder, k: int, size: int, age: float) -> str:
     """An entry as cache.py writes one (module, probes, bytecode), ``size``
     bytes in all, last used ``age`` seconds ago; returns its key."""
@@ -118,11 +137,23 @@ def test_a_hit_marks_its_entry_used_and_leaves_its_bytecode_valid(
     assert os.stat(module).st_mtime == module_time  # (the bytecode's check)
 
 
-def test_a_miss_sweeps_the_cache_at_most_once_an_interval(tmp_path, monkeypatch):
+def test_a_new_cache_is_stamped_and_swept_an_interval_later(tmp_path, monkeypatch):
+    folder = tmp_path / "c"
+    monkeypatch.setenv(cache.ENV, str(folder))
+    monkeypatch.setattr(cache_sweep, "_spawn", lambda *args: pytest.fail("swept"))
+    (tmp_path / "p.ngc").write_text(PROGRAM)
+    cache.cached_module(str(tmp_path / "p.ngc"))
+    assert time.time() - os.stat(folder / STAMP).st_mtime < GRACE
+
+
+def test_a_miss_sweeps_the_cache_at_most_once_an_interval(
+    tmp_path, monkeypatch, inline_sweeps
+):
     folder = tmp_path / "c"
     monkeypatch.setenv(cache.ENV, str(folder))
     monkeypatch.setenv(cache_sweep.SIZE_ENV, "4K")
     old = [fake_entry(folder, k, 1000, GRACE * (10 + k)) for k in range(8)]
+    stamped(folder, INTERVAL + 1)
     for k in range(2):
         (tmp_path / ("p%d.ngc" % k)).write_text(PROGRAM + "(%d)\n" % k)
     new = cache.cached_module(str(tmp_path / "p0.ngc"))
@@ -140,11 +171,12 @@ def test_a_miss_sweeps_the_cache_at_most_once_an_interval(tmp_path, monkeypatch)
     assert not set(more) & keys_in(folder)
 
 
-def test_no_limit_means_no_sweep(tmp_path, monkeypatch):
+def test_no_limit_means_no_sweep(tmp_path, monkeypatch, inline_sweeps):
     folder = tmp_path / "c"
     monkeypatch.setenv(cache.ENV, str(folder))
     monkeypatch.setenv(cache_sweep.SIZE_ENV, "0")
     old = [fake_entry(folder, k, 1000, GRACE * 10) for k in range(4)]
+    stamped(folder, INTERVAL + 1)
     (tmp_path / "p.ngc").write_text(PROGRAM)
     cache.cached_module(str(tmp_path / "p.ngc"))
     assert set(old) <= keys_in(folder)
@@ -175,7 +207,9 @@ def test_an_entry_swept_before_it_is_loaded_is_compiled_again(tmp_path, monkeypa
     assert module.__ngc__.files[0] == str(program)
 
 
-def test_a_cache_far_over_its_limit_shrinks_a_sweep_at_a_time(tmp_path, monkeypatch):
+def test_a_cache_far_over_its_limit_shrinks_a_sweep_at_a_time(
+    tmp_path, monkeypatch, inline_sweeps
+):
     """A sweep removes MOST entries at most (a cache grown large before it
     had a limit would take a run minutes to empty at once); then a miss
     AGAIN seconds later sweeps again, not an interval later."""
@@ -184,6 +218,7 @@ def test_a_cache_far_over_its_limit_shrinks_a_sweep_at_a_time(tmp_path, monkeypa
     monkeypatch.setenv(cache_sweep.SIZE_ENV, "1")
     monkeypatch.setattr(cache_sweep, "MOST", 3)
     old = [fake_entry(folder, k, 1000, GRACE * (10 + k)) for k in range(8)]
+    stamped(folder, INTERVAL + 1)
     for k in range(3):
         (tmp_path / ("p%d.ngc" % k)).write_text(PROGRAM + "(%d)\n" % k)
         cache.cached_module(str(tmp_path / ("p%d.ngc" % k)))
@@ -239,15 +274,25 @@ def test_an_entry_lost_again_is_compiled_into_a_temporary_module(tmp_path, monke
     ]
 
 
-def test_a_sweep_tells_time_by_the_cache_s_file_system(tmp_path):
+def test_a_sweep_tells_time_by_the_cache_s_file_system(tmp_path, inline_sweeps):
     """A network share's clock may not be this machine's: whether the last
     sweep is an interval old is told by the folder's mtime (an entry was
     just written into it), not by time.time()."""
-    stamp = tmp_path / STAMP
-    stamp.write_text("")
-    half = time.time() - INTERVAL / 2  # by this machine's clock: recent
-    os.utime(stamp, (half, half))
+    half = INTERVAL / 2  # by this machine's clock: recent
+    stamped(tmp_path, half)
     ahead = time.time() + INTERVAL  # the share's clock: an hour ahead
     os.utime(tmp_path, (ahead, ahead))
     cache_sweep.maybe_sweep(str(tmp_path), 1 << 30)
-    assert os.stat(stamp).st_mtime > half + INTERVAL / 4  # swept: stamped anew
+    age = time.time() - os.stat(tmp_path / STAMP).st_mtime
+    assert age < half / 2  # due: stamped anew
+
+
+def test_a_sweep_runs_apart_from_the_run(tmp_path):
+    """The sweep is a process of its own (it may take seconds): the miss
+    returns at once, and the process, once done, has swept."""
+    old = [fake_entry(tmp_path, k, 1000, GRACE * (10 + k)) for k in range(4)]
+    stamped(tmp_path, INTERVAL + 1)
+    os.utime(tmp_path, None)  # (an entry went in just now)
+    process = cache_sweep.maybe_sweep(str(tmp_path), 1)
+    assert process is not None and process.wait(timeout=60) == 0
+    assert not set(old) & keys_in(tmp_path)
