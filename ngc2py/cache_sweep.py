@@ -110,7 +110,7 @@ def _spawn(folder: str, limit: int) -> Optional[subprocess.Popen]:
     code = "import sys; sys.path.insert(0, sys.argv[1]); import " + __name__
     code += "; %s.main(sys.argv[2:])" % __name__
     try:
-        return subprocess.Popen(
+        process = subprocess.Popen(
             [sys.executable, "-c", code, root, folder, str(limit)],
             stdin=subprocess.DEVNULL,
             stdout=subprocess.DEVNULL,
@@ -120,6 +120,14 @@ def _spawn(folder: str, limit: int) -> Optional[subprocess.Popen]:
         )
     except OSError:
         return None
+    # kept, so that a long-lived process (a library's golden check) reaps
+    # it rather than dropping it running (Python's ResourceWarning)
+    _RUNNING[:] = [p for p in _RUNNING if p.poll() is None] + [process]
+    return process
+
+
+#: The sweeps this process started that may still run.
+_RUNNING: List[subprocess.Popen] = []
 
 
 def main(argv: List[str]) -> None:
