@@ -60,11 +60,9 @@ start and on every G20/G21 change), and slot 0 as the loaded tool.
 
 from __future__ import annotations
 
-import re
 import time
 from itertools import chain, compress, repeat, starmap
 from operator import itemgetter, not_
-from typing import Any, List, Optional, Sequence, Tuple
 
 from runtime.arcs import INVERSE_TIME, UNITS_PER_MINUTE, UNITS_PER_REVOLUTION
 from runtime.blockcheck import M_USER
@@ -78,6 +76,11 @@ from runtime.nurbs import preview_points
 from runtime.params import unset_variable
 from runtime.spindle_select import CONSTANT_RPM, m_code_of
 from runtime.fast.rows import BatchesOnly
+from runtime.lazy_re import Pattern
+
+TYPE_CHECKING = False  # typing and re are not imported by a parse: start-up cost
+if TYPE_CHECKING:
+    from typing import Any, List, Optional, Sequence, Tuple
 
 INTERP_OK = 0
 INTERP_EXIT = 1
@@ -859,7 +862,7 @@ class PreviewMachine(BatchesOnly, Machine):
 
 
 #: O-word errors rs274 finds while executing control flow: "<line>: ..."
-_CONTROL_ERROR = re.compile(r"\d+: ")
+_CONTROL_ERROR = Pattern(r"\d+: ")
 #: Errors rs274 finds while executing a line (its parameter settings, an
 #: endsub's control function), not while reading it.
 _EXECUTE_PREFIXES = (
@@ -881,7 +884,41 @@ _FEED_MODE_CODES = {UNITS_PER_MINUTE: 940, INVERSE_TIME: 930, UNITS_PER_REVOLUTI
 #: G codes of modal group 0 (non-modal): G4, G10, G28, G30, G52, G53, G92...
 _GROUP0 = frozenset((40, 100, 280, 281, 300, 301, 520, 530, 920))
 
-_WORD = re.compile(r"\s*([A-Za-z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
+
+def _init_words(text: str):
+    """The words of an init code string: (letter, number text) pairs, or
+    None where it is not words alone. Each is a letter, then a number
+    (``[-+]?(digits[.digits]|.digits)``), blanks around either; scanned by
+    hand, as the regular expression would, so a parse never imports ``re``."""
+    words = []
+    at, end = 0, len(text)
+    while at < end:
+        while at < end and text[at].isspace():
+            at += 1
+        letter = text[at : at + 1]
+        if not (letter.isascii() and letter.isalpha()):
+            return None
+        at += 1
+        while at < end and text[at].isspace():
+            at += 1
+        begin = at
+        if text[at : at + 1] in ("+", "-") and at < end:
+            at += 1
+        digits = at
+        while at < end and text[at].isdecimal():
+            at += 1
+        whole = at > digits
+        if text[at : at + 1] == ".":
+            at += 1
+            fraction = at
+            while at < end and text[at].isdecimal():
+                at += 1
+            if not whole and at == fraction:
+                return None
+        elif not whole:
+            return None
+        words.append((letter, text[begin:at]))
+    return words
 
 
 def _init_block(machine: PreviewMachine, text: str, line: int) -> None:
@@ -890,20 +927,18 @@ def _init_block(machine: PreviewMachine, text: str, line: int) -> None:
     line number opening the file left (``line``)."""
     codes: List[int] = []
     words = {}
-    position = 0
     text = text.strip()
-    while position < len(text):
-        match = _WORD.match(text, position)
-        if match is None:
-            raise GCodeError("Bad init code: %s" % text)
-        letter, value = match.group(1).lower(), float(match.group(2))
+    found = _init_words(text)
+    if found is None:
+        raise GCodeError("Bad init code: %s" % text)
+    for letter, number in found:
+        letter, value = letter.lower(), float(number)
         if letter == "g":
             codes.append(g_code(value))
         elif letter == "m":
             codes.append(m_code(value))
         else:
             words[letter] = value
-        position = match.end()
     if codes or words:
         machine.block(line, *codes, **words)
 

@@ -38,6 +38,7 @@ from test_differential import PROFILE
 from test_stats import scratch_run
 
 import ngc2py
+from ngc2py import preview
 from ngc2py.preview import LineCode, MIN_ERROR, strerror
 
 GCODE_PYTHON = os.environ.get("GCODE_PYTHON", "/usr/bin/python3")
@@ -277,6 +278,37 @@ def test_golden_programs_match_gcode_parse(program):
 )
 def test_init_codes_match_gcode_parse(extra):
     compare(harness.REPO / "examples" / "flange.ngc", extra)
+
+
+#: What an init code's words are: a letter and a number, blanks around.
+INIT_WORD = re.compile(r"\s*([A-Za-z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
+
+
+def words_by_pattern(text):
+    found, at = [], 0
+    while at < len(text):
+        match = INIT_WORD.match(text, at)
+        if match is None:
+            return None
+        found.append(match.groups())
+        at = match.end()
+    return found
+
+
+@given(
+    st.lists(
+        st.one_of(
+            st.sampled_from(["G", "g", "M", "F", "x", "21", "-", "+", ".", "5.", ".5"]),
+            st.sampled_from([" ", "\t", "\u00a0", "\u0663", "\u00b2", "Ä", "e", "%"]),
+            st.text(max_size=3),
+        ),
+        max_size=10,
+    ).map("".join)
+)
+def test_init_words_are_read_as_the_pattern_reads_them(text):
+    # ngc2py.preview scans init codes by hand (a parse imports no re)
+    text = text.strip()
+    assert preview._init_words(text) == words_by_pattern(text)
 
 
 @needs_gcode
