@@ -43,6 +43,7 @@ except ImportError:  # not CPython
     from hashlib import blake2b as _hash
 
 from ngc2py import __version__
+from ngc2py.bytecode import compile_module
 from ngc2py.compiler import compile_program, subroutine_dirs
 from runtime.atomic import file_mode
 
@@ -198,6 +199,14 @@ def cached_module(
     text = json.dumps(probes)
     module = _module_path(folder, key, text)
     write_atomic(module, compiled.text)
+    # its bytecode now, compiled without tokenizing its tables' text
+    # (ngc2py/bytecode.py): the import that follows reads it
+    try:
+        code = compile_module(compiled.text, module)
+    except (SyntaxError, ValueError):
+        pass  # (the import tells what is wrong)
+    else:
+        _keep_bytecode(module, compiled.text.encode("utf-8"), code)
     write_atomic(os.path.join(folder, "m_%s.json" % key), text)
     maybe_sweep(folder, limit)  # (now and then: the cache keeps to its size)
     return module
