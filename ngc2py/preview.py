@@ -78,6 +78,14 @@ from runtime.spindle_select import CONSTANT_RPM, m_code_of
 from runtime.fast.rows import BatchesOnly
 from runtime.lazy_re import Pattern
 
+try:
+    from runtime.fast._columns import divided
+except ImportError:  # not built (setup.py): the very same quotients
+
+    def divided(column, divisor):
+        return [value / divisor for value in column]
+
+
 TYPE_CHECKING = False  # typing and re are not imported by a parse: start-up cost
 if TYPE_CHECKING:
     from typing import Any, List, Optional, Sequence, Tuple
@@ -187,7 +195,7 @@ def _in_inches(column: List[float]) -> List[float]:
     first = column[0]
     if first is column[-1] and column.count(first) == len(column):
         return [first / k] * len(column)  # an axis the rows do not name
-    return [value / k for value in column]
+    return divided(column, k)
 
 
 def _straight_move(name: str):
@@ -391,7 +399,7 @@ class PreviewCanon(Canon):
         }
         shown = places  # the places in the target's units, each divided once
         if k != 1.0:
-            first, second = [v / k for v in first], [v / k for v in second]
+            first, second = divided(first, k), divided(second, k)
             shown = {
                 "hole": (first, second),
                 "start": ([start[0] / k] + first[:-1], [start[1] / k] + second[:-1]),

@@ -12,9 +12,11 @@ from __future__ import annotations
 import io
 import math
 import random
+import struct
 
 import pytest
 from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import cam_strategies
 from ngc2py.compiler import compile_text
@@ -352,3 +354,28 @@ def test_a_contour_holds_the_lines_between_arcs_the_python_loop_calls(text):
     with pytest.MonkeyPatch.context() as patch:
         _python_only(patch)
         assert _batched(code, _Contours) == fast
+
+
+@needs_c
+@settings(PROFILE, max_examples=PROFILE.max_examples * 4)
+@given(
+    st.tuples(
+        st.sampled_from(["", "-", "+"]),
+        st.text("0123456789", max_size=20),
+        st.sampled_from(["", "."]),
+        st.text("0123456789", max_size=24),
+        st.sampled_from(["", "", "e3", "_", " ", "x"]),
+    ).map("".join)
+)
+def test_a_cell_is_read_as_float_reads_it(text):
+    # a plain decimal goes by the quick path (_arc_row.c plain_decimal)
+    from runtime.fast._arc_row import cell_value
+
+    try:
+        expected = float(text)
+    except ValueError:
+        with pytest.raises(ValueError):
+            cell_value(text)
+        return
+    found = cell_value(text)
+    assert struct.pack("<d", found) == struct.pack("<d", expected), text

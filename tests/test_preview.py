@@ -560,3 +560,22 @@ def test_parameter_file_attribute(tmp_path):
     assert messages == [["message", [" 2.000000 3.000000"]]]
     assert messages == [c for c in expected["calls"] if c[0] == "message"]
     assert result == expected["result"]
+
+
+@given(
+    st.lists(
+        st.one_of(
+            st.floats(allow_nan=True, allow_infinity=True),
+            st.integers(-(10**20), 10**20),
+            st.sampled_from([0.0, -0.0, 1e-320, 5e-324]),
+        ),
+        max_size=40,
+    ),
+    st.sampled_from([25.4, 1.0, -3.5, 1e-300]),
+)
+def test_columns_are_divided_as_a_comprehension_divides_them(column, divisor):
+    # ngc2py.preview's columns in inches (runtime/fast/_columns.c where built)
+    expected = [value / divisor for value in column]
+    found = preview.divided(column, divisor)
+    assert [repr(v) for v in found] == [repr(v) for v in expected]
+    assert [type(v) for v in found] == [type(v) for v in expected]
