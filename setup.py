@@ -16,6 +16,7 @@ setup(
         Extension(
             "runtime._libm_trig",
             ["runtime/_libm_trig.c"],
+            depends=["runtime/plain_decimal.h"],
             libraries=["m"],
             optional=True,
         ),
@@ -31,6 +32,7 @@ setup(
         Extension(
             "runtime.fast._arc_row",
             ["runtime/fast/_arc_row.c"],
+            depends=["runtime/plain_decimal.h"],
             libraries=["m"],
             # rs274's arithmetic has no fused multiply-adds: neither may this
             extra_compile_args=["-ffp-contract=off"],

@@ -14,6 +14,8 @@
 #include <Python.h>
 #include <math.h>
 
+#include "plain_decimal.h"
+
 typedef long double (*libm_function)(long double);
 
 static PyObject *in_degrees(PyObject *arg, libm_function function) {
@@ -134,48 +136,12 @@ static PyObject *finite_or_raise(PyObject *self, PyObject *arg) {
     return PyObject_CallOneArg(nonfinite, arg);
 }
 
-/* A table cell such as "-12.3450" as a double, exactly as float() reads it,
- * without the general decimal reader: when the digits make an integer n
- * below 2**53 and there are k <= 15 of them after the point, n / 10**k is
- * one correctly rounded division of two exact doubles -- the correctly
- * rounded value of the decimal, which is what float() returns (Clinger's
- * fast path). 0: the text is not of that form (the caller uses float()). */
-static const double powers_of_ten[] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7,
-                                       1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
-
-static int plain_decimal(PyObject *text, double *value) {
-    if (!PyUnicode_CheckExact(text) || !PyUnicode_IS_ASCII(text)) {
-        return 0;
-    }
-    Py_ssize_t length = PyUnicode_GET_LENGTH(text);
-    const char *c = (const char *) PyUnicode_DATA(text);
-    const char *end = c + length;
-    int negative = 0;
-    if (c < end && (*c == '-' || *c == '+')) {
-        negative = *c == '-';
-        c++;
-    }
-    unsigned long long n = 0;
-    int digits = 0, decimals = 0, point = 0;
-    for (; c < end; c++) {
-        if (*c >= '0' && *c <= '9') {
-            if (++digits > 15) {
-                return 0;
-            }
-            n = n * 10 + (unsigned long long) (*c - '0');
-            decimals += point;
-        } else if (*c == '.' && !point) {
-            point = 1;
-        } else {
-            return 0;  /* spaces, underscores, exponents, inf, nan... */
-        }
-    }
-    if (!digits) {
-        return 0;
-    }
-    double x = (double) n / powers_of_ten[decimals];
-    *value = negative ? -x : x;
-    return 1;
+/* A cell of a column read by runtime/plain_decimal.h's quick path, where it
+ * is a plain decimal in ASCII. */
+static int quick_cell(PyObject *text, double *value) {
+    return PyUnicode_CheckExact(text) && PyUnicode_IS_ASCII(text) &&
+           plain_decimal((const char *) PyUnicode_DATA(text), PyUnicode_GET_LENGTH(text),
+                         value);
 }
 
 /* floats(strs): [float(s) for s in strs], for a list of str (a column of a
@@ -194,7 +160,7 @@ static PyObject *floats(PyObject *self, PyObject *arg) {
     PyObject **item = PySequence_Fast_ITEMS(items);
     for (Py_ssize_t i = 0; i < count; i++) {
         double x;
-        PyObject *value = plain_decimal(item[i], &x) ? PyFloat_FromDouble(x)
+        PyObject *value = quick_cell(item[i], &x) ? PyFloat_FromDouble(x)
                                                      : PyFloat_FromString(item[i]);
         if (value == NULL) {
             Py_DECREF(items);

@@ -15,7 +15,7 @@ import random
 import struct
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 import cam_strategies
@@ -367,8 +367,11 @@ def test_a_contour_holds_the_lines_between_arcs_the_python_loop_calls(text):
         st.sampled_from(["", "", "e3", "_", " ", "x"]),
     ).map("".join)
 )
+@example("900719925474099.5")  # digits past 2**53: float() must read it
+@example("-0.00000000000000000000001")  # 23 decimals
 def test_a_cell_is_read_as_float_reads_it(text):
-    # a plain decimal goes by the quick path (_arc_row.c plain_decimal)
+    # a plain decimal goes by the quick path (runtime/plain_decimal.h), in an
+    # arc row's words and in a column of a table
     from runtime.fast._arc_row import cell_value
 
     try:
@@ -376,6 +379,8 @@ def test_a_cell_is_read_as_float_reads_it(text):
     except ValueError:
         with pytest.raises(ValueError):
             cell_value(text)
+        with pytest.raises(ValueError):
+            arc_rows.column_floats([text])
         return
-    found = cell_value(text)
-    assert struct.pack("<d", found) == struct.pack("<d", expected), text
+    for found in (cell_value(text), arc_rows.column_floats([text])[0]):
+        assert struct.pack("<d", found) == struct.pack("<d", expected), text

@@ -23,6 +23,8 @@
 #include <Python.h>
 #include <math.h>
 
+#include "../plain_decimal.h"
+
 /* runtime.codes: G2 and G3 are the ints 20 and 30 */
 #define G_2 20
 #define G_3 30
@@ -30,48 +32,6 @@
 /* arc_rows._MARGIN and arcs._SEMICIRCLE_SLACK (rs274's TINY) */
 #define MARGIN 1e-14
 #define SEMICIRCLE_SLACK 1e-12
-
-/* 10**k, k <= 22: the powers of ten a double holds exactly. */
-static const double POWERS_OF_TEN[] = {
-    1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
-    1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
-};
-
-/* A plain decimal ([+-]digits[.digits], as CAM programs write numbers) of at
- * most 2**53 in its digits and at most 22 decimals: its value in *out, 1;
- * 0 for anything else. The digits and the power of ten are both exact
- * doubles, so their one IEEE quotient is the correctly rounded value, the
- * double float() gives (Clinger's fast path), without strtod's work. */
-static int plain_decimal(const char *s, Py_ssize_t size, double *out) {
-    const char *p = s, *end = s + size;
-    int negative = 0, point = 0, digits = 0, decimals = 0;
-    unsigned long long m = 0;
-    if (p < end && (*p == '-' || *p == '+')) {
-        negative = *p == '-';
-        p++;
-    }
-    for (; p < end; p++) {
-        char ch = *p;
-        if (ch >= '0' && ch <= '9') {
-            if (m > 900719925474099ULL) { /* m * 10 + 9 could pass 2**53 */
-                return 0;
-            }
-            m = m * 10 + (unsigned long long) (ch - '0');
-            digits++;
-            decimals += point;
-        } else if (ch == '.' && !point) {
-            point = 1;
-        } else {
-            return 0;
-        }
-    }
-    if (!digits || decimals > 22 || m > (1ULL << 53)) {
-        return 0;
-    }
-    double value = (double) m / POWERS_OF_TEN[decimals];
-    *out = negative ? -value : value;
-    return 1;
-}
 
 /* float(text) of a table cell; -1 with an exception set on failure. */
 static int cell_float(PyObject *cells, Py_ssize_t at, double *out) {
