@@ -12,7 +12,6 @@ import sys
 
 from ngc2py import __version__
 from ngc2py.compiler import CompileError, OpenError, compile_file
-from ngc2py.flags import add_block_delete
 from ngc2py.loading import load_module, load_program, unopened  # noqa: F401
 from runtime.budget import DEFAULT_MAX_STEPS
 
@@ -47,6 +46,8 @@ entries used least recently go first."""
 
 def build_parser(workflows: Sequence[str] = WORKFLOWS) -> argparse.ArgumentParser:
     import argparse  # here: `ngc2py run PROG` is parsed without it (quick_run_args)
+
+    from ngc2py.flags import add_block_delete  # (argparse's too)
 
     parser = argparse.ArgumentParser(
         prog="ngc2py",

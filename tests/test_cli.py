@@ -490,3 +490,28 @@ def test_the_quick_run_parser_takes_the_usual_forms():
     )
     assert cli.quick_run_args(["run", "-h"]) is None
     assert cli.quick_run_args(["run", "-"]) is None  # stdin: argparse's
+
+
+#: What a cached ``ngc2py run PROG`` must not import: each costs a run
+#: milliseconds (argparse and its gettext, re and enum, about 8).
+HEAVY = ("argparse", "gettext", "re", "enum", "typing", "json", "pathlib", "dataclasses")
+
+
+def test_a_cached_run_imports_nothing_heavy(tmp_path):
+    program = tmp_path / "prog.ngc"
+    program.write_text("G21 F100\nG1 X1 Y2\nM2\n")
+    probe = (
+        "import sys\nfrom ngc2py import cli\n"
+        "code = cli.main(['run', sys.argv[1]])\n"
+        "print(sorted(set(sys.argv[2:]) & set(sys.modules)), file=sys.stderr)\n"
+    )
+    env = dict(os.environ, PYTHONPATH=str(REPO), NGC2PY_CACHE=str(tmp_path / "cache"))
+    for _ in range(2):  # the first compiles it
+        done = subprocess.run(
+            [sys.executable, "-S", "-c", probe, str(program), *HEAVY],
+            capture_output=True,
+            text=True,
+            env=env,
+        )
+    assert done.returncode == 0, done.stderr
+    assert done.stderr.splitlines()[-1] == "[]"
