@@ -4,8 +4,7 @@
 than the ctypes path of runtime/x87.py. ``runtime._fast_format`` makes trace
 lines (``template % args``) without Python's general float formatting.
 ``runtime.fast._arc_row`` runs a contour's rows; ``runtime._arc_stats`` adds
-up a batch of arcs for ``ngc2py stats``; ``runtime.fast._columns`` divides
-a batch's columns for the preview. All are optional: without a C
+up a batch of arcs for ``ngc2py stats``. All are optional: without a C
 compiler and Python's headers the build skips them and the runtime runs its
 pure-Python equivalents, with identical results."""
 
@@ -35,13 +34,6 @@ setup(
             depends=["runtime/plain_decimal.h"],
             libraries=["m"],
             # rs274's arithmetic has no fused multiply-adds: neither may this
-            extra_compile_args=["-ffp-contract=off"],
-            optional=True,
-        ),
-        Extension(
-            "runtime.fast._columns",
-            ["runtime/fast/_columns.c"],
-            # a quotient is one IEEE division, as Python's
             extra_compile_args=["-ffp-contract=off"],
             optional=True,
         ),

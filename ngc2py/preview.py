@@ -79,7 +79,7 @@ from runtime.fast.rows import BatchesOnly
 from runtime.lazy_re import Pattern
 
 try:
-    from runtime.fast._columns import divided
+    from runtime._libm_trig import divided
 except ImportError:  # not built (setup.py): the very same quotients
 
     def divided(column, divisor):
