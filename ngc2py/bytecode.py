@@ -79,6 +79,8 @@ def _stand_in(text: str):
         value = text[body_start if joined else body_start - 1 : close + 1]
         if len(value) < LONG or not _as_written(value):
             continue
+        if head[0] == "b" and not value.isascii():
+            continue  # (compile's error to tell)
         # the marker on the literal's first line, its other lines empty
         stand_in = _MARKER + "%d" % len(values) + "\n" * value.count("\n")
         seen = stand_in if joined else "\n" + stand_in[:-1]

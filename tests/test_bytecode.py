@@ -90,7 +90,12 @@ def test_odd_literals_compile_to_the_same_code(text):
 
 @pytest.mark.parametrize(
     "text",
-    ['T = """\nrows\n"""\nx = (\n', 'T = """\nrows\n"""\n\0\n', 'T = """\nrows\n'],
+    [
+        'T = """\nrows\n"""\nx = (\n',
+        'T = """\nrows\n"""\n\0\n',
+        'T = """\nrows\n',
+        'T = b"""\n\u00e9t\u00e9\n"""\n',  # bytes are ASCII
+    ],
 )
 def test_errors_are_compile_s_own(text):
     with pytest.raises((SyntaxError, ValueError)) as expected:
