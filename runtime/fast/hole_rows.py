@@ -38,7 +38,7 @@ from runtime.cycles import CyclesMixin
 
 TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
-    from typing import List
+    from typing import List, Optional
 
 #: The plane's two hole axes: (first index, second index, their letters).
 _HOLE_AXES = {"XY": (0, 1, "xy"), "YZ": (1, 2, "yz"), "XZ": (2, 0, "zx")}
@@ -96,48 +96,40 @@ _AT_START = "start"
 
 
 class _Recording:
-    """Stands for the canon while one hole is drilled: each call is made
-    on the canon and kept as (name, positional arguments). The canonical
-    calls are methods of the class (_recorder), made once; anything else
-    is the canon's own."""
-
-    __slots__ = ("canon", "calls", "keywords")
+    """Stands for the canon while holes are drilled: each call is made on
+    the canon and kept as (name, positional arguments) in ``calls``. A
+    name's stand-in is made at its first use, bound to the canon's method,
+    and kept: one recording serves a table's holes (:meth:`restart` empties
+    it), and a call costs one Python call more than the canon's (a stand-in
+    looked up on the class and the canon on every call cost twice that)."""
 
     def __init__(self, canon) -> None:
         self.canon = canon
         self.calls: List[tuple] = []
         self.keywords = False
 
+    def restart(self) -> "_Recording":
+        self.calls.clear()  # (the stand-ins append to this very list)
+        self.keywords = False
+        return self
+
     def __getattr__(self, name: str):
         method = getattr(self.canon, name)
         if not callable(method):
-            return method
-        calls = self.calls
+            return method  # (a value: not kept, it may change)
+        append = self.calls.append
 
         def record(*args, **keywords):
-            calls.append((name, args))
-            self.keywords = self.keywords or bool(keywords)
-            return method(*args, **keywords)
+            append((name, args))
+            if keywords:
+                self.keywords = True
+                return method(*args, **keywords)
+            # (no keywords to pass on: the call is made without unpacking any)
+            return method(*args)
 
+        record.__name__ = name
+        self.__dict__[name] = record
         return record
-
-
-def _recorder(name: str):
-    def record(self, *args, **keywords):
-        self.calls.append((name, args))
-        if keywords:
-            self.keywords = True
-            return getattr(self.canon, name)(*args, **keywords)
-        # (no keywords to pass on: the call is made without unpacking any)
-        return getattr(self.canon, name)(*args)
-
-    record.__name__ = name
-    return record
-
-
-for _name in (*CALLS, "set_block_number"):
-    setattr(_Recording, _name, _recorder(_name))
-del _name
 
 
 #: Stand-in for the hole axis' level of a move while its line's template
@@ -320,6 +312,7 @@ class HoleRows:
         "shape",
         "scratch",
         "told",
+        "recording",
     )
 
     def __init__(self, machine, plans, printed: bool = False) -> None:
@@ -341,6 +334,16 @@ class HoleRows:
         self.holes: dict = {}
         #: (the row after a cycle's own line, what that line's hole told)
         self.told = None
+        #: what stands for the canon while a hole is recorded (_Recording)
+        self.recording: Optional[_Recording] = None
+
+    def _recording(self, canon) -> _Recording:
+        """An empty recording of ``canon``'s calls: the table's, while its
+        canon is the same."""
+        recording = self.recording
+        if recording is None or recording.canon is not canon:
+            recording = self.recording = _Recording(canon)
+        return recording.restart()
 
     def opening(self, cells: List[str], at: int, end: int) -> int:
         """Run the cycle's own line at ``cells[at]`` by ``block`` and, when a
@@ -360,7 +363,7 @@ class HoleRows:
             machine.block(line, *plan.codes, **words)
             return after
         canon = machine.canon
-        recording = machine.canon = _Recording(canon)
+        recording = machine.canon = self._recording(canon)
         capture = machine._hole_capture = _Capture(recording)
         try:
             machine.block(line, *plan.codes, **words)
@@ -664,7 +667,7 @@ class HoleRows:
         before = _snapshot(machine)
         origin = machine.current
         canon = machine.canon
-        recording = machine.canon = _Recording(canon)
+        recording = machine.canon = self._recording(canon)
         try:
             done = machine.cycle_row(int(cells[at]), words)
         finally:
