@@ -35,6 +35,7 @@ from operator import attrgetter
 
 from runtime.canon import CALLS, Canon, TraceCanon, trace_rows
 from runtime.cycles import CyclesMixin
+from runtime.fast.arc_rows import column_floats, table_lines
 
 TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
@@ -597,13 +598,13 @@ class HoleRows:
             runs, at = self._runs(cells, at, end, machine.plane)
             for row, stop, first, second, stride in runs:
                 count = (stop - row) // stride
-                lines += map(int, cells[row:stop:stride])
+                lines += table_lines(cells, row, stop, stride)
                 if first >= 0:
-                    firsts += map(float, cells[row + 2 + first : stop : stride])
+                    firsts += column_floats(cells[row + 2 + first : stop : stride])
                 else:
                     firsts += repeat(aa, count)
                 if second >= 0:
-                    seconds += map(float, cells[row + 2 + second : stop : stride])
+                    seconds += column_floats(cells[row + 2 + second : stop : stride])
                 else:
                     seconds += repeat(bb, count)
                 aa, bb = firsts[-1], seconds[-1]
