@@ -10,7 +10,9 @@ and radii vary, a trigonometry loop, canned cycles) it times, medians of
 * preview: LinuxCNC's ``gcode.parse`` (system Python) against
   ``ngc2py.parse`` with the same counting canon, in-process time of the
   parse call; ngc2py's with its module cached, and its first parse of a
-  new file (an empty compile cache: conversion included); and the canon's
+  new file (an empty compile cache: conversion included); a reload, the
+  second parse of the file in one process for both (what a preview
+  application does when the file changes or is opened again); and the canon's
   own calls alone (each call the parse made, made again from a list): the
   least any parse can take, so its ratio is the best one could reach;
 * ``ngc2py stats`` and ``ngc2py flatten`` against ``rs274 -g`` (whole
@@ -81,6 +83,8 @@ if sys.argv[2] == "gcode":
 else:
     import ngc2py as parser
 canon = Canon()
+if sys.argv[3:] == ["again"]:  # a preview application's reload: timed the second time
+    parser.parse(sys.argv[1], Canon(), "G21", "")
 start = time.perf_counter()
 parser.parse(sys.argv[1], canon, "G21", "")
 print(time.perf_counter() - start, sorted(canon.counts.items()))
@@ -234,6 +238,11 @@ def main(argv=None) -> int:
                 if theirs and first:
                     print(row % (name, "parse (first, converts)", "%.2fs" % theirs, "%.2fs" % first,
                                  fmt_ratio(theirs, first), "", ""))
+                again, _ = in_process([SYSTEM_PYTHON, "parse.py", src.name, "gcode", "again"], work, env, args.repeat)
+                ours_again, _ = in_process([py, "parse.py", src.name, "ngc2py", "again"], work, env, args.repeat)
+                if again and ours_again:
+                    print(row % (name, "parse (reload in process)", "%.2fs" % again, "%.2fs" % ours_again,
+                                 fmt_ratio(again, ours_again), "", "a preview app's second load of the file"))
                 alone, made = in_process([py, "canon_calls.py", src.name], work, env, args.repeat)
                 if theirs and alone:
                     print(row % (name, "parse: canon calls alone", "%.2fs" % theirs, "%.2fs" % alone,
