@@ -21,10 +21,14 @@ a whole constant: the module is compiled as it is.
 
 Used where the compile cache writes a new entry (ngc2py/cache.py), whose
 import then reads the bytecode: about 30 ms less for a new 100k-move
-program's first run or preview.
+program's first run or preview; and by :class:`QuickLoader`, where a module
+is imported without bytecode (a program read from stdin, a cache that
+cannot be written).
 """
 
 from __future__ import annotations
+
+from importlib.machinery import SourceFileLoader
 
 TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
@@ -53,6 +57,16 @@ def compile_module(text: str, filename: str):
         if placed is not None:
             return placed
     return compile(text, filename, "exec", dont_inherit=True)
+
+
+class QuickLoader(SourceFileLoader):
+    """Python's loader of a source file, compiling it by
+    :func:`compile_module` where it finds no bytecode."""
+
+    def source_to_code(self, data, path, *, _optimize=-1):
+        from importlib.util import decode_source
+
+        return compile_module(decode_source(data), path)
 
 
 def _stand_in(text: str):

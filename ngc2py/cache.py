@@ -31,7 +31,6 @@ from __future__ import annotations
 
 import os
 import sys
-from importlib.machinery import SourceFileLoader
 
 # A cached `ngc2py run` does little but this module's work before the
 # program runs, so it stays off pathlib, typing, json and OpenSSL's hashlib
@@ -43,7 +42,7 @@ except ImportError:  # not CPython
     from hashlib import blake2b as _hash
 
 from ngc2py import __version__
-from ngc2py.bytecode import compile_module
+from ngc2py.bytecode import QuickLoader, compile_module
 from ngc2py.compiler import compile_program, subroutine_dirs
 from runtime.atomic import file_mode
 
@@ -274,7 +273,7 @@ def load_cached(module: str, program: Optional[str] = None):
     return loaded
 
 
-class _KeepingLoader(SourceFileLoader):
+class _KeepingLoader(QuickLoader):
     """Python's loader (it reads a valid ``__pycache__`` file, whatever
     ``sys.dont_write_bytecode`` says), writing the bytecode it compiles
     where Python would not."""

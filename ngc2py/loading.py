@@ -22,7 +22,12 @@ def load_module(path: str):
     """Import a generated module from ``path`` under a private name."""
     import importlib.util
 
-    spec = importlib.util.spec_from_file_location("ngc2py_program", str(path))
+    from ngc2py.bytecode import QuickLoader
+
+    loader = QuickLoader("ngc2py_program", str(path))
+    spec = importlib.util.spec_from_file_location(
+        "ngc2py_program", str(path), loader=loader
+    )
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module

@@ -129,3 +129,19 @@ def test_a_new_cache_entry_is_imported_from_the_bytecode_written_with_it(
     assert loaded.main.__code__ == next(
         c for c in expected.co_consts if getattr(c, "co_name", "") == "main"
     )
+
+
+def test_a_module_loaded_without_bytecode_is_compiled_the_quick_way(monkeypatch):
+    # a program read from stdin, a cache that cannot be written
+    from ngc2py import loading
+
+    rows = "\n".join("G1 X%d Y1" % k for k in range(300))
+    text = compile_text("G21 F100\n" + rows + "\nM2\n", "prog.ngc")
+    taken = []
+    monkeypatch.setattr(
+        bytecode,
+        "compile_module",
+        lambda text, path: taken.append(path) or compile(text, path, "exec"),
+    )
+    module = loading.load_text(text)
+    assert len(taken) == 1 and module.__ngc__.files == ("prog.ngc",)

@@ -172,13 +172,13 @@ def test_a_cached_module_s_bytecode_is_kept_and_used(tmp_path, monkeypatch, dont
     # gone (an older entry, a removed file), the loader keeps what it compiles
     shutil.rmtree(pyc)
     compiled = []
-    original = cache.SourceFileLoader.source_to_code
+    original = cache.QuickLoader.source_to_code
 
     def counting(self, data, path, **kwargs):
         compiled.append(path)
         return original(self, data, path, **kwargs)
 
-    monkeypatch.setattr(cache.SourceFileLoader, "source_to_code", counting)
+    monkeypatch.setattr(cache.QuickLoader, "source_to_code", counting)
     first = cache.load_cached(module)
     assert compiled == [module]
     assert [p.name.split(".")[0] for p in pyc.iterdir()] == [Path(module).stem]
