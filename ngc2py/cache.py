@@ -44,7 +44,7 @@ except ImportError:  # not CPython
 from ngc2py import __version__
 from ngc2py.bytecode import QuickLoader, compile_module
 from ngc2py.compiler import compile_program, subroutine_dirs
-from runtime.atomic import file_mode
+from runtime.atomic import file_mode, temporary_beside
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:
@@ -131,11 +131,8 @@ def write_atomic(target, data: Union[str, bytes]) -> None:
         return
     folder = os.path.dirname(target) or "."
     os.makedirs(folder, exist_ok=True)
-    import tempfile  # here: a cached `ngc2py run` never writes
-
-    fd, temp = tempfile.mkstemp(
-        dir=folder, prefix=".tmp-", suffix=os.path.splitext(target)[1]
-    )
+    # (".tmp-": what a sweep knows a crashed write's leftovers by)
+    fd, temp = temporary_beside(target, ".tmp-", os.path.splitext(target)[1])
     try:
         with os.fdopen(fd, "wb") as handle:
             handle.write(data.encode("utf-8") if isinstance(data, str) else data)

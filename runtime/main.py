@@ -39,6 +39,10 @@ def parse_options(argv: Sequence[str]) -> dict:
     options = {"block_delete": False}
     if not argv:
         return options  # the usual run: getopt's import is not paid for
+    output = plain_output(argv)
+    if output is not None:
+        options["output"] = output
+        return options
     import getopt
 
     try:
@@ -63,6 +67,18 @@ def parse_options(argv: Sequence[str]) -> dict:
         else:
             options[names[flag]] = value
     return options
+
+
+def plain_output(argv: Sequence[str]) -> Optional[str]:
+    """rs274's output file given alone (``OUT``, or ``-- OUT`` as the ngc2py
+    command passes it), as getopt reads it; None for anything else. Read
+    without getopt, whose import (gettext, re, enum) costs a run that
+    writes its trace to a file about 8 ms."""
+    if len(argv) == 1 and not argv[0].startswith("-"):
+        return argv[0]
+    if len(argv) == 2 and argv[0] == "--":
+        return argv[1]
+    return None
 
 
 def _atoi(text: str) -> int:
@@ -218,19 +234,14 @@ class _Output:
     (errors or not: rs274's file then holds the trace up to the error)."""
 
     def __init__(self, path: str) -> None:
-        import tempfile
-
-        from runtime.atomic import special_file
+        from runtime.atomic import special_file, temporary_beside
 
         self.path = path
         self.temporary = None
         if special_file(path):  # a device or a pipe: written to, not replaced
             handle = path
         else:
-            folder, name = os.path.split(os.path.abspath(path))
-            handle, self.temporary = tempfile.mkstemp(
-                prefix="." + name + ".", dir=folder
-            )
+            handle, self.temporary = temporary_beside(path)
         # the G-code's bytes as they were read (surrogateescape), lines as written
         self.file = open(
             handle, "w", encoding="utf-8", errors="surrogateescape", newline=""

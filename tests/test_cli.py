@@ -501,21 +501,46 @@ def test_the_quick_run_parser_takes_the_usual_forms():
 HEAVY = ("argparse", "gettext", "re", "enum", "typing", "json", "pathlib", "dataclasses")
 
 
-def test_a_cached_run_imports_nothing_heavy(tmp_path):
+@pytest.mark.parametrize("output", [None, "trace.txt"], ids=["stdout", "file"])
+def test_a_cached_run_imports_nothing_heavy(tmp_path, output):
+    # (with rs274's output file too: written atomically without tempfile,
+    # its name read without getopt)
     program = tmp_path / "prog.ngc"
     program.write_text("G21 F100\nG1 X1 Y2\nM2\n")
+    arguments = [str(program)] + ([str(tmp_path / output)] if output else [])
     probe = (
         "import sys\nfrom ngc2py import cli\n"
-        "code = cli.main(['run', sys.argv[1]])\n"
+        "code = cli.main(['run', *sys.argv[1].split('|')])\n"
         "print(sorted(set(sys.argv[2:]) & set(sys.modules)), file=sys.stderr)\n"
     )
     env = dict(os.environ, PYTHONPATH=str(REPO), NGC2PY_CACHE=str(tmp_path / "cache"))
+    heavy = HEAVY + ("tempfile", "getopt", "shutil", "random")
     for _ in range(2):  # the first compiles it
         done = subprocess.run(
-            [sys.executable, "-S", "-c", probe, str(program), *HEAVY],
+            [sys.executable, "-S", "-c", probe, "|".join(arguments), *heavy],
             capture_output=True,
             text=True,
             env=env,
         )
     assert done.returncode == 0, done.stderr
     assert done.stderr.splitlines()[-1] == "[]"
+    if output:
+        assert "STRAIGHT_FEED(1.0000, 2.0000" in (tmp_path / output).read_text()
+
+
+@given(
+    hs.lists(
+        hs.sampled_from(["out", "--", "-", "-b", "-t", "x.tbl", "", "-x", "--max-steps=5"]),
+        max_size=4,
+    )
+)
+def test_a_plain_output_file_is_read_as_getopt_reads_it(argv):
+    import getopt
+
+    from runtime.main import plain_output
+
+    found = plain_output(argv)
+    if found is None:
+        return
+    opts, rest = getopt.getopt(list(argv), "t:v:i:bn:", ["max-steps="])
+    assert (opts, rest) == ([], [found])

@@ -12,6 +12,7 @@ trace up to an error as rs274's file holds it).
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -245,3 +246,21 @@ def test_a_device_or_a_pipe_is_written_to_not_replaced(command, tmp_path):
     assert stat.S_ISFIFO(os.stat(fifo).st_mode)
     assert got and (b"STRAIGHT_TRAVERSE(1.0000" in got[0] or b"def main" in got[0])
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out.fifo", "p.ngc"]
+
+
+def test_a_temporary_file_is_new_private_and_beside_its_target(tmp_path):
+    from runtime.atomic import temporary_beside
+
+    target = tmp_path / "trace.txt"
+    made = [temporary_beside(str(target)) for _ in range(50)]
+    made.append(temporary_beside(str(target), ".tmp-", ".py"))
+    for fd, _ in made:
+        os.close(fd)
+    paths = [path for _, path in made]
+    assert len(set(paths)) == len(paths)  # each made by its own call
+    for path in paths:
+        assert os.path.dirname(path) == str(tmp_path)
+        assert os.stat(path).st_mode & 0o777 == 0o600
+    assert all(os.path.basename(p).startswith(".trace.txt.") for p in paths[:-1])
+    name = os.path.basename(paths[-1])
+    assert name.startswith(".tmp-") and name.endswith(".py")
