@@ -32,7 +32,7 @@ from importlib.machinery import SourceFileLoader
 
 TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
-    from typing import Dict, List, Optional
+    from typing import Dict, List
 
 #: Literals shorter than this are left for the tokenizer (a few lines).
 LONG = 4096

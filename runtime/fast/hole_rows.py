@@ -33,7 +33,7 @@ from itertools import repeat, takewhile
 from marshal import dumps
 from operator import attrgetter
 
-from runtime.canon import CALLS, Canon, TraceCanon, trace_rows
+from runtime.canon import Canon, TraceCanon, trace_rows
 from runtime.cycles import CyclesMixin
 from runtime.fast.arc_rows import column_floats, table_lines
 
