@@ -203,9 +203,20 @@ def cached_module(
         pass  # (the import tells what is wrong)
     else:
         _keep_bytecode(module, compiled.text.encode("utf-8"), code)
+        # and kept for this process's import of it (load_cached), which
+        # need not read back and unmarshal what was just written (a
+        # 100k-arc module's bytecode is 8 MB: 10-15 ms)
+        _COMPILED.clear()
+        _COMPILED[module] = code
     write_atomic(os.path.join(folder, "m_%s.json" % key), text)
     maybe_sweep(folder, limit)  # (now and then: the cache keeps to its size)
     return module
+
+
+#: The code of the entry this process compiled last, by its module's path,
+#: until :func:`load_cached` takes it (one entry: a library's checks
+#: compile many and import none).
+_COMPILED: dict = {}
 
 
 def _current_entry(folder: str, key: str) -> Optional[str]:
@@ -259,6 +270,7 @@ def load_cached(module: str, program: Optional[str] = None):
     import importlib.util
 
     loader = _KeepingLoader("ngc2py_program", module)
+    loader.compiled = _COMPILED.pop(module, None)
     spec = importlib.util.spec_from_file_location(
         "ngc2py_program", module, loader=loader
     )
@@ -273,7 +285,14 @@ def load_cached(module: str, program: Optional[str] = None):
 class _KeepingLoader(QuickLoader):
     """Python's loader (it reads a valid ``__pycache__`` file, whatever
     ``sys.dont_write_bytecode`` says), writing the bytecode it compiles
-    where Python would not."""
+    where Python would not; or the code :func:`cached_module` compiled
+    for the entry in this process (``compiled``), as it is."""
+
+    compiled = None
+
+    def get_code(self, fullname):
+        code, self.compiled = self.compiled, None
+        return code if code is not None else super().get_code(fullname)
 
     def source_to_code(self, data, path, *, _optimize=-1):
         code = super().source_to_code(data, path, _optimize=_optimize)

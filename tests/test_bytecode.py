@@ -117,7 +117,9 @@ def test_a_new_cache_entry_is_imported_from_the_bytecode_written_with_it(
     from importlib.util import cache_from_source
 
     assert os.path.isfile(cache_from_source(module))
-    # the import reads it: compiling would call the loader's source_to_code
+    # another process's import reads it (this one's has the code at hand:
+    # the next test): compiling would call the loader's source_to_code
+    monkeypatch.setattr(cache, "_COMPILED", {})
     monkeypatch.setattr(
         cache._KeepingLoader,
         "source_to_code",
@@ -129,6 +131,35 @@ def test_a_new_cache_entry_is_imported_from_the_bytecode_written_with_it(
     assert loaded.main.__code__ == next(
         c for c in expected.co_consts if getattr(c, "co_name", "") == "main"
     )
+
+
+def test_the_process_that_compiles_an_entry_imports_its_code_as_compiled(
+    tmp_path, monkeypatch
+):
+    monkeypatch.setenv("NGC2PY_CACHE", str(tmp_path / "cache"))
+    program = tmp_path / "prog.ngc"
+    program.write_text(
+        "G21 F100\n"
+        + "\n".join("G1 X%d Y%d" % (k, k % 7) for k in range(300))
+        + "\nM2\n"
+    )
+    read = []
+    original = cache._KeepingLoader.get_data
+    monkeypatch.setattr(
+        cache._KeepingLoader,
+        "get_data",
+        lambda self, path: read.append(path) or original(self, path),
+    )
+    module = cache.cached_module(str(program))
+    first = cache.load_cached(module, str(program))
+    # neither the bytecode just written nor the source was read back
+    assert read == []
+    second = cache.load_cached(module, str(program))
+    from importlib.util import cache_from_source
+
+    assert read == [cache_from_source(module)]  # a hit reads the bytecode
+    assert first.main.__code__ == second.main.__code__
+    assert first.__ngc__.files == second.__ngc__.files == (str(program),)
 
 
 def test_a_module_loaded_without_bytecode_is_compiled_the_quick_way(monkeypatch):

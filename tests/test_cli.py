@@ -171,6 +171,7 @@ def test_a_cached_module_s_bytecode_is_kept_and_used(tmp_path, monkeypatch, dont
     # a new entry's bytecode is written with it (tests/test_bytecode.py);
     # gone (an older entry, a removed file), the loader keeps what it compiles
     shutil.rmtree(pyc)
+    monkeypatch.setattr(cache, "_COMPILED", {})  # (nor its code at hand)
     compiled = []
     original = cache.QuickLoader.source_to_code
 
