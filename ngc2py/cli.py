@@ -45,7 +45,7 @@ entries used least recently go first."""
 
 
 def build_parser(workflows: Sequence[str] = WORKFLOWS) -> argparse.ArgumentParser:
-    import argparse  # here: `ngc2py run PROG` is parsed without it (quick_run_args)
+    import argparse  # here: a program's plain run is parsed without it (quick_args)
 
     from ngc2py.flags import add_block_delete  # (argparse's too)
 
@@ -209,53 +209,82 @@ def run(args: argparse.Namespace) -> int:
             bar.close()
 
 
-#: ``ngc2py run``'s options, for :func:`quick_run_args`: those that take a
-#: value (attribute name), and flags.
-_RUN_VALUES = {
+#: The options of rs274 that every command running a program takes, each
+#: with the attribute argparse gives its value (ngc2py.simulate).
+_RS274_VALUES = {
     "-t": "tool_table",
     "-v": "var_file",
     "-i": "ini",
     "-n": "continue_mode",
-    "--max-steps": "max_steps",
 }
-_RUN_FLAGS = {"-b": "block_delete", "-q": "quiet", "--quiet": "quiet"}
+_QUIET = {"-q": "quiet", "--quiet": "quiet"}
+
+#: The commands :func:`quick_args` reads, each with: its options that take
+#: a value, its flags (attribute names), whether rs274's output file may
+#: follow the program, and the module of its ``DEFAULTS`` (every other
+#: attribute argparse gives it, the handler among them; None: ``run``'s).
+_QUICK = {
+    "run": (
+        dict(_RS274_VALUES, **{"--max-steps": "max_steps"}),
+        dict(_QUIET, **{"-b": "block_delete"}),
+        True,
+        None,
+    ),
+    "stats": (_RS274_VALUES, {"-b": "block_delete", "--json": "json"}, False, "stats"),
+    "flatten": (
+        dict(_RS274_VALUES, **{"-o": "output", "--output": "output"}),
+        dict(_QUIET, **{"-b": "block_delete"}),
+        False,
+        "flatten",
+    ),
+}
 
 
-def quick_run_args(argv: List[str]):
-    """``run PROG [options]`` parsed without argparse, whose import and
-    parser cost about 8 ms of every run (rs274 starts in 10): the plain
-    forms only -- each option spelled out, its value in the next argument,
-    one program name and perhaps, after it, rs274's output file. Anything
-    else (help, abbreviations, ``-``, ``--``, joined flags, an option value
-    starting with ``-``, a third name) gives None, and argparse decides
+def quick_args(argv: List[str]):
+    """``run``, ``stats`` or ``flatten`` with a program parsed without
+    argparse, whose import (with gettext, re, enum and shutil's archive
+    modules) and parser cost 8-15 ms of every run of a small program
+    (rs274 starts in 10): the plain forms only -- each option spelled out,
+    its value in the next argument, one program name and, for ``run``,
+    perhaps rs274's output file after it. Anything else (help,
+    abbreviations, ``-``, ``--``, joined flags, an option value starting
+    with ``-``, a name too many) gives None, and argparse decides
     (:func:`parse_arguments`). tests/test_cli.py holds the answers to
     argparse's."""
-    if len(argv) < 2 or argv[0] != "run":
+    if len(argv) < 2 or argv[0] not in _QUICK:
         return None
-    values = dict.fromkeys(_RUN_VALUES.values())
-    values.update(dict.fromkeys(_RUN_FLAGS.values(), False))
-    values.update(command="run", program=None, output=None)
+    options, flags, output_allowed, module = _QUICK[argv[0]]
+    values = dict.fromkeys(options.values())
+    values.update(dict.fromkeys(flags.values(), False))
+    values.update(command=argv[0], program=None)
+    if output_allowed:
+        values["output"] = None
+    if module is not None:
+        values.update(importlib.import_module("ngc2py." + module).DEFAULTS)
+    output = None
     at = 1
     while at < len(argv):
         arg = argv[at]
-        if arg in _RUN_VALUES:
+        if arg in options:
             if at + 1 == len(argv) or argv[at + 1].startswith("-"):
                 return None
-            values[_RUN_VALUES[arg]] = argv[at + 1]
+            values[options[arg]] = argv[at + 1]
             at += 2
-        elif arg in _RUN_FLAGS:
+        elif arg in flags:
             # -b flips block delete each time, as rs274 and argparse's -b do
-            name = _RUN_FLAGS[arg]
+            name = flags[arg]
             values[name] = not values[name] if arg == "-b" else True
             at += 1
-        elif arg.startswith("-") or values["output"] is not None:
+        elif arg.startswith("-") or output is not None:
             return None
         elif values["program"] is None:
             values["program"] = arg
             at += 1
-        else:
-            values["output"] = arg  # rs274's output file
+        elif output_allowed:
+            output = values["output"] = arg  # rs274's output file
             at += 1
+        else:
+            return None
     if values["program"] is None:
         return None
     from types import SimpleNamespace
@@ -297,7 +326,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     they are at call time."""
     arguments = sys.argv[1:] if argv is None else argv
     try:
-        args = quick_run_args(arguments) or parse_arguments(arguments)
+        args = quick_args(arguments) or parse_arguments(arguments)
     except SystemExit as stop:  # argparse: --help, --version, or a usage error
         # A usage error exits 1, as rs274 does (argparse would say 2).
         return 0 if stop.code in (0, None) else 1

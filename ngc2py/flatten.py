@@ -40,7 +40,6 @@ no G-code at all stop the flattening with an error that names them.
 
 from __future__ import annotations
 
-import argparse
 import math
 from array import array
 from marshal import dumps
@@ -48,17 +47,16 @@ from math import hypot
 from itertools import groupby
 from operator import add, eq, itemgetter, ne, sub
 import os
-import re
 import sys
 
 TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
     from typing import List, Optional, Sequence, Tuple
 
-from ngc2py.flags import add_block_delete
 from runtime.canon import CALLS, Canon, trace_rows
 from runtime.errors import g_code_frames_of_stack
 from runtime.fast.hole_rows import HOLE_MOVES, HOLE_SWITCHES
+from runtime.lazy_re import Pattern
 
 AXES6 = "XYZABC"
 SYSTEM_CODES = ("G54", "G55", "G56", "G57", "G58", "G59", "G59.1", "G59.2", "G59.3")
@@ -336,14 +334,17 @@ def _level_index(text: str) -> int:
 _STAND_INS = (7777777.015625, 6666666.046875, 5555555.078125, 4444444.109375)
 _STAND_IN_LINE = 987654321987
 _STAND_IN_TEXTS = tuple(map(repr, _STAND_INS)) + ("%d" % _STAND_IN_LINE,)
-_STAND_IN_SPLIT = re.compile("(%s)" % "|".join(map(re.escape, _STAND_IN_TEXTS)))
+# (digits and a point: only the point is special in a pattern)
+_STAND_IN_SPLIT = Pattern(
+    "(%s)" % "|".join(text.replace(".", r"\.") for text in _STAND_IN_TEXTS)
+)
 
 #: Stand-ins for the levels of a hole's moves (the hole axis' values, in the
 #: order they first come) while a template for every batch of holes drilled
 #: alike is made (FlattenCanon._batch_template): numbers of one width, so no
 #: text of one holds another's, and none of the hole stand-ins' width.
 _LEVEL_STAND_IN = 3000000.0078125
-_LEVEL_TEXT = re.compile(r"(?<![\d.])(3\d{6}\.0078125)(?!\d)")
+_LEVEL_TEXT = Pattern(r"(?<![\d.])(3\d{6}\.0078125)(?!\d)")
 _LEVEL_WIDTH = len(repr(_LEVEL_STAND_IN))
 #: How much longer than a stand-in a level's number may be: the template's
 #: lines keep that much more room (a line holds one level at most).
@@ -1698,6 +1699,10 @@ reported as `ngc2py run` reports it, exit status 1."""
 
 
 def register(commands) -> None:
+    import argparse
+
+    from ngc2py.flags import add_block_delete
+
     parser = commands.add_parser(
         "flatten",
         help="write the program as plain G-code with everything resolved",
@@ -1711,7 +1716,6 @@ def register(commands) -> None:
         "-o",
         "--output",
         metavar="FLAT.ngc",
-        default="-",
         help="where to write it (default and '-': standard output); written atomically",
     )
     parser.add_argument("-t", dest="tool_table", metavar="TBL", help="tool table file")
@@ -1731,7 +1735,7 @@ def register(commands) -> None:
         "the other lines made), 1 rs274's MDI prompt, 2 stop (default), as rs274's -n",
     )
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
-    parser.set_defaults(handler=main)
+    parser.set_defaults(**DEFAULTS)
 
 
 def main(args) -> int:
@@ -1762,3 +1766,8 @@ def main(args) -> int:
     else:
         write_atomic(args.output, text)
     return 0
+
+
+#: What no option of the command line sets (argparse's defaults, and those
+#: of ngc2py.cli.quick_args), the command's handler among them.
+DEFAULTS = {"handler": main, "output": "-"}

@@ -9,17 +9,16 @@ too, since stdout belongs to the workflow's own output.
 
 from __future__ import annotations
 
-import argparse
 import os
 import sys
 from contextlib import contextmanager
 
-from ngc2py.flags import add_block_delete
 from runtime.canon import Canon
 from runtime.errors import GCodeError, describe
 
 TYPE_CHECKING = False  # typing and tempfile cost milliseconds at every start
 if TYPE_CHECKING:
+    import argparse
     from typing import Callable, Iterator, Optional, TextIO
 
 #: Exit statuses every workflow command documents.
@@ -29,6 +28,8 @@ EXIT_ERROR = 1
 
 def add_rs274_options(parser: argparse.ArgumentParser) -> None:
     """The options a program runs with, as ``ngc2py run`` takes them."""
+    from ngc2py.flags import add_block_delete  # (argparse: not on a run's way)
+
     parser.add_argument("-t", dest="tool_table", metavar="TBL", help="tool table file")
     parser.add_argument(
         "-v", dest="var_file", metavar="VAR", help="parameter (.var) file"

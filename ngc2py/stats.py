@@ -6,16 +6,18 @@ or formatted. The model is described in that module and in ``--help``.
 
 from __future__ import annotations
 
-import argparse
-import re
 import sys
 
 from ngc2py.simulate import EXIT_ERROR, EXIT_OK, add_rs274_options, run_program
 from runtime.stats import DEFAULT_ACCELERATION, DEFAULT_RAPID_RATE, Model, StatsCanon
+from runtime.lazy_re import Pattern
 from runtime.toolpath import MM_PER_INCH
 
-TYPE_CHECKING = False  # typing costs milliseconds at every start
+# argparse, re and typing cost a small program's stats a tenth of its time:
+# the plain command line is read without argparse (ngc2py.cli.quick_args)
+TYPE_CHECKING = False
 if TYPE_CHECKING:
+    import argparse
     from typing import Dict
 
 EPILOG = """\
@@ -34,11 +36,13 @@ force at its first move); extents include the bulge of arcs.
 exit status: 0 the program ran to its end; 1 a G-code error (rs274's
 message on stderr, no report) or a bad file or option."""
 
-_RATE = re.compile(r"^\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(mm|in|inch)?\s*$")
+_RATE = Pattern(r"^\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(mm|in|inch)?\s*$")
 
 
 def rate(text: str) -> float:
     """A rate in millimetres from ``3000``, ``3000mm`` or ``120in``."""
+    import argparse
+
     match = _RATE.match(text)
     if match is None:
         raise argparse.ArgumentTypeError("%r is not a number with mm or in" % text)
@@ -47,6 +51,8 @@ def rate(text: str) -> float:
 
 
 def seconds(text: str) -> float:
+    import argparse
+
     try:
         value = float(text)
     except ValueError:
@@ -57,6 +63,8 @@ def seconds(text: str) -> float:
 
 
 def register(commands) -> None:
+    import argparse
+
     parser = commands.add_parser(
         "stats",
         help="extents, path lengths, counts and estimated cycle time",
@@ -73,14 +81,12 @@ def register(commands) -> None:
     parser.add_argument(
         "--rapid-rate",
         type=rate,
-        default=DEFAULT_RAPID_RATE,
         metavar="RATE",
         help="rapid (G0) speed per minute (default %g mm/min)" % DEFAULT_RAPID_RATE,
     )
     parser.add_argument(
         "--accel",
         type=rate,
-        default=DEFAULT_ACCELERATION,
         metavar="RATE",
         help="acceleration per second squared, 0 for instant "
         "(default %g mm/s^2)" % DEFAULT_ACCELERATION,
@@ -88,12 +94,11 @@ def register(commands) -> None:
     parser.add_argument(
         "--tool-change-time",
         type=seconds,
-        default=0.0,
         metavar="SECONDS",
         help="time added for each tool change (default 0)",
     )
     add_rs274_options(parser)
-    parser.set_defaults(handler=command)
+    parser.set_defaults(**DEFAULTS)
 
 
 def command(args: argparse.Namespace) -> int:
@@ -111,6 +116,16 @@ def command(args: argparse.Namespace) -> int:
     else:
         sys.stdout.write(format_report(report))
     return EXIT_OK
+
+
+#: What no option of the command line sets (argparse's defaults, and those
+#: of ngc2py.cli.quick_args), the command's handler among them.
+DEFAULTS = {
+    "handler": command,
+    "rapid_rate": DEFAULT_RAPID_RATE,
+    "accel": DEFAULT_ACCELERATION,
+    "tool_change_time": 0.0,
+}
 
 
 def clock(total: float) -> str:

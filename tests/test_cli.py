@@ -460,18 +460,39 @@ _RUN_WORDS = [
 ]
 
 
+#: Words of the other commands the quick parser reads (ngc2py.cli._QUICK).
+_OTHER_WORDS = _RUN_WORDS + [
+    "stats",
+    "flatten",
+    "--json",
+    "--jso",
+    "--rapid-rate",
+    "1000",
+    "--output",
+    "--output=x",
+    "flat.ngc",
+]
+
+
 @given(
     hs.lists(hs.sampled_from(_RUN_WORDS), max_size=7).map(lambda words: ["run"] + words)
-    | hs.lists(hs.sampled_from(_RUN_WORDS), max_size=8)
+    | hs.lists(hs.sampled_from(_OTHER_WORDS), max_size=7).map(
+        lambda words: ["stats"] + words
+    )
+    | hs.lists(hs.sampled_from(_OTHER_WORDS), max_size=7).map(
+        lambda words: ["flatten"] + words
+    )
+    | hs.lists(hs.sampled_from(_OTHER_WORDS), max_size=8)
 )
-@settings(max_examples=1500, deadline=None)
-def test_the_quick_run_parser_agrees_with_argparse(argv):
-    """cli.quick_run_args (no argparse on `ngc2py run`'s way) must give
-    argparse's answer whenever it gives one."""
+@settings(max_examples=2500, deadline=None)
+def test_the_quick_parser_agrees_with_argparse(argv):
+    """cli.quick_args (no argparse on the way of `ngc2py run`, `stats` or
+    `flatten` with a program) must give argparse's answer whenever it gives
+    one."""
     import contextlib
     import io
 
-    quick = cli.quick_run_args(argv)
+    quick = cli.quick_args(argv)
     if quick is None:
         return
     with (
@@ -485,16 +506,28 @@ def test_the_quick_run_parser_agrees_with_argparse(argv):
     assert vars(quick) == vars(full)
 
 
-def test_the_quick_run_parser_takes_the_usual_forms():
-    args = cli.quick_run_args(["run", "p.ngc", "-t", "a.tbl", "-b", "-n", "0", "-q"])
+def test_the_quick_parser_takes_the_usual_forms():
+    from ngc2py import flatten
+    from ngc2py import stats as stats_command
+
+    args = cli.quick_args(["run", "p.ngc", "-t", "a.tbl", "-b", "-n", "0", "-q"])
     assert (args.program, args.tool_table, args.block_delete, args.continue_mode) == (
         "p.ngc",
         "a.tbl",
         True,
         "0",
     )
-    assert cli.quick_run_args(["run", "-h"]) is None
-    assert cli.quick_run_args(["run", "-"]) is None  # stdin: argparse's
+    assert cli.quick_args(["run", "-h"]) is None
+    assert cli.quick_args(["run", "-"]) is None  # stdin: argparse's
+    stats = cli.quick_args(["stats", "p.ngc", "--json", "-i", "m.ini"])
+    assert (stats.program, stats.json, stats.ini) == ("p.ngc", True, "m.ini")
+    assert stats.handler is stats_command.command
+    flat = cli.quick_args(["flatten", "p.ngc", "-o", "flat.ngc", "-q"])
+    assert (flat.output, flat.quiet, flat.handler) == ("flat.ngc", True, flatten.main)
+    assert cli.quick_args(["flatten", "p.ngc"]).output == "-"
+    # what only argparse reads: rates with units, a second name
+    assert cli.quick_args(["stats", "p.ngc", "--rapid-rate", "120in"]) is None
+    assert cli.quick_args(["flatten", "p.ngc", "q.ngc"]) is None
 
 
 #: What a cached ``ngc2py run PROG`` must not import: each costs a run
@@ -527,6 +560,31 @@ def test_a_cached_run_imports_nothing_heavy(tmp_path, output):
     assert done.stderr.splitlines()[-1] == "[]"
     if output:
         assert "STRAIGHT_FEED(1.0000, 2.0000" in (tmp_path / output).read_text()
+
+
+@pytest.mark.parametrize("command", [["stats"], ["flatten", "-o", "flat.ngc"]])
+def test_cached_stats_and_flatten_import_nothing_heavy(tmp_path, command):
+    # their command lines read without argparse (cli.quick_args), whose
+    # help formatter brings shutil and its bz2 and lzma too
+    program = tmp_path / "prog.ngc"
+    program.write_text("G21 F100\nG1 X1 Y2\nG2 X3 Y2 R1\nM2\n")
+    probe = (
+        "import sys\nfrom ngc2py import cli\n"
+        "code = cli.main(sys.argv[1].split('|'))\n"
+        "print(code, sorted(set(sys.argv[2:]) & set(sys.modules)), file=sys.stderr)\n"
+    )
+    env = dict(os.environ, PYTHONPATH=str(REPO), NGC2PY_CACHE=str(tmp_path / "cache"))
+    heavy = HEAVY + ("shutil", "locale", "bz2", "lzma", "tqdm")
+    arguments = [command[0], str(program)] + command[1:]
+    for _ in range(2):  # the first compiles it
+        done = subprocess.run(
+            [sys.executable, "-S", "-c", probe, "|".join(arguments), *heavy],
+            capture_output=True,
+            text=True,
+            env=env,
+            cwd=tmp_path,
+        )
+    assert done.stderr.splitlines()[-1] == "0 []", done.stderr
 
 
 @given(
