@@ -30,7 +30,7 @@ import gc
 import math
 import re
 from contextlib import contextmanager
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Dict, FrozenSet, Iterator, List, Optional, Tuple, Union
 
@@ -52,6 +52,7 @@ from ngc2py.nodes import (
     Unary,
     Word,
 )
+from ngc2py.records import replace
 from runtime import codes, comments
 from runtime.errors import GCodeError
 
