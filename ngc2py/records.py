@@ -27,9 +27,10 @@ field names is here, once, with the same meaning:
 * :func:`replace`: ``dataclasses.replace``.
 
 A class's fields are its ``__slots__`` after those of its bases, in that
-order: its constructor's parameters. Fields named in ``_hidden`` are left
-out of ``==``, the hash and ``repr`` (a dataclass field with
-``compare=False, repr=False``).
+order: its constructor's parameters (a ``__dict__`` slot, for a class whose
+objects carry other attributes too, is not a field). Fields named in
+``_hidden`` are left out of ``==``, the hash and ``repr`` (a dataclass
+field with ``compare=False, repr=False``).
 """
 
 from __future__ import annotations
@@ -68,6 +69,8 @@ class Record:
         fields = []
         for klass in reversed(cls.__mro__):
             fields.extend(vars(klass).get("__slots__", ()))
+        if "__dict__" in fields:
+            fields.remove("__dict__")
         cls._fields = cls.__match_args__ = tuple(fields)
         cls._shown = tuple(name for name in fields if name not in cls._hidden)
         cls._key = staticmethod(_getter(cls._shown))
