@@ -42,7 +42,6 @@ import keyword
 import math
 import re
 import zlib
-from dataclasses import dataclass, field
 from typing import Dict, Iterable, Iterator, List, Optional, Sequence, Tuple, Union
 
 from ngc2py import __version__, assigned, fastlocals, nodes, parser, rowtable
@@ -50,6 +49,7 @@ from ngc2py.wrap import split_call
 from ngc2py.parser import DEFAULT_AXES
 from ngc2py import structure as st
 from ngc2py.parser import RowLine
+from ngc2py.records import Value
 from ngc2py.rowrun import RowRun
 from runtime import codes
 from runtime.comments import LINE_METHODS
@@ -2738,15 +2738,19 @@ def oword_values(line: nodes.Line) -> List[nodes.Expr]:
     return values + list(word.args)
 
 
-@dataclass
-class Helper:
+class Helper(Value):
     """A nesting helper to write: function ``name`` runs ``stmt``, inside
     the enclosing ``loops`` of its call site, in file ``file_index``."""
 
-    name: str
-    stmt: st.Stmt
-    loops: List[st.Loop]
-    file_index: int
+    __slots__ = ("name", "stmt", "loops", "file_index")
+
+    def __init__(
+        self, name: str, stmt: st.Stmt, loops: List[st.Loop], file_index: int
+    ) -> None:
+        self.name = name
+        self.stmt = stmt
+        self.loops = loops
+        self.file_index = file_index
 
 
 def outward_exits(
@@ -2777,16 +2781,24 @@ def opening_line(stmt: st.Stmt) -> nodes.Line:
     return stmt.branches[0].line if isinstance(stmt, st.If) else stmt.line
 
 
-@dataclass
-class ItemRead:
+class ItemRead(Value):
     """The code reading one item of a line: ``checks`` run first (a
     setting's index check, a name's creation), then ``value``; ``target`` is
     where a setting stores it (None for a word)."""
 
-    value: str
-    constant: bool
-    target: Optional[str] = None
-    checks: List[str] = field(default_factory=list)
+    __slots__ = ("value", "constant", "target", "checks")
+
+    def __init__(
+        self,
+        value: str,
+        constant: bool,
+        target: Optional[str] = None,
+        checks: Optional[List[str]] = None,  # None: a new empty list
+    ) -> None:
+        self.value = value
+        self.constant = constant
+        self.target = target
+        self.checks = [] if checks is None else checks
 
 
 def plain_read_index(n: float) -> bool:

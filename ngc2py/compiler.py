@@ -120,9 +120,8 @@ def deletes_structure(lines) -> bool:
 def block_deleted(parsed):
     """``parsed`` as rs274 reads it with block delete on: each line that
     starts with ``/`` empty (its number and text kept for reports)."""
-    from dataclasses import replace
-
     from ngc2py.nodes import Line
+    from ngc2py.records import replace
 
     lines = [
         Line(line.number, line.text, line.file) if line.block_delete else line

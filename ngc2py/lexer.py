@@ -11,8 +11,9 @@ rather than a token grammar.
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
 from typing import List, Optional
+
+from ngc2py.records import Frozen
 
 #: rs274's messages for badly formed comments.
 NESTED_COMMENT = "Nested comment found"
@@ -30,8 +31,7 @@ _LOWER = str.maketrans("ABCDEFGHIJKLMNOPQRSTUVWXYZ", "abcdefghijklmnopqrstuvwxyz
 _SEGMENT = re.compile(r"[^(;]+|\([^)]*\)?|;.*", re.S)
 
 
-@dataclass(frozen=True)
-class Normalised:
+class Normalised(Frozen):
     """A line as rs274's readers see it.
 
     ``text`` is the prepared line; ``columns[i]`` is the column in the raw line
@@ -39,9 +39,14 @@ class Normalised:
     structure is broken; rs274 then reads nothing from the line.
     """
 
-    text: str
-    columns: List[int]
-    error: Optional[str] = None
+    __slots__ = ("text", "columns", "error")
+
+    def __init__(
+        self, text: str, columns: List[int], error: Optional[str] = None
+    ) -> None:
+        object.__setattr__(self, "text", text)
+        object.__setattr__(self, "columns", columns)
+        object.__setattr__(self, "error", error)
 
 
 def normalise(raw: str) -> Normalised:

@@ -1,9 +1,10 @@
 """The syntax tree shared by the parser and the code generator.
 
-Every node is a dataclass compared and hashed by value, so trees can be
-compared, hashed and cached; treat them as immutable.  They are not
-``frozen``: a frozen dataclass costs three times as much to build, and
-building nodes is most of the time spent parsing a large CAM file.
+Every node is a record (``records.py``) compared and hashed by value, so
+trees can be compared, hashed and cached; treat them as immutable.  They
+are not ``Frozen``: setting each field through ``object.__setattr__``
+costs three times as much, and building nodes is most of the time spent
+parsing a large CAM file.
 The parser produces one :class:`Line` per physical line of the source; the
 structure pass (``structure.py``) groups lines into subroutines and control
 flow; the code generator turns both into Python text.
@@ -14,38 +15,46 @@ the code generator never has to guess about integer/float semantics.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Optional, Tuple, Union
 
-#: The dataclass options of every node (see the module docstring).
-node = dataclass(eq=True, unsafe_hash=True)
+from ngc2py.records import HashedValue
+
+
+class Node(HashedValue):
+    """Base class of every node: compared and hashed by value."""
+
+    __slots__ = ()
+
 
 # --------------------------------------------------------------------------
 # Expressions
 # --------------------------------------------------------------------------
 
 
-class Expr:
+class Expr(Node):
     """Base class of expression nodes (a value read while a line is read)."""
 
     __slots__ = ()
 
 
-@node
 class Num(Expr):
     """A literal number, already converted the way rs274 converts it."""
 
-    value: float
+    __slots__ = ("value",)
+
+    def __init__(self, value: float) -> None:
+        self.value = value
 
 
-@node
 class NumParam(Expr):
     """``#n``: a numbered parameter; ``index`` is itself an expression (``##2``)."""
 
-    index: Expr
+    __slots__ = ("index",)
+
+    def __init__(self, index: Expr) -> None:
+        self.index = index
 
 
-@node
 class NamedParam(Expr):
     """``#<name>``: ``name`` is normalised (lower case, white space removed).
 
@@ -53,7 +62,10 @@ class NamedParam(Expr):
     subroutine call (or the main program) that set them.
     """
 
-    name: str
+    __slots__ = ("name",)
+
+    def __init__(self, name: str) -> None:
+        self.name = name
 
     @property
     def is_global(self) -> bool:
@@ -78,7 +90,6 @@ UNARY_FUNCTIONS = (
 )
 
 
-@node
 class Bracket(Expr):
     """``[inner]`` read as a value: rs274 checks it at the closing ``]``.
 
@@ -112,30 +123,39 @@ class Bracket(Expr):
     ``Num`` or a ``Bracket``.
     """
 
-    inner: Expr
+    __slots__ = ("inner",)
+
+    def __init__(self, inner: Expr) -> None:
+        self.inner = inner
 
 
-@node
 class Unary(Expr):
     """A one-argument function (``op`` in UNARY_FUNCTIONS) or a sign (``neg``/``pos``)."""
 
-    op: str
-    arg: Expr
+    __slots__ = ("op", "arg")
+
+    def __init__(self, op: str, arg: Expr) -> None:
+        self.op = op
+        self.arg = arg
 
 
-@node
 class Atan2(Expr):
     """``ATAN[y]/[x]``: four-quadrant arc tangent in degrees."""
 
-    y: Expr
-    x: Expr
+    __slots__ = ("y", "x")
+
+    def __init__(self, y: Expr, x: Expr) -> None:
+        self.y = y
+        self.x = x
 
 
-@node
 class Exists(Expr):
     """``EXISTS[#<name>]``: 1.0 if the named parameter exists, else 0.0."""
 
-    name: str
+    __slots__ = ("name",)
+
+    def __init__(self, name: str) -> None:
+        self.name = name
 
 
 #: Binary operators in ``Binary.op``, lower case as in the source.
@@ -158,13 +178,15 @@ BINARY_OPERATORS = (
 )
 
 
-@node
 class Binary(Expr):
     """``left op right``; the parser has already applied precedence."""
 
-    op: str
-    left: Expr
-    right: Expr
+    __slots__ = ("op", "left", "right")
+
+    def __init__(self, op: str, left: Expr, right: Expr) -> None:
+        self.op = op
+        self.left = left
+        self.right = right
 
 
 # --------------------------------------------------------------------------
@@ -172,30 +194,35 @@ class Binary(Expr):
 # --------------------------------------------------------------------------
 
 
-@node
-class Word:
+class Word(Node):
     """A letter and its value: ``G1``, ``X[#1+2]``.
 
     ``letter`` is lower case; ``@`` and ``^`` are the polar distance and angle.
     ``N`` line numbers are not words (see ``Line.n``).
     """
 
-    letter: str
-    value: Expr
-    col: int = 0  # 0-based column in the raw text, for error carets
+    __slots__ = ("letter", "value", "col")
+
+    def __init__(self, letter: str, value: Expr, col: int = 0) -> None:
+        self.letter = letter
+        self.value = value
+        self.col = col  # 0-based column in the raw text, for error carets
 
 
-@node
-class Assign:
+class Assign(Node):
     """``#n = expr`` or ``#<name> = expr``: takes effect after the line is read."""
 
-    target: Union[NumParam, NamedParam]
-    value: Expr
-    col: int = 0
+    __slots__ = ("target", "value", "col")
+
+    def __init__(
+        self, target: Union[NumParam, NamedParam], value: Expr, col: int = 0
+    ) -> None:
+        self.target = target
+        self.value = value
+        self.col = col
 
 
-@node
-class Comment:
+class Comment(Node):
     """A comment; only the last one on a line is acted on.
 
     ``kind`` and ``text`` are what ``runtime.comments.classify`` makes of the
@@ -205,8 +232,11 @@ class Comment:
     the text of the expanding kinds into literals and parameters itself.
     """
 
-    kind: str
-    text: str
+    __slots__ = ("kind", "text")
+
+    def __init__(self, kind: str, text: str) -> None:
+        self.kind = kind
+        self.text = text
 
 
 #: O-word keywords, by ``OWord.keyword``.
@@ -232,8 +262,7 @@ OWORD_KEYWORDS = (
 )
 
 
-@node
-class OWord:
+class OWord(Node):
     """An O-word statement, or a Fanuc-style subroutine line.
 
     ``name`` is the normalised label: ``"101"`` for ``o101``, ``"drill"`` for
@@ -301,16 +330,25 @@ class OWord:
     program end".
     """
 
-    keyword: str
-    name: Union[str, Expr]
-    args: Tuple[Expr, ...] = ()
-    expr: Optional[Expr] = None
-    #: For "m99": rs274's read error when the line runs inside a call.
-    in_call_error: Optional[str] = None
+    __slots__ = ("keyword", "name", "args", "expr", "in_call_error")
+
+    def __init__(
+        self,
+        keyword: str,
+        name: Union[str, Expr],
+        args: Tuple[Expr, ...] = (),
+        expr: Optional[Expr] = None,
+        in_call_error: Optional[str] = None,
+    ) -> None:
+        self.keyword = keyword
+        self.name = name
+        self.args = args
+        self.expr = expr
+        #: For "m99": rs274's read error when the line runs inside a call.
+        self.in_call_error = in_call_error
 
 
-@node
-class Line:
+class Line(Node):
     """One physical line of a source file, as read.
 
     ``items`` holds the words and parameter settings in source order, so the
@@ -322,42 +360,82 @@ class Line:
     that were read (name expression, ``expr``, ``args``), then ``partial``.
     """
 
-    number: int  # 1-based physical line number in ``file``
-    text: str  # the line as rs274 echoes it in error reports
-    file: str = ""
-    block_delete: bool = False
-    n: Optional[float] = None  # the N word's value (integer part), if any
-    items: Tuple[Union[Word, Assign], ...] = ()
-    comments: Tuple[Comment, ...] = ()
-    oword: Optional[OWord] = None
-    error: Optional[str] = None
-    percent: bool = False  # the line is a lone ``%`` demarcation line
-    #: With ``error``: values rs274 had already computed inside the item it
-    #: was reading when it failed (``X[1/0 + $]`` divides before it meets
-    #: ``$``; ``##1 X`` reads #1 for the index before missing the ``=``).
-    #: Evaluate them, in order, after ``items`` and before raising ``error``.
-    partial: Tuple[Expr, ...] = ()
-    #: What rs274's trace prints after ``N`` for this line's calls, or None
-    #: for ``N.....``.  rs274 takes it from the raw line text, not from the
-    #: N word's value: after leading blanks, tabs and ``/``, if the next
-    #: character is ``N`` or ``n``, the decimal digits that immediately
-    #: follow it, as written (``N0012`` -> ``"0012"``, ``N20.5`` -> ``"20"``,
-    #: ``N 12`` -> ``""`` although the N word is 12).  None when the line has
-    #: no N word, or when the raw text hides it from that scan (``\rN5``).
-    #: The trace pads the digits with spaces to 6 columns and prints the call
-    #: right after them, with no separator for 6 digits or more
-    #: (``N0012  STRAIGHT_...``, ``N123456STRAIGHT_...``).
-    n_text: Optional[str] = None
-    #: A line starting with a computed M word (``M#1 P100``): rs274 decides
-    #: when it reads the line whether that M value is 98, and then reads the
-    #: line as an M98 call (skipping the first three characters). Then
-    #: ``fanuc_value`` is the M value and ``fanuc_alt`` that M98 reading.
-    fanuc_value: Optional[Expr] = None
-    fanuc_alt: Optional["Line"] = None
-    #: With ``error``: it came while reading the O-word itself (its label or
-    #: its keyword). rs274 reads the O-word of every line it skips over, so
-    #: such a line fails even unexecuted (``structure.skip_error``).
-    oword_unread: bool = False
+    __slots__ = (
+        "number",
+        "text",
+        "file",
+        "block_delete",
+        "n",
+        "items",
+        "comments",
+        "oword",
+        "error",
+        "percent",
+        "partial",
+        "n_text",
+        "fanuc_value",
+        "fanuc_alt",
+        "oword_unread",
+    )
+
+    def __init__(
+        self,
+        number: int,
+        text: str,
+        file: str = "",
+        block_delete: bool = False,
+        n: Optional[float] = None,
+        items: Tuple[Union[Word, Assign], ...] = (),
+        comments: Tuple[Comment, ...] = (),
+        oword: Optional[OWord] = None,
+        error: Optional[str] = None,
+        percent: bool = False,
+        partial: Tuple[Expr, ...] = (),
+        n_text: Optional[str] = None,
+        fanuc_value: Optional[Expr] = None,
+        fanuc_alt: Optional[Line] = None,
+        oword_unread: bool = False,
+    ) -> None:
+        self.number = number  # 1-based physical line number in ``file``
+        self.text = text  # the line as rs274 echoes it in error reports
+        self.file = file
+        self.block_delete = block_delete
+        self.n = n  # the N word's value (integer part), if any
+        self.items = items
+        self.comments = comments
+        self.oword = oword
+        self.error = error
+        self.percent = percent  # the line is a lone ``%`` demarcation line
+        #: With ``error``: values rs274 had already computed inside the item
+        #: it was reading when it failed (``X[1/0 + $]`` divides before it
+        #: meets ``$``; ``##1 X`` reads #1 for the index before missing the
+        #: ``=``). Evaluate them, in order, after ``items`` and before
+        #: raising ``error``.
+        self.partial = partial
+        #: What rs274's trace prints after ``N`` for this line's calls, or
+        #: None for ``N.....``.  rs274 takes it from the raw line text, not
+        #: from the N word's value: after leading blanks, tabs and ``/``, if
+        #: the next character is ``N`` or ``n``, the decimal digits that
+        #: immediately follow it, as written (``N0012`` -> ``"0012"``,
+        #: ``N20.5`` -> ``"20"``, ``N 12`` -> ``""`` although the N word is
+        #: 12).  None when the line has no N word, or when the raw text hides
+        #: it from that scan (``\rN5``).  The trace pads the digits with
+        #: spaces to 6 columns and prints the call right after them, with no
+        #: separator for 6 digits or more (``N0012  STRAIGHT_...``,
+        #: ``N123456STRAIGHT_...``).
+        self.n_text = n_text
+        #: A line starting with a computed M word (``M#1 P100``): rs274
+        #: decides when it reads the line whether that M value is 98, and
+        #: then reads the line as an M98 call (skipping the first three
+        #: characters). Then ``fanuc_value`` is the M value and
+        #: ``fanuc_alt`` that M98 reading.
+        self.fanuc_value = fanuc_value
+        self.fanuc_alt = fanuc_alt
+        #: With ``error``: it came while reading the O-word itself (its
+        #: label or its keyword). rs274 reads the O-word of every line it
+        #: skips over, so such a line fails even unexecuted
+        #: (``structure.skip_error``).
+        self.oword_unread = oword_unread
 
     @property
     def comment(self) -> Optional[Comment]:
@@ -394,7 +472,8 @@ class Line:
 def subexpressions(e: Expr):
     """``e`` and every expression inside it."""
     yield e
-    for child in vars(e).values():
+    for name in e._fields:
+        child = getattr(e, name)
         if isinstance(child, Expr):
             yield from subexpressions(child)
 
@@ -413,6 +492,7 @@ def reads_name(items, name: str) -> bool:
 
 
 __all__ = [
+    "Node",
     "Expr",
     "Num",
     "NumParam",

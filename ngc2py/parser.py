@@ -30,7 +30,6 @@ import gc
 import math
 import re
 from contextlib import contextmanager
-from dataclasses import dataclass, field, replace
 from functools import lru_cache
 from typing import Dict, FrozenSet, Iterator, List, Optional, Tuple, Union
 
@@ -52,6 +51,7 @@ from ngc2py.nodes import (
     Unary,
     Word,
 )
+from ngc2py.records import Frozen, Value, replace
 from runtime import codes, comments
 from runtime.errors import GCodeError
 
@@ -223,20 +223,29 @@ def _bad_character(char: str) -> str:
 # --------------------------------------------------------------------------
 
 
-@dataclass
-class _Block:
+class _Block(Value):
     """What has been read from the line so far."""
 
-    n: Optional[float] = None
-    items: List[Union[Word, Assign]] = field(default_factory=list)
-    comments: List[Comment] = field(default_factory=list)
-    oword: Optional[OWord] = None
-    oword_unread: bool = False  # reading an O-word's label or keyword, or N
-    seen: Dict[str, Word] = field(default_factory=dict)  # letter -> last word
-    #: "g"/"m" -> modal group -> code, for the literal codes read so far.
-    groups: Dict[str, Dict[int, int]] = field(
-        default_factory=lambda: {"g": {}, "m": {}}
-    )
+    __slots__ = ("n", "items", "comments", "oword", "oword_unread", "seen", "groups")
+
+    def __init__(
+        self,
+        n: Optional[float] = None,
+        items: Optional[List[Union[Word, Assign]]] = None,  # None: a new list
+        comments: Optional[List[Comment]] = None,  # None: a new list
+        oword: Optional[OWord] = None,
+        oword_unread: bool = False,
+        seen: Optional[Dict[str, Word]] = None,  # None: a new dict
+        groups: Optional[Dict[str, Dict[int, int]]] = None,  # None: a new one
+    ) -> None:
+        self.n = n
+        self.items = [] if items is None else items
+        self.comments = [] if comments is None else comments
+        self.oword = oword
+        self.oword_unread = oword_unread  # reading an O-word's label or keyword, or N
+        self.seen = {} if seen is None else seen  # letter -> last word
+        #: "g"/"m" -> modal group -> code, for the literal codes read so far.
+        self.groups = {"g": {}, "m": {}} if groups is None else groups
 
 
 @lru_cache(maxsize=None)
@@ -963,8 +972,7 @@ def trace_number(raw: str) -> Optional[str]:
     return _TRACE_DIGITS.match(text, 1).group()
 
 
-@dataclass(frozen=True)
-class ParsedFile:
+class ParsedFile(Frozen):
     """A whole file as rs274 would read it.
 
     ``demarcated``: the first non-blank line is ``%`` (rs274 then requires a
@@ -972,10 +980,15 @@ class ParsedFile:
     there (both ``%`` lines are included, with ``percent=True``).
     """
 
-    file: str
-    lines: List[Line]
-    demarcated: bool
-    closed: bool
+    __slots__ = ("file", "lines", "demarcated", "closed")
+
+    def __init__(
+        self, file: str, lines: List[Line], demarcated: bool, closed: bool
+    ) -> None:
+        object.__setattr__(self, "file", file)
+        object.__setattr__(self, "lines", lines)
+        object.__setattr__(self, "demarcated", demarcated)
+        object.__setattr__(self, "closed", closed)
 
 
 def parse_text(

@@ -25,10 +25,10 @@ into Python. Every traversal is iterative: blocks may nest thousands deep.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from typing import Dict, Iterator, List, Optional, Tuple, Union
 
 from ngc2py import lexer, nodes, source
+from ngc2py.records import Record, Value
 from ngc2py.rowrun import RowRun
 
 # --------------------------------------------------------------------------
@@ -36,30 +36,41 @@ from ngc2py.rowrun import RowRun
 # --------------------------------------------------------------------------
 
 
-@dataclass
-class Block:
+class Block(Value):
     """An ordinary line: words, parameter settings, comments, or a read error."""
 
-    line: nodes.Line
+    __slots__ = ("line",)
+
+    def __init__(self, line: nodes.Line) -> None:
+        self.line = line
 
 
-@dataclass
-class Fail:
+class Fail(Value):
     """Raise ``message`` here; ``line`` is the line rs274 names in its report."""
 
-    line: nodes.Line
-    message: str
-    #: rs274 meets the closing ``%`` first: FINISH() comes before the error.
-    finish: bool = False
-    #: A condition rs274 reads first (an opener failing as a duplicate).
-    reads: Optional[nodes.Expr] = None
-    #: A reused label: what rs274 recorded decides the message at run time
-    #: (this check fails; the message above is the fallback).
-    check: Optional["LabelCheck"] = None
+    __slots__ = ("line", "message", "finish", "reads", "check")
+
+    def __init__(
+        self,
+        line: nodes.Line,
+        message: str,
+        finish: bool = False,
+        reads: Optional[nodes.Expr] = None,
+        check: Optional["LabelCheck"] = None,
+    ) -> None:
+        self.line = line
+        self.message = message
+        #: rs274 meets the closing ``%`` first: FINISH() comes before the
+        #: error.
+        self.finish = finish
+        #: A condition rs274 reads first (an opener failing as a duplicate).
+        self.reads = reads
+        #: A reused label: what rs274 recorded decides the message at run
+        #: time (this check fails; the message above is the fallback).
+        self.check = check
 
 
-@dataclass(eq=False)
-class Sub:
+class Sub(Record):
     """``o<name> sub`` ... ``o<name> endsub``.
 
     ``fn`` is the Python function name chosen by the code generator.
@@ -72,48 +83,72 @@ class Sub:
     flow reaches them, so its body statements stay in the enclosing body too.
     """
 
-    line: nodes.Line
-    name: str
-    body: List["Stmt"] = field(default_factory=list)
-    end: Optional[nodes.Line] = None
-    define_error: Optional[Fail] = None
-    fn: str = ""
-    fanuc: bool = False
+    __slots__ = ("line", "name", "body", "end", "define_error", "fn", "fanuc")
+
+    def __init__(
+        self,
+        line: nodes.Line,
+        name: str,
+        body: Optional[List["Stmt"]] = None,  # None: a new empty list
+        end: Optional[nodes.Line] = None,
+        define_error: Optional[Fail] = None,
+        fn: str = "",
+        fanuc: bool = False,
+    ) -> None:
+        self.line = line
+        self.name = name
+        self.body = [] if body is None else body
+        self.end = end
+        self.define_error = define_error
+        self.fn = fn
+        self.fanuc = fanuc
 
 
-@dataclass
-class Define:
+class Define(Value):
     """The point in the program where rs274 reads a ``sub`` line."""
 
-    sub: Sub
+    __slots__ = ("sub",)
+
+    def __init__(self, sub: Sub) -> None:
+        self.sub = sub
 
 
-@dataclass(eq=False)
-class Branch:
+class Branch(Record):
     """One arm of an ``if``: ``line`` is the if/elseif/else line."""
 
-    line: nodes.Line
-    body: List["Stmt"] = field(default_factory=list)
+    __slots__ = ("line", "body")
+
+    def __init__(self, line: nodes.Line, body: Optional[List["Stmt"]] = None) -> None:
+        self.line = line
+        self.body = [] if body is None else body  # None: a new empty list
 
 
-@dataclass(eq=False)
-class If:
+class If(Record):
     """``if`` / ``elseif`` ... / ``else`` / ``endif``."""
 
-    branches: List[Branch]
-    orelse: Optional[Branch] = None
-    end: Optional[nodes.Line] = None
-    #: Lines reusing this if's label inside an arm, however deeply nested:
-    #: arm index -> the statements of the first such line in that arm.
-    #: rs274 skips an arm (a false condition, or the arms after a taken
-    #: one) to the next line with the label, wherever it is: a ``do`` there
-    #: runs its loop (whose closing ``while`` then fails: the label is the
-    #: if's), an opener, break, continue, endwhile or endrepeat fails.
-    landings: Dict[int, List["Stmt"]] = field(default_factory=dict)
+    __slots__ = ("branches", "orelse", "end", "landings")
+
+    def __init__(
+        self,
+        branches: List[Branch],
+        orelse: Optional[Branch] = None,
+        end: Optional[nodes.Line] = None,
+        landings: Optional[Dict[int, List["Stmt"]]] = None,  # None: a new dict
+    ) -> None:
+        self.branches = branches
+        self.orelse = orelse
+        self.end = end
+        #: Lines reusing this if's label inside an arm, however deeply
+        #: nested: arm index -> the statements of the first such line in
+        #: that arm. rs274 skips an arm (a false condition, or the arms
+        #: after a taken one) to the next line with the label, wherever it
+        #: is: a ``do`` there runs its loop (whose closing ``while`` then
+        #: fails: the label is the if's), an opener, break, continue,
+        #: endwhile or endrepeat fails.
+        self.landings = {} if landings is None else landings
 
 
-@dataclass(eq=False)
-class Loop:
+class Loop(Record):
     """``while``/``endwhile``, ``do``/``while`` or ``repeat``/``endrepeat``.
 
     ``kind`` is ``"while"``, ``"do"`` or ``"repeat"``; ``end`` is the closing
@@ -125,64 +160,106 @@ class Loop:
     outer targets whose flag must be checked right after it.
     """
 
-    kind: str
-    line: nodes.Line
-    body: List["Stmt"] = field(default_factory=list)
-    end: Optional[nodes.Line] = None
-    flagged: bool = False
-    exits: List["Loop"] = field(default_factory=list)
-    #: Never closed (``o1 if`` ... ``o2 while`` ... ``o1 endif``, or open at
-    #: the end of the file): rs274 runs the rest of the body once, and when
-    #: it does not enter the loop, or a break or continue of it runs, it
-    #: skips to the end of the file looking for the label; this is that
-    #: failure.
-    eof: Optional[Union[Fail, "LabelCheck"]] = None
-    #: A repeat loop with a break or continue line of its own label: when
-    #: the count runs out rs274 skips forward to the first such line, and
-    #: fails there (break and continue are for while and do loops only).
-    skip_fail: Optional[Union[Fail, "LabelCheck"]] = None
-    #: rs274's name of the label (``subroutine#label``).
-    key: str = ""
-    #: No loop of the text: where a ``while`` line ending an earlier
-    #: do-loop (:class:`DoEnd`) jumps back to, from that do line on.
-    back: bool = False
-    #: A do line reusing the label of this finished do-loop of a body
-    #: around it (rs274 keeps that one's place): see _Builder.on_while.
-    reuses: Optional["Loop"] = None
-    #: No loop of the text: the statements a break or continue skips over
-    #: to a later line of its label where rs274 goes on (a do line), run
-    #: once; its jumps (Jump.flag) leave it (_Builder._jumps_land_here).
-    skip: bool = False
-    #: Its while line true goes back into an earlier construct: (the
-    #: :attr:`back` loop it continues, what runs first, the loop a break
-    #: there leaves: DoEnd.resume, DoEnd.leaves); see _Builder._loop_back_into.
-    back_into: Optional[tuple] = None
-    #: A do line reusing this while or repeat loop's label in its body:
-    #: ending by its condition or count, rs274 skips forward to it and goes
-    #: on from there (the statements from it on, as If.landings).
-    landing: Optional[List["Stmt"]] = None
-    #: A do-loop whose body holds an M98 that may enter a frame without a
-    #: call (m98_may_strand): its while line, run in that frame, is one
-    #: whose label rs274 does not find there, so it reads the line as a new
-    #: while-loop -- true, it goes on past it; false, it skips ahead for the
-    #: label, and this is where that skip fails.
-    anew: Optional[Union[Fail, "LabelCheck"]] = None
+    __slots__ = (
+        "kind",
+        "line",
+        "body",
+        "end",
+        "flagged",
+        "exits",
+        "eof",
+        "skip_fail",
+        "key",
+        "back",
+        "reuses",
+        "skip",
+        "back_into",
+        "landing",
+        "anew",
+    )
+
+    def __init__(
+        self,
+        kind: str,
+        line: nodes.Line,
+        body: Optional[List["Stmt"]] = None,  # None: a new empty list
+        end: Optional[nodes.Line] = None,
+        flagged: bool = False,
+        exits: Optional[List["Loop"]] = None,  # None: a new empty list
+        eof: Optional[Union[Fail, "LabelCheck"]] = None,
+        skip_fail: Optional[Union[Fail, "LabelCheck"]] = None,
+        key: str = "",
+        back: bool = False,
+        reuses: Optional["Loop"] = None,
+        skip: bool = False,
+        back_into: Optional[tuple] = None,
+        landing: Optional[List["Stmt"]] = None,
+        anew: Optional[Union[Fail, "LabelCheck"]] = None,
+    ) -> None:
+        self.kind = kind
+        self.line = line
+        self.body = [] if body is None else body
+        self.end = end
+        self.flagged = flagged
+        self.exits = [] if exits is None else exits
+        #: Never closed (``o1 if`` ... ``o2 while`` ... ``o1 endif``, or
+        #: open at the end of the file): rs274 runs the rest of the body
+        #: once, and when it does not enter the loop, or a break or
+        #: continue of it runs, it skips to the end of the file looking for
+        #: the label; this is that failure.
+        self.eof = eof
+        #: A repeat loop with a break or continue line of its own label:
+        #: when the count runs out rs274 skips forward to the first such
+        #: line, and fails there (break and continue are for while and do
+        #: loops only).
+        self.skip_fail = skip_fail
+        #: rs274's name of the label (``subroutine#label``).
+        self.key = key
+        #: No loop of the text: where a ``while`` line ending an earlier
+        #: do-loop (:class:`DoEnd`) jumps back to, from that do line on.
+        self.back = back
+        #: A do line reusing the label of this finished do-loop of a body
+        #: around it (rs274 keeps that one's place): see _Builder.on_while.
+        self.reuses = reuses
+        #: No loop of the text: the statements a break or continue skips
+        #: over to a later line of its label where rs274 goes on (a do
+        #: line), run once; its jumps (Jump.flag) leave it
+        #: (_Builder._jumps_land_here).
+        self.skip = skip
+        #: Its while line true goes back into an earlier construct: (the
+        #: :attr:`back` loop it continues, what runs first, the loop a
+        #: break there leaves: DoEnd.resume, DoEnd.leaves); see
+        #: _Builder._loop_back_into.
+        self.back_into = back_into
+        #: A do line reusing this while or repeat loop's label in its body:
+        #: ending by its condition or count, rs274 skips forward to it and
+        #: goes on from there (the statements from it on, as If.landings).
+        self.landing = landing
+        #: A do-loop whose body holds an M98 that may enter a frame without
+        #: a call (m98_may_strand): its while line, run in that frame, is
+        #: one whose label rs274 does not find there, so it reads the line
+        #: as a new while-loop -- true, it goes on past it; false, it skips
+        #: ahead for the label, and this is where that skip fails.
+        self.anew = anew
 
 
-@dataclass
-class Jump:
+class Jump(Value):
     """``break`` or ``continue`` of the enclosing loop ``target`` (which
     is ``flagged`` when inner loops are left on the way)."""
 
-    line: nodes.Line
-    kind: str
-    target: Loop
-    #: A jump to a :attr:`Loop.skip` loop: the keyword of the line (break
-    #: or continue), whose rs274 flag it sets.
-    flag: str = ""
+    __slots__ = ("line", "kind", "target", "flag")
+
+    def __init__(
+        self, line: nodes.Line, kind: str, target: Loop, flag: str = ""
+    ) -> None:
+        self.line = line
+        self.kind = kind
+        self.target = target
+        #: A jump to a :attr:`Loop.skip` loop: the keyword of the line
+        #: (break or continue), whose rs274 flag it sets.
+        self.flag = flag
 
 
-@dataclass
 class DoEnd(Jump):
     """A ``while`` line whose label rs274 recorded for a finished do-loop
     in a body around it: it ends that loop again. With its condition true
@@ -195,68 +272,98 @@ class DoEnd(Jump):
     ``resume`` (the do-loop, then what the construct's closing line does,
     :meth:`_Builder._back_into`) before ``target`` goes on after it."""
 
-    resume: List["Stmt"] = field(default_factory=list)
-    #: A loop a break in ``resume`` leaves: it continues ``target``.
-    leaves: List["Loop"] = field(default_factory=list)
+    __slots__ = ("resume", "leaves")  # after Jump's fields
+
+    def __init__(
+        self,
+        line: nodes.Line,
+        kind: str,
+        target: Loop,
+        flag: str = "",
+        resume: Optional[List["Stmt"]] = None,  # None: a new empty list
+        leaves: Optional[List["Loop"]] = None,  # None: a new empty list
+    ) -> None:
+        self.line = line
+        self.kind = kind
+        self.target = target
+        self.flag = flag
+        self.resume = [] if resume is None else resume
+        #: A loop a break in ``resume`` leaves: it continues ``target``.
+        self.leaves = [] if leaves is None else leaves
 
 
-@dataclass
-class IfEnd:
+class IfEnd(Value):
     """The endif line of an if run into again (:attr:`DoEnd.resume`):
     rs274's flag "an arm has run" is set."""
 
-    line: nodes.Line
+    __slots__ = ("line",)
+
+    def __init__(self, line: nodes.Line) -> None:
+        self.line = line
 
 
-@dataclass
-class ArmAgain:
+class ArmAgain(Value):
     """An elseif or else line of an if run into again after an earlier arm
     (:attr:`DoEnd.resume`), and its arm: as :class:`FlatArm`, where an arm
     has run rs274 skips on to the next line of the if; else it runs on (an
     elseif whatever its condition, a true one setting the flag)."""
 
-    line: nodes.Line
-    body: List["Stmt"]
+    __slots__ = ("line", "body")
+
+    def __init__(self, line: nodes.Line, body: List["Stmt"]) -> None:
+        self.line = line
+        self.body = body
 
 
-@dataclass
-class Again:
+class Again(Value):
     """The closing line of a loop run into again (:attr:`DoEnd.resume`):
     a do-loop's while line goes back to its do line when its condition is
     true; a while-loop's endwhile goes back to its while line, a repeat
     loop's endrepeat to its repeat line (a finished repeat counts anew).
     ``loop`` then runs as it does where it stands."""
 
-    loop: "Loop"
+    __slots__ = ("loop",)
+
+    def __init__(self, loop: "Loop") -> None:
+        self.loop = loop
 
 
-@dataclass
-class LabelCheck:
+class LabelCheck(Value):
     """rs274 remembers the first line each label was *executed* on (per
     subroutine) and fails when another opener reuses it. Where a label is
     reused in the text this is decided at run time, here: ``kind`` is the
     opener's keyword (``if``, ``while``, ``repeat``, ``do``) or ``do-end``
     for the ``while`` line that closes a do-loop."""
 
-    line: nodes.Line
-    key: str
-    kind: str
-    #: A break or continue of this do-loop: rs274 skips to its closing
-    #: ``while`` line, checked here (``do-end``) before the jump.
-    loop: Optional["Loop"] = None
-    #: An else or elseif with no later line of its label before the end
-    #: of the file: where an arm has run, rs274 skips to the end of the
-    #: file and fails there (this failure; see :func:`flat_arms`).
-    eof: Optional["Fail"] = None
-    #: An else or elseif whose next line of its label stands after the
-    #: construct holding it: where an arm has run, rs274 skips there, out
-    #: of that construct; this run-once loop, ending before that line, is
-    #: what the skip leaves (_Builder._arm_skips_out).
-    leave: Optional["Loop"] = None
+    __slots__ = ("line", "key", "kind", "loop", "eof", "leave")
+
+    def __init__(
+        self,
+        line: nodes.Line,
+        key: str,
+        kind: str,
+        loop: Optional["Loop"] = None,
+        eof: Optional["Fail"] = None,
+        leave: Optional["Loop"] = None,
+    ) -> None:
+        self.line = line
+        self.key = key
+        self.kind = kind
+        #: A break or continue of this do-loop: rs274 skips to its closing
+        #: ``while`` line, checked here (``do-end``) before the jump.
+        self.loop = loop
+        #: An else or elseif with no later line of its label before the end
+        #: of the file: where an arm has run, rs274 skips to the end of the
+        #: file and fails there (this failure; see :func:`flat_arms`).
+        self.eof = eof
+        #: An else or elseif whose next line of its label stands after the
+        #: construct holding it: where an arm has run, rs274 skips there,
+        #: out of that construct; this run-once loop, ending before that
+        #: line, is what the skip leaves (_Builder._arm_skips_out).
+        self.leave = leave
 
 
-@dataclass
-class FlatArm:
+class FlatArm(Value):
     """An ``else`` or ``elseif`` line that running code reaches outside the
     if it belongs to (a skip landed in a do-loop of the if's label, or an
     outer construct's closing line ended the if), and the statements after
@@ -268,15 +375,25 @@ class FlatArm:
     condition (a true one sets the flag). Codegen groups these
     (:func:`flat_arms`) and then tracks the flag (``m.executed_if``)."""
 
-    check: "LabelCheck"
-    body: List["Stmt"]
-    #: Where the next line with the label stands inside a loop never closed
-    #: that follows (``body`` ends with it): what rs274 runs after its skip
-    #: lands there, from that line on (the loop is never entered).
-    landing: Optional[List["Stmt"]] = None
-    #: No line with the label up to the end of the file: the skip fails
-    #: there (:attr:`LabelCheck.eof`).
-    eof: Optional["Fail"] = None
+    __slots__ = ("check", "body", "landing", "eof")
+
+    def __init__(
+        self,
+        check: "LabelCheck",
+        body: List["Stmt"],
+        landing: Optional[List["Stmt"]] = None,
+        eof: Optional["Fail"] = None,
+    ) -> None:
+        self.check = check
+        self.body = body
+        #: Where the next line with the label stands inside a loop never
+        #: closed that follows (``body`` ends with it): what rs274 runs
+        #: after its skip lands there, from that line on (the loop is never
+        #: entered).
+        self.landing = landing
+        #: No line with the label up to the end of the file: the skip fails
+        #: there (:attr:`LabelCheck.eof`).
+        self.eof = eof
 
 
 def flat_arms(stmts: List["Stmt"]) -> List["Stmt"]:
@@ -446,28 +563,33 @@ def _has_label(stmt: "Stmt", key: str, label: str) -> bool:
     return word is not None and str(word.name) == label
 
 
-@dataclass
-class TopReturn:
+class TopReturn(Value):
     """``return`` or ``endsub`` outside any subroutine: rs274 fails as "not
     in a subroutine definition", unless a call has returned to the main
     program since the last definition (then ``return`` does nothing and
     ``endsub`` fails differently)."""
 
-    line: nodes.Line
-    keyword: str
-    value: Optional[nodes.Expr] = None
+    __slots__ = ("line", "keyword", "value")
+
+    def __init__(
+        self, line: nodes.Line, keyword: str, value: Optional[nodes.Expr] = None
+    ) -> None:
+        self.line = line
+        self.keyword = keyword
+        self.value = value
 
 
-@dataclass
-class Return:
+class Return(Value):
     """``return [expr]`` or ``endsub [expr]`` inside a subroutine body."""
 
-    line: nodes.Line
-    value: Optional[nodes.Expr]
+    __slots__ = ("line", "value")
+
+    def __init__(self, line: nodes.Line, value: Optional[nodes.Expr]) -> None:
+        self.line = line
+        self.value = value
 
 
-@dataclass
-class Call:
+class Call(Value):
     """``o<name> call [args]``.
 
     ``sub`` is the statically known definition to call (one in this file
@@ -476,63 +598,89 @@ class Call:
     (``name`` is a string) or computed (``name`` is an expression).
     """
 
-    line: nodes.Line
-    name: Union[str, nodes.Expr]
-    args: Tuple[nodes.Expr, ...]
-    sub: Optional[Sub] = None
-    #: Where rs274 finds the subroutine when the call runs while ``name``
-    #: is not defined yet: ``<name>.ngc`` on the subroutine path, else the
-    #: first ``o<name> sub`` after the call in this (subroutine) file, or
-    #: a :class:`SeekFail` body. Set for calls of external files' code and
-    #: for calls of the main file that find a file (see compiler.py).
-    found: Optional[Sub] = None
+    __slots__ = ("line", "name", "args", "sub", "found")
+
+    def __init__(
+        self,
+        line: nodes.Line,
+        name: Union[str, nodes.Expr],
+        args: Tuple[nodes.Expr, ...],
+        sub: Optional[Sub] = None,
+        found: Optional[Sub] = None,
+    ) -> None:
+        self.line = line
+        self.name = name
+        self.args = args
+        self.sub = sub
+        #: Where rs274 finds the subroutine when the call runs while
+        #: ``name`` is not defined yet: ``<name>.ngc`` on the subroutine
+        #: path, else the first ``o<name> sub`` after the call in this
+        #: (subroutine) file, or a :class:`SeekFail` body. Set for calls of
+        #: external files' code and for calls of the main file that find a
+        #: file (see compiler.py).
+        self.found = found
 
 
-@dataclass
-class SeekFail:
+class SeekFail(Value):
     """rs274 skipped to the end of ``file`` (having read ``line`` last)
     looking for ``o<name> sub``, from line ``start`` of it (0: it had just
     opened the file)."""
 
-    line: nodes.Line
-    file: str
-    name: str
-    start: int
+    __slots__ = ("line", "file", "name", "start")
+
+    def __init__(self, line: nodes.Line, file: str, name: str, start: int) -> None:
+        self.line = line
+        self.file = file
+        self.name = name
+        self.start = start
 
 
-@dataclass
-class FanucCall:
+class FanucCall(Value):
     """``M98 P.. [L..]``: ``line.items`` are the words; ``sub`` is what
     rs274 finds for that constant name when it has not recorded one yet
     (the Fanuc subroutine of ``<P>.ngc``, else the first one further on in
     this file, else a body failing as rs274 does), or None (found by name
     at run time). ``found``: what compiler.py found in a file."""
 
-    line: nodes.Line
-    sub: Optional[Sub] = None
-    found: Optional[Sub] = None
+    __slots__ = ("line", "sub", "found")
+
+    def __init__(
+        self,
+        line: nodes.Line,
+        sub: Optional[Sub] = None,
+        found: Optional[Sub] = None,
+    ) -> None:
+        self.line = line
+        self.sub = sub
+        self.found = found
 
 
-@dataclass
-class Finish:
+class Finish(Value):
     """The closing ``%`` of a demarcated file: the program ends here."""
 
-    line: nodes.Line
+    __slots__ = ("line",)
+
+    def __init__(self, line: nodes.Line) -> None:
+        self.line = line
 
 
-@dataclass
-class SubLine:
+class SubLine(Value):
     """A ``sub`` line inside a definition: nothing when a call runs it,
     except in the frame an ``M98 .. L0`` entered, where it fails."""
 
-    line: nodes.Line
+    __slots__ = ("line",)
+
+    def __init__(self, line: nodes.Line) -> None:
+        self.line = line
 
 
-@dataclass
-class EndOfFile:
+class EndOfFile(Value):
     """Execution ran past the last line (``line``) without a program end."""
 
-    line: nodes.Line
+    __slots__ = ("line",)
+
+    def __init__(self, line: nodes.Line) -> None:
+        self.line = line
 
 
 Stmt = Union[
@@ -558,29 +706,51 @@ Stmt = Union[
 ]
 
 
-@dataclass
-class Program:
+class Program(Value):
     """A compiled file: its main body and every subroutine it defines.
 
     ``externals`` are subroutines read from other files (``<name>.ngc`` on
     the subroutine path); they are filled in by ``compiler.py``.
     """
 
-    file: str
-    body: List[Stmt]
-    subs: List[Sub]
-    externals: List[Sub] = field(default_factory=list)
-    #: What a call of the main file finds in ``<name>.ngc`` (compiler.py)
-    found: Dict[str, Sub] = field(default_factory=dict)
-    #: The last line rs274 reads before running off the end of the file
-    #: (blank ones count: rs274 echoes it with the end-of-file error).
-    last: Optional[nodes.Line] = None
-    #: (message, line) when rs274 fails already while opening the file.
-    open_error: Optional[Tuple[str, Optional[nodes.Line]]] = None
-    #: The block delete setting (rs274's -b) the program is compiled for,
-    #: where block-deleted O-word lines make it matter (compiler.py); None:
-    #: it runs with either.
-    block_delete: Optional[bool] = None
+    __slots__ = (
+        "file",
+        "body",
+        "subs",
+        "externals",
+        "found",
+        "last",
+        "open_error",
+        "block_delete",
+        "__dict__",  # other attributes: lineflow.flat_program adds ``lines``
+    )
+
+    def __init__(
+        self,
+        file: str,
+        body: List[Stmt],
+        subs: List[Sub],
+        externals: Optional[List[Sub]] = None,  # None: a new empty list
+        found: Optional[Dict[str, Sub]] = None,  # None: a new dict
+        last: Optional[nodes.Line] = None,
+        open_error: Optional[Tuple[str, Optional[nodes.Line]]] = None,
+        block_delete: Optional[bool] = None,
+    ) -> None:
+        self.file = file
+        self.body = body
+        self.subs = subs
+        self.externals = [] if externals is None else externals
+        #: What a call of the main file finds in ``<name>.ngc`` (compiler.py)
+        self.found = {} if found is None else found
+        #: The last line rs274 reads before running off the end of the file
+        #: (blank ones count: rs274 echoes it with the end-of-file error).
+        self.last = last
+        #: (message, line) when rs274 fails already while opening the file.
+        self.open_error = open_error
+        #: The block delete setting (rs274's -b) the program is compiled
+        #: for, where block-deleted O-word lines make it matter
+        #: (compiler.py); None: it runs with either.
+        self.block_delete = block_delete
 
 
 # --------------------------------------------------------------------------
@@ -664,15 +834,24 @@ def eof_message(demarcated: bool) -> str:
 # --------------------------------------------------------------------------
 
 
-@dataclass
-class _Open:
+class _Open(Value):
     """A construct whose closing O-word has not been read yet."""
 
-    label: str
-    node: Union[Sub, If, Loop]
-    body: List[Stmt]
-    #: (body, what _condition_start answers for it), settled once asked
-    condition: Optional[tuple] = field(default=None, compare=False, repr=False)
+    __slots__ = ("label", "node", "body", "condition")
+    _hidden = ("condition",)  # a cache: not compared, not shown
+
+    def __init__(
+        self,
+        label: str,
+        node: Union[Sub, If, Loop],
+        body: List[Stmt],
+        condition: Optional[tuple] = None,
+    ) -> None:
+        self.label = label
+        self.node = node
+        self.body = body
+        #: (body, what _condition_start answers for it), settled once asked
+        self.condition = condition
 
 
 class _Stack(list):

@@ -587,6 +587,37 @@ def test_cached_stats_and_flatten_import_nothing_heavy(tmp_path, command):
     assert done.stderr.splitlines()[-1] == "0 []", done.stderr
 
 
+@pytest.mark.parametrize("command", ["convert", "run"])
+def test_converting_imports_neither_dataclasses_nor_inspect(tmp_path, command):
+    # the compiler's classes are written out (ngc2py.records): dataclasses,
+    # and inspect with it, cost a conversion 40-45 ms before any work
+    program = tmp_path / "prog.ngc"
+    program.write_text(
+        "G21 F100\n#<_depth> = -1\no<cut> sub\n  G1 X#1 Z#<_depth>\no<cut> endsub\n"
+        "o1 repeat [2]\n  o<cut> call [3]\no1 endrepeat\nM2\n"
+    )
+    arguments = [command, str(program)]
+    if command == "convert":
+        arguments += ["-o", str(tmp_path / "prog.py")]
+    probe = (
+        "import sys\nfrom ngc2py import cli\n"
+        "code = cli.main(sys.argv[1].split('|'))\n"
+        "print(code, sorted({'dataclasses', 'inspect'} & set(sys.modules)), file=sys.stderr)\n"
+    )
+    env = dict(os.environ, PYTHONPATH=str(REPO), NGC2PY_CACHE=str(tmp_path / "cache"))
+    done = subprocess.run(
+        [sys.executable, "-S", "-c", probe, "|".join(arguments)],
+        capture_output=True,
+        text=True,
+        env=env,
+    )
+    assert done.stderr.splitlines()[-1] == "0 []", done.stderr
+    if command == "convert":
+        assert "def o_cut(" in (tmp_path / "prog.py").read_text()
+    else:
+        assert "STRAIGHT_FEED(3.0000" in done.stdout
+
+
 @given(
     hs.lists(
         hs.sampled_from(["out", "--", "-", "-b", "-t", "x.tbl", "", "-x", "--max-steps=5"]),
