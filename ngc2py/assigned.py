@@ -22,14 +22,18 @@ the names are set), and they flow forward conservatively:
 
 from __future__ import annotations
 
-from typing import Dict, FrozenSet, List
 
 from ngc2py import nodes
 from ngc2py import structure as st
 from ngc2py.parser import RowLine
 from ngc2py.rowrun import RowRun
 
-Known = FrozenSet[str]
+# typing is for the checker only: importing it costs a conversion 5 ms
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import Dict, FrozenSet, List
+
+    Known = FrozenSet[str]
 
 
 def settled_names(program: st.Program) -> Dict[int, Known]:

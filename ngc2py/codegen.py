@@ -42,7 +42,6 @@ import keyword
 import math
 import re
 import zlib
-from typing import Dict, Iterable, Iterator, List, Optional, Sequence, Tuple, Union
 
 from ngc2py import __version__, assigned, fastlocals, nodes, parser, rowtable
 from ngc2py.wrap import split_call
@@ -55,6 +54,11 @@ from runtime import codes
 from runtime.comments import LINE_METHODS
 from runtime.errors import GCodeError
 from runtime.params import MAX_PARAMETERS, POSITION_PARAMS, Params
+
+# typing is for the checker only: importing it costs a conversion 5 ms
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import Dict, Iterable, Iterator, List, Optional, Sequence, Tuple, Union
 
 LINE_LENGTH = 88
 INDENT = "    "
@@ -2433,8 +2437,9 @@ def convert_code(letter: str, value: float) -> Optional[int]:
 # shape is (codes, word letters). Rows of one run are one flat tuple of
 # literals, which compiles in one constant (nested row tuples take twice as
 # long; see the module docstring).
-Shape = Tuple[Tuple[int, ...], Tuple[str, ...]]
-Row = Tuple[Shape, str]  # the shape and the row's value cells
+if TYPE_CHECKING:
+    Shape = Tuple[Tuple[int, ...], Tuple[str, ...]]
+    Row = Tuple[Shape, str]  # the shape and the row's value cells
 
 
 def constant_row(stmt: st.Stmt) -> Optional[Row]:

@@ -11,9 +11,13 @@ rather than a token grammar.
 from __future__ import annotations
 
 import re
-from typing import List, Optional
 
 from ngc2py.records import Frozen
+
+# typing is for the checker only: importing it costs a conversion 5 ms
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import List, Optional
 
 #: rs274's messages for badly formed comments.
 NESTED_COMMENT = "Nested comment found"

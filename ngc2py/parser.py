@@ -31,7 +31,6 @@ import math
 import re
 from contextlib import contextmanager
 from functools import lru_cache
-from typing import Dict, FrozenSet, Iterator, List, Optional, Tuple, Union
 
 from ngc2py import source
 from ngc2py.lexer import Normalised, normalise
@@ -54,6 +53,11 @@ from ngc2py.nodes import (
 from ngc2py.records import Frozen, Value, replace
 from runtime import codes, comments
 from runtime.errors import GCodeError
+
+# typing is for the checker only: importing it costs a conversion 5 ms
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import Dict, FrozenSet, Iterator, List, Optional, Tuple, Union
 
 #: Axis letters rs274 reads when no INI file configures others.
 DEFAULT_AXES = "xyzabc"
@@ -1066,7 +1070,9 @@ class _Reader:
             if normalised.text == "%" and self.main_percent:
                 self.lines.append(Line(raw.number, raw.text, file, percent=True))
             else:
-                self.lines.append(read_any_line(raw.text, normalised, raw.number, file, axes))
+                self.lines.append(
+                    read_any_line(raw.text, normalised, raw.number, file, axes)
+                )
             return
         if normalised.text == "%" and self.demarcated == self.seen_content:
             # The first content line opens the demarcation; a later one
@@ -1111,7 +1117,10 @@ def _parse_lines(
 
 
 def parse_file(
-    path: str, axes: str = DEFAULT_AXES, runs: bool = False, main_percent: Optional[bool] = None
+    path: str,
+    axes: str = DEFAULT_AXES,
+    runs: bool = False,
+    main_percent: Optional[bool] = None,
 ) -> ParsedFile:
     """Read and parse ``path``; OSError propagates (compile-time failure).
     ``main_percent``: see :func:`parse_text`."""

@@ -31,9 +31,13 @@ from __future__ import annotations
 import re
 from itertools import accumulate, count, repeat
 from operator import add
-from typing import Dict, List, Tuple, Union
 
 from ngc2py import source
+
+# typing is for the checker only: importing it costs a conversion 5 ms
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import Dict, List, Tuple, Union
 
 #: The bytes a region's lines are made of.
 _ALLOWED = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789.+- \t\r\n"
@@ -54,7 +58,8 @@ _LONGEST = source.LINE_LIMIT - 2
 REGION_BYTES = 1 << 18
 MIN_LINES = 4
 
-Shape = Tuple[Tuple[int, ...], Tuple[str, ...]]
+if TYPE_CHECKING:
+    Shape = Tuple[Tuple[int, ...], Tuple[str, ...]]
 
 
 class Lane:

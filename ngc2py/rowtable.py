@@ -22,10 +22,15 @@ table written as printed, the values as rs274's trace prints them
 from __future__ import annotations
 
 import re
+from collections import namedtuple
 from itertools import chain, compress
-from typing import Dict, Iterable, List, NamedTuple, Optional, Tuple
 
 from ngc2py.rowrun import RowRun
+
+# typing is for the checker only: importing it costs a conversion 5 ms
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import Dict, Iterable, List, Optional, Tuple
 
 _LETTERS = b"ABCDEFGHIJKLMOPQRSTUVWXYZabcdefghijklmopqrstuvwxyz"
 #: Letters to one space each, N to the marker ``=``, G and M to ``\x01``
@@ -54,14 +59,14 @@ _PADDED = bytes.maketrans(b" \x01", b"0 ")
 _TAB_AT_START = b" " * 6
 
 
-class Kind(NamedTuple):
-    """What the values of every line of one kind look like."""
+class Kind(namedtuple("Kind", "numbered integers padded odd empty")):
+    """What the values of every line of one kind look like: whether the row
+    starts with the N digits (``numbered``), some value has no point
+    (``integers``), every value pads to its printed text (``padded``: see
+    the module's doc), some value starts with ``+`` or a point (``odd``),
+    there is no value but the N digits (``empty``)."""
 
-    numbered: bool  # the row starts with the N digits
-    integers: bool  # some value has no point
-    padded: bool  # every value pads to its printed text (see module doc)
-    odd: bool  # some value starts with ``+`` or a point
-    empty: bool  # no value but the N digits
+    __slots__ = ()
 
 
 def kinds(run: RowRun, present: Iterable[int]) -> Dict[int, Kind]:

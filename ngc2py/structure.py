@@ -25,11 +25,15 @@ into Python. Every traversal is iterative: blocks may nest thousands deep.
 
 from __future__ import annotations
 
-from typing import Dict, Iterator, List, Optional, Tuple, Union
 
 from ngc2py import lexer, nodes, source
 from ngc2py.records import Record, Value
 from ngc2py.rowrun import RowRun
+
+# typing is for the checker only: importing it costs a conversion 5 ms
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import Dict, Iterator, List, Optional, Tuple, Union
 
 # --------------------------------------------------------------------------
 # Statements
@@ -407,7 +411,11 @@ def flat_arms(stmts: List["Stmt"]) -> List["Stmt"]:
         if isinstance(stmt, LabelCheck) and stmt.kind in ("else", "elseif"):
             label = stmt.key.split("#")[-1]
             j = next(
-                (k for k in range(i + 1, len(stmts)) if _has_label(stmts[k], stmt.key, label)),
+                (
+                    k
+                    for k in range(i + 1, len(stmts))
+                    if _has_label(stmts[k], stmt.key, label)
+                ),
                 None,
             )
             deep = _deep_landing(stmts[i + 1 :], stmt.key, label)
@@ -683,27 +691,28 @@ class EndOfFile(Value):
         self.line = line
 
 
-Stmt = Union[
-    Block,
-    Fail,
-    Define,
-    If,
-    Loop,
-    Jump,
-    DoEnd,
-    IfEnd,
-    ArmAgain,
-    Again,
-    LabelCheck,
-    TopReturn,
-    Return,
-    Call,
-    FanucCall,
-    Finish,
-    EndOfFile,
-    SeekFail,
-    SubLine,
-]
+if TYPE_CHECKING:
+    Stmt = Union[
+        Block,
+        Fail,
+        Define,
+        If,
+        Loop,
+        Jump,
+        DoEnd,
+        IfEnd,
+        ArmAgain,
+        Again,
+        LabelCheck,
+        TopReturn,
+        Return,
+        Call,
+        FanucCall,
+        Finish,
+        EndOfFile,
+        SeekFail,
+        SubLine,
+    ]
 
 
 class Program(Value):
@@ -991,7 +1000,11 @@ class _Builder:
                 message = define_error(line, name)
                 if message is not None:
                     fail.line, fail.message = line, message
-        if word is not None and self.stale_jumps and word.keyword not in ("break", "continue"):
+        if (
+            word is not None
+            and self.stale_jumps
+            and word.keyword not in ("break", "continue")
+        ):
             # (on another break or continue of the label rs274 skips on)
             name = str(word.name)
             for key, fail in self.stale_jumps:
@@ -1303,16 +1316,21 @@ class _Builder:
             return
         key = self._key(label)
         between = [
-            number for number, line_key, _, _, _ in self.labelled
+            number
+            for number, line_key, _, _, _ in self.labelled
             if line_key == key and number < line.number
         ]
         jumps = []
         for index, stmt in enumerate(self.body):
-            candidates = [stmt] if type(stmt) is Jump else [
-                inner for inner in walk([stmt], False) if type(inner) is Jump
-            ]
+            candidates = (
+                [stmt]
+                if type(stmt) is Jump
+                else [inner for inner in walk([stmt], False) if type(inner) is Jump]
+            )
             for jump in candidates:
-                if jump.target is not loop or any(n > jump.line.number for n in between):
+                if jump.target is not loop or any(
+                    n > jump.line.number for n in between
+                ):
                     continue
                 holder = self.body if jump is stmt else _holder(stmt, jump)
                 if holder is not None:
@@ -1326,7 +1344,9 @@ class _Builder:
         for _, jump in jumps:
             holder = skip.body if any(s is jump for s in skip.body) else None
             if holder is None:
-                holder = next(h for h in (_holder(s, jump) for s in skip.body) if h is not None)
+                holder = next(
+                    h for h in (_holder(s, jump) for s in skip.body) if h is not None
+                )
             position = next(k for k, inner in enumerate(holder) if inner is jump)
             holder[position] = Jump(jump.line, "break", skip, flag=jump.kind)
 
@@ -1449,7 +1469,9 @@ class _Builder:
                 self.body.pop()
                 count = len(self.body)
                 self.body.extend(top.node.body)
-                if self._back_into(line, str(word.name), self.labels.get(str(word.name))):
+                if self._back_into(
+                    line, str(word.name), self.labels.get(str(word.name))
+                ):
                     return
                 del self.body[count:]
                 self.body.append(top.node)
@@ -1465,9 +1487,11 @@ class _Builder:
             if key in self.tracked:
                 top.node.body.append(LabelCheck(line, key, "do-end"))
             self.stack.pop()
-            if top.node.reuses is not None and self._outer_do(
-                str(word.name), self.labels.get(str(word.name))
-            ) is None:
+            if (
+                top.node.reuses is not None
+                and self._outer_do(str(word.name), self.labels.get(str(word.name)))
+                is None
+            ):
                 self._loop_back_into(top.node)
             return
         label = str(word.name)
@@ -1534,7 +1558,11 @@ class _Builder:
         body.append(outer)
         # open (with no label a line can carry) until the body around ends
         self.stack.insert(depth, _Open("", outer, outer.body))
-        crossed = [entry.node for entry in self.stack[depth + 1 :] if isinstance(entry.node, Loop)]
+        crossed = [
+            entry.node
+            for entry in self.stack[depth + 1 :]
+            if isinstance(entry.node, Loop)
+        ]
         if crossed:
             outer.flagged = True
             for inner in crossed:
@@ -1557,7 +1585,11 @@ class _Builder:
             return []
         outer.flagged = True
         for inner in stmts:
-            if isinstance(inner, Loop) and left in inner.exits and outer not in inner.exits:
+            if (
+                isinstance(inner, Loop)
+                and left in inner.exits
+                and outer not in inner.exits
+            ):
                 inner.exits.append(outer)
         return [left]
 
@@ -1572,7 +1604,10 @@ class _Builder:
         runs again."""
         if any(
             isinstance(inner, Loop)
-            and any(isinstance(s, Jump) and s.target is loop for s in walk(inner.body, False))
+            and any(
+                isinstance(s, Jump) and s.target is loop
+                for s in walk(inner.body, False)
+            )
             for inner in walk(loop.body, False)
         ):
             return
@@ -1639,7 +1674,9 @@ class _Builder:
                 closing: List[Stmt] = list(head)
                 for later in arms[k + 1 :]:
                     if key in self.tracked:
-                        closing.append(LabelCheck(later.line, key, later.line.oword.keyword))
+                        closing.append(
+                            LabelCheck(later.line, key, later.line.oword.keyword)
+                        )
                     closing.append(ArmAgain(later.line, later.body))
                 if key in self.tracked:
                     return closing + [LabelCheck(stmt.end, key, "endif")]
@@ -1671,7 +1708,9 @@ class _Builder:
         for j, inner in enumerate(body):
             if inner is first:
                 head = [first]
-            elif isinstance(inner, (If, Loop)) and any(s is first for s in walk([inner], False)):
+            elif isinstance(inner, (If, Loop)) and any(
+                s is first for s in walk([inner], False)
+            ):
                 head = self._resume(inner, first, leaves) or []
             else:
                 continue
@@ -1828,7 +1867,9 @@ class _Builder:
             for entry in self._scope_entries():
                 node = entry.node
                 if entry.label == label and isinstance(node, Loop):
-                    if node.kind in ("while", "repeat") and not (node.back or node.skip):
+                    if node.kind in ("while", "repeat") and not (
+                        node.back or node.skip
+                    ):
                         if node.skip_fail is None:
                             node.skip_fail = failing[-1]
                     break
@@ -2076,7 +2117,11 @@ class _Builder:
                 return True
             if line_key != key:
                 continue
-            if word.keyword in ("break", "continue") and seen is not None and seen[0] in ("while", "do"):
+            if (
+                word.keyword in ("break", "continue")
+                and seen is not None
+                and seen[0] in ("while", "do")
+            ):
                 # the loop's own break or continue: rs274 skips on from it
                 continue
             message = self._land_message(seen, line, word, key)
@@ -2157,9 +2202,13 @@ class _Builder:
         start = known[1]
         if start is None:
             return False
-        if isinstance(node, Loop) and (node.back or node.skip or node.reuses is not None):
+        if isinstance(node, Loop) and (
+            node.back or node.skip or node.reuses is not None
+        ):
             return False
-        earlier = {key for number, key, _, _, _ in self.labelled if number <= start.number}
+        earlier = {
+            key for number, key, _, _, _ in self.labelled if number <= start.number
+        }
         own = set()
         if isinstance(node, If):  # its arm lines: where its skips land, no further
             own = {arm.line.number for arm in node.branches}
@@ -2239,7 +2288,9 @@ class _Builder:
             # Deeper inside: run, or landed on, the line fails; skipped with
             # what holds it, its lines up to its own closing line are never
             # looked at. Those closing lines are its, not the outer one's.
-            dead = If([Branch(line)]) if word.keyword == "if" else Loop(word.keyword, line)
+            dead = (
+                If([Branch(line)]) if word.keyword == "if" else Loop(word.keyword, line)
+            )
             body = dead.branches[0].body if isinstance(dead, If) else dead.body
             outer = next(e.node for e in self._scope_entries() if e.label == label)
             if (
@@ -2286,7 +2337,8 @@ class _Builder:
                 (
                     i
                     for i, stmt in enumerate(self.body)
-                    if stmt is not check and any(s is check for s in walk([stmt], False))
+                    if stmt is not check
+                    and any(s is check for s in walk([stmt], False))
                 ),
                 None,
             )
@@ -2295,7 +2347,8 @@ class _Builder:
             crossed = [
                 stmt
                 for stmt in walk(self.body[index:], False)
-                if isinstance(stmt, Loop) and any(s is check for s in walk([stmt], False))
+                if isinstance(stmt, Loop)
+                and any(s is check for s in walk([stmt], False))
             ]
             skip = Loop("do", check.line, self.body[index:], key="")
             del self.body[index:]
@@ -2365,7 +2418,9 @@ class _Builder:
                 self.stack.append(entry)
                 break
         self.eof_fails += [(fail, key) for key, fail in self.stale_jumps]
-        self.eof_fails += [(fail, name) for name, fail in self.orphans if fail.line is None]
+        self.eof_fails += [
+            (fail, name) for name, fail in self.orphans if fail.line is None
+        ]
         for fail, key in self.eof_fails:
             if self._later_landing(fail, key):
                 continue
@@ -2381,7 +2436,11 @@ class _Builder:
             sub.body = body[start:] + [Fail(last, eof_message(self.demarcated))]
         while self.stack:
             entry = self.stack.pop()
-            if isinstance(entry.node, Loop) and last is not None and not entry.node.back:
+            if (
+                isinstance(entry.node, Loop)
+                and last is not None
+                and not entry.node.back
+            ):
                 # its break and continue lines skip to the end of the file
                 entry.node.eof = Fail(last, eof_message(self.demarcated))
             elif isinstance(entry.node, If):
@@ -2505,7 +2564,12 @@ def _constant(expr: Optional[nodes.Expr]) -> Optional[float]:
         if a != b and abs(a - b) < 1e-3:
             return None
         result = {
-            "eq": a == b, "ne": a != b, "gt": a > b, "ge": a >= b, "lt": a < b, "le": a <= b
+            "eq": a == b,
+            "ne": a != b,
+            "gt": a > b,
+            "ge": a >= b,
+            "lt": a < b,
+            "le": a <= b,
         }[expr.op]
         return 1.0 if result else 0.0
     if expr.op == "and":
@@ -2559,7 +2623,11 @@ def _self_contained(body: List[Stmt], leaves: Optional[Loop] = None) -> bool:
             return False
         if isinstance(stmt, Loop) and any(id(e) not in inner for e in stmt.exits):
             return False
-        if isinstance(stmt, LabelCheck) and stmt.loop is not None and id(stmt.loop) not in inner:
+        if (
+            isinstance(stmt, LabelCheck)
+            and stmt.loop is not None
+            and id(stmt.loop) not in inner
+        ):
             return False
     return True
 
