@@ -72,6 +72,7 @@ class Record:
         if "__dict__" in fields:
             fields.remove("__dict__")
         cls._fields = cls.__match_args__ = tuple(fields)
+        # what ==, the hash and repr read, and a function reading them
         cls._shown = tuple(name for name in fields if name not in cls._hidden)
         cls._key = staticmethod(_getter(cls._shown))
 
