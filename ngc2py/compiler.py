@@ -23,6 +23,8 @@ TYPE_CHECKING = (
 if TYPE_CHECKING:
     from typing import List, Optional, Tuple
 
+    from ngc2py import structure as st
+
 # The compiler's stages (structure, codegen) are imported where they are
 # used: `ngc2py run` of a cached program needs this module's errors only,
 # and importing the whole compiler cost every such run a visible moment.
