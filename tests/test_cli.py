@@ -535,29 +535,37 @@ def test_the_quick_parser_takes_the_usual_forms():
 HEAVY = ("argparse", "gettext", "re", "enum", "typing", "json", "pathlib", "dataclasses")
 
 
+def _fresh_run(tmp_path, arguments, watched, runs=2):
+    """``ngc2py ARGUMENTS`` in a fresh interpreter (``runs`` times on one
+    cache: the first compiles); the last run's process, its stderr ending
+    with a line ``STATUS [the modules of watched it imported]``."""
+    probe = (
+        "import sys\nfrom ngc2py import cli\n"
+        "code = cli.main(sys.argv[1].split('|'))\n"
+        "print(code, sorted(set(sys.argv[2:]) & set(sys.modules)), file=sys.stderr)\n"
+    )
+    env = dict(os.environ, PYTHONPATH=str(REPO), NGC2PY_CACHE=str(tmp_path / "cache"))
+    for _ in range(runs):
+        done = subprocess.run(
+            [sys.executable, "-S", "-c", probe, "|".join(arguments), *watched],
+            capture_output=True,
+            text=True,
+            env=env,
+            cwd=tmp_path,
+        )
+    return done
+
+
 @pytest.mark.parametrize("output", [None, "trace.txt"], ids=["stdout", "file"])
 def test_a_cached_run_imports_nothing_heavy(tmp_path, output):
     # (with rs274's output file too: written atomically without tempfile,
     # its name read without getopt)
     program = tmp_path / "prog.ngc"
     program.write_text("G21 F100\nG1 X1 Y2\nM2\n")
-    arguments = [str(program)] + ([str(tmp_path / output)] if output else [])
-    probe = (
-        "import sys\nfrom ngc2py import cli\n"
-        "code = cli.main(['run', *sys.argv[1].split('|')])\n"
-        "print(sorted(set(sys.argv[2:]) & set(sys.modules)), file=sys.stderr)\n"
-    )
-    env = dict(os.environ, PYTHONPATH=str(REPO), NGC2PY_CACHE=str(tmp_path / "cache"))
+    arguments = ["run", str(program)] + ([str(tmp_path / output)] if output else [])
     heavy = HEAVY + ("tempfile", "getopt", "shutil", "random")
-    for _ in range(2):  # the first compiles it
-        done = subprocess.run(
-            [sys.executable, "-S", "-c", probe, "|".join(arguments), *heavy],
-            capture_output=True,
-            text=True,
-            env=env,
-        )
-    assert done.returncode == 0, done.stderr
-    assert done.stderr.splitlines()[-1] == "[]"
+    done = _fresh_run(tmp_path, arguments, heavy)
+    assert done.stderr.splitlines()[-1] == "0 []", done.stderr
     if output:
         assert "STRAIGHT_FEED(1.0000, 2.0000" in (tmp_path / output).read_text()
 
@@ -568,22 +576,8 @@ def test_cached_stats_and_flatten_import_nothing_heavy(tmp_path, command):
     # help formatter brings shutil and its bz2 and lzma too
     program = tmp_path / "prog.ngc"
     program.write_text("G21 F100\nG1 X1 Y2\nG2 X3 Y2 R1\nM2\n")
-    probe = (
-        "import sys\nfrom ngc2py import cli\n"
-        "code = cli.main(sys.argv[1].split('|'))\n"
-        "print(code, sorted(set(sys.argv[2:]) & set(sys.modules)), file=sys.stderr)\n"
-    )
-    env = dict(os.environ, PYTHONPATH=str(REPO), NGC2PY_CACHE=str(tmp_path / "cache"))
     heavy = HEAVY + ("shutil", "locale", "bz2", "lzma", "tqdm")
-    arguments = [command[0], str(program)] + command[1:]
-    for _ in range(2):  # the first compiles it
-        done = subprocess.run(
-            [sys.executable, "-S", "-c", probe, "|".join(arguments), *heavy],
-            capture_output=True,
-            text=True,
-            env=env,
-            cwd=tmp_path,
-        )
+    done = _fresh_run(tmp_path, [command[0], str(program)] + command[1:], heavy)
     assert done.stderr.splitlines()[-1] == "0 []", done.stderr
 
 
@@ -600,19 +594,7 @@ def test_converting_imports_no_dataclasses_inspect_or_typing(tmp_path, command):
     arguments = [command, str(program)]
     if command == "convert":
         arguments += ["-o", str(tmp_path / "prog.py")]
-    probe = (
-        "import sys\nfrom ngc2py import cli\n"
-        "code = cli.main(sys.argv[1].split('|'))\n"
-        "print(code, sorted({'dataclasses', 'inspect', 'typing'} & set(sys.modules)),"
-        " file=sys.stderr)\n"
-    )
-    env = dict(os.environ, PYTHONPATH=str(REPO), NGC2PY_CACHE=str(tmp_path / "cache"))
-    done = subprocess.run(
-        [sys.executable, "-S", "-c", probe, "|".join(arguments)],
-        capture_output=True,
-        text=True,
-        env=env,
-    )
+    done = _fresh_run(tmp_path, arguments, ("dataclasses", "inspect", "typing"), runs=1)
     assert done.stderr.splitlines()[-1] == "0 []", done.stderr
     if command == "convert":
         assert "def o_cut(" in (tmp_path / "prog.py").read_text()
