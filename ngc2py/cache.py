@@ -267,15 +267,9 @@ def load_cached(module: str, program: Optional[str] = None):
     under a private name, its bytecode kept (see the module's doc); its
     source map names the program ``program`` (the name it is run by, which
     may not be the name it was compiled by)."""
-    import importlib.util
-
     loader = _KeepingLoader("ngc2py_program", module)
     loader.compiled = _COMPILED.pop(module, None)
-    spec = importlib.util.spec_from_file_location(
-        "ngc2py_program", module, loader=loader
-    )
-    loaded = importlib.util.module_from_spec(spec)
-    loader.exec_module(loaded)
+    loaded = loader.load()
     source = loaded.__ngc__
     if program is not None and source.files[:1] != (program,):
         source.files = (program,) + source.files[1:]

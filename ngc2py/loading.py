@@ -20,17 +20,9 @@ if TYPE_CHECKING:
 
 def load_module(path: str):
     """Import a generated module from ``path`` under a private name."""
-    import importlib.util
-
     from ngc2py.bytecode import QuickLoader
 
-    loader = QuickLoader("ngc2py_program", str(path))
-    spec = importlib.util.spec_from_file_location(
-        "ngc2py_program", str(path), loader=loader
-    )
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return QuickLoader("ngc2py_program", str(path)).load()
 
 
 def load_program(program: str, ini: Optional[str], block_delete: bool = False):

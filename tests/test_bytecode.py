@@ -162,6 +162,29 @@ def test_the_process_that_compiles_an_entry_imports_its_code_as_compiled(
     assert first.__ngc__.files == second.__ngc__.files == (str(program),)
 
 
+def test_a_loader_s_module_is_the_one_importlib_util_makes(tmp_path):
+    import importlib.util
+
+    path = tmp_path / "prog.py"
+    path.write_text("X = 1\n")
+    ours = bytecode.QuickLoader("ngc2py_program", str(path)).load()
+    loader = bytecode.QuickLoader("ngc2py_program", str(path))
+    spec = importlib.util.spec_from_file_location(
+        "ngc2py_program", str(path), loader=loader
+    )
+    theirs = importlib.util.module_from_spec(spec)
+    loader.exec_module(theirs)
+    names = ("__name__", "__file__", "__cached__", "__package__", "__doc__", "X")
+    assert [getattr(ours, n) for n in names] == [getattr(theirs, n) for n in names]
+    assert set(vars(ours)) == set(vars(theirs))
+    fields = ("name", "origin", "cached", "has_location", "parent", "loader_state")
+    assert [getattr(ours.__spec__, f) for f in fields] == [
+        getattr(theirs.__spec__, f) for f in fields
+    ]
+    assert ours.__spec__.submodule_search_locations is None
+    assert ours.__loader__ is ours.__spec__.loader
+
+
 def test_a_module_loaded_without_bytecode_is_compiled_the_quick_way(monkeypatch):
     # a program read from stdin, a cache that cannot be written
     from ngc2py import loading

@@ -563,7 +563,7 @@ def test_a_cached_run_imports_nothing_heavy(tmp_path, output):
     program = tmp_path / "prog.ngc"
     program.write_text("G21 F100\nG1 X1 Y2\nM2\n")
     arguments = ["run", str(program)] + ([str(tmp_path / output)] if output else [])
-    heavy = HEAVY + ("tempfile", "getopt", "shutil", "random")
+    heavy = HEAVY + ("tempfile", "getopt", "shutil", "random", "importlib.util")
     done = _fresh_run(tmp_path, arguments, heavy)
     assert done.stderr.splitlines()[-1] == "0 []", done.stderr
     if output:
