@@ -316,57 +316,33 @@ static int range_column(PyObject *column, long long *start, long long *step,
     return 1;
 }
 
-static PyObject *percent_rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
-    if (nargs != 2 || !PyUnicode_CheckExact(args[0])) {
-        PyErr_SetString(PyExc_TypeError, "percent_rows(template: str, columns)");
-        return NULL;
-    }
+/* The text of ``rows`` rows of ``count`` conversions: conversion k of row i
+ * is the number starts[k] + i * steps[k] where is_number[k] is set, else
+ * item i of columns[k] (borrowed: each a PySequence_Fast of at least
+ * ``rows`` items). */
+static PyObject *render_rows(PyObject *template, Py_ssize_t count, Py_ssize_t rows,
+                             PyObject *const *columns, const long long *starts,
+                             const long long *steps, const char *is_number) {
     Py_ssize_t length;
-    const char *t = PyUnicode_AsUTF8AndSize(args[0], &length);
+    const char *t = PyUnicode_AsUTF8AndSize(template, &length);
     if (!t) {
         return NULL;
     }
-    PyObject *given = PySequence_Fast(args[1], "percent_rows(): columns must be a sequence");
-    if (!given) {
-        return NULL;
-    }
-    Py_ssize_t count = PySequence_Fast_GET_SIZE(given), rows = PY_SSIZE_T_MAX;
     Py_ssize_t slots = count ? count : 1;
-    PyObject **columns = PyMem_Calloc(slots, sizeof(PyObject *));
-    long long *starts = PyMem_Calloc(slots, sizeof(long long));
-    long long *steps = PyMem_Calloc(slots, sizeof(long long));
     long long *numbers = PyMem_Calloc(slots, sizeof(long long));
-    char *is_number = PyMem_Calloc(slots, 1);
     PyObject *row = PyTuple_New(count);
     PyObject *result = NULL;
     buffer b;
     b.data = b.inline_data;
     b.size = 0;
     b.capacity = sizeof(b.inline_data);
-    if (!columns || !starts || !steps || !numbers || !is_number || !row) {
+    if (!numbers || !row) {
         PyErr_NoMemory();
         goto done;
     }
     for (Py_ssize_t c = 0; c < count; c++) {
-        PyObject *column = PySequence_Fast_GET_ITEM(given, c);
-        Py_ssize_t size;
-        if (range_column(column, &starts[c], &steps[c], &size)) {
-            is_number[c] = 1;
-            Py_INCREF(Py_None);  /* (the row's slot, until a fallback needs the int) */
-            PyTuple_SET_ITEM(row, c, Py_None);
-        } else {
-            columns[c] = PySequence_Fast(column, "percent_rows(): each column must be a sequence");
-            if (!columns[c]) {
-                goto done;
-            }
-            size = PySequence_Fast_GET_SIZE(columns[c]);
-        }
-        if (size < rows) {
-            rows = size;  /* zip: the shortest */
-        }
-    }
-    if (!count) {
-        rows = 0;
+        Py_INCREF(Py_None);  /* (a number's slot, until a fallback needs the int) */
+        PyTuple_SET_ITEM(row, c, Py_None);
     }
     for (Py_ssize_t i = 0; i < rows; i++) {
         for (Py_ssize_t c = 0; c < count; c++) {
@@ -396,7 +372,7 @@ static PyObject *percent_rows(PyObject *self, PyObject *const *args, Py_ssize_t 
                     PyTuple_SET_ITEM(row, c, item);
                 }
             }
-            PyObject *line = PyUnicode_Format(args[0], row);
+            PyObject *line = PyUnicode_Format(template, row);
             if (!line) {
                 goto done;
             }
@@ -411,6 +387,55 @@ static PyObject *percent_rows(PyObject *self, PyObject *const *args, Py_ssize_t 
     }
     result = PyUnicode_DecodeUTF8(b.data, b.size, NULL);
 done:
+    PyMem_Free(numbers);
+    Py_XDECREF(row);
+    if (b.data != b.inline_data) {
+        PyMem_Free(b.data);
+    }
+    return result;
+}
+
+static PyObject *percent_rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    if (nargs != 2 || !PyUnicode_CheckExact(args[0])) {
+        PyErr_SetString(PyExc_TypeError, "percent_rows(template: str, columns)");
+        return NULL;
+    }
+    PyObject *given = PySequence_Fast(args[1], "percent_rows(): columns must be a sequence");
+    if (!given) {
+        return NULL;
+    }
+    Py_ssize_t count = PySequence_Fast_GET_SIZE(given), rows = PY_SSIZE_T_MAX;
+    Py_ssize_t slots = count ? count : 1;
+    PyObject **columns = PyMem_Calloc(slots, sizeof(PyObject *));
+    long long *starts = PyMem_Calloc(slots, sizeof(long long));
+    long long *steps = PyMem_Calloc(slots, sizeof(long long));
+    char *is_number = PyMem_Calloc(slots, 1);
+    PyObject *result = NULL;
+    if (!columns || !starts || !steps || !is_number) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    for (Py_ssize_t c = 0; c < count; c++) {
+        PyObject *column = PySequence_Fast_GET_ITEM(given, c);
+        Py_ssize_t size;
+        if (range_column(column, &starts[c], &steps[c], &size)) {
+            is_number[c] = 1;
+        } else {
+            columns[c] = PySequence_Fast(column, "percent_rows(): each column must be a sequence");
+            if (!columns[c]) {
+                goto done;
+            }
+            size = PySequence_Fast_GET_SIZE(columns[c]);
+        }
+        if (size < rows) {
+            rows = size;  /* zip: the shortest */
+        }
+    }
+    if (!count) {
+        rows = 0;
+    }
+    result = render_rows(args[0], count, rows, columns, starts, steps, is_number);
+done:
     if (columns) {
         for (Py_ssize_t c = 0; c < count; c++) {
             Py_XDECREF(columns[c]);
@@ -419,13 +444,94 @@ done:
     }
     PyMem_Free(starts);
     PyMem_Free(steps);
-    PyMem_Free(numbers);
     PyMem_Free(is_number);
-    Py_XDECREF(row);
     Py_DECREF(given);
-    if (b.data != b.inline_data) {
-        PyMem_Free(b.data);
+    return result;
+}
+
+/*
+ * numbered_rows(template, first, lines, rows, layout, columns): the text of
+ * ``rows`` rows of a template of ``lines`` trace lines (a canned cycle's
+ * hole), the lines numbered on from ``first``. Conversion k of the template
+ * is, by layout[k]: below ``lines``, the number of that line of the row
+ * (first + row * lines + layout[k]); else item ``row`` of
+ * columns[layout[k] - lines]. The same text as percent_rows with a range
+ * for each line number, without making those ranges.
+ */
+static PyObject *numbered_rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    if (nargs != 6 || !PyUnicode_CheckExact(args[0]) || !PyTuple_CheckExact(args[4])) {
+        PyErr_SetString(PyExc_TypeError,
+                        "numbered_rows(template: str, first, lines, rows, layout: tuple, columns)");
+        return NULL;
     }
+    long long first = PyLong_AsLongLong(args[1]);
+    Py_ssize_t lines = PyLong_AsSsize_t(args[2]);
+    Py_ssize_t rows = PyLong_AsSsize_t(args[3]);
+    if (PyErr_Occurred()) {
+        return NULL;
+    }
+    const long long most = 1LL << 40;  /* every number stays far inside a long long */
+    if (lines < 1 || rows < 0 || rows > most || lines > most || first > most || first < -most) {
+        PyErr_SetString(PyExc_ValueError, "numbered_rows(): lines, rows or first out of range");
+        return NULL;
+    }
+    PyObject *given = PySequence_Fast(args[5], "numbered_rows(): columns must be a sequence");
+    if (!given) {
+        return NULL;
+    }
+    Py_ssize_t groups = PySequence_Fast_GET_SIZE(given);
+    Py_ssize_t count = PyTuple_GET_SIZE(args[4]), slots = count ? count : 1;
+    PyObject **fast = PyMem_Calloc(groups ? groups : 1, sizeof(PyObject *));
+    PyObject **columns = PyMem_Calloc(slots, sizeof(PyObject *));
+    long long *starts = PyMem_Calloc(slots, sizeof(long long));
+    long long *steps = PyMem_Calloc(slots, sizeof(long long));
+    char *is_number = PyMem_Calloc(slots, 1);
+    PyObject *result = NULL;
+    if (!fast || !columns || !starts || !steps || !is_number) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    for (Py_ssize_t g = 0; g < groups; g++) {
+        fast[g] = PySequence_Fast(PySequence_Fast_GET_ITEM(given, g),
+                                  "numbered_rows(): each column must be a sequence");
+        if (!fast[g]) {
+            goto done;
+        }
+    }
+    for (Py_ssize_t k = 0; k < count; k++) {
+        Py_ssize_t at = PyLong_AsSsize_t(PyTuple_GET_ITEM(args[4], k));
+        if (at == -1 && PyErr_Occurred()) {
+            goto done;
+        }
+        if (at < 0 || at >= lines + groups) {
+            PyErr_SetString(PyExc_ValueError, "numbered_rows(): a layout entry out of range");
+            goto done;
+        }
+        if (at < lines) {
+            is_number[k] = 1;
+            starts[k] = first + at;
+            steps[k] = lines;
+        } else {
+            columns[k] = fast[at - lines];
+            if (PySequence_Fast_GET_SIZE(columns[k]) < rows) {
+                PyErr_SetString(PyExc_ValueError, "numbered_rows(): a column shorter than rows");
+                goto done;
+            }
+        }
+    }
+    result = render_rows(args[0], count, rows, columns, starts, steps, is_number);
+done:
+    if (fast) {
+        for (Py_ssize_t g = 0; g < groups; g++) {
+            Py_XDECREF(fast[g]);
+        }
+        PyMem_Free(fast);
+    }
+    PyMem_Free(columns);
+    PyMem_Free(starts);
+    PyMem_Free(steps);
+    PyMem_Free(is_number);
+    Py_DECREF(given);
     return result;
 }
 
@@ -791,6 +897,8 @@ static PyMethodDef methods[] = {
      "percent(template, args): template % args, faster for %s, %d and %.4f."},
     {"percent_rows", (PyCFunction) (void (*)(void)) percent_rows, METH_FASTCALL,
      "percent_rows(template, columns): ''.join(template % row for row in zip(*columns))"},
+    {"numbered_rows", (PyCFunction) (void (*)(void)) numbered_rows, METH_FASTCALL,
+     "numbered_rows(template, first, lines, rows, layout, columns): rows of numbered trace lines"},
     {"words", (PyCFunction) (void (*)(void)) words, METH_FASTCALL,
      "words(prefix, values): [prefix + the shortest decimal of each float], or None."},
     {"short_offsets", (PyCFunction) (void (*)(void)) short_offsets, METH_FASTCALL,

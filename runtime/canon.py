@@ -362,6 +362,7 @@ try:
     # trace_rows: a batch of lines, one per row of columns, in one string
     from runtime._fast_format import percent as trace_format
     from runtime._fast_format import percent_rows as trace_rows
+    from runtime._fast_format import numbered_rows
 except ImportError:  # not built (no C compiler): the very same strings
 
     def trace_format(template: str, args: tuple) -> str:
@@ -370,6 +371,24 @@ except ImportError:  # not built (no C compiler): the very same strings
 
     def trace_rows(template: str, columns) -> str:
         return "".join(trace_format(template, row) for row in zip(*columns))
+
+    numbered_rows = None  # (python_numbered_rows, below)
+
+
+def python_numbered_rows(template, first, lines, rows, layout, columns) -> str:
+    """``rows`` rows of a template of ``lines`` trace lines (a canned
+    cycle's hole), numbered on from ``first``: conversion k is, by
+    layout[k], the number of that line of the row (below ``lines``) or the
+    row's item of ``columns[layout[k] - lines]``. runtime._fast_format's
+    numbered_rows makes the same text without a range for each line."""
+    span = lines * rows
+    pool = [range(b, b + span, lines) for b in range(first, first + lines)]
+    pool += [column[:rows] for column in columns]
+    return trace_rows(template, [pool[i] for i in layout]) if layout else ""
+
+
+if numbered_rows is None:
+    numbered_rows = python_numbered_rows
 
 
 #: A conversion of a trace template (the few kinds trace lines use).

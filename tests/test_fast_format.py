@@ -309,6 +309,49 @@ def test_rows_of_trace_lines():
     )
 
 
+@st.composite
+def _numbered_lines(draw):
+    """A hole's template as runtime.fast.hole_rows makes it: ``lines``
+    lines, each conversion a line's number or one of a few columns."""
+    lines = draw(st.integers(1, 5))
+    rows = draw(st.integers(0, 6))
+    groups = [
+        draw(st.lists(_ARGUMENT, min_size=rows, max_size=rows + 2))
+        for _ in range(draw(st.integers(0, 4)))
+    ]
+    pieces = draw(st.lists(st.tuples(st.text(max_size=3), _SPEC), max_size=6))
+    layout = tuple(draw(st.integers(0, lines + len(groups) - 1)) for _ in pieces)
+    template = "".join(text.replace("%", "") + spec for text, spec in pieces)
+    first = draw(st.integers(0, 2**40))  # a trace's line numbers
+    return template, first, lines, rows, layout, groups
+
+
+@pytest.mark.skipif(percent is None, reason="runtime._fast_format not built here")
+@given(_numbered_lines())
+@settings(max_examples=1000, deadline=None)
+def test_numbered_rows_are_pythons_join(case):
+    """numbered_rows: each line's number worked out in C, where the Python
+    twin makes a range for each line: the same text, or the same error."""
+    from runtime._fast_format import numbered_rows
+    from runtime.canon import python_numbered_rows
+
+    template, first, lines, rows, layout, groups = case
+    span = lines * rows
+    pool = [range(b, b + span, lines) for b in range(first, first + lines)]
+    pool += [group[:rows] for group in groups]
+    columns = [pool[i] for i in layout]
+    try:
+        expected = "".join(template % tuple(row) for row in zip(*columns))
+        if not layout:
+            expected = ""
+        assert python_numbered_rows(template, first, lines, rows, layout, groups) == expected
+    except Exception as exc:
+        with pytest.raises(type(exc)):
+            numbered_rows(template, first, lines, rows, layout, groups)
+    else:
+        assert numbered_rows(template, first, lines, rows, layout, groups) == expected
+
+
 # --- words(prefix, values): flatten's numbers, a column at a time ----------
 
 #: Numbers as G-code writes them: at most four decimals (words' quick path),

@@ -33,7 +33,7 @@ from itertools import repeat, takewhile
 from marshal import dumps
 from operator import attrgetter
 
-from runtime.canon import Canon, TraceCanon, trace_rows
+from runtime.canon import Canon, TraceCanon, numbered_rows
 from runtime.cycles import CyclesMixin
 from runtime.fast.arc_rows import column_floats, table_lines
 
@@ -170,7 +170,7 @@ def _template(scratch, recorded: List[tuple], column: str, pieces: dict):
         layout.append(j)
         if move is not None:
             layout += (lines, lines + 1) if move == _AT_HOLE else (lines + 2, lines + 3)
-    return "".join(parts), layout, lines, column
+    return "".join(parts), tuple(layout), lines, column
 
 
 def _call_template(scratch, name: str, args: tuple, move, column: str):
@@ -478,13 +478,18 @@ class HoleRows:
         # one template for every series of holes drilled alike, whatever
         # their levels (the moves' Z, written in at the first stage)
         recorded = self.recorded
+        levels = []  # each move's level: the hole axis' value
         if self.shape is None:
-            self.shape = dumps(
-                tuple(
-                    (name, args[3:] if move else args, move)
-                    for name, args, move in recorded
-                )
-            )
+            shape = []
+            for name, args, move in recorded:
+                if move:
+                    levels.append(args[2])
+                    shape.append((name, args[3:], move))
+                else:
+                    shape.append((name, args, move))
+            self.shape = dumps(shape)
+        else:
+            levels = [args[2] for _, args, move in recorded if move]
         key = canon._column, self.shape
         made = self.hole_templates.get(key, False)
         if made is False:
@@ -497,16 +502,14 @@ class HoleRows:
             made = _template(self.scratch, recorded, canon._column, self.templates)
             if len(self.hole_templates) < _MOST_KEPT:
                 self.hole_templates[key] = made
-        levels = tuple(
-            map("%.4f".__mod__, [args[2] for _, args, move in recorded if move])
-        )
+        levels = tuple(map("%.4f".__mod__, levels))
         if made is None or "n" in "".join(levels):  # (nan, inf: C's own words)
             return begin, 0  # no template: the holes go by the reference path
         template, layout, lines, column = made
-        base, span = canon._count, lines * rows
-        pool = [range(b, b + span, lines) for b in range(base + 1, base + 1 + lines)]
-        pool += (xs[1:], ys[1:], xs[:-1], ys[:-1])
-        canon._write(trace_rows(template % levels, [pool[i] for i in layout]))
+        base = canon._count
+        places = xs[1:], ys[1:], xs[:-1], ys[:-1]  # at the hole, where it was
+        text = numbered_rows(template % levels, base + 1, lines, rows, layout, places)
+        canon._write(text)
         canon._count, canon._column = base + lines * rows, column
         if canon._count >= canon._drain_at:
             canon._drain()
@@ -714,18 +717,19 @@ class HoleRows:
         if hole == start:
             return False  # which moves are at the hole is not to be told
         recorded = []
+        add = recorded.append
         for name, args in recorded_calls:
             if name in HOLE_MOVES:
                 # at the hole, or (up to the R plane first) where it was
                 spot = args[ia], args[ib]
                 if spot == hole:
-                    recorded.append((name, args, _AT_HOLE))
+                    add((name, args, _AT_HOLE))
                 elif spot == start:
-                    recorded.append((name, args, _AT_START))
+                    add((name, args, _AT_START))
                 else:
                     return False  # elsewhere (G87's offsets)
             elif name in HOLE_SWITCHES:
-                recorded.append((name, args, None))
+                add((name, args, None))
             else:
                 return False
         self.recorded, self.shape = recorded, None
