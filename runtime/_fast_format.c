@@ -344,6 +344,9 @@ static PyObject *render_rows(PyObject *template, Py_ssize_t count, Py_ssize_t ro
         Py_INCREF(Py_None);  /* (a number's slot, until a fallback needs the int) */
         PyTuple_SET_ITEM(row, c, Py_None);
     }
+    /* whether the text is all ASCII: the template and every str in it (the
+     * rest render writes is digits, signs and points) */
+    int ascii = PyUnicode_IS_ASCII(template);
     for (Py_ssize_t i = 0; i < rows; i++) {
         for (Py_ssize_t c = 0; c < count; c++) {
             if (is_number[c]) {
@@ -351,6 +354,9 @@ static PyObject *render_rows(PyObject *template, Py_ssize_t count, Py_ssize_t ro
                 continue;
             }
             PyObject *item = PySequence_Fast_GET_ITEM(columns[c], i);
+            if (PyUnicode_Check(item) && !PyUnicode_IS_ASCII(item)) {
+                ascii = 0;
+            }
             Py_INCREF(item);
             Py_XDECREF(PyTuple_GET_ITEM(row, c));
             PyTuple_SET_ITEM(row, c, item);
@@ -376,6 +382,7 @@ static PyObject *render_rows(PyObject *template, Py_ssize_t count, Py_ssize_t ro
             if (!line) {
                 goto done;
             }
+            ascii = ascii && PyUnicode_IS_ASCII(line);
             Py_ssize_t size;
             const char *text = PyUnicode_AsUTF8AndSize(line, &size);
             int failed = !text || append(&b, text, size) < 0;
@@ -385,7 +392,14 @@ static PyObject *render_rows(PyObject *template, Py_ssize_t count, Py_ssize_t ro
             }
         }
     }
-    result = PyUnicode_DecodeUTF8(b.data, b.size, NULL);
+    if (ascii) {  /* the usual case: copied, not decoded */
+        result = PyUnicode_New(b.size, 127);
+        if (result) {
+            memcpy(PyUnicode_DATA(result), b.data, b.size);
+        }
+    } else {
+        result = PyUnicode_DecodeUTF8(b.data, b.size, NULL);
+    }
 done:
     PyMem_Free(numbers);
     Py_XDECREF(row);
