@@ -569,6 +569,68 @@ class _LineState:
 _NO_LINE_STATE = _LineState(-1, ())
 
 
+def _preview_xyz(motion: int):
+    """PreviewMachine's ``m.feed`` (G1) or ``m.rapid`` (G0) with X, Y and/or
+    Z: what BatchesOnly's single line (runtime.fast.rows), the machine's
+    XYZ move (runtime.fast.moves) and PreviewCanon's straight move do for
+    such a line, in one method, while the modes are plain and the canon is
+    the preview's own: the target's call announced as the general path
+    announces it, then the state the line leaves (_line_ended). Anything
+    else goes the general way (``general``)."""
+    general = BatchesOnly.feed if motion == G1 else BatchesOnly.rapid
+    name = "straight_feed" if motion == G1 else "straight_traverse"
+    feed = motion == G1
+
+    def move(self, line, x=None, y=None, z=None) -> None:
+        canon = self.canon
+        if (
+            not self._batchable
+            or self.reading_profile
+            or (feed and not self.feed_rate > 0.0)
+            or self._block_n is not None
+            or type(canon) is not PreviewCanon
+            or canon.motion_line is not None
+        ):
+            return general(self, line, x, y, z)
+        cur = self.current
+        end = [
+            cur[0] if x is None else x,
+            cur[1] if y is None else y,
+            cur[2] if z is None else z,
+            cur[3],
+            cur[4],
+            cur[5],
+            cur[6],
+            cur[7],
+            cur[8],
+        ]
+        self.line = line
+        canon._pos = tuple(end)
+        sequence = line - canon.skipped if line > canon.skipped else line
+        if sequence != canon.last_sequence:
+            canon.new_line(None)
+        call = getattr(canon.target, name)
+        if self.inches:
+            call(*end)
+        else:
+            k = MM_PER_INCH
+            a, b, c, u, v, w = end[3:]
+            call(end[0] / k, end[1] / k, end[2] / k, a, b, c, u / k, v / k, w / k)
+        self.motion_mode = motion
+        self.current = self.world.position = self.params.position = end
+        # the state the line leaves (_line_ended)
+        key = (motion, self.feed_rate, self.params.values[5210])
+        last = self._last_line_state
+        if last.line == line and last.key == key:
+            self.active = last
+        else:
+            state = self.line_state(motion)
+            self.active = self._last_line_state = _LineState(line, state, key)
+
+    move.__name__ = move.__qualname__ = "feed" if feed else "rapid"
+    return move
+
+
 class PreviewMachine(BatchesOnly, Machine):
     """The machine as the gcode module's interpreter sees it: it starts in
     inches, asks the canon about block delete line by line, and records
@@ -697,6 +759,12 @@ class PreviewMachine(BatchesOnly, Machine):
         super().refresh_plain()
         self._line_states = {}
         self._last_line_state = _NO_LINE_STATE
+
+    # m.feed and m.rapid (a loop's every move): the calls of BatchesOnly's
+    # single line, the machine's XYZ move and PreviewCanon's straight move
+    # in one method (tests/test_preview.py holds it to them)
+    feed = _preview_xyz(G1)
+    rapid = _preview_xyz(G0)
 
     def _line_begins(self, line, n):
         return self.active

@@ -484,6 +484,76 @@ def test_loops_of_plain_lines_match_gcode_parse(body, units):
     _compare_generated(text % (units, body))
 
 
+#: Lines a loop's body is made of: plain moves (the one-method path) and
+#: lines that make the next moves take the general one, or announce them
+#: with other modes.
+_LOOP_LINES = st.sampled_from(
+    [
+        # the one-method path: G0/G1 with X, Y and/or Z alone
+        "G1 X[#<i> * 2]",
+        "G0 Y[#<i> - 3] Z[#<i> + 1]",
+        "G1 X[#<i>] Y[#<i> / 2] Z-1",
+        "G1 Z[1 - #<i>]",
+        "G0 X[3 - #<i>] Z2",
+        "G1 X[#5420 + 1] Y[#5421 / 2]",  # where the move before left the tool
+        # lines that change what the next moves are announced with, or
+        # send them the general way
+        "F[50 + #<i>]",
+        "G1 Z1 F[50 + #<i>]",
+        "F0",
+        "N7 G1 X[#<i> + 1]",
+        "G91 G1 X1",
+        "G90",
+        "G92 X1 Z-2",
+        "G92.1",
+        "M3 S[100 * #<i>]",
+        "G20",
+        "G21",
+        "G0 X1 A[#<i>]",
+        "G2 X[#<i> + 2] Y0 I1 J0 F150",
+        "(a comment)",
+    ]
+)
+
+
+@settings(PROFILE)
+@given(
+    st.lists(_LOOP_LINES, min_size=1, max_size=8), st.sampled_from(("G21", "G20", ""))
+)
+def test_a_loops_moves_in_one_method_make_the_general_calls(
+    monkeypatch_moves, body, units
+):
+    """The preview's m.feed and m.rapid in one method (a loop's every move)
+    make every call, argument and line code that the general single line,
+    XYZ move and PreviewCanon's straight move make, whatever the lines
+    around them change."""
+    text = "%s G90 G17 F100\n#<i> = 0\no1 while [#<i> LT 4]\n%s\n#<i> = [#<i> + 1]\no1 endwhile\nM2\n"
+    path = harness.REPO / "tests" / "_generated" / "preview_moves.ngc"
+    path.parent.mkdir(exist_ok=True)
+    path.write_text(text % (units, "\n".join(body)))
+    fused = ours(str(path), ())
+    with monkeypatch_moves():
+        general = ours(str(path), ())
+    assert fused == general
+
+
+@pytest.fixture
+def monkeypatch_moves(monkeypatch):
+    """A context in which the preview's moves take the general path."""
+    from contextlib import contextmanager
+
+    from runtime.fast.rows import BatchesOnly
+
+    @contextmanager
+    def general():
+        with monkeypatch.context() as patched:
+            patched.setattr(preview.PreviewMachine, "feed", BatchesOnly.feed)
+            patched.setattr(preview.PreviewMachine, "rapid", BatchesOnly.rapid)
+            yield
+
+    return general
+
+
 @needs_gcode
 @settings(PROFILE)
 @given(cam_strategies.arc_programs(), st.sampled_from(("G21", "G20", "")))
