@@ -521,15 +521,17 @@ _LOOP_LINES = st.sampled_from(
     st.lists(_LOOP_LINES, min_size=1, max_size=8), st.sampled_from(("G21", "G20", ""))
 )
 def test_a_loops_moves_in_one_method_make_the_general_calls(
-    monkeypatch_moves, body, units
+    monkeypatch_moves, tmp_path_factory, body, units
 ):
     """The preview's m.feed and m.rapid in one method (a loop's every move)
     make every call, argument and line code that the general single line,
     XYZ move and PreviewCanon's straight move make, whatever the lines
     around them change."""
-    text = "%s G90 G17 F100\n#<i> = 0\no1 while [#<i> LT 4]\n%s\n#<i> = [#<i> + 1]\no1 endwhile\nM2\n"
-    path = harness.REPO / "tests" / "_generated" / "preview_moves.ngc"
-    path.parent.mkdir(exist_ok=True)
+    text = (
+        "%s G90 G17 F100\n#<i> = 0\no1 while [#<i> LT 4]\n%s\n"
+        "#<i> = [#<i> + 1]\no1 endwhile\nM2\n"
+    )
+    path = tmp_path_factory.mktemp("moves") / "loop.ngc"
     path.write_text(text % (units, "\n".join(body)))
     fused = ours(str(path), ())
     with monkeypatch_moves():
