@@ -2340,9 +2340,11 @@ class CodeGen:
     ) -> Optional[str]:
         """``call(line[, motion], word=..)`` when the line has one literal
         code of ``motions`` (or none, unless ``motion_needed``), words of
-        ``letters`` including an axis, an N number and nothing else."""
-        if line.comment is not None:
-            return None
+        ``letters`` including an axis, an N number, a plain comment and
+        nothing else."""
+        comment = line.comment
+        if comment is not None and comment.kind != "plain":
+            return None  # (messages, prints and logs: the general path)
         motion = None
         kwargs = []
         for word, value in zip(words, values):
@@ -2366,6 +2368,7 @@ class CodeGen:
             call == "m.move"
             and motion in (codes.G0, codes.G1)
             and line.n_text is None
+            and comment is None
             and all(word.letter in "xyz" for word in words if word.letter != "g")
         ):
             # Machine.feed / Machine.rapid: the commonest move, lighter
@@ -2377,6 +2380,8 @@ class CodeGen:
             args.append(name)
         if line.n_text is not None:
             kwargs.append("n=%s" % string(line.n_text))
+        if comment is not None:
+            kwargs.append("comment=%s" % self.comment_arg(comment))
         return "%s(%s)" % (call, ", ".join(args + kwargs))
 
     def code_arg(self, word: nodes.Word, value: str) -> str:

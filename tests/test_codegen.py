@@ -350,10 +350,15 @@ def test_each_comment_kind_has_its_own_call():
 
 
 def test_a_comment_on_a_line_with_words_is_text_or_kind_and_text():
-    code = compile_text("G0 X1 (rapid)\nG0 X2 (msg, two)\nN5 (n)\nM2\n", "w.ngc")
-    assert '    m.block(1, G0, x=1.0, comment="rapid")\n' in code
+    """A plain comment keeps a move or an arc on its fast path (the comment
+    is the block's first call, made there too); any other kind of comment
+    sends the line to ``block``."""
+    text = "G0 X1 (rapid)\nG0 X2 (msg, two)\nN5 (n)\nG2 X3 R4 (arc)\nM2\n"
+    code = compile_text(text, "w.ngc")
+    assert '    m.move(1, G0, x=1.0, comment="rapid")\n' in code
     assert '    m.block(2, G0, x=2.0, comment=("msg", " two"))\n' in code
     assert '    m.block(3, n="5", comment="n")\n' in code
+    assert '    m.arc(4, G2, x=3.0, r=4.0, comment="arc")\n' in code
 
 
 def test_interpolating_comments_keep_locals_in_python_variables():

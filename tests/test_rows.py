@@ -14,6 +14,7 @@ import io
 
 import pytest
 from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import cam_strategies
 from ngc2py import codegen, rowtable
@@ -111,6 +112,38 @@ def test_arc_fast_paths_give_a_canon_the_general_paths_calls(text):
     fast = _calls(code, error=True), _trace(code)
     with pytest.MonkeyPatch.context() as patch:
         _without_arc_fast_paths(patch)
+        assert (_calls(code, error=True), _trace(code)) == fast
+
+
+@st.composite
+def _commented(draw, programs):
+    """A program with plain comments after some of its lines' words (what
+    hand-written programs and some posts write: ``G1 X1 Y2 (pass 3)``)."""
+    lines = draw(programs).split("\n")
+    for k, line in enumerate(lines):
+        if line.strip() and "(" not in line and ";" not in line and draw(st.booleans()):
+            lines[k] = line + draw(st.sampled_from([" (pass %d)" % k, "(x)", " ( )"]))
+    return "\n".join(lines)
+
+
+@settings(PROFILE, max_examples=PROFILE.max_examples * 2)
+@given(_commented(cam_strategies.arc_programs() | cam_strategies.cam_programs()))
+def test_moves_and_arcs_with_a_comment_keep_the_general_paths_calls(text):
+    """A move or arc line with a plain comment takes the fast path
+    (Machine.move, Machine.arc): the comment first, after the N number, then
+    the F word and the motion, the very calls, values and error of the
+    general path, and the same trace."""
+    code = compile_text(text, "commented.ngc")
+    fast = _calls(code, error=True), _trace(code)
+    with pytest.MonkeyPatch.context() as patch:
+        _without_arc_fast_paths(patch)
+        patch.setattr(
+            Machine,
+            "move",
+            lambda self, line, motion=None, *, n=None, comment=None, f=None, **axes: self._general_move(
+                line, motion, tuple(axes.get(a) for a in "xyzabcuvw"), f, n, comment
+            ),
+        )
         assert (_calls(code, error=True), _trace(code)) == fast
 
 

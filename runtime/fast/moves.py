@@ -149,9 +149,11 @@ class FastPathMixin:
         w: Optional[float] = None,
         f: Optional[float] = None,
         n: Optional[str] = None,
+        comment: Optional[str] = None,
     ) -> None:
-        """A line of G0/G1 (``motion``; None: the modal one), axis words and
-        F: what ``block(line, motion, x=.., f=.., n=..)`` does, faster."""
+        """A line of G0/G1 (``motion``; None: the modal one), axis words, F
+        and a plain comment: what ``block(line, motion, x=.., f=.., n=..,
+        comment=..)`` does, faster."""
         given = motion
         if motion is None:
             motion = self.motion_mode
@@ -179,6 +181,8 @@ class FastPathMixin:
             if n != self._block_n:
                 canon.set_block_number(n)
                 self._block_n = n
+            if comment is not None:  # (a block's first action, after its N)
+                canon.comment(comment)
             if f is not None:
                 self.feed_rate = f
                 canon.set_feed_rate(f)
@@ -192,7 +196,7 @@ class FastPathMixin:
             # position and #5420-#5428: a general block copies it first.
             self.current = self.world.position = self.params.position = end
             return
-        self._general_move(line, given, (x, y, z, a, b, c, u, v, w), f, n)
+        self._general_move(line, given, (x, y, z, a, b, c, u, v, w), f, n, comment)
 
     # The commonest lines of a loop, G1 or G0 with X, Y and/or Z alone (no F,
     # no N), have calls of their own (made by _xyz_move below): the same as
@@ -295,13 +299,23 @@ class FastPathMixin:
             self._block_n = block_n
         return at
 
-    def arc(self, line: int, motion: int, n: Optional[str] = None, **words) -> None:
-        """A line of G2/G3, axis words, I J K or R and F (the code generator
-        knows its shape): :meth:`plain_arc` where it can, else ``block``."""
-        if not self.plain_arc(line, motion, words, n):
-            self.block(line, motion, n=n, **words)
+    def arc(
+        self,
+        line: int,
+        motion: int,
+        n: Optional[str] = None,
+        comment: Optional[str] = None,
+        **words,
+    ) -> None:
+        """A line of G2/G3, axis words, I J K or R, F and a plain comment (the
+        code generator knows its shape): :meth:`plain_arc` where it can,
+        else ``block``."""
+        if not self.plain_arc(line, motion, words, n, comment):
+            self.block(line, motion, n=n, comment=comment, **words)
 
-    def plain_arc(self, line: int, motion: Optional[int], words, n) -> bool:
+    def plain_arc(
+        self, line: int, motion: Optional[int], words, n, comment=None
+    ) -> bool:
         """A line of G2/G3 (``motion``; None: the modal motion), axis words,
         I J K or R, and F, in the plain state: what ``block`` does, without
         reading, enhancing and checking the line again (runtime.fast.arc_rows
@@ -370,7 +384,7 @@ class FastPathMixin:
             if centre is None:
                 return False
             c1, c2 = centre
-        self._open_plain_block(line, n, f)
+        self._open_plain_block(line, n, f, comment)
         self.motion_mode = motion
         self.canon.arc_feed(
             e1, e2, c1, c2, -1 if motion == G2 else 1, end[p3], *end[3:]
@@ -380,20 +394,22 @@ class FastPathMixin:
         return True
 
     def _open_plain_block(
-        self, line: int, n: Optional[str], f: Optional[float]
+        self, line: int, n: Optional[str], f: Optional[float], comment=None
     ) -> None:
         """What a plain block does before its motion: its line, its N number
-        (announced when it changes) and its F word."""
+        (announced when it changes), its plain comment and its F word."""
         self.line = line
         if n != self._block_n:
             self.canon.set_block_number(n)
             self._block_n = n
+        if comment is not None:
+            self.canon.comment(comment)
         if f is not None:
             self.feed_rate = f
             self.canon.set_feed_rate(f)
             self.world.feed_rate = f
 
-    def _general_move(self, line, motion, axes, f, n) -> None:
+    def _general_move(self, line, motion, axes, f, n, comment=None) -> None:
         """The same line through the general path (checks and errors)."""
         words = {
             letter: value
@@ -403,4 +419,4 @@ class FastPathMixin:
         if f is not None:
             words["f"] = f
         codes = () if motion is None else (motion,)
-        self.block(line, *codes, n=n, **words)
+        self.block(line, *codes, n=n, comment=comment, **words)
