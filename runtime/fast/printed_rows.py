@@ -30,13 +30,14 @@ TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
     from typing import List
 
-from runtime.canon import trace_rows
+from runtime.canon import trace_format, trace_rows
 from runtime.codes import G0, G1
 
 _FEED = "%5d %sSTRAIGHT_FEED(%s, %s, %s, %s, %s, %s)\n"
 _TRAVERSE = "%5d %sSTRAIGHT_TRAVERSE(%s, %s, %s, %s, %s, %s)\n"
 _FEED_RATE = "%5d %sSET_FEED_RATE(%s)\n"
 _PRINTED_AXES = 6  # the trace shows X Y Z A B C
+_ENTRY = " ".join(["%.4f"] * _PRINTED_AXES)
 _STRAIGHT = (G0, G1)
 
 
@@ -53,7 +54,8 @@ def printed_rows(machine, by_index, cells: List[str], at: int, end: int, plans) 
     canon = machine.canon
     count, column, block_n = canon._count, canon._column, machine._block_n
     cur = machine.current
-    entry = ["%.4f" % value for value in cur[:_PRINTED_AXES]]
+    # (one C format for the six: a run between general lines may be a row)
+    entry = trace_format(_ENTRY, tuple(cur[:_PRINTED_AXES])).split(" ")
     texts = entry[:]
     motion_mode, feed_rate = machine.motion_mode, machine.feed_rate
     out: List[str] = []
@@ -69,7 +71,12 @@ def printed_rows(machine, by_index, cells: List[str], at: int, end: int, plans) 
             if motion is None:
                 motion = motion_mode
             stride = width + 2
-            if end - at >= stride * BATCH and motion in _STRAIGHT:
+            if (
+                end - at >= stride * BATCH
+                # (the last of BATCH rows of this shape, looked at first)
+                and cells[at + 1 + stride * (BATCH - 1)] == cells[at + 1]
+                and motion in _STRAIGHT
+            ):
                 batch = _batch(cells, at, end, printed, motion, feed_rate, texts, count)
                 if batch is not None:
                     text, rows, count, last_f = batch
