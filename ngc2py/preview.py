@@ -593,6 +593,8 @@ def _preview_xyz(motion: int):
         ):
             return general(self, line, x, y, z)
         cur = self.current
+        # (the end point as runtime.fast.moves' XYZ move writes it out: a
+        # helper's call would cost what this method saves)
         end = [
             cur[0] if x is None else x,
             cur[1] if y is None else y,
