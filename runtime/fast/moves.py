@@ -41,7 +41,7 @@ if TYPE_CHECKING:
 
 from runtime import arcs
 from runtime.fast import arc_rows
-from runtime.codes import G0, G1, G2, G3
+from runtime.codes import G0, G1, G2, G3, G4
 from runtime.fast.rows import BATCH, straight_batch
 from runtime.motion import UNITS_PER_MINUTE
 
@@ -408,6 +408,19 @@ class FastPathMixin:
             self.feed_rate = f
             self.canon.set_feed_rate(f)
             self.world.feed_rate = f
+
+    def dwell_row(self, line: int, n: Optional[str], seconds: float) -> None:
+        """A row of G4 and P alone (runtime.fast.rows; a hand-drilling
+        program's pause at each hole's bottom): what ``block(line, G4, n=n,
+        p=seconds)`` does in the plain state, which such a line leaves as it
+        found it: the line announced, then DWELL. Of the checks only one can
+        fail, P -1 (rs274's "no P"; any other number, negative too, is a
+        dwell): ``block`` raises it."""
+        if not self._plain or seconds == -1.0:
+            return self.block(line, G4, n=n, p=seconds)
+        self.line = line
+        self.announce_block(n)
+        self.canon.dwell(seconds)
 
     def _general_move(self, line, motion, axes, f, n, comment=None) -> None:
         """The same line through the general path (checks and errors)."""

@@ -42,7 +42,22 @@ from runtime.fast.arc_rows import ArcRows, column_floats, table_lines
 from runtime.fast.hole_rows import HoleRows
 from runtime.blockcheck import DRILL_CYCLES
 from runtime.canon import Canon, TraceCanon
-from runtime.codes import G0, G1, G2, G3, G17, G18, G19, G20, G21, G90, G91, G98, G99
+from runtime.codes import (
+    G0,
+    G1,
+    G2,
+    G3,
+    G4,
+    G17,
+    G18,
+    G19,
+    G20,
+    G21,
+    G90,
+    G91,
+    G98,
+    G99,
+)
 from runtime.cycles import ROW_CYCLE_LETTERS
 from runtime.fast.printed_rows import BATCH, MOST, printed_rows
 
@@ -76,6 +91,7 @@ class _Plan:
         "arc",
         "cycle",
         "opens_cycle",
+        "dwell",
     )
 
     def __init__(self, shape: Shape):
@@ -128,6 +144,8 @@ class _Plan:
             and _CYCLE_LINE_CODES.issuperset(codes)
             and ROW_CYCLE_LETTERS.issuperset(self.letters)
         )
+        #: A dwell, G4 and P alone (and N): Machine.dwell_row.
+        self.dwell = codes == (G4,) and self.letters == ("p",)
         #: What runtime.fast.printed_rows needs, in one tuple (None: not for it).
         self.printed = None
         if self.slots is not None and not self.beyond_printed:
@@ -283,6 +301,8 @@ def run_rows(
                 machine.move(line, plan.motion, n=n, **words)
             elif by_move and plan.arc and plan.motion is not None:
                 machine.arc(line, plan.motion, n=n, **words)
+            elif plan.dwell and not by_move:
+                machine.dwell_row(line, n, words["p"])
             else:
                 machine.block(line, *plan.codes, n=n, **words)
     except Exception as error:
