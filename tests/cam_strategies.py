@@ -559,3 +559,47 @@ def odd_cam_programs(draw, failing: bool = True) -> str:
     if draw(st.integers(0, 5)) == 0:
         text = "%" + ends + text + "%" + ends
     return text
+
+
+@st.composite
+def commented(draw, programs):
+    """A program with plain comments after some of its lines' words (what
+    hand-written programs and some posts write: ``G1 X1 Y2 (pass 3)``)."""
+    lines = draw(programs).split("\n")
+    for k, line in enumerate(lines):
+        if line.strip() and "(" not in line and ";" not in line and draw(st.booleans()):
+            lines[k] = line + draw(st.sampled_from([" (pass %d)" % k, "(x)", " ( )"]))
+    return "\n".join(lines)
+
+
+@st.composite
+def hand_drilling(draw):
+    """A hole at a time without canned cycles, as simple posts and people
+    write it: G0 over the hole, G1 down, a G4 pause (any P: 0, negative,
+    rs274's "no P" -1), G0 up, with an N now and then and lines that change
+    the state between holes (G91, G20, a cycle, cutter compensation)."""
+    lines = ["G21 G90 G17 F200"]
+    for k in range(draw(st.integers(2, 12))):
+        x, y = draw(st.integers(0, 99)), draw(st.integers(0, 99))
+        lines += ["G0 X%d.5 Y%d" % (x, y), "G1 Z-%d.25" % draw(st.integers(1, 9))]
+        p = draw(st.sampled_from(["0.5", "0", "-0.25", "-1", "-1.0", "2", "0.0001"]))
+        n = draw(st.sampled_from(["", "", "N%d " % (10 * k)]))
+        lines += [n + "G4 P" + p, "G0 Z2"]
+        lines += draw(
+            st.sampled_from(
+                [
+                    [],
+                    [],
+                    ["G91"],
+                    ["G90"],
+                    ["G20"],
+                    ["G21"],
+                    ["G81 X1 Y1 Z-1 R1"],
+                    ["G80"],
+                    ["G41 D0"],
+                    ["G40"],
+                    ["M3 S100"],
+                ]
+            )
+        )
+    return cam_sized("\n".join(lines + ["M2"]) + "\n")

@@ -87,6 +87,14 @@ def _with_spindles(program):
     return {"prog.ngc": text, "m.ini": strategies.spindles_ini(count)}, ["-i", "m.ini"]
 
 
+def _cam_shop():
+    """What shops' programs add to CAM rows: comments after a move's or an
+    arc's words, and holes drilled a line at a time with a G4 pause."""
+    import cam_strategies as c
+
+    return c.commented(c.cam_programs() | c.arc_programs()) | c.hand_drilling()
+
+
 def _profiles():
     import strategies as s
 
@@ -99,14 +107,25 @@ def _profiles():
         "invalid": (s.invalid_programs(), _text, "prog.ngc", 20),
         "language": (s.language_programs(), _text_args, "prog.ngc", 5),
         "whole": (s.whole_language_programs(), _with_table, "job.ngc", 20),
-        "broken_whole": (s.broken_whole_language_programs(), _with_table, "job.ngc", 20),
+        "broken_whole": (
+            s.broken_whole_language_programs(),
+            _with_table,
+            "job.ngc",
+            20,
+        ),
         "long": (s.long_programs(), _text_args, "prog.ngc", 20),
         "long_error": (s.long_error_programs(), _text_args, "prog.ngc", 20),
         "subfiles": (s.subroutine_file_programs(), _subfiles, "main.ngc", 20),
         "comp": (s.compensated_programs(), _text, "prog.ngc", 20),
-        "comp_table": (s.compensated_programs(tool_table=True), _comp_table, "prog.ngc", 20),
+        "comp_table": (
+            s.compensated_programs(tool_table=True),
+            _comp_table,
+            "prog.ngc",
+            20,
+        ),
         "rotary": (s.rotary_programs(), _subfiles, "prog.ngc", 20),
         "cam_rotary": (_cam_rotary(), _subfiles, "prog.ngc", 20),
+        "cam_shop": (_cam_shop(), _text, "prog.ngc", 20),
         "spindles": (s.spindle_ini_programs(), _with_spindles, "prog.ngc", 20),
         "valid_spindles": (s.valid_spindle_programs(), _with_spindles, "prog.ngc", 20),
     }
@@ -140,7 +159,9 @@ _SCRATCH_DIR = re.compile(r"(EOF in file:|already defined in file:)/\S*?/subs/")
 
 
 def _portable(result):
-    return dataclasses.replace(result, err=_SCRATCH_DIR.sub(r"\1<dir>/subs/", result.err))
+    return dataclasses.replace(
+        result, err=_SCRATCH_DIR.sub(r"\1<dir>/subs/", result.err)
+    )
 
 
 def compare_one(job):
@@ -154,10 +175,16 @@ def compare_one(job):
         program = Path(tmp) / main
         expected = harness.run_rs274(program, args, timeout=timeout)
         if expected.timed_out or (expected.rc is not None and expected.rc < 0):
-            why = f"timed out after {timeout} s" if expected.timed_out else f"signal {-expected.rc}"
+            why = (
+                f"timed out after {timeout} s"
+                if expected.timed_out
+                else f"signal {-expected.rc}"
+            )
             return profile, index, "rejected", why
         try:
-            actual = harness.run_ngc2py(program, args, mode="inprocess", timeout=timeout * 6)
+            actual = harness.run_ngc2py(
+                program, args, mode="inprocess", timeout=timeout * 6
+            )
         except BaseException as exc:  # noqa: BLE001 - a campaign reports everything
             return profile, index, "mismatch", f"ngc2py raised {exc!r}"
     problems = harness.compare(_portable(expected), _portable(actual))
@@ -196,7 +223,9 @@ def main(argv=None) -> int:
             jobs.append((name, len(jobs), files, args, main_name, timeout))
         counts = {"match": 0, "mismatch": 0, "rejected": 0}
         with multiprocessing.Pool(opts.jobs, maxtasksperchild=200) as pool:
-            for profile, index, status, diff in pool.imap_unordered(compare_one, jobs, chunksize=4):
+            for profile, index, status, diff in pool.imap_unordered(
+                compare_one, jobs, chunksize=4
+            ):
                 counts[status] += 1
                 if status != "match":
                     # mismatches, and the programs rs274 hangs or crashes on

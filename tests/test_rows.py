@@ -116,19 +116,12 @@ def test_arc_fast_paths_give_a_canon_the_general_paths_calls(text):
         assert (_calls(code, error=True), _trace(code)) == fast
 
 
-@st.composite
-def _commented(draw, programs):
-    """A program with plain comments after some of its lines' words (what
-    hand-written programs and some posts write: ``G1 X1 Y2 (pass 3)``)."""
-    lines = draw(programs).split("\n")
-    for k, line in enumerate(lines):
-        if line.strip() and "(" not in line and ";" not in line and draw(st.booleans()):
-            lines[k] = line + draw(st.sampled_from([" (pass %d)" % k, "(x)", " ( )"]))
-    return "\n".join(lines)
-
-
 @settings(PROFILE, max_examples=PROFILE.max_examples * 2)
-@given(_commented(cam_strategies.arc_programs() | cam_strategies.cam_programs()))
+@given(
+    cam_strategies.commented(
+        cam_strategies.arc_programs() | cam_strategies.cam_programs()
+    )
+)
 def test_moves_and_arcs_with_a_comment_keep_the_general_paths_calls(text):
     """A move or arc line with a plain comment takes the fast path
     (Machine.move, Machine.arc): the comment first, after the N number, then
@@ -148,41 +141,8 @@ def test_moves_and_arcs_with_a_comment_keep_the_general_paths_calls(text):
         assert (_calls(code, error=True), _trace(code)) == fast
 
 
-@st.composite
-def hand_drilling(draw):
-    """A hole at a time without canned cycles, as simple posts and people
-    write it: G0 over the hole, G1 down, a G4 pause (any P: 0, negative,
-    rs274's "no P" -1), G0 up, with an N now and then and lines that change
-    the state between holes (G91, G20, a cycle, cutter compensation)."""
-    lines = ["G21 G90 G17 F200"]
-    for k in range(draw(st.integers(2, 12))):
-        x, y = draw(st.integers(0, 99)), draw(st.integers(0, 99))
-        lines += ["G0 X%d.5 Y%d" % (x, y), "G1 Z-%d.25" % draw(st.integers(1, 9))]
-        p = draw(st.sampled_from(["0.5", "0", "-0.25", "-1", "-1.0", "2", "0.0001"]))
-        n = draw(st.sampled_from(["", "", "N%d " % (10 * k)]))
-        lines += [n + "G4 P" + p, "G0 Z2"]
-        lines += draw(
-            st.sampled_from(
-                [
-                    [],
-                    [],
-                    ["G91"],
-                    ["G90"],
-                    ["G20"],
-                    ["G21"],
-                    ["G81 X1 Y1 Z-1 R1"],
-                    ["G80"],
-                    ["G41 D0"],
-                    ["G40"],
-                    ["M3 S100"],
-                ]
-            )
-        )
-    return cam_strategies.cam_sized("\n".join(lines + ["M2"]) + "\n")
-
-
 @settings(PROFILE)
-@given(hand_drilling())
+@given(cam_strategies.hand_drilling())
 def test_dwell_rows_keep_the_general_paths_calls(text):
     """A table's G4 P rows (Machine.dwell_row) give a canon the calls,
     values and error of the general path, and the same trace."""
@@ -199,7 +159,7 @@ def test_dwell_rows_keep_the_general_paths_calls(text):
 
 @pytest.mark.rs274
 @settings(PROFILE)
-@given(hand_drilling())
+@given(cam_strategies.hand_drilling())
 def test_hand_drilling_matches_rs274(text):
     check_same(text, "inprocess")
 
