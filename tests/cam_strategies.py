@@ -603,3 +603,27 @@ def hand_drilling(draw):
             )
         )
     return cam_sized("\n".join(lines + ["M2"]) + "\n")
+
+
+@st.composite
+def restating(draw, programs):
+    """A program whose moves and arcs restate modes now and then, as some
+    posts write them on every line (``G90 G1 X1 Y2``, ``G17 G2 X.. R..``),
+    with lines that change those modes among them (G91, G18, G90, G17)."""
+    lines = draw(programs).split("\n")
+    out = []
+    for line in lines:
+        words = line.split()
+        if (
+            words
+            and words[0][:1] in "GXYZ"
+            and "M2" not in line
+            and draw(st.booleans())
+        ):
+            line = (
+                draw(st.sampled_from(["G90 ", "G17 ", "G90 G17 ", "G17 G90 "])) + line
+            )
+        out.append(line)
+        if draw(st.integers(0, 30)) == 0:
+            out.append(draw(st.sampled_from(["G91", "G90", "G18", "G17"])))
+    return "\n".join(out)

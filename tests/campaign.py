@@ -89,10 +89,12 @@ def _with_spindles(program):
 
 def _cam_shop():
     """What shops' programs add to CAM rows: comments after a move's or an
-    arc's words, and holes drilled a line at a time with a G4 pause."""
+    arc's words, holes drilled a line at a time with a G4 pause, and modes
+    restated on every line (G90 G1, G17 G2)."""
     import cam_strategies as c
 
-    return c.commented(c.cam_programs() | c.arc_programs()) | c.hand_drilling()
+    cam = c.cam_programs() | c.arc_programs()
+    return c.commented(cam) | c.hand_drilling() | c.restating(cam)
 
 
 def _profiles():

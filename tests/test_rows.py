@@ -164,6 +164,40 @@ def test_hand_drilling_matches_rs274(text):
     check_same(text, "inprocess")
 
 
+@settings(PROFILE)
+@given(
+    cam_strategies.restating(
+        cam_strategies.arc_programs() | cam_strategies.cam_programs()
+    )
+)
+def test_rows_that_restate_modes_keep_the_general_paths_calls(text):
+    """Rows of a move or arc with G90 or G17 restated beside it
+    (Machine.restating_row) give a canon the calls, values and error of
+    the general path, and the same trace."""
+    code = compile_text(text, "restating.ngc")
+    fast = _calls(code, error=True), _trace(code)
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(
+            Machine,
+            "restating_row",
+            lambda self, line, codes, how, n, words: self.block(
+                line, *codes, n=n, **words
+            ),
+        )
+        assert (_calls(code, error=True), _trace(code)) == fast
+
+
+@pytest.mark.rs274
+@settings(PROFILE)
+@given(
+    cam_strategies.restating(
+        cam_strategies.arc_programs() | cam_strategies.cam_programs()
+    )
+)
+def test_rows_that_restate_modes_match_rs274(text):
+    check_same(text, "inprocess")
+
+
 def test_values_with_four_decimals_are_written_as_printed():
     code = compile_text(FOUR_PLACES, "cam.ngc")
     assert "run_rows(m, SHAPES, ROWS_1, as_printed=True)" in code

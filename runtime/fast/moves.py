@@ -314,7 +314,13 @@ class FastPathMixin:
             self.block(line, motion, n=n, comment=comment, **words)
 
     def plain_arc(
-        self, line: int, motion: Optional[int], words, n, comment=None
+        self,
+        line: int,
+        motion: Optional[int],
+        words,
+        n,
+        comment=None,
+        restated_plane=False,
     ) -> bool:
         """A line of G2/G3 (``motion``; None: the modal motion), axis words,
         I J K or R, and F, in the plain state: what ``block`` does, without
@@ -385,6 +391,8 @@ class FastPathMixin:
                 return False
             c1, c2 = centre
         self._open_plain_block(line, n, f, comment)
+        if restated_plane:  # G17 (restating_row): after F, before the motion
+            self.canon.select_plane("XY")
         self.motion_mode = motion
         self.canon.arc_feed(
             e1, e2, c1, c2, -1 if motion == G2 else 1, end[p3], *end[3:]
@@ -408,6 +416,27 @@ class FastPathMixin:
             self.feed_rate = f
             self.canon.set_feed_rate(f)
             self.world.feed_rate = f
+
+    def restating_row(self, line: int, codes, restating, n, words) -> None:
+        """A row of a move or an arc whose other codes restate modes in
+        force (runtime.fast.rows): G90 in absolute distance does nothing,
+        G17 in the XY plane is a SELECT_PLANE between the F word and the
+        motion. Anything else, or a line the fast paths step aside from
+        (having done nothing), is ``block``'s with all its codes."""
+        motion, plane, arc = restating
+        if (
+            not self._plain
+            or self.distance_incremental
+            or (plane and self.plane != "XY")
+        ):
+            return self.block(line, *codes, n=n, **words)
+        if arc:
+            if not self.plain_arc(line, motion, words, n, None, plane):
+                self.block(line, *codes, n=n, **words)
+        elif plane:  # (a move with G17: seldom written)
+            self.block(line, *codes, n=n, **words)
+        else:
+            self.move(line, motion, n=n, **words)
 
     def dwell_row(self, line: int, n: Optional[str], seconds: float) -> None:
         """A row of G4 and P alone (runtime.fast.rows; a hand-drilling

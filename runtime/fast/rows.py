@@ -68,6 +68,8 @@ _AXES = "xyzabcuvw"
 _NO_OPS = (Canon.straight_feed, Canon.straight_traverse)
 _STRAIGHT_MOVES = Canon.straight_moves
 _ARC_LETTERS = "xyzabcijkrf"
+#: Codes a line may restate beside its motion (Machine.restating_row).
+_RESTATED = frozenset((G17, G90))
 #: The codes of a cycle's own line that runtime.fast.hole_rows may learn
 #: from: the cycle and the modes CAM posts set beside it.
 _DRILL_CODES = frozenset(DRILL_CYCLES)
@@ -92,6 +94,7 @@ class _Plan:
         "cycle",
         "opens_cycle",
         "dwell",
+        "restating",
     )
 
     def __init__(self, shape: Shape):
@@ -146,6 +149,21 @@ class _Plan:
         )
         #: A dwell, G4 and P alone (and N): Machine.dwell_row.
         self.dwell = codes == (G4,) and self.letters == ("p",)
+        #: A move or arc whose other codes restate modes (G90, G17), as
+        #: some posts write them on every line: (motion, G17 among them,
+        #: an arc) for Machine.restating_row; else None.
+        self.restating = None
+        rest = [code for code in codes if code not in _RESTATED]
+        if len(rest) == 1 and len(codes) > 1 and len(set(codes)) == len(codes):
+            motion = rest[0]
+            if motion in (G0, G1) and axes and not others:
+                self.restating = (motion, G17 in codes, False)
+            elif (
+                motion in (G2, G3)
+                and any(x in "xyzabc" for x in self.letters)
+                and all(x in _ARC_LETTERS for x in self.letters)
+            ):
+                self.restating = (motion, G17 in codes, True)
         #: What runtime.fast.printed_rows needs, in one tuple (None: not for it).
         self.printed = None
         if self.slots is not None and not self.beyond_printed:
@@ -303,6 +321,8 @@ def run_rows(
                 machine.arc(line, plan.motion, n=n, **words)
             elif plan.dwell and not by_move:
                 machine.dwell_row(line, n, words["p"])
+            elif plan.restating is not None and not by_move:
+                machine.restating_row(line, plan.codes, plan.restating, n, words)
             else:
                 machine.block(line, *plan.codes, n=n, **words)
     except Exception as error:
