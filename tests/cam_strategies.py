@@ -611,18 +611,17 @@ def restating(draw, programs):
     posts write them on every line (``G90 G1 X1 Y2``, ``G17 G2 X.. R..``),
     with lines that change those modes among them (G91, G18, G90, G17)."""
     lines = draw(programs).split("\n")
+    prefixes = ["G90 ", "G17 ", "G90 G17 ", "G17 G90 "]
+    # or a post writes the same on every line (runs of rows of one shape)
+    every = draw(st.sampled_from([None, None] + prefixes))
     out = []
     for line in lines:
         words = line.split()
-        if (
-            words
-            and words[0][:1] in "GXYZ"
-            and "M2" not in line
-            and draw(st.booleans())
-        ):
-            line = (
-                draw(st.sampled_from(["G90 ", "G17 ", "G90 G17 ", "G17 G90 "])) + line
-            )
+        if words and words[0][:1] in "GXYZ" and "M2" not in line:
+            if every is not None:
+                line = every + line
+            elif draw(st.booleans()):
+                line = draw(st.sampled_from(prefixes)) + line
         out.append(line)
         if draw(st.integers(0, 30)) == 0:
             out.append(draw(st.sampled_from(["G91", "G90", "G18", "G17"])))

@@ -172,11 +172,16 @@ def test_hand_drilling_matches_rs274(text):
 )
 def test_rows_that_restate_modes_keep_the_general_paths_calls(text):
     """Rows of a move or arc with G90 or G17 restated beside it
-    (Machine.restating_row) give a canon the calls, values and error of
-    the general path, and the same trace."""
+    (Machine.restating_row, and the batches that read G90 G1 rows as G1
+    rows) give a canon the calls, values and error of the general path,
+    and the same trace."""
+    from runtime.fast import rows as fast_rows
+
     code = compile_text(text, "restating.ngc")
     fast = _calls(code, error=True), _trace(code)
     with pytest.MonkeyPatch.context() as patch:
+        plan = fast_rows._Plan
+        patch.setattr(fast_rows, "_Plan", lambda shape, restated=False: plan(shape))
         patch.setattr(
             Machine,
             "restating_row",

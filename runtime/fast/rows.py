@@ -97,9 +97,16 @@ class _Plan:
         "restating",
     )
 
-    def __init__(self, shape: Shape):
+    def __init__(self, shape: Shape, absolute_restated: bool = False):
         codes, letters = shape
         self.codes = codes
+        # G90 beside the motion restates a mode the plain state is always in
+        # (absolute distance), so the fast paths, which act only in that
+        # state, read such a row as its motion alone (``absolute_restated``:
+        # for a machine whose other rows go to block() with the row's own
+        # codes, which the preview's and flatten's moves do not)
+        if absolute_restated and len(codes) == 2 and G90 in codes:
+            codes = tuple(code for code in codes if code != G90)
         self.width = len(letters)
         self.has_n = bool(letters) and letters[0] == "n"
         #: The letters of the float values (the N text is apart).
@@ -147,6 +154,7 @@ class _Plan:
             and _CYCLE_LINE_CODES.issuperset(codes)
             and ROW_CYCLE_LETTERS.issuperset(self.letters)
         )
+        codes = self.codes  # (the row's own, from here on)
         #: A dwell, G4 and P alone (and N): Machine.dwell_row.
         self.dwell = codes == (G4,) and self.letters == ("p",)
         #: A move or arc whose other codes restate modes (G90, G17), as
@@ -271,17 +279,17 @@ def run_rows(
     An error is tagged with the row's G-code line (``ngc_row_line``) so the
     source map can name it: the generated frame only knows which table ran.
     """
-    plans = [_Plan(shape) for shape in shapes]
+    # A machine whose moves must each be a line of their own (the preview's)
+    # takes the rows the loops below leave as single lines, as the code
+    # generator's m.move and m.arc lines would be taken.
+    by_move = machine.rows_by_move
+    plans = [_Plan(shape, not by_move) for shape in shapes]
     cells = table.split()
     at, end = 0, len(cells)
     fast = machine.plain_rows
     arc_rows = ArcRows(machine, plans, as_printed).run
     if as_printed and type(machine.canon) is TraceCanon:
         fast = partial(printed_rows, machine, [plan.printed for plan in plans])
-    # A machine whose moves must each be a line of their own (the preview's)
-    # takes the rows the loops above leave as single lines, as the code
-    # generator's m.move and m.arc lines would be taken.
-    by_move = machine.rows_by_move
     # The next holes of a canned cycle, replayed (runtime.fast.hole_rows).
     hole_rows = HoleRows(machine, plans, as_printed)
     holes, opening = hole_rows.run, hole_rows.opening
