@@ -1274,10 +1274,15 @@ class CodeGen:
         the label, then skips to the next line with it if an arm has run."""
         line = stmt.check.line
         self._arm_run_into(line, stmt.check.kind, stmt.body, stmt.check)
+        # Where an arm has run, rs274 skips from this line, reading on the
+        # way the M98 lines' words (skipped_reads) up to where it stops.
         if stmt.landing is not None:
             # the skip lands inside a loop never closed, never entered
             self.w.stmt("else:", line)
             self.w.depth += 1
+            landing = next(st.walk(stmt.landing), None)
+            stop = landing.line.number if landing is not None else None
+            self.skipped_reads([stmt.body], line.number, stop)
             self.skipped_to(stmt.landing)
             self.w.depth -= 1
             return
@@ -1285,14 +1290,35 @@ class CodeGen:
         if unreadable is not None:
             self.w.stmt("else:", line)
             self.w.depth += 1
+            self.skipped_reads([stmt.body], line.number, unreadable.number)
             self.fail_skipped(unreadable)
             self.w.depth -= 1
         elif stmt.eof is not None:
-            # the skip runs to the end of the file
+            # the skip runs to the end of the file (past what holds this
+            # line: the file's lines after it), or fails at a line on the way
             self.w.stmt("else:", line)
             self.w.depth += 1
+            stop = _reads_stop(stmt.eof)
+            self.skipped_reads(self._rest_of_file(line), line.number, stop)
             self.statement(stmt.eof)
             self.w.depth -= 1
+        elif self.m98_reads and any(_m98_reads_between([stmt.body], line.number, None)):
+            self.w.stmt("else:", line)
+            self.w.depth += 1
+            self.skipped_reads([stmt.body], line.number)
+            self.w.depth -= 1
+
+    def _rest_of_file(self, line: nodes.Line) -> List[List[st.Stmt]]:
+        """The statements a skip from ``line`` to the end of its file may
+        pass: the file's whole body (skipped_reads takes the lines after
+        ``line``)."""
+        if (line.file or self.program.file) == self.program.file:
+            return [self.program.body]
+        return [
+            sub.body
+            for sub in self.program.externals
+            if (sub.line.file or "") == (line.file or "")
+        ]
 
     def s_topreturn(self, stmt: st.TopReturn) -> None:
         self.w.comment(stmt.line)
@@ -1335,7 +1361,7 @@ class CodeGen:
             self.w.stmt("m.define(%s, %s)" % (string(sub.name), sub.fn), sub.line)
         # what rs274 reads reading past the definition: its own return and
         # endsub values, and the words of its M98 lines, in text order
-        stop = err.line.number if err is not None else None
+        stop = _reads_stop(err) if err is not None else None
         last = sub.line.number
         for line in st.definition_values(sub):
             if stop is not None and line.number >= stop:
@@ -2152,8 +2178,8 @@ class CodeGen:
         # (up to where the skip stops: a line it cannot read, or one with
         # its label where it fails)
         stops = [unreadable.number] if unreadable is not None else []
-        if fail is not None and _fail_order(fail) != float("inf"):
-            stops.append(int(_fail_order(fail)))
+        if fail is not None and _reads_stop(fail) is not None:
+            stops.append(_reads_stop(fail))
         until = min(stops) if stops else None
         if reads and until is not None:  # (it may stop before them all)
             reads = any(_m98_reads_between([stmt.body], 0, until))
@@ -2980,3 +3006,13 @@ def _fail_order(stmt: st.Stmt) -> float:
     """Where a failure statement stands in the file (unknown: at the end)."""
     line = getattr(stmt, "line", None)
     return float("inf") if line is None else line.number
+
+
+def _reads_stop(fail: st.Stmt) -> Optional[int]:
+    """The line before which a skip that ends in ``fail`` reads M98 lines
+    (skipped_reads): the line it fails at, but for the end of the file,
+    named by its last line, which rs274 reads first (None: all of them)."""
+    if getattr(fail, "message", None) in (st.EOF_NO_END, st.EOF_NO_PERCENT):
+        return None
+    order = _fail_order(fail)
+    return None if order == float("inf") else int(order)

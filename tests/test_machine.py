@@ -354,6 +354,20 @@ WHOLE_PROGRAMS = {
     "M98 P[50+50] L[2]\n(debug, #1 #<_value> #<_call_level>)\nG0 X5\nM2\n"
     "O100\n#1 = [#1 + 1]\n(debug, #<_call_level>)\nG91 G0 X1\nM99\n",
     "m98_q_word": "M98 P100 Q1\nM2\nO100\nM99\n",
+    # an else after its if's endif skips ahead where an arm has run, reading
+    # the M98 lines on the way, to the next line of its label or the end of
+    # the file (language campaign, seed 33005; the Fanuc sub keeps the
+    # nested form)
+    "m98_read_by_a_stray_else": "o104 if [1]\no104 endif\no104 else\n"
+    "M98 P1 X[1/#3]\no104 endif\nM2\nO7777\nM99\n",
+    "m98_read_by_a_stray_else_to_the_end": "o104 if [0]\no104 endif\n"
+    "N5444 o104 else\nM98 P1 X[1/#3]\nO7777\n",
+    # the file's last line, an M98 line, is read before the end of the
+    # file fails (language campaign, seed 33006)
+    "m98_read_as_the_last_line_skipped": "o102 repeat [0]\nM98 P[#1 + 0.5]\n",
+    "m98_read_by_a_stray_else_not_failing": "o104 if [1]\no104 endif\n"
+    "o104 else\nM98 P1 X[1/#1]\no104 endif\n#1 = 2\no104 if [0]\no104 endif\n"
+    "o104 else\nM98 P1 X[1/#1]\n(debug, reached)\no104 endif\nM2\nO1\nM99\n",
     "call_before_definition": "G21\no<a> call\no<a> call\no<a> sub\nG0 X1\n"
     "o<a> endsub\nM2\n",
     "call_from_sub_before_definition": "o<b> sub\no<a> call\no<b> endsub\n"
@@ -574,7 +588,9 @@ def test_other_spindles_fail_where_rs274_reads_them():
     # The stand-alone rs274 has one spindle: $2 fails at the S step, before
     # M3 (golden/spindle/dollar_*.ngc pin down every step's message).
     machine = Machine(RecordingCanon())
-    with pytest.raises(GCodeError, match=r"Invalid spindle \(\$\) number in Spindle speed command"):
+    with pytest.raises(
+        GCodeError, match=r"Invalid spindle \(\$\) number in Spindle speed command"
+    ):
         machine.run(lambda m: m.block(1, m_code(3), s=100.0, dollar=2.0))
 
 
