@@ -730,7 +730,9 @@ class CodeGen:
         self.text_errors = st.first_text_error(bodies) is not None
         # Any M98 line whose words may fail to read? rs274 reads them even
         # skipping over the line (skipped_reads); most programs have none.
-        self.m98_reads = _has_m98_reads(bodies)
+        self.m98_reads = _has_m98_reads(bodies) or any(
+            _m98_values(line) for line in self._file_m98_lines()
+        )
         # any M98 that may never return (see strands): most programs have none
         #: Enough constant blocks for short runs to become tables too.
         self.cam_sized = constant_rows(bodies) >= MIN_PROGRAM_ROWS
@@ -1299,7 +1301,12 @@ class CodeGen:
             self.w.stmt("else:", line)
             self.w.depth += 1
             stop = _reads_stop(stmt.eof)
-            self.skipped_reads(self._rest_of_file(line), line.number, stop)
+            self.skipped_reads(
+                self._rest_of_file(line),
+                line.number,
+                stop,
+                lines=self._own_m98_lines(line),
+            )
             self.statement(stmt.eof)
             self.w.depth -= 1
         elif self.m98_reads and any(_m98_reads_between([stmt.body], line.number, None)):
@@ -1307,6 +1314,12 @@ class CodeGen:
             self.w.depth += 1
             self.skipped_reads([stmt.body], line.number)
             self.w.depth -= 1
+
+    def _own_m98_lines(self, line: nodes.Line) -> Optional[List[nodes.Line]]:
+        """The M98 lines of ``line``'s file, where it is the main file."""
+        if (line.file or self.program.file) == self.program.file:
+            return self._file_m98_lines()
+        return None
 
     def _rest_of_file(self, line: nodes.Line) -> List[List[st.Stmt]]:
         """The statements a skip from ``line`` to the end of its file may
@@ -1363,14 +1376,22 @@ class CodeGen:
         # endsub values, and the words of its M98 lines, in text order
         stop = _reads_stop(err) if err is not None else None
         last = sub.line.number
+        # (the file's own M98 lines where the definition is the main file's:
+        # a construct that failed as a whole keeps no statements of them)
+        lines = self._own_m98_lines(sub.line)
+        reads_stop = stop
+        if lines is not None and stop is None and sub.end is not None:
+            reads_stop = sub.end.number  # (read to its endsub)
         for line in st.definition_values(sub):
             if stop is not None and line.number >= stop:
                 break
-            self.skipped_reads([sub.body], last, line.number, defining=not sub.fanuc)
+            self.skipped_reads(
+                [sub.body], last, line.number, defining=not sub.fanuc, lines=lines
+            )
             self.definition_value(line)
             last = line.number
         if not sub.fanuc:
-            self.skipped_reads([sub.body], last, stop, defining=True)
+            self.skipped_reads([sub.body], last, reads_stop, defining=True, lines=lines)
         if err is not None:
             if err.line.error == err.message and err.line.partial:
                 # the sub's own return/endsub line, whose value fails to
@@ -2040,21 +2061,36 @@ class CodeGen:
 
     # -- lines read while skipping ----------------------------------------
 
+    def _file_m98_lines(self) -> List[nodes.Line]:
+        """The main file's M98 lines, every one (structure.build)."""
+        return getattr(self.program, "m98_lines", None) or []
+
     def skipped_reads(
         self,
         bodies: List[List[st.Stmt]],
         after: int = 0,
         before: Optional[int] = None,
         defining: bool = False,
+        lines: Optional[List[nodes.Line]] = None,
     ) -> None:
         """rs274 reads an M98 line's words even when it skips over the line
         (interp_read.cc read_o): the values that may fail of the M98 lines
-        in ``bodies`` after line ``after`` and before line ``before`` (where
-        the skip stops), in text order; ``defining``: read past a
-        definition (a name not set reads 0)."""
+        in ``bodies`` (or of ``lines``, a file's own) after line ``after``
+        and before line ``before`` (where the skip stops), in text order;
+        ``defining``: read past a definition (a name not set reads 0)."""
         if not self.m98_reads:
             return  # the usual case: nothing to read
-        for line in _m98_reads_between(bodies, after, before):
+        if lines is not None:
+            found = [
+                line
+                for line in lines
+                if line.number > after
+                and (before is None or line.number < before)
+                and _m98_values(line)
+            ]
+        else:
+            found = _m98_reads_between(bodies, after, before)
+        for line in found:
             self.w.raw(
                 "%s# rs274 reads line %d while skipping it"
                 % (self.indent(), line.number)

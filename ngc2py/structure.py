@@ -2513,13 +2513,25 @@ def build(
     if last is None and demarcated and lines:
         # Only the opening %: rs274 then reads nothing more, and echoes "".
         last = nodes.Line(lines[0].number + 1, "", file)
-    return Program(
+    program = Program(
         file,
         builder.main,
         builder.subs,
         last=last,
         open_error=opening_error(lines),
     )
+    # rs274 reads an M98 line's words wherever it skips over it, even a
+    # line of a construct that failed as a whole (codegen.skipped_reads)
+    read = closing.number if closing is not None else None
+    program.m98_lines = [
+        line
+        for line in lines
+        if type(line) is not RowRun
+        and line.oword is not None
+        and line.oword.keyword == "m98"
+        and (read is None or line.number < read)
+    ]
+    return program
 
 
 def m98_may_strand(line: nodes.Line) -> bool:

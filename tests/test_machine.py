@@ -365,6 +365,13 @@ WHOLE_PROGRAMS = {
     # the file's last line, an M98 line, is read before the end of the
     # file fails (language campaign, seed 33006)
     "m98_read_as_the_last_line_skipped": "o102 repeat [0]\nM98 P[#1 + 0.5]\n",
+    # a definition read to the end of the file, its M98 line inside an if
+    # that failed as a whole (a label the do around it holds): rs274 reads
+    # the line all the same (language campaign, seed 33006)
+    "m98_read_in_a_failed_construct_of_a_definition": "o<s0> sub\no101 do\n"
+    "o103 while [#<stray> LT 1]\no101 if [0]\nM98 P[#1 + 0.5]\n",
+    "m98_after_a_definition_not_read_with_it": "#1 = 0.5\no<s> sub\nG0 X1\n"
+    "o<s> endsub\nG0 X2\no1 if [0]\nM98 P[#1]\no1 endif\nM2\nO7777\nM99\n",
     "m98_read_by_a_stray_else_not_failing": "o104 if [1]\no104 endif\n"
     "o104 else\nM98 P1 X[1/#1]\no104 endif\n#1 = 2\no104 if [0]\no104 endif\n"
     "o104 else\nM98 P1 X[1/#1]\n(debug, reached)\no104 endif\nM2\nO1\nM99\n",
