@@ -2209,15 +2209,24 @@ class CodeGen:
         ):
             landing = None  # the skip stops earlier
         # skipping the body, rs274 reads its M98 lines (a do-loop ends at
-        # its closing line: nothing skipped)
+        # its closing line: nothing skipped); skipping to the end of the
+        # file, every M98 line of the file after the loop's (lines)
         reads = stmt.kind != "do" and self.reads_in([stmt.body])
+        lines = None
+        if stmt.kind != "do" and fail is not None and _to_end_of_file(fail):
+            lines = self._own_m98_lines(stmt.line)
+            if lines is not None and self.m98_reads:
+                reads = any(
+                    line.number > stmt.line.number and _m98_values(line)
+                    for line in lines
+                )
         # (up to where the skip stops: a line it cannot read, or one with
         # its label where it fails)
         stops = [unreadable.number] if unreadable is not None else []
         if fail is not None and _reads_stop(fail) is not None:
             stops.append(_reads_stop(fail))
         until = min(stops) if stops else None
-        if reads and until is not None:  # (it may stop before them all)
+        if reads and until is not None and lines is None:  # (it may stop first)
             reads = any(_m98_reads_between([stmt.body], 0, until))
         if landing is not None:
             # it stops at a do line of its label in the body, and rs274
@@ -2239,7 +2248,7 @@ class CodeGen:
         self.w.stmt("else:", stmt.line)
         self.w.depth += 1
         if reads:
-            self.skipped_reads([stmt.body], before=until)
+            self.skipped_reads([stmt.body], stmt.line.number, before=until, lines=lines)
         if sets_break:
             # a break line of this loop on the way sets doing_break
             self.w.stmt("m.doing_break = True", stmt.line)
@@ -3044,11 +3053,16 @@ def _fail_order(stmt: st.Stmt) -> float:
     return float("inf") if line is None else line.number
 
 
+def _to_end_of_file(fail: st.Stmt) -> bool:
+    """Is ``fail`` the end of the file a skip runs into?"""
+    return getattr(fail, "message", None) in (st.EOF_NO_END, st.EOF_NO_PERCENT)
+
+
 def _reads_stop(fail: st.Stmt) -> Optional[int]:
     """The line before which a skip that ends in ``fail`` reads M98 lines
     (skipped_reads): the line it fails at, but for the end of the file,
     named by its last line, which rs274 reads first (None: all of them)."""
-    if getattr(fail, "message", None) in (st.EOF_NO_END, st.EOF_NO_PERCENT):
+    if _to_end_of_file(fail):
         return None
     order = _fail_order(fail)
     return None if order == float("inf") else int(order)

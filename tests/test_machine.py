@@ -372,6 +372,12 @@ WHOLE_PROGRAMS = {
     "o103 while [#<stray> LT 1]\no101 if [0]\nM98 P[#1 + 0.5]\n",
     "m98_after_a_definition_not_read_with_it": "#1 = 0.5\no<s> sub\nG0 X1\n"
     "o<s> endsub\nG0 X2\no1 if [0]\nM98 P[#1]\no1 endif\nM2\nO7777\nM99\n",
+    # a loop never closed that ends by skipping reads to the end of the
+    # file: the M98 lines after what holds it too
+    "m98_read_past_a_repeat_never_closed": "o1 if [1]\no2 repeat [0]\nG0 X1\n"
+    "o1 endif\nM98 P[#1 + 0.5]\nM2\nO7777\nM99\n",
+    "m98_read_past_a_while_never_closed": "o1 if [1]\no2 while [0]\nG0 X1\n"
+    "o1 endif\nG0 X2\nM98 P[#1 + 0.5]\nM2\n",
     "m98_read_by_a_stray_else_not_failing": "o104 if [1]\no104 endif\n"
     "o104 else\nM98 P1 X[1/#1]\no104 endif\n#1 = 2\no104 if [0]\no104 endif\n"
     "o104 else\nM98 P1 X[1/#1]\n(debug, reached)\no104 endif\nM2\nO1\nM99\n",
