@@ -53,6 +53,7 @@ WORKLOADS = {
     "cam_arcs_100k": (workloads.cam_arcs, 100_000, True),
     "cycles_20k": (workloads.drill_cycles, 20_000, True),
     "pocket_40": (workloads.pocket, 40, False),
+    "shop_20k": (workloads.shop, 20_000, False),
     # Last: generating it grows this process, and a child's peak memory (as
     # the kernel reports it) starts from the parent it was forked from.
     "cam_1m": (workloads.cam, 1_000_000, False),
@@ -93,7 +94,9 @@ class Run:
     def __init__(self, cmd: List[str], cwd: Path, env: dict, stdout_to: Optional[Path]):
         start = time.perf_counter()
         with open(stdout_to or os.devnull, "wb") as out:
-            proc = subprocess.Popen(cmd, cwd=cwd, env=env, stdout=out, stderr=subprocess.DEVNULL)
+            proc = subprocess.Popen(
+                cmd, cwd=cwd, env=env, stdout=out, stderr=subprocess.DEVNULL
+            )
             _, status, usage = os.wait4(proc.pid, 0)
         self.seconds = time.perf_counter() - start
         self.peak_mb = usage.ru_maxrss / 1024
@@ -150,7 +153,9 @@ def user_python(work: Path) -> Tuple[str, List[str]]:
 
     venv = work / "venv"
     if not (venv / "bin" / "python").exists():
-        subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True)
+        subprocess.run(
+            [sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True
+        )
     python = str(venv / "bin" / "python")
     subprocess.run(
         [python, "-m", "compileall", "-q", str(REPO / "ngc2py"), str(REPO / "runtime")],
@@ -162,9 +167,15 @@ def user_python(work: Path) -> Tuple[str, List[str]]:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--quick", action="store_true", help="leave out the 1M-line CAM file")
-    ap.add_argument("--repeat", type=int, default=3, help="runs of each command (default 3)")
-    ap.add_argument("--only", help="comma-separated workload names: " + ", ".join(WORKLOADS))
+    ap.add_argument(
+        "--quick", action="store_true", help="leave out the 1M-line CAM file"
+    )
+    ap.add_argument(
+        "--repeat", type=int, default=3, help="runs of each command (default 3)"
+    )
+    ap.add_argument(
+        "--only", help="comma-separated workload names: " + ", ".join(WORKLOADS)
+    )
     ap.add_argument("--keep", help="write the programs and outputs here and keep them")
     args = ap.parse_args(argv)
 
@@ -174,9 +185,13 @@ def main(argv=None) -> int:
     elif args.quick:
         names.remove("cam_1m")
     rs274 = shutil.which("rs274")
-    has_gcode = os.path.exists(SYSTEM_PYTHON) and subprocess.run(
-        [SYSTEM_PYTHON, "-c", "import gcode"], capture_output=True
-    ).returncode == 0
+    has_gcode = (
+        os.path.exists(SYSTEM_PYTHON)
+        and subprocess.run(
+            [SYSTEM_PYTHON, "-c", "import gcode"], capture_output=True
+        ).returncode
+        == 0
+    )
     work = Path(args.keep or tempfile.mkdtemp(prefix="ngc2py-bench-"))
     work.mkdir(parents=True, exist_ok=True)
     home = work / "home"
@@ -189,14 +204,39 @@ def main(argv=None) -> int:
     # in __pycache__ (pip install writes it too). A sandbox that forbids that
     # would charge every run for recompiling the runtime package.
     env.pop("PYTHONDONTWRITEBYTECODE", None)
-    subprocess.run([py, "-c", "import runtime.machine, ngc2py.cli"], env=env, cwd=str(REPO))
-    print("rs274: %s   gcode.parse: %s" % (
-        rs274 or "not installed", "yes" if has_gcode else "no (system Python lacks LinuxCNC's gcode)"))
-    print("python: %s in a bare venv (as `pip install .` leaves it), start-up %.3fs\n" % (
-        sys.version.split()[0], med([Run([py, "-c", "pass"], work, env, None) for _ in range(5)])))
-    print("ratio = rs274's time / ngc2py's time (higher is better); medians of %d alternating runs\n" % args.repeat)
+    subprocess.run(
+        [py, "-c", "import runtime.machine, ngc2py.cli"], env=env, cwd=str(REPO)
+    )
+    print(
+        "rs274: %s   gcode.parse: %s"
+        % (
+            rs274 or "not installed",
+            "yes" if has_gcode else "no (system Python lacks LinuxCNC's gcode)",
+        )
+    )
+    print(
+        "python: %s in a bare venv (as `pip install .` leaves it), start-up %.3fs\n"
+        % (
+            sys.version.split()[0],
+            med([Run([py, "-c", "pass"], work, env, None) for _ in range(5)]),
+        )
+    )
+    print(
+        "ratio = rs274's time / ngc2py's time (higher is better); medians of %d alternating runs\n"
+        % args.repeat
+    )
     head = "%-11s %8s %9s %8s %9s %8s %9s %8s %7s  %s" % (
-        "workload", "lines", "convert", "rs274", "prog.py", "ratio", "run", "ratio", "peakMB", "trace")
+        "workload",
+        "lines",
+        "convert",
+        "rs274",
+        "prog.py",
+        "ratio",
+        "run",
+        "ratio",
+        "peakMB",
+        "trace",
+    )
     print(head)
     print("-" * len(head))
     per_line: Dict[str, float] = {}
@@ -210,36 +250,80 @@ def main(argv=None) -> int:
             src.write_text(make(size))
             lines = sum(1 for _ in open(src))
             module = work / f"{name}.py"
-            conv = Run([py, "-m", "ngc2py", "convert", src.name, "-o", module.name], work, env, None)
+            conv = Run(
+                [py, "-m", "ngc2py", "convert", src.name, "-o", module.name],
+                work,
+                env,
+                None,
+            )
             if conv.status != 0:
-                print("%-11s %8d  convert failed (exit %d): not supported yet?" % (name, lines, conv.status))
+                print(
+                    "%-11s %8d  convert failed (exit %d): not supported yet?"
+                    % (name, lines, conv.status)
+                )
                 continue
             convert_times[name] = conv.seconds
             # fill the compile cache once: 'ngc2py run' below is the warm case
             Run([py, "-m", "ngc2py", "run", src.name], work, env, None)
-            ref_out, cold_out, warm_out = work / f"{name}.rs274", work / f"{name}.cold", work / f"{name}.warm"
+            ref_out, cold_out, warm_out = (
+                work / f"{name}.rs274",
+                work / f"{name}.cold",
+                work / f"{name}.warm",
+            )
             makers = [
                 lambda: Run([py, module.name], work, env, cold_out),
                 lambda: Run([py, "-m", "ngc2py", "run", src.name], work, env, warm_out),
             ]
             if rs274:
-                makers.insert(0, lambda: Run([rs274, "-g", src.name, ref_out.name], work, env, None))
+                makers.insert(
+                    0,
+                    lambda: Run([rs274, "-g", src.name, ref_out.name], work, env, None),
+                )
             results = median_runs(makers, args.repeat)
             if rs274:
                 ref, cold, warm = results
                 ref_s = med(ref)
                 rs274_times[name] = ref_s
-                trace = "identical" if same_file(ref_out, cold_out) == "identical" == same_file(ref_out, warm_out) else "DIFFERS"
+                trace = (
+                    "identical"
+                    if same_file(ref_out, cold_out)
+                    == "identical"
+                    == same_file(ref_out, warm_out)
+                    else "DIFFERS"
+                )
                 if ref[0].status != cold[0].status:
                     trace += " (exit %d vs %d)" % (ref[0].status, cold[0].status)
-                print("%-11s %8d %8.2fs %7.2fs %8.2fs %8s %8.2fs %8s %7.0f  %s" % (
-                    name, lines, conv.seconds, ref_s, med(cold), fmt_ratio(ref_s, med(cold)),
-                    med(warm), fmt_ratio(ref_s, med(warm)), max(peak(cold), peak(warm), conv.peak_mb), trace))
+                print(
+                    "%-11s %8d %8.2fs %7.2fs %8.2fs %8s %8.2fs %8s %7.0f  %s"
+                    % (
+                        name,
+                        lines,
+                        conv.seconds,
+                        ref_s,
+                        med(cold),
+                        fmt_ratio(ref_s, med(cold)),
+                        med(warm),
+                        fmt_ratio(ref_s, med(warm)),
+                        max(peak(cold), peak(warm), conv.peak_mb),
+                        trace,
+                    )
+                )
             else:
                 cold, warm = results
-                print("%-11s %8d %8.2fs %8s %8.2fs %8s %8.2fs %8s %7.0f  (no rs274)" % (
-                    name, lines, conv.seconds, "-", med(cold), "-", med(warm), "-",
-                    max(peak(cold), peak(warm), conv.peak_mb)))
+                print(
+                    "%-11s %8d %8.2fs %8s %8.2fs %8s %8.2fs %8s %7.0f  (no rs274)"
+                    % (
+                        name,
+                        lines,
+                        conv.seconds,
+                        "-",
+                        med(cold),
+                        "-",
+                        med(warm),
+                        "-",
+                        max(peak(cold), peak(warm), conv.peak_mb),
+                    )
+                )
             if name.startswith("cam_"):
                 per_line[name] = med(cold) / lines
             if trace_free and has_gcode:
@@ -249,23 +333,41 @@ def main(argv=None) -> int:
                         ([SYSTEM_PYTHON, "-c", GCODE_PARSE, src.name], theirs),
                         ([py, "-c", NULL_RUN, str(work), name], ours),
                     ):
-                        proc = subprocess.run(cmd, cwd=work, env=env, capture_output=True, text=True)
+                        proc = subprocess.run(
+                            cmd, cwd=work, env=env, capture_output=True, text=True
+                        )
                         if proc.returncode == 0 and proc.stdout.strip():
                             into.append(float(proc.stdout.split()[-1]))
                 if ours and theirs:
-                    preview.append((name, statistics.median(theirs), statistics.median(ours)))
+                    preview.append(
+                        (name, statistics.median(theirs), statistics.median(ours))
+                    )
         if preview:
-            print("\ntrace-free: gcode.parse (do-nothing canon) against module.run(NullCanon())")
+            print(
+                "\ntrace-free: gcode.parse (do-nothing canon) against module.run(NullCanon())"
+            )
             for name, theirs, ours in preview:
-                print("  %-11s gcode.parse %7.2fs   NullCanon %7.2fs   ratio %s" % (
-                    name, theirs, ours, fmt_ratio(theirs, ours)))
+                print(
+                    "  %-11s gcode.parse %7.2fs   NullCanon %7.2fs   ratio %s"
+                    % (name, theirs, ours, fmt_ratio(theirs, ours))
+                )
         if len(per_line) > 1:
-            print("\ngrowth (python PROG.py, microseconds per line):",
-                  "  ".join("%s %.2f" % (n, t * 1e6) for n, t in per_line.items()))
+            print(
+                "\ngrowth (python PROG.py, microseconds per line):",
+                "  ".join("%s %.2f" % (n, t * 1e6) for n, t in per_line.items()),
+            )
         if "cam_1m" in convert_times and "cam_1m" in rs274_times:
-            total = convert_times["cam_1m"] + per_line["cam_1m"] * sum(1 for _ in open(work / "cam_1m.ngc"))
-            print("\n1M-line CAM file: convert + first run %.2fs against rs274 %.2fs (ratio %s)" % (
-                total, rs274_times["cam_1m"], fmt_ratio(rs274_times["cam_1m"], total)))
+            total = convert_times["cam_1m"] + per_line["cam_1m"] * sum(
+                1 for _ in open(work / "cam_1m.ngc")
+            )
+            print(
+                "\n1M-line CAM file: convert + first run %.2fs against rs274 %.2fs (ratio %s)"
+                % (
+                    total,
+                    rs274_times["cam_1m"],
+                    fmt_ratio(rs274_times["cam_1m"], total),
+                )
+            )
     finally:
         if not args.keep:
             shutil.rmtree(work, ignore_errors=True)

@@ -15,8 +15,13 @@ def cam(moves: int) -> str:
     lines = ["(synthetic CAM output)", "G21 G90 G17 G94", "G0 X0 Y0 Z5", "G1 Z-1 F800"]
     for k in range(moves):
         if k % 500 == 499:
-            lines += ["G0 Z5", "X%.3f Y%.3f" % (rng.uniform(0, 100), rng.uniform(0, 80))]
-            lines.append("G1 Z%.3f F%d" % (-rng.uniform(0.5, 3), rng.choice((600, 800, 1200))))
+            lines += [
+                "G0 Z5",
+                "X%.3f Y%.3f" % (rng.uniform(0, 100), rng.uniform(0, 80)),
+            ]
+            lines.append(
+                "G1 Z%.3f F%d" % (-rng.uniform(0.5, 3), rng.choice((600, 800, 1200)))
+            )
             continue
         x = (k * 7919 % 100000) / 1000.0
         y = (k * 104729 % 80000) / 1000.0
@@ -40,7 +45,12 @@ def cam_arcs(count: int) -> str:
     row to row, in IJ and R form, some helical, between straight moves, with
     a feed change now and then (what a CAM post writes for a 2.5D profile)."""
     rng = random.Random(count)
-    lines = ["(CAM arcs, varying geometry)", "G21 G90 G17 G94", "G0 X0 Y0 Z5", "G1 Z-1 F700"]
+    lines = [
+        "(CAM arcs, varying geometry)",
+        "G21 G90 G17 G94",
+        "G0 X0 Y0 Z5",
+        "G1 Z-1 F700",
+    ]
     x = y = 0.0
     z = -1.0
     for k in range(count):
@@ -63,8 +73,9 @@ def cam_arcs(count: int) -> str:
             # R form: the short way round, so |sweep| stays below 180 degrees
             lines.append("%s X%.4f Y%.4f R%.4f%s" % (code, ex, ey, radius, helix))
         else:
-            lines.append("%s X%.4f Y%.4f I%.4f J%.4f%s" % (
-                code, ex, ey, cx - x, cy - y, helix))
+            lines.append(
+                "%s X%.4f Y%.4f I%.4f J%.4f%s" % (code, ex, ey, cx - x, cy - y, helix)
+            )
         x, y = round(ex, 4), round(ey, 4)
         if k % 5 == 4:
             x, y = x + rng.uniform(-2, 2), y + rng.uniform(-2, 2)
@@ -80,8 +91,17 @@ def drill_cycles(holes: int) -> str:
     G98 and G99 retracts, and rows of holes as bare X Y lines."""
     rng = random.Random(holes)
     lines = ["(canned cycles)", "G21 G90 G17 G94", "G0 Z20", "M3 S1200", "F250"]
-    cycles = ("G81", "G82 P0.2", "G83 Q1.2", "G73 Q0.8", "G84 P0.1", "G85", "G86 P0.3",
-              "G88 P0.1", "G89 P0.2")
+    cycles = (
+        "G81",
+        "G82 P0.2",
+        "G83 Q1.2",
+        "G73 Q0.8",
+        "G84 P0.1",
+        "G85",
+        "G86 P0.3",
+        "G88 P0.1",
+        "G89 P0.2",
+    )
     k = 0
     group = 0
     while k < holes:
@@ -95,10 +115,14 @@ def drill_cycles(holes: int) -> str:
             lines.append("M3 S%d" % rng.choice((300, 400, 500)))
         if group % 11 == 5:
             lines.append("G91")
-            lines.append("%s %s X5 Y0 Z%.3f R%.3f%s" % (retract, cycle, depth, clear, repeat))
+            lines.append(
+                "%s %s X5 Y0 Z%.3f R%.3f%s" % (retract, cycle, depth, clear, repeat)
+            )
             lines.append("G90")
         else:
-            lines.append("%s %s X%.3f Y%.3f Z%.3f R%.3f" % (retract, cycle, x, y, depth, clear))
+            lines.append(
+                "%s %s X%.3f Y%.3f Z%.3f R%.3f" % (retract, cycle, x, y, depth, clear)
+            )
         k += 1
         for _ in range(rng.randint(10, 40)):
             if k >= holes:
@@ -110,6 +134,40 @@ def drill_cycles(holes: int) -> str:
         group += 1
     lines += ["M5", "G0 Z20", "M2"]
     return "\n".join(lines) + "\n"
+
+
+def shop(lines: int) -> str:
+    """What shops' programs add to CAM rows, each a tenth or more of the
+    lines: moves and arcs with a comment, modes restated on every line
+    (G90 G1, G17 G2) and holes drilled a line at a time with a G4 pause."""
+    rng = random.Random(lines)
+    out = ["(shop program)", "G21 G90 G17 G94", "G0 Z5", "M3 S1500", "G1 Z-1 F600"]
+    x = y = 0.0
+    k = 0
+    while len(out) < lines:
+        kind = k % 4
+        k += 1
+        for _ in range(rng.randint(10, 30)):
+            x, y = rng.uniform(0, 150), rng.uniform(0, 100)
+            if kind == 0:
+                out.append("G1 X%.3f Y%.3f (pass %d)" % (x, y, k))
+            elif kind == 1:
+                out.append("G90 G1 X%.3f Y%.3f" % (x, y))
+            elif kind == 2:
+                ex, ey = x + rng.uniform(-5, 5), y + rng.uniform(-5, 5)
+                out.append("G1 X%.3f Y%.3f" % (x, y))
+                out.append(
+                    "G17 G%d X%.3f Y%.3f R%.3f" % (rng.choice((2, 3)), ex, ey, 8.0)
+                )
+            else:
+                out += [
+                    "G0 X%.3f Y%.3f" % (x, y),
+                    "G1 Z%.3f" % -rng.uniform(2, 8),
+                    "G4 P%.1f" % rng.choice((0.2, 0.5)),
+                    "G0 Z2",
+                ]
+    out += ["M5", "G0 Z5", "M2"]
+    return "\n".join(out) + "\n"
 
 
 def loop(iterations: int) -> str:
