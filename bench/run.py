@@ -5,7 +5,8 @@
 
 Generates the workloads (bench/workloads.py: CAM files of 10k, 100k and 1M
 moves, 100k centre-format arcs, a 200k-iteration trigonometry loop, 100k
-subroutine calls, canned drilling, a pocketing job) into a temporary folder
+subroutine calls, canned drilling, a pocketing job, a shop's program of
+commented moves, restated modes and hand drilling) into a temporary folder
 and, for each one:
 
 * converts it once (``ngc2py convert``: time and peak memory);
