@@ -17,6 +17,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import cam_strategies
+import test_cycles
 from ngc2py import codegen, rowtable
 from ngc2py.compiler import compile_text
 from runtime.fast.arc_rows import ArcRows
@@ -153,6 +154,60 @@ def test_dwell_rows_keep_the_general_paths_calls(text):
             Machine,
             "dwell_row",
             lambda self, line, n, p: self.block(line, codes.G4, n=n, p=p),
+        )
+        assert (_calls(code, error=True), _trace(code)) == fast
+
+
+@st.composite
+def back_to_back_series(draw):
+    """Series of holes each closed by G80 and the next opened at once (no
+    motion between: the next series' initial level is where the tool is,
+    which G80 makes it take), in either retract mode."""
+    lines = ["G21 G90 G17 F300", "G0 Z%d" % draw(st.integers(5, 30))]
+    for k in range(draw(st.integers(2, 4))):
+        # (the first retracting to R: the next series starts below where
+        # the first began)
+        retract = "G99" if k == 0 else draw(st.sampled_from(["G98", "G99"]))
+        code = draw(st.sampled_from(["G81", "G82 P0.5", "G83 Q1.5", "G73 Q1"]))
+        r = draw(st.integers(1, 9))
+        lines.append(
+            "%s %s X%d Y%d Z-%d R%d"
+            % (
+                retract,
+                code,
+                draw(st.integers(0, 99)),
+                draw(st.integers(0, 99)),
+                draw(st.integers(1, 9)),
+                r,
+            )
+        )
+        for _ in range(draw(st.integers(0, 12))):
+            lines.append(
+                "X%d Y%d" % (draw(st.integers(0, 99)), draw(st.integers(0, 99)))
+            )
+        lines.append(draw(st.sampled_from(["G80", "G80", "N5 G80"])))
+    return cam_strategies.cam_sized("\n".join(lines + ["M2"]) + "\n")
+
+
+@settings(PROFILE, max_examples=PROFILE.max_examples * 2)
+@given(
+    st.one_of(
+        back_to_back_series(),
+        test_cycles.cycle_tables(),
+        cam_strategies.hand_drilling(),
+    )
+)
+def test_cancel_rows_keep_the_general_paths_calls(text):
+    """A table's G80 rows (Machine.cancel_row, the end of each series of
+    holes) give a canon the calls, values and error of the general path,
+    and the same trace."""
+    code = compile_text(text, "cancel.ngc")
+    fast = _calls(code, error=True), _trace(code)
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(
+            Machine,
+            "cancel_row",
+            lambda self, line, n: self.block(line, codes.G80, n=n),
         )
         assert (_calls(code, error=True), _trace(code)) == fast
 

@@ -41,7 +41,7 @@ if TYPE_CHECKING:
 
 from runtime import arcs
 from runtime.fast import arc_rows
-from runtime.codes import G0, G1, G2, G3, G4
+from runtime.codes import G0, G1, G2, G3, G4, G80
 from runtime.fast.rows import BATCH, straight_batch
 from runtime.motion import UNITS_PER_MINUTE
 
@@ -437,6 +437,33 @@ class FastPathMixin:
             self.block(line, *codes, n=n, **words)
         else:
             self.move(line, motion, n=n, **words)
+
+    def cancel_row(self, line: int, n: Optional[str]) -> None:
+        """A row of G80 alone (runtime.fast.rows; the end of each series of
+        holes): what ``block(line, G80, n=n)`` does, no check of which can
+        fail: the line announced, the point copied, the comment, the motion
+        mode none and the cycles' series ended, the point published, the
+        modes looked at again. Where anything else may take part (rotary
+        axes' rules, cutter compensation, a pending tool change or probe, a
+        G7x profile being read, RETAIN_G43's M step), ``block`` decides."""
+        if (
+            self._rotary_rules
+            or self.cutter_comp
+            or self.toolchange_flag
+            or self.probe_flag
+            or self.reading_profile
+            or self.settings.retain_g43
+            or "_execute" in self.__dict__
+        ):
+            return self.block(line, G80, n=n)
+        self.line = line
+        self.announce_block(n)
+        self.current = list(self.current)
+        self._end_cycle_series()
+        self.canon.comment("interpreter: motion mode set to none")
+        self.motion_mode = G80
+        self._publish_position()
+        self.refresh_plain()
 
     def dwell_row(self, line: int, n: Optional[str], seconds: float) -> None:
         """A row of G4 and P alone (runtime.fast.rows; a hand-drilling

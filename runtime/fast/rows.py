@@ -53,6 +53,7 @@ from runtime.codes import (
     G19,
     G20,
     G21,
+    G80,
     G90,
     G91,
     G98,
@@ -94,6 +95,7 @@ class _Plan:
         "cycle",
         "opens_cycle",
         "dwell",
+        "cancel",
         "restating",
     )
 
@@ -157,6 +159,8 @@ class _Plan:
         codes = self.codes  # (the row's own, from here on)
         #: A dwell, G4 and P alone (and N): Machine.dwell_row.
         self.dwell = codes == (G4,) and self.letters == ("p",)
+        #: G80 alone (and N), the end of a series of holes: Machine.cancel_row.
+        self.cancel = codes == (G80,) and not self.letters
         #: A move or arc whose other codes restate modes (G90, G17), as
         #: some posts write them on every line: (motion, G17 among them,
         #: an arc) for Machine.restating_row; else None.
@@ -329,6 +333,8 @@ def run_rows(
                 machine.arc(line, plan.motion, n=n, **words)
             elif plan.dwell and not by_move:
                 machine.dwell_row(line, n, words["p"])
+            elif plan.cancel and not by_move:
+                machine.cancel_row(line, n)
             elif plan.restating is not None and not by_move:
                 machine.restating_row(line, plan.codes, plan.restating, n, words)
             else:
