@@ -104,17 +104,24 @@ def _without_arc_fast_paths(monkeypatch) -> None:
     monkeypatch.setattr(Machine, "plain_arc", lambda self, *args: False)
 
 
+def _same_as_the_general_path(text: str, general) -> None:
+    """``text`` run with the fast paths and again with ``general(patch)``
+    sending what they take back to the general path: a recording canon's
+    calls, values and error, and the trace, the same."""
+    code = compile_text(text, "prog.ngc")
+    fast = _calls(code, error=True), _trace(code)
+    with pytest.MonkeyPatch.context() as patch:
+        general(patch)
+        assert (_calls(code, error=True), _trace(code)) == fast
+
+
 @settings(PROFILE, max_examples=PROFILE.max_examples * 3)
 @given(cam_strategies.arc_programs())
 def test_arc_fast_paths_give_a_canon_the_general_paths_calls(text):
     """Any canon (here one that records) gets from the arc fast paths
     (runtime/fast/arc_rows.py, Machine.plain_arc) the calls, values, N numbers
     and error the general path gives it, and a trace the same text."""
-    code = compile_text(text, "arcs.ngc")
-    fast = _calls(code, error=True), _trace(code)
-    with pytest.MonkeyPatch.context() as patch:
-        _without_arc_fast_paths(patch)
-        assert (_calls(code, error=True), _trace(code)) == fast
+    _same_as_the_general_path(text, _without_arc_fast_paths)
 
 
 @settings(PROFILE, max_examples=PROFILE.max_examples * 2)
@@ -128,9 +135,8 @@ def test_moves_and_arcs_with_a_comment_keep_the_general_paths_calls(text):
     (Machine.move, Machine.arc): the comment first, after the N number, then
     the F word and the motion, the very calls, values and error of the
     general path, and the same trace."""
-    code = compile_text(text, "commented.ngc")
-    fast = _calls(code, error=True), _trace(code)
-    with pytest.MonkeyPatch.context() as patch:
+
+    def general(patch):
         _without_arc_fast_paths(patch)
         patch.setattr(
             Machine,
@@ -139,7 +145,8 @@ def test_moves_and_arcs_with_a_comment_keep_the_general_paths_calls(text):
                 line, motion, tuple(axes.get(a) for a in "xyzabcuvw"), f, n, comment
             ),
         )
-        assert (_calls(code, error=True), _trace(code)) == fast
+
+    _same_as_the_general_path(text, general)
 
 
 @settings(PROFILE)
@@ -147,15 +154,14 @@ def test_moves_and_arcs_with_a_comment_keep_the_general_paths_calls(text):
 def test_dwell_rows_keep_the_general_paths_calls(text):
     """A table's G4 P rows (Machine.dwell_row) give a canon the calls,
     values and error of the general path, and the same trace."""
-    code = compile_text(text, "drill.ngc")
-    fast = _calls(code, error=True), _trace(code)
-    with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(
+    _same_as_the_general_path(
+        text,
+        lambda patch: patch.setattr(
             Machine,
             "dwell_row",
             lambda self, line, n, p: self.block(line, codes.G4, n=n, p=p),
-        )
-        assert (_calls(code, error=True), _trace(code)) == fast
+        ),
+    )
 
 
 @st.composite
@@ -201,15 +207,14 @@ def test_cancel_rows_keep_the_general_paths_calls(text):
     """A table's G80 rows (Machine.cancel_row, the end of each series of
     holes) give a canon the calls, values and error of the general path,
     and the same trace."""
-    code = compile_text(text, "cancel.ngc")
-    fast = _calls(code, error=True), _trace(code)
-    with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(
+    _same_as_the_general_path(
+        text,
+        lambda patch: patch.setattr(
             Machine,
             "cancel_row",
             lambda self, line, n: self.block(line, codes.G80, n=n),
-        )
-        assert (_calls(code, error=True), _trace(code)) == fast
+        ),
+    )
 
 
 @pytest.mark.rs274
@@ -232,10 +237,9 @@ def test_rows_that_restate_modes_keep_the_general_paths_calls(text):
     and the same trace."""
     from runtime.fast import rows as fast_rows
 
-    code = compile_text(text, "restating.ngc")
-    fast = _calls(code, error=True), _trace(code)
-    with pytest.MonkeyPatch.context() as patch:
-        plan = fast_rows._Plan
+    plan = fast_rows._Plan
+
+    def general(patch):
         patch.setattr(fast_rows, "_Plan", lambda shape, restated=False: plan(shape))
         patch.setattr(
             Machine,
@@ -244,7 +248,8 @@ def test_rows_that_restate_modes_keep_the_general_paths_calls(text):
                 line, *codes, n=n, **words
             ),
         )
-        assert (_calls(code, error=True), _trace(code)) == fast
+
+    _same_as_the_general_path(text, general)
 
 
 @pytest.mark.rs274
