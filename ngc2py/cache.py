@@ -188,7 +188,9 @@ def cached_module(
     from ngc2py.cache_sweep import maybe_sweep, size_limit
 
     limit = size_limit()  # (a bad setting fails the run before it writes)
-    compiled = compile_program(path, ini, block_delete)
+    # (its G-code text as it is: the entry's bytecode is compiled without
+    # tokenizing it, and compressing it would cost a large file's first run)
+    compiled = compile_program(path, ini, block_delete, pack=False)
     probes = [(p, _file_digest(p) if found else None) for p, found in compiled.probes]
     if path in (p for p, found in compiled.probes if found):
         key = _named_key(key, path)  # it finds itself under its own name

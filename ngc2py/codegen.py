@@ -690,8 +690,11 @@ class CodeGen:
         program: st.Program,
         source_name: str,
         opening: Optional[nodes.Line] = None,
+        pack: bool = True,
     ):
         self.program = program
+        #: a large file's G-code text goes in compressed (source_map_lines)
+        self.pack = pack
         #: names certainly set before each line (ngc2py.assigned)
         self.settled = assigned.settled_names(program)
         self.source_name = source_name
@@ -804,6 +807,7 @@ class CodeGen:
             opening,
             self.unskippable(final),
             self.program.block_delete,
+            self.pack,
         )
         for line in map_lines:
             final.raw(line)
@@ -2960,12 +2964,15 @@ def source_map_lines(
     opening: Optional[str],
     unskippable: Optional[Coll] = None,
     block_delete: Optional[bool] = None,
+    pack: bool = True,
 ) -> List[str]:
     """``__ngc__ = SourceMap(files, line map, texts, subs, end[, open error]
     [, unskippable=...][, block_delete=...])``, black's layout.
 
     Texts are one string per file, lines joined by newlines (only the lines
     the map refers to; others are empty), which compiles to one constant.
+    A text longer than PACK_TEXT_OVER is packed (packed_literal) where
+    ``pack`` is set, else written as it is where it can be (plain_literal).
     """
     texts = []
     packed: List[str] = []
@@ -2973,8 +2980,13 @@ def source_map_lines(
         text = joined_texts(table, blocks)
         if len(text) > PACK_TEXT_OVER:
             name = "_NGC_TEXT_%d" % len(packed)
-            packed += ["# The G-code text of %s, compressed (it is large)." % name]
-            packed += ["%s = %s" % (name, packed_literal(text)), "", ""]
+            literal = None if pack else plain_literal(text)
+            if literal is None:
+                packed += ["# The G-code text of %s, compressed (it is large)." % name]
+                literal = packed_literal(text)
+            else:
+                packed += ["# The G-code text of %s." % name]
+            packed += ["%s = %s" % (name, literal), "", ""]
             texts.append(name)
         else:
             texts.append(string(text))
@@ -3012,6 +3024,19 @@ def packed_literal(text: str) -> str:
     return 'b"""\\\n%s\n"""' % b"\n".join(lines).decode("ascii")
 
 
+def plain_literal(text: str) -> Optional[str]:
+    """``text`` and a newline as a triple-quoted literal, written as it is,
+    or None where the text holds what could end or change the literal (a
+    quote, a backslash, a carriage return, NUL, a character that is not
+    ASCII). For the compile cache's modules, which no one reads and which
+    are compiled without tokenizing such a literal (ngc2py/bytecode.py): a
+    100k-line file is not compressed on its first run (some 70 ms); the
+    newline added is a line past the file's last, which has no text."""
+    if not text.isascii() or any(mark in text for mark in ('"', "\\", "\r", "\0")):
+        return None
+    return '"""\\\n%s\n"""' % text
+
+
 def joined_texts(table: Dict[int, str], blocks: List[Tuple[int, str]]) -> str:
     """One file's line texts (``table``: line -> text, ``blocks``: runs of
     lines) joined by newlines from line 1, lines not given empty."""
@@ -3034,11 +3059,15 @@ def joined_texts(table: Dict[int, str], blocks: List[Tuple[int, str]]) -> str:
 
 
 def generate(
-    program: st.Program, source_name: str, opening: Optional[nodes.Line] = None
+    program: st.Program,
+    source_name: str,
+    opening: Optional[nodes.Line] = None,
+    pack: bool = True,
 ) -> str:
     """The Python module text for ``program``; ``opening`` is the ``%`` line
-    that demarcates the file, if it is demarcated."""
-    return CodeGen(program, source_name, opening).module()
+    that demarcates the file, if it is demarcated; ``pack``: see
+    :func:`source_map_lines`."""
+    return CodeGen(program, source_name, opening, pack).module()
 
 
 def _first_line(landing: List[st.Stmt]) -> int:

@@ -254,7 +254,11 @@ def _externals(
 
 
 def _compile(
-    parsed, name: str, ini: Optional[str], block_delete: bool = False
+    parsed,
+    name: str,
+    ini: Optional[str],
+    block_delete: bool = False,
+    pack: bool = True,
 ) -> Compiled:
     from ngc2py import codegen
     from ngc2py import structure as st
@@ -280,17 +284,22 @@ def _compile(
     st.resolve_calls(program)
     opening = next((line for line in parsed.lines if line.percent), None)
     generate = codegen.generate if flat is None else lineflow.generate
-    return Compiled(generate(program, name, opening), probes)
+    return Compiled(generate(program, name, opening, pack), probes)
 
 
 def compile_program(
-    path: str, ini: Optional[str] = None, block_delete: bool = False
+    path: str,
+    ini: Optional[str] = None,
+    block_delete: bool = False,
+    pack: bool = True,
 ) -> Compiled:
     """Compile the G-code file ``path``; see :class:`Compiled`.
     ``block_delete``: for rs274's ``-b``, which the module of a file whose
     block-deleted lines carry O-words is written for (it refuses to run
-    with the other setting); any other module runs with either."""
-    return _compile(_parse(path), os.path.basename(path), ini, block_delete)
+    with the other setting); any other module runs with either. ``pack``:
+    a large file's text goes into the module compressed (the cache's
+    modules, never tokenized, take it as it is: codegen.plain_literal)."""
+    return _compile(_parse(path), os.path.basename(path), ini, block_delete, pack)
 
 
 def compile_file(

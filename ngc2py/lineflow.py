@@ -181,8 +181,8 @@ def flat_program(
 class FlowGen(codegen.CodeGen):
     """Writes a :func:`flat_program` as ``lines()`` (see the module's doc)."""
 
-    def __init__(self, program, source_name, opening=None):
-        super().__init__(program, source_name, opening)
+    def __init__(self, program, source_name, opening=None, pack=True):
+        super().__init__(program, source_name, opening, pack)
         self.settled = {}  # any line may be skipped: nothing is certainly set
         self.entries: Dict[int, st.Sub] = {}
         self.entry_items: Dict[int, List[str]] = {}
@@ -480,6 +480,9 @@ class FlowGen(codegen.CodeGen):
         self.read_error(line)
 
 
-def generate(program: st.Program, source_name: str, opening=None) -> str:
-    """The module text of a :func:`flat_program`."""
-    return FlowGen(program, source_name, opening).module()
+def generate(
+    program: st.Program, source_name: str, opening=None, pack: bool = True
+) -> str:
+    """The module text of a :func:`flat_program` (``pack``: see
+    codegen.source_map_lines)."""
+    return FlowGen(program, source_name, opening, pack).module()

@@ -166,6 +166,19 @@ class SourceMap:
         none), found without unpacking a large file's whole text: every
         program that ends asks (is it a ``%`` file?)."""
         text = self._texts[0] if self._texts else ""
+        if isinstance(text, str) and 0 not in self._split:
+            # (a large text as it is: its lines up to the first not blank)
+            last = self.end[0] if self.end else 0
+            at = 0
+            for _ in range(last):
+                stop = text.find("\n", at)
+                line = text[at:] if stop < 0 else text[at:stop]
+                if line.strip():
+                    return line.strip()
+                if stop < 0:
+                    break
+                at = stop + 1
+            return ""
         if isinstance(text, bytes) and 0 not in self._split:
             import binascii
             import zlib

@@ -17,7 +17,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as hs
 
 from cam_strategies import cam_sized
-from ngc2py import codegen
+from ngc2py import codegen, compiler
 from ngc2py.codegen import MIN_PROGRAM_ROWS, MIN_VALUE_ROWS
 from ngc2py.compiler import compile_text
 from runtime.errors import Location, SourceMap
@@ -526,6 +526,55 @@ def test_a_large_files_text_is_packed_and_errors_still_show_their_line(where, tm
     actual = harness.run_ngc2py(program, mode="convert")
     assert not harness.compare(expected, actual)
     assert bad in actual.stderr.decode()
+
+
+@pytest.mark.rs274
+@pytest.mark.parametrize("where", ["row", "statement", "last line"])
+def test_the_caches_modules_keep_a_large_text_as_it_is(where, tmp_path, monkeypatch):
+    """The compile cache's modules take a large G-code text as it is
+    (codegen.plain_literal: it is never tokenized, and compressing it cost
+    a large file's first run); errors still show rs274's message and the
+    line's text, from a cached run and from a first one."""
+    rows = ["G1 X%d.25 Y%d (moving %d)" % (k, k % 7, k) for k in range(4000)]
+    bad = "G1 X1 F0" if where == "row" else "#1 = [1 / 0]"
+    if where == "last line":
+        rows.append(bad)  # (no M2 after it: the text's last line)
+    else:
+        rows[3210] = bad
+    text = "G21 G90 G17 F100\nG0 Z5\n" + "\n".join(rows) + "\n"
+    text += "" if where == "last line" else "M2\n"
+    assert len(text) > codegen.PACK_TEXT_OVER
+    program = tmp_path / "big.ngc"
+    program.write_text(text, encoding="utf-8")
+    compiled = compiler.compile_program(str(program), pack=False).text
+    assert '_NGC_TEXT_0 = """\\\n' in compiled
+    assert bad in compiled.split('_NGC_TEXT_0 = """')[1]  # (in the text)
+    assert black.format_str(compiled, mode=black.Mode()) == compiled
+    expected = harness.run_rs274(program)
+    monkeypatch.setenv("NGC2PY_CACHE", str(tmp_path / "cache"))
+    for _ in range(2):  # compiled into the cache, then from it
+        actual = harness.run_ngc2py(program, mode="run")
+        assert not harness.compare(expected, actual)
+        assert bad in actual.stderr.decode()
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        'G0 X1 (a "quoted" word)\n',
+        "G0 X1 (back\\slash)\n",
+        "G0 X1\r\n",
+        "G0 X1 (caf\u00e9)\n",
+        "G0 X1 (\udcff)\n",
+        "G0 X1 (\x00)\n",
+    ],
+)
+def test_a_text_the_literal_cannot_hold_as_it_is_is_packed(text):
+    """Whatever could end or change a plain literal (a quote, a backslash,
+    a carriage return, a character past ASCII, NUL) sends the text to the
+    packed literal, which holds anything."""
+    assert codegen.plain_literal("G21\n" + text * 2000) is None
+    assert codegen.plain_literal("G21\n" + "G0 X1 (plain)\n" * 2000) is not None
 
 
 @pytest.mark.rs274
