@@ -1102,14 +1102,29 @@ class CodeGen:
             else:
                 pieces.append([item])
         runs = [p for p in pieces if type(p) is RowRun]
-        texts = {id(run): rowtable.cells(run.data) for run in runs}
+        texts: Dict[int, bytes] = {}  # a run's cells (rowtable.cells), once made
         present = {id(run): list(dict.fromkeys(run.kinds)) for run in runs}
+        # (shape indexes given in the order the rows below are written, piece
+        # by piece: a run's rows made in one pass need theirs first)
+        indexes = {id(run): {} for run in runs}
         values: List = []
         for piece in pieces:
             if type(piece) is RowRun:
+                shapes = piece.lane.kind_shapes
+                index = indexes[id(piece)]
+                index.update(
+                    (kind, self.shape(shapes[kind])) for kind in present[id(piece)]
+                )
+                quick = rowtable.quick_rows(piece, index)
+                if quick is not None:
+                    values.append(quick)
+                    continue
+                texts[id(piece)] = rowtable.cells(piece.data)
                 facts = rowtable.kinds(piece, present[id(piece)])
                 values.append(rowtable.printed(piece, texts[id(piece)], facts))
             else:
+                for _, (shape, _) in piece:
+                    self.shape(shape)
                 values.append(as_printed(piece))
             if values[-1] is None:
                 break
@@ -1119,12 +1134,20 @@ class CodeGen:
         for k, piece in enumerate(pieces):
             if type(piece) is RowRun:
                 shapes = piece.lane.kind_shapes
-                index = {kind: self.shape(shapes[kind]) for kind in present[id(piece)]}
-                if printed:
-                    cells, numbers = values[k]
+                index = indexes[id(piece)]
+                index.update(
+                    (kind, self.shape(shapes[kind])) for kind in present[id(piece)]
+                )
+                if printed and type(values[k]) is str:
+                    lines.append(values[k])  # (rowtable.quick_rows)
                 else:
-                    cells, numbers = rowtable.written(texts[id(piece)]), None
-                lines.append(rowtable.rows(piece, index, cells, numbers))
+                    if printed:
+                        cells, numbers = values[k]
+                    else:
+                        if id(piece) not in texts:
+                            texts[id(piece)] = rowtable.cells(piece.data)
+                        cells, numbers = rowtable.written(texts[id(piece)]), None
+                    lines.append(rowtable.rows(piece, index, cells, numbers))
                 self.w.blocks[file].append((piece.number, piece.text()))
                 continue
             printed_piece = values[k] if printed else [None] * len(piece)

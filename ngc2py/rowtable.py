@@ -207,6 +207,26 @@ def _with_numbers(run: RowRun, text: bytes, numbers: List[bytes]) -> bytes:
     return b"\n".join(lines)
 
 
+try:
+    from ngc2py._rowtext import printed_rows as _printed_rows
+except ImportError:  # not built: the bytes operations below alone
+    _printed_rows = None
+
+
+def quick_rows(run: RowRun, index: Dict[int, int]) -> Optional[str]:
+    """What :func:`rows` makes of :func:`printed`'s values, made in one pass
+    (ngc2py/_rowtext.c) where every value of the run is plain (see the
+    module's doc: a sign, at most eleven integer digits and no leading zero,
+    at most four decimals); None for any other run, or without the C
+    extension. ``index``: as for :func:`rows`."""
+    if _printed_rows is None:
+        return None
+    shapes = [-1] * len(run.lane.kind_shapes)
+    for kind, shape in index.items():
+        shapes[kind] = shape
+    return _printed_rows(run.data, run.kinds, shapes, run.number)
+
+
 def rows(
     run: RowRun, index: Dict[int, int], text: bytes, numbers: Optional[List[bytes]]
 ) -> str:

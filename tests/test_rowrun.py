@@ -20,7 +20,7 @@ from hypothesis import Phase, given, settings
 from hypothesis import strategies as st
 
 import cam_strategies
-from ngc2py import codegen, parser, rowrun
+from ngc2py import codegen, parser, rowrun, rowtable
 from ngc2py.compiler import compile_text
 from test_differential import PROFILE, check_same
 
@@ -66,6 +66,41 @@ def test_the_lane_writes_the_module_the_line_reader_writes(text, sizes):
 def test_the_lane_on_plain_cam_programs(text):
     fast, slow = _both(text)
     assert fast == slow
+
+
+@pytest.mark.skipif(rowtable._printed_rows is None, reason="ngc2py._rowtext not built")
+@settings(QUICK, max_examples=150)
+@given(cam_strategies.odd_cam_programs(), SIZES)
+def test_the_one_pass_rows_are_the_bytes_operations_rows(text, sizes):
+    """ngc2py/_rowtext.c writes a run's rows as rowtable.py's bytes
+    operations write them, or leaves the run to them."""
+    with ExitStack() as stack:
+        _sizes(stack, sizes)
+        quick = compile_text(text, "cam.ngc")
+        stack.enter_context(mock.patch.object(rowtable, "_printed_rows", None))
+        assert compile_text(text, "cam.ngc") == quick
+
+
+@pytest.mark.skipif(rowtable._printed_rows is None, reason="ngc2py._rowtext not built")
+def test_which_runs_the_one_pass_takes():
+    """Plain values (signs, a point first, integers, blanks between words,
+    N numbers, lower case) take the one pass; a leading zero or a fifth
+    decimal leave the run to the bytes operations, as do values of any
+    other form."""
+
+    def quick(rows: str):
+        (run,) = [i for i in _items(rows * 6 + "M2\n") if type(i) is rowrun.RowRun]
+        index = {kind: kind for kind in set(run.kinds)}
+        return rowtable.quick_rows(run, index)
+
+    assert quick("G1 X1 Y-.5 Z+2.25\n") == "\n".join(
+        "%d 0 1.0000 -0.5000 2.2500" % k for k in range(1, 7)
+    )
+    assert quick("n0010 g1 x12.5 y-0\n").startswith("1 0 0010 12.5000 -0.0000\n2 0")
+    assert quick("  G1 \tX1 \tY2\n").startswith("1 0 1.0000 2.0000\n2 0")
+    assert quick("G0 X10.1234\n") is not None
+    for odd in ("G0 X010\n", "G0 X1.23456\n", "G0 X123456789012\n"):
+        assert quick(odd) is None, odd
 
 
 @pytest.mark.rs274
