@@ -1,4 +1,7 @@
-/* ngc2py._rowtext: a row run's table text in one pass (see ngc2py/rowtable.py).
+/* ngc2py._rowtext: the fast lane's two passes over a CAM file's bytes in C.
+ *
+ * line_templates() makes each line's template (ngc2py/rowrun.py), which a
+ * regular expression split and three whole-text passes made before.
  *
  * rowtable.py makes a run's table rows with a score of whole-text bytes
  * operations; a 100k-line CAM file pays some 150 ms for them on its first
@@ -7,7 +10,9 @@
  * eleven integer digits without a leading zero, at most four decimals),
  * which the trace prints as its own digits padded to four decimals. Any
  * other run gets None and takes rowtable.py's way, which decides it value
- * by value. tests/test_rowtable_c.py holds the two to the same text. */
+ * by value.
+ *
+ * tests/test_rowrun.py holds each to the Python it stands for. */
 
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -224,7 +229,81 @@ done:
     return result;
 }
 
+/* line_templates(region): each line's template (ngc2py/rowrun.py): its
+ * bytes with every digit made 0 but in the values of G, M, H, L and T words
+ * (a letter, a sign, then digits and points, kept apart as rowrun._KEEP
+ * writes them); a list of bytes, one per line of the region (which ends
+ * with a newline). */
+static PyObject *line_templates(PyObject *self, PyObject *arg) {
+    Py_buffer view;
+    if (PyObject_GetBuffer(arg, &view, PyBUF_SIMPLE) < 0) {
+        return NULL;
+    }
+    PyObject *result = PyList_New(0);
+    char *line = NULL;
+    Py_ssize_t room = 0;
+    const char *p = view.buf, *end = p + view.len;
+    while (result && p < end) {
+        const char *stop = memchr(p, '\n', end - p);
+        if (!stop) {
+            break;  /* (after the last newline: not a line) */
+        }
+        Py_ssize_t length = stop - p;
+        if (length > room) {
+            char *more = PyMem_Realloc(line, length);
+            if (!more) {
+                PyErr_NoMemory();
+                Py_CLEAR(result);
+                break;
+            }
+            line = more;
+            room = length;
+        }
+        int kept = 0;  /* inside a checked word's value */
+        for (Py_ssize_t i = 0; i < length; i++) {
+            char c = p[i];
+            if (kept && ((c >= '0' && c <= '9') || c == '.')) {
+                /* moved out of the way of the zeros (rowrun._KEEP) */
+                line[i] = (char) (c == '.' ? 0x8A : 0x80 + (c - '0'));
+                kept = 2;
+                continue;
+            }
+            if (kept == 1 && (c == '+' || c == '-')) {
+                line[i] = c;
+                kept = 2;
+                continue;
+            }
+            kept = 0;
+            switch (c) {
+            case 'G': case 'g': case 'M': case 'm': case 'H': case 'h':
+            case 'L': case 'l': case 'T': case 't':
+                kept = 1;
+                line[i] = c;
+                break;
+            case '1': case '2': case '3': case '4': case '5':
+            case '6': case '7': case '8': case '9':
+                line[i] = '0';
+                break;
+            default:
+                line[i] = c;
+            }
+        }
+        PyObject *template = PyBytes_FromStringAndSize(line, length);
+        if (!template || PyList_Append(result, template) < 0) {
+            Py_CLEAR(result);
+        }
+        Py_XDECREF(template);
+        p = stop + 1;
+    }
+    PyMem_Free(line);
+    PyBuffer_Release(&view);
+    return result;
+}
+
 static PyMethodDef methods[] = {
+    {"line_templates", line_templates, METH_O,
+     "line_templates(region) -> list of bytes: each line's template "
+     "(see ngc2py/rowrun.py)."},
     {"printed_rows", printed_rows, METH_VARARGS,
      "printed_rows(data, kinds, shapes, first) -> str or None: a row run's "
      "table text, values as the trace prints them (see ngc2py/rowtable.py)."},
@@ -233,7 +312,8 @@ static PyMethodDef methods[] = {
 
 static struct PyModuleDef module = {
     PyModuleDef_HEAD_INIT, "ngc2py._rowtext",
-    "A row run's table text in one pass (see ngc2py/rowtable.py).", -1, methods,
+    "The fast lane's passes over a CAM file's bytes (ngc2py/rowrun.py, "
+    "ngc2py/rowtable.py).", -1, methods,
 };
 
 PyMODINIT_FUNC PyInit__rowtext(void) { return PyModule_Create(&module); }

@@ -115,10 +115,7 @@ class Lane:
         ``number``) as row runs and the raw lines the line reader must read,
         in order; and the position after it and its number of lines."""
         region = data[pos:end]
-        parts = _CHECKED_WORD.split(region)
-        parts[1::2] = map(bytes.translate, parts[1::2], repeat(_KEEP))
-        templates = b"".join(parts).translate(_ZEROS).split(b"\n")
-        templates.pop()  # after the last newline
+        templates = line_templates(region)
         kinds = self.kinds
         new = set(templates).difference(kinds)
         starts: List[int] = []
@@ -183,6 +180,22 @@ class Lane:
         self.kind_shapes.append(row.shape)
         self.kind_lines.append(line)
         return len(self.kind_shapes) - 1
+
+
+def python_line_templates(region: bytes) -> List[bytes]:
+    """Each line's template (see the module's doc) of ``region``, whole
+    lines: what ngc2py._rowtext.line_templates makes in one pass."""
+    parts = _CHECKED_WORD.split(region)
+    parts[1::2] = map(bytes.translate, parts[1::2], repeat(_KEEP))
+    templates = b"".join(parts).translate(_ZEROS).split(b"\n")
+    templates.pop()  # after the last newline
+    return templates
+
+
+try:
+    from ngc2py._rowtext import line_templates
+except ImportError:  # not built
+    line_templates = python_line_templates
 
 
 def _starts(templates: List[bytes]) -> List[int]:

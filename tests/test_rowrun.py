@@ -68,6 +68,23 @@ def test_the_lane_on_plain_cam_programs(text):
     assert fast == slow
 
 
+@pytest.mark.skipif(
+    rowrun.line_templates is rowrun.python_line_templates,
+    reason="ngc2py._rowtext not built",
+)
+@given(
+    st.lists(st.sampled_from(list(b"GgMmHhLlTtXxNn0123456789.+- \t\r\n")), max_size=80)
+)
+def test_the_templates_made_in_c_are_the_python_ones(region):
+    """ngc2py._rowtext.line_templates against the regular expression and
+    bytes passes it stands for, on lines of the lane's bytes (the checked
+    words' digits, signs and points in every order)."""
+    region = bytes(region)
+    assert rowrun.line_templates(region) == rowrun.python_line_templates(region)
+    region += b"\n"
+    assert rowrun.line_templates(region) == rowrun.python_line_templates(region)
+
+
 @pytest.mark.skipif(rowtable._printed_rows is None, reason="ngc2py._rowtext not built")
 @settings(QUICK, max_examples=150)
 @given(cam_strategies.odd_cam_programs(), SIZES)
