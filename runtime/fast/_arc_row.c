@@ -33,6 +33,25 @@
 #define MARGIN 1e-14
 #define SEMICIRCLE_SLACK 1e-12
 
+/* int(text) of a table cell (a row's G-code line): its digits read here
+ * when it is one to eighteen ASCII digits, the usual case; else what int()
+ * makes of it. A new reference, or NULL with an exception set. */
+static PyObject *cell_int(PyObject *text) {
+    if (PyUnicode_CheckExact(text) && PyUnicode_IS_ASCII(text)) {
+        Py_ssize_t size = PyUnicode_GET_LENGTH(text);
+        const char *s = (const char *) PyUnicode_DATA(text);
+        long long value = 0;
+        Py_ssize_t i = 0;
+        while (i < size && i < 18 && s[i] >= '0' && s[i] <= '9') {
+            value = value * 10 + (s[i++] - '0');
+        }
+        if (i == size && size > 0) {
+            return PyLong_FromLongLong(value);
+        }
+    }
+    return PyLong_FromUnicodeObject(text, 10);
+}
+
 /* float(text) of a table cell; -1 with an exception set on failure. */
 static int cell_float(PyObject *cells, Py_ssize_t at, double *out) {
     if (at < 0 || at >= PyList_GET_SIZE(cells)) {
@@ -379,7 +398,7 @@ static int read_held(PyObject *pending, held_t *held) {
  * line (the int of ``line``, a cell) and arc_feed's twelve arguments. A new
  * reference to None, or NULL with an exception set. */
 static PyObject *hold(held_t *held, PyObject *line, PyObject **call) {
-    PyObject *number = PyLong_FromUnicodeObject(line, 10);
+    PyObject *number = cell_int(line);
     if (number == NULL) {
         return NULL;
     }
@@ -409,7 +428,7 @@ static PyObject *one_row_batch(PyObject *straight_moves, int feed, PyObject *lin
     PyObject *call[11] = {NULL};
     call[0] = feed ? Py_True : Py_False;
     PyObject *result = NULL;
-    PyObject *number = PyLong_FromUnicodeObject(line, 10);
+    PyObject *number = cell_int(line);
     if (number != NULL) {
         call[1] = PyList_New(1);
         if (call[1] != NULL) {
@@ -444,7 +463,7 @@ static PyObject *one_row_batch(PyObject *straight_moves, int feed, PyObject *lin
 static int hand_over(PyObject *pending, held_t *held, PyObject *line_machine,
                      PyObject *line) {
     if (line_machine != NULL) {
-        PyObject *number = PyLong_FromUnicodeObject(line, 10);
+        PyObject *number = cell_int(line);
         int failed = number == NULL || PyObject_SetAttrString(line_machine, "line", number) < 0;
         Py_XDECREF(number);
         if (failed) {
