@@ -316,6 +316,174 @@ static int range_column(PyObject *column, long long *start, long long *step,
     return 1;
 }
 
+/* A template read once for many rows (render_rows): the literal text before
+ * each conversion and the conversion itself, so that a row is only copies
+ * and numbers, not a new reading of the template. */
+typedef struct {
+    Py_ssize_t at, length;  /* the literal text before it, in the template */
+    char conversion;        /* 'd', 's', 'f' (%.4f), or '%' (no argument) */
+    int width, left;
+} piece_t;
+
+/* The pieces of template t (at most ``most``; the literal after the last
+ * is t[*tail:]), or -1 where render() alone reads it (zero padding, other
+ * precisions, other conversions, not ``count`` arguments). */
+static Py_ssize_t read_template(const char *t, Py_ssize_t length, Py_ssize_t count,
+                                piece_t *pieces, Py_ssize_t most, Py_ssize_t *tail) {
+    Py_ssize_t n = 0, arguments = 0, at = 0;
+    const char *end = t + length, *p = t;
+    while (p < end) {
+        const char *percent = memchr(p, '%', end - p);
+        if (!percent) {
+            break;
+        }
+        if (n == most || percent + 1 >= end) {
+            return -1;
+        }
+        piece_t *piece = &pieces[n++];
+        piece->at = at;
+        piece->length = percent - (t + at);
+        piece->width = piece->left = 0;
+        p = percent + 1;
+        if (*p == '%') {
+            piece->conversion = '%';
+            at = ++p - t;
+            continue;
+        }
+        if (*p == '-') {
+            piece->left = 1;
+            p++;
+        }
+        if (p < end && *p == '0') {
+            return -1;
+        }
+        while (p < end && *p >= '0' && *p <= '9' && piece->width < 1000) {
+            piece->width = piece->width * 10 + (*p++ - '0');
+        }
+        int precision = -1;
+        if (p < end && *p == '.') {
+            precision = 0;
+            p++;
+            while (p < end && *p >= '0' && *p <= '9' && precision < 1000) {
+                precision = precision * 10 + (*p++ - '0');
+            }
+        }
+        if (p >= end) {
+            return -1;
+        }
+        char conversion = *p++;
+        if ((conversion == 's' || conversion == 'd') && precision < 0) {
+            piece->conversion = conversion;
+        } else if (conversion == 'f' && precision == 4 && !piece->left && !piece->width) {
+            piece->conversion = 'f';
+        } else {
+            return -1;
+        }
+        arguments++;
+        at = p - t;
+    }
+    if (arguments != count) {
+        return -1;
+    }
+    *tail = at;
+    return n;
+}
+
+/* Row i of render_rows by the template's pieces: 1 done, 0 the row needs
+ * render()'s or Python's reading (an argument of another type, a number
+ * out of the ordinary), -1 error. Digits as render() writes them. */
+static int render_pieces(buffer *b, const char *t, Py_ssize_t length, const piece_t *pieces,
+                         Py_ssize_t n, Py_ssize_t tail, PyObject *const *columns,
+                         const long long *numbers, const char *is_number, Py_ssize_t i,
+                         int *ascii) {
+    Py_ssize_t k = 0;  /* the argument */
+    for (Py_ssize_t j = 0; j < n; j++) {
+        const piece_t *piece = &pieces[j];
+        if (append(b, t + piece->at, piece->length) < 0) {
+            return -1;
+        }
+        if (piece->conversion == '%') {
+            if (append(b, "%", 1) < 0) {
+                return -1;
+            }
+            continue;
+        }
+        Py_ssize_t before = b->size;
+        PyObject *arg = is_number[k] ? NULL : PySequence_Fast_GET_ITEM(columns[k], i);
+        if (piece->conversion == 'd') {
+            long long value;
+            if (arg == NULL) {
+                value = numbers[k];
+            } else {
+                if (!PyLong_CheckExact(arg)) {
+                    return 0;
+                }
+                int overflow;
+                value = PyLong_AsLongLongAndOverflow(arg, &overflow);
+                if (overflow || (value == -1 && PyErr_Occurred())) {
+                    PyErr_Clear();
+                    return 0;
+                }
+            }
+            char text[32];
+            char *digits_end = text + sizeof(text);
+            unsigned long long magnitude =
+                value < 0 ? 0ULL - (unsigned long long) value : (unsigned long long) value;
+            int size = digits_of(magnitude, digits_end);
+            if (value < 0) {
+                digits_end[-++size] = '-';
+            }
+            if (append(b, digits_end - size, size) < 0) {
+                return -1;
+            }
+        } else if (piece->conversion == 's') {
+            if (arg == NULL || !PyUnicode_CheckExact(arg)) {
+                return 0;
+            }
+            if (!PyUnicode_IS_ASCII(arg)) {
+                if (piece->width) {
+                    return 0;  /* padding counts characters, not bytes */
+                }
+                *ascii = 0;
+            }
+            Py_ssize_t size;
+            const char *text = PyUnicode_AsUTF8AndSize(arg, &size);
+            if (!text || append(b, text, size) < 0) {
+                return -1;
+            }
+        } else {
+            if (arg == NULL || !PyFloat_CheckExact(arg)) {
+                return 0;
+            }
+            double x = PyFloat_AS_DOUBLE(arg);
+            int done = four_decimals(b, x);
+            if (done == 0) {
+                done = python_float(b, x);
+            }
+            if (done < 0) {
+                return -1;
+            }
+        }
+        k++;
+        Py_ssize_t size = b->size - before;
+        if (size < piece->width) {  /* pad with spaces, on the right for '-' */
+            Py_ssize_t pad = piece->width - size;
+            if (reserve(b, pad) < 0) {
+                return -1;
+            }
+            char *at = b->data + before;
+            if (!piece->left) {
+                memmove(at + pad, at, size);
+                memset(at, ' ', pad);
+            } else {
+                memset(at + size, ' ', pad);
+            }
+            b->size = before + piece->width;
+        }
+    }
+    return append(b, t + tail, length - tail) < 0 ? -1 : 1;
+}
+
 /* The text of ``rows`` rows of ``count`` conversions: conversion k of row i
  * is the number starts[k] + i * steps[k] where is_number[k] is set, else
  * item i of columns[k] (borrowed: each a PySequence_Fast of at least
@@ -332,6 +500,7 @@ static PyObject *render_rows(PyObject *template, Py_ssize_t count, Py_ssize_t ro
     long long *numbers = PyMem_Calloc(slots, sizeof(long long));
     PyObject *row = PyTuple_New(count);
     PyObject *result = NULL;
+    piece_t *pieces = NULL;
     buffer b;
     b.data = b.inline_data;
     b.size = 0;
@@ -347,7 +516,30 @@ static PyObject *render_rows(PyObject *template, Py_ssize_t count, Py_ssize_t ro
     /* whether the text is all ASCII: the template and every str in it (the
      * rest render writes is digits, signs and points) */
     int ascii = PyUnicode_IS_ASCII(template);
+    /* the template read once, where render_pieces can make its rows */
+    Py_ssize_t most = 2 * slots + 8, tail = 0, n = -1;
+    pieces = rows > 1 ? PyMem_Malloc(most * sizeof(piece_t)) : NULL;
+    if (pieces) {
+        n = read_template(t, length, count, pieces, most, &tail);
+    }
     for (Py_ssize_t i = 0; i < rows; i++) {
+        if (n >= 0) {
+            for (Py_ssize_t c = 0; c < count; c++) {
+                if (is_number[c]) {
+                    numbers[c] = starts[c] + (long long) i * steps[c];
+                }
+            }
+            Py_ssize_t before = b.size;
+            int made = render_pieces(&b, t, length, pieces, n, tail, columns, numbers,
+                                     is_number, i, &ascii);
+            if (made < 0) {
+                goto done;
+            }
+            if (made) {
+                continue;
+            }
+            b.size = before;  /* this row as below */
+        }
         for (Py_ssize_t c = 0; c < count; c++) {
             if (is_number[c]) {
                 numbers[c] = starts[c] + (long long) i * steps[c];
@@ -401,6 +593,7 @@ static PyObject *render_rows(PyObject *template, Py_ssize_t count, Py_ssize_t ro
         result = PyUnicode_DecodeUTF8(b.data, b.size, NULL);
     }
 done:
+    PyMem_Free(pieces);
     PyMem_Free(numbers);
     Py_XDECREF(row);
     if (b.data != b.inline_data) {
