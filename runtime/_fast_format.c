@@ -516,6 +516,11 @@ static PyObject *render_rows(PyObject *template, Py_ssize_t count, Py_ssize_t ro
     /* whether the text is all ASCII: the template and every str in it (the
      * rest render writes is digits, signs and points) */
     int ascii = PyUnicode_IS_ASCII(template);
+    /* room for every row at once, about: the buffer is not copied as it
+     * grows (a batch's text is hundreds of kilobytes) */
+    if (rows > 1 && reserve(&b, Py_MIN(rows, 1 << 16) * (length + 12 * count)) < 0) {
+        goto done;
+    }
     /* the template read once, where render_pieces can make its rows */
     Py_ssize_t most = 2 * slots + 8, tail = 0, n = -1;
     pieces = rows > 1 ? PyMem_Malloc(most * sizeof(piece_t)) : NULL;
