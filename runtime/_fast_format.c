@@ -55,7 +55,7 @@ static int reserve(buffer *b, Py_ssize_t more) {
     return 0;
 }
 
-static int append(buffer *b, const char *text, Py_ssize_t length) {
+static inline int append(buffer *b, const char *text, Py_ssize_t length) {
     if (reserve(b, length) < 0) {
         return -1;
     }
@@ -122,6 +122,68 @@ static int python_float(buffer *b, double x) {
     int result = append(b, text, (Py_ssize_t) strlen(text));
     PyMem_Free(text);
     return result;
+}
+
+/* The long long of an int argument: 1, or 0 where it is not an exact int
+ * or too large (no exception left set). */
+static inline int int_argument(PyObject *arg, long long *value) {
+    if (!PyLong_CheckExact(arg)) {
+        return 0;
+    }
+    int overflow;
+    *value = PyLong_AsLongLongAndOverflow(arg, &overflow);
+    if (overflow || (*value == -1 && PyErr_Occurred())) {
+        PyErr_Clear();
+        return 0;
+    }
+    return 1;
+}
+
+/* "%d" of value into b: 0, or -1 error. */
+static inline int decimal(buffer *b, long long value) {
+    char text[32];
+    char *digits_end = text + sizeof(text);
+    unsigned long long magnitude =
+        value < 0 ? 0ULL - (unsigned long long) value : (unsigned long long) value;
+    int size = digits_of(magnitude, digits_end);
+    if (value < 0) {
+        digits_end[-++size] = '-';
+    }
+    return append(b, digits_end - size, size);
+}
+
+/* "%.4f" of a float argument into b: 1 done, 0 not an exact float, -1 error. */
+static inline int float_argument(buffer *b, PyObject *arg) {
+    if (!PyFloat_CheckExact(arg)) {
+        return 0;
+    }
+    double x = PyFloat_AS_DOUBLE(arg);
+    int done = four_decimals(b, x);
+    if (done == 0) {
+        done = python_float(b, x);
+    }
+    return done < 0 ? -1 : 1;
+}
+
+/* What was written from b->data[before] on, padded with spaces to ``width``
+ * (on the right for '-'): 0, or -1 error. */
+static inline int pad(buffer *b, Py_ssize_t before, int width, int left) {
+    Py_ssize_t size = b->size - before;
+    if (size >= width) {
+        return 0;
+    }
+    if (reserve(b, width - size) < 0) {
+        return -1;
+    }
+    char *at = b->data + before;
+    if (!left) {
+        memmove(at + (width - size), at, size);
+        memset(at, ' ', width - size);
+    } else {
+        memset(at + size, ' ', width - size);
+    }
+    b->size = before + width;
+    return 0;
 }
 
 /* 1 done, 0 fall back to PyUnicode_Format, -1 error. Where ``numbers`` is
@@ -197,56 +259,22 @@ static int render(buffer *b, const char *t, Py_ssize_t length, PyObject *args,
             long long value;
             if (numeric) {
                 value = numbers[k];
-            } else {
-                if (!PyLong_CheckExact(arg)) {
-                    return 0;
-                }
-                int overflow;
-                value = PyLong_AsLongLongAndOverflow(arg, &overflow);
-                if (overflow || (value == -1 && PyErr_Occurred())) {
-                    PyErr_Clear();
-                    return 0;
-                }
+            } else if (!int_argument(arg, &value)) {
+                return 0;
             }
-            char text[32];
-            char *digits_end = text + sizeof(text);
-            unsigned long long magnitude =
-                value < 0 ? 0ULL - (unsigned long long) value : (unsigned long long) value;
-            int size = digits_of(magnitude, digits_end);
-            if (value < 0) {
-                digits_end[-++size] = '-';
-            }
-            if (append(b, digits_end - size, size) < 0) {
+            if (decimal(b, value) < 0) {
                 return -1;
             }
         } else if (conversion == 'f' && precision == 4 && !left && !width) {
-            if (!PyFloat_CheckExact(arg)) {
-                return 0;
-            }
-            double x = PyFloat_AS_DOUBLE(arg);
-            int done = four_decimals(b, x);
-            if (done == 0) {
-                done = python_float(b, x);
-            }
-            if (done < 0) {
-                return -1;
+            int done = float_argument(b, arg);
+            if (done <= 0) {
+                return done;
             }
         } else {
             return 0;
         }
-        Py_ssize_t size = b->size - before;
-        if (size < width) {  /* pad with spaces, on the right for '-' */
-            if (reserve(b, width - size) < 0) {
-                return -1;
-            }
-            char *at = b->data + before;
-            if (!left) {
-                memmove(at + (width - size), at, size);
-                memset(at, ' ', width - size);
-            } else {
-                memset(at + size, ' ', width - size);
-            }
-            b->size = before + width;
+        if (pad(b, before, width, left) < 0) {
+            return -1;
         }
     }
     return used == count;
@@ -414,26 +442,10 @@ static int render_pieces(buffer *b, const char *t, Py_ssize_t length, const piec
             long long value;
             if (arg == NULL) {
                 value = numbers[k];
-            } else {
-                if (!PyLong_CheckExact(arg)) {
-                    return 0;
-                }
-                int overflow;
-                value = PyLong_AsLongLongAndOverflow(arg, &overflow);
-                if (overflow || (value == -1 && PyErr_Occurred())) {
-                    PyErr_Clear();
-                    return 0;
-                }
+            } else if (!int_argument(arg, &value)) {
+                return 0;
             }
-            char text[32];
-            char *digits_end = text + sizeof(text);
-            unsigned long long magnitude =
-                value < 0 ? 0ULL - (unsigned long long) value : (unsigned long long) value;
-            int size = digits_of(magnitude, digits_end);
-            if (value < 0) {
-                digits_end[-++size] = '-';
-            }
-            if (append(b, digits_end - size, size) < 0) {
+            if (decimal(b, value) < 0) {
                 return -1;
             }
         } else if (piece->conversion == 's') {
@@ -452,33 +464,14 @@ static int render_pieces(buffer *b, const char *t, Py_ssize_t length, const piec
                 return -1;
             }
         } else {
-            if (arg == NULL || !PyFloat_CheckExact(arg)) {
-                return 0;
-            }
-            double x = PyFloat_AS_DOUBLE(arg);
-            int done = four_decimals(b, x);
-            if (done == 0) {
-                done = python_float(b, x);
-            }
-            if (done < 0) {
-                return -1;
+            int done = arg == NULL ? 0 : float_argument(b, arg);
+            if (done <= 0) {
+                return done;
             }
         }
         k++;
-        Py_ssize_t size = b->size - before;
-        if (size < piece->width) {  /* pad with spaces, on the right for '-' */
-            Py_ssize_t pad = piece->width - size;
-            if (reserve(b, pad) < 0) {
-                return -1;
-            }
-            char *at = b->data + before;
-            if (!piece->left) {
-                memmove(at + pad, at, size);
-                memset(at, ' ', pad);
-            } else {
-                memset(at + size, ' ', pad);
-            }
-            b->size = before + piece->width;
+        if (pad(b, before, piece->width, piece->left) < 0) {
+            return -1;
         }
     }
     return append(b, t + tail, length - tail) < 0 ? -1 : 1;
