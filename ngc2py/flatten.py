@@ -189,6 +189,18 @@ def _numbers(values: Sequence[float]) -> List[str]:
     return _words("", values)
 
 
+def python_float_bits(values: List[float], start: int, stop: int) -> bytes:
+    """The bits of ``values[start:stop]`` (runtime._fast_format.float_bits
+    where it is built)."""
+    return array("d", values[start:stop]).tobytes()
+
+
+try:  # the same, in C (runtime/_fast_format.c); optional
+    from runtime._fast_format import float_bits
+except ImportError:  # pragma: no cover - the extension was not built
+    float_bits = python_float_bits
+
+
 def _bits(values: Sequence[float]) -> memoryview:
     """Each float's 64 bits as an integer: equal exactly where same() is
     (the trace has no NaN)."""
@@ -1044,7 +1056,7 @@ class FlattenCanon(Canon):
         has them); only a changed range is compared number by number."""
         values = self.machine.params.values
         first, stop = CODE_PARAMETERS.start, CODE_PARAMETERS.stop
-        look = array("d", values[first:stop]).tobytes()
+        look = float_bits(values, first, stop)
         if self._params is None:
             self._params = list(values[first:stop])
             self._params_bytes = look

@@ -1097,7 +1097,44 @@ static PyObject *short_offsets(PyObject *self, PyObject *const *args, Py_ssize_t
     return out;
 }
 
+/* float_bits(values, start, stop): array("d", values[start:stop]).tobytes()
+ * for a list, without the slice and the array: flatten looks at 230
+ * parameters so after every block (FlattenCanon._parameter_changes). */
+static PyObject *float_bits(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    if (nargs != 3 || !PyList_CheckExact(args[0])) {
+        PyErr_SetString(PyExc_TypeError, "float_bits(values: list, start, stop)");
+        return NULL;
+    }
+    Py_ssize_t start = PyLong_AsSsize_t(args[1]), stop = PyLong_AsSsize_t(args[2]);
+    if (PyErr_Occurred()) {
+        return NULL;
+    }
+    /* as a slice reads them (negative from the end, clipped) */
+    PySlice_AdjustIndices(PyList_GET_SIZE(args[0]), &start, &stop, 1);
+    if (stop < start) {
+        stop = start;
+    }
+    PyObject *out = PyBytes_FromStringAndSize(NULL, (stop - start) * (Py_ssize_t) sizeof(double));
+    if (!out) {
+        return NULL;
+    }
+    char *at = PyBytes_AS_STRING(out);
+    for (Py_ssize_t i = start; i < stop; i++) {
+        PyObject *item = PyList_GET_ITEM(args[0], i);
+        double x = PyFloat_CheckExact(item) ? PyFloat_AS_DOUBLE(item) : PyFloat_AsDouble(item);
+        if (x == -1.0 && PyErr_Occurred()) {
+            Py_DECREF(out);
+            return NULL;
+        }
+        memcpy(at, &x, sizeof(double));
+        at += sizeof(double);
+    }
+    return out;
+}
+
 static PyMethodDef methods[] = {
+    {"float_bits", (PyCFunction) (void (*)(void)) float_bits, METH_FASTCALL,
+     "float_bits(values, start, stop): array('d', values[start:stop]).tobytes()."},
     {"percent", (PyCFunction) (void (*)(void)) percent, METH_FASTCALL,
      "percent(template, args): template % args, faster for %s, %d and %.4f."},
     {"percent_rows", (PyCFunction) (void (*)(void)) percent_rows, METH_FASTCALL,

@@ -344,7 +344,10 @@ def test_numbered_rows_are_pythons_join(case):
         expected = "".join(template % tuple(row) for row in zip(*columns))
         if not layout:
             expected = ""
-        assert python_numbered_rows(template, first, lines, rows, layout, groups) == expected
+        assert (
+            python_numbered_rows(template, first, lines, rows, layout, groups)
+            == expected
+        )
     except Exception as exc:
         with pytest.raises(type(exc)):
             numbered_rows(template, first, lines, rows, layout, groups)
@@ -417,3 +420,20 @@ def test_short_offsets_in_c_are_its_python_twin(pairs, data):
     for start, centre, offset in zip(starts, centres, made):
         if start + offset == centre and offset != centre - start:
             assert offset == round(offset, 4)  # shortened only to four decimals
+
+
+@pytest.mark.skipif(percent is None, reason="runtime._fast_format not built here")
+@given(
+    st.lists(st.floats() | st.integers(-(2**53), 2**53), max_size=12),
+    st.integers(-15, 15),
+    st.integers(-15, 15),
+)
+def test_float_bits_are_the_arrays_bytes(values, start, stop):
+    """float_bits(values, start, stop), flatten's look at the parameters
+    after every block, gives the bytes of array("d", values[start:stop]):
+    every bit (-0.0, NaN payloads), ints as their floats, slices as Python
+    reads them."""
+    from ngc2py.flatten import python_float_bits
+    from runtime._fast_format import float_bits
+
+    assert float_bits(values, start, stop) == python_float_bits(values, start, stop)
