@@ -761,7 +761,7 @@ class ArcRows:
             parts = [range(count + 1, count + rows + 1)]
             count += rows
         parts += [numbers] if has_n else []
-        canon._write(trace_rows(fmt, [*parts, *columns]))
+        canon._write_batch(trace_rows(fmt, [*parts, *columns]))
         canon._count = count
         if count >= canon._drain_at:  # TraceCanon's own batching
             canon._drain()

@@ -509,7 +509,7 @@ class HoleRows:
         base = canon._count
         places = xs[1:], ys[1:], xs[:-1], ys[:-1]  # at the hole, where it was
         text = numbered_rows(template % levels, base + 1, lines, rows, layout, places)
-        canon._write(text)
+        canon._write_batch(text)
         canon._count, canon._column = base + lines * rows, column
         if canon._count >= canon._drain_at:
             canon._drain()

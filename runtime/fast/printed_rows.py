@@ -133,7 +133,7 @@ def printed_rows(machine, by_index, cells: List[str], at: int, end: int, plans) 
             motion_mode = motion
     finally:
         if out:
-            canon._write("".join(out))
+            canon._write_batch("".join(out))
             canon._count, canon._column = count, column
             if count >= canon._drain_at:
                 canon._drain()
