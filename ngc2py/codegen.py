@@ -1106,16 +1106,19 @@ class CodeGen:
         present = {id(run): list(dict.fromkeys(run.kinds)) for run in runs}
         # (shape indexes given in the order the rows below are written, piece
         # by piece: a run's rows made in one pass need theirs first)
-        indexes = {id(run): {} for run in runs}
+        indexes: Dict[int, Dict[int, int]] = {}
+
+        def index_of(run: RowRun) -> Dict[int, int]:
+            if id(run) not in indexes:
+                shapes = run.lane.kind_shapes
+                kinds = present[id(run)]
+                indexes[id(run)] = {kind: self.shape(shapes[kind]) for kind in kinds}
+            return indexes[id(run)]
+
         values: List = []
         for piece in pieces:
             if type(piece) is RowRun:
-                shapes = piece.lane.kind_shapes
-                index = indexes[id(piece)]
-                index.update(
-                    (kind, self.shape(shapes[kind])) for kind in present[id(piece)]
-                )
-                quick = rowtable.quick_rows(piece, index)
+                quick = rowtable.quick_rows(piece, index_of(piece))
                 if quick is not None:
                     values.append(quick)
                     continue
@@ -1133,11 +1136,7 @@ class CodeGen:
         lines: List[str] = []
         for k, piece in enumerate(pieces):
             if type(piece) is RowRun:
-                shapes = piece.lane.kind_shapes
-                index = indexes[id(piece)]
-                index.update(
-                    (kind, self.shape(shapes[kind])) for kind in present[id(piece)]
-                )
+                index = index_of(piece)
                 if printed and type(values[k]) is str:
                     lines.append(values[k])  # (rowtable.quick_rows)
                 else:
