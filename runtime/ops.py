@@ -237,14 +237,35 @@ def c_hypot(x: float, y: float) -> float:
     Python's math.hypot is rounded differently in about one case in six
     hundred. glibc takes the root of the rounded sum of squares and then
     corrects it by the error of that sum, found exactly (Borges' algorithm,
-    without fused multiply-add). Only the largest and tiniest values, which
-    glibc rescales first, may differ in the last bit.
+    without fused multiply-add: :func:`_hypot_kernel`). Sides so large that
+    the squares would overflow, or so small that they would underflow (the
+    root would be 0, and the correction divide by it), are scaled by a
+    power of two first and back after, as glibc scales them; an infinite
+    side gives infinity, else a NaN gives NaN, as in C.
     """
     big, small = abs(x), abs(y)
+    if big == math.inf or small == math.inf:
+        return math.inf
+    if big != big or small != small:
+        return x + y  # NaN
     if big < small:
         big, small = small, big
+    if big > _HUGE_SIDE:
+        if small <= big * _HALF_EPSILON:
+            return big + small
+        return _hypot_kernel(big * _SIDE_SCALE, small * _SIDE_SCALE) / _SIDE_SCALE
+    if small < _TINY_SIDE:
+        if big >= small / _HALF_EPSILON:
+            return big + small
+        return _hypot_kernel(big / _SIDE_SCALE, small / _SIDE_SCALE) * _SIDE_SCALE
     if small <= big * _HALF_EPSILON:
         return big + small
+    return _hypot_kernel(big, small)
+
+
+def _hypot_kernel(big: float, small: float) -> float:
+    """The corrected root of big**2 + small**2 (big >= small, neither so
+    large nor so small that a square leaves the range of doubles)."""
     root = math.sqrt(big * big + small * small)
     if root <= 2.0 * small:
         delta = root - small
@@ -255,6 +276,11 @@ def c_hypot(x: float, y: float) -> float:
         error += (4.0 * delta - small) * small + delta * delta
     return root - error / (2.0 * root)
 
+
+#: Sides beyond which c_hypot scales them (by _SIDE_SCALE) before squaring.
+_HUGE_SIDE = 2.0**511
+_TINY_SIDE = 2.0**-511
+_SIDE_SCALE = 2.0**-600
 
 #: Below this ratio the smaller side cannot change the hypotenuse.
 _HALF_EPSILON = 2.0**-54

@@ -12,10 +12,13 @@ import ctypes.util
 import math
 import random
 import re
+import struct
 from pathlib import Path
 from typing import List, Sequence, Tuple
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import rs274 as harness
 from runtime import ops
@@ -330,6 +333,46 @@ def test_c_hypot_rounds_like_the_c_library():
     assert ops.c_hypot(0.0, 0.0) == 0.0
 
 
+_SIDES = st.builds(
+    lambda mantissa, exponent, sign: sign * mantissa * 2.0**exponent,
+    st.floats(1.0, 2.0, exclude_max=True),
+    st.integers(-1074, 1023),
+    st.sampled_from([1.0, -1.0]),
+) | st.sampled_from([0.0, -0.0, 5e-324, 2.0**-511, 2.0**511, math.inf, -math.inf])
+
+
+@given(_SIDES, _SIDES)
+@settings(max_examples=3000)
+def test_c_hypot_is_the_c_librarys_over_every_size(x, y):
+    """c_hypot against the C library's hypot on every exponent: sides whose
+    squares would overflow or underflow (a chord of 1e-200 once made it
+    divide by zero: an internal error where rs274 drew the arc), infinities
+    and zeros, to the bit."""
+    libm = ctypes.CDLL(ctypes.util.find_library("m"))
+    libm.hypot.restype = ctypes.c_double
+    libm.hypot.argtypes = [ctypes.c_double, ctypes.c_double]
+    made, theirs = ops.c_hypot(x, y), libm.hypot(x, y)
+    assert struct.pack("<d", made) == struct.pack("<d", theirs), (x, y)
+    assert ops.c_hypot(math.nan, 1.0) != ops.c_hypot(math.nan, 1.0)  # NaN
+    assert ops.c_hypot(math.nan, math.inf) == math.inf  # as in C
+
+
+@pytest.mark.rs274
+def test_arcs_of_tiny_and_huge_chords_match_rs274(tmp_path):
+    """R arcs whose chord squares underflow or overflow, by the general path
+    (P turns) and by the fast one: rs274's trace, not an internal error."""
+    from test_differential import check_same
+
+    check_same(
+        "G21 G17 F100\nG0 X0 Y0\n"
+        "G2 X[10**-200] Y[10**-200] R1 P1\n"
+        "G3 X[2*10**-200] Y0 R[10**-300]\n"
+        "G2 X[10**200] Y0 R[10**200] P1\n"
+        "G2 X0 Y0 R[10**200]\n"
+        "G1 X[10**300] Y[10**300]\nM2\n"
+    )
+
+
 @pytest.mark.skipif(
     ops.trig_backend() != "library", reason="no x87 long double C library here"
 )
@@ -448,7 +491,17 @@ def test_the_c_extension_column_helpers_are_the_python_ones():
         digits = str(rng.randrange(10 ** rng.randint(1, 15)))
         cut = rng.randint(0, len(digits))
         texts.append(rng.choice("-+ ").strip() + digits[:cut] + "." + digits[cut:])
-    texts += ["1e308", "-0.0", "-0", "7", "1.", ".5", " 2.5 ", "1_0", "9007199254740993"]
+    texts += [
+        "1e308",
+        "-0.0",
+        "-0",
+        "7",
+        "1.",
+        ".5",
+        " 2.5 ",
+        "1_0",
+        "9007199254740993",
+    ]
     texts += ["0.1234567890123456", "1234567890123456", "inf", "-nan"]
     got = arc_rows.column_floats(texts)
     want = arc_rows.python_column_floats(texts)
