@@ -384,3 +384,35 @@ def test_a_cell_is_read_as_float_reads_it(text):
         return
     for found in (cell_value(text), arc_rows.column_floats([text])[0]):
         assert struct.pack("<d", found) == struct.pack("<d", expected), text
+
+
+_COORD = st.floats(-500, 500, allow_nan=False)
+
+
+@needs_c
+@given(
+    st.booleans(),
+    _COORD,
+    _COORD,
+    _COORD,
+    _COORD,
+    st.floats(-600, 600, allow_nan=False) | st.sampled_from([0.5, -0.5, 1e-9]),
+    st.sampled_from([1e-6, 1e-12, 0.0]),
+    st.sampled_from([None, 1.0, 1.0 + 1e-13, 1.0 - 1e-13]),
+)
+@settings(max_examples=500)
+def test_an_r_arcs_centre_in_c_is_its_python_to_the_bit(
+    clockwise, s1, s2, e1, e2, radius, zero, semicircle
+):
+    """quick_radius_centre (Machine.plain_arc's, in C) against radius_centre
+    (runtime.arcs' operations): the same centre to the bit, or None alike;
+    semicircles (R half the chord, and a hair either side) included."""
+    if semicircle is not None:
+        radius = math.copysign(math.hypot(e1 - s1, e2 - s2) / 2 * semicircle, radius)
+    made = arc_rows.quick_radius_centre(clockwise, s1, s2, e1, e2, radius, zero)
+    twin = arc_rows.radius_centre(clockwise, s1, s2, e1, e2, radius, zero)
+    assert (made is None) == (twin is None)
+    if made is not None:
+        assert [struct.pack("<d", v) for v in made] == [
+            struct.pack("<d", v) for v in twin
+        ]

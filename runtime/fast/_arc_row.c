@@ -787,7 +787,35 @@ static PyObject *cell_value(PyObject *self, PyObject *text) {
     return failed ? NULL : PyFloat_FromDouble(value);
 }
 
+/* radius_centre(clockwise, s1, s2, e1, e2, radius, zero): the C above for
+ * Machine.plain_arc's R arcs (arc_rows.radius_centre): (c1, c2), or None
+ * when R is too short. */
+static PyObject *radius_centre_py(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    if (nargs != 7) {
+        PyErr_SetString(PyExc_TypeError, "radius_centre(clockwise, s1, s2, e1, e2, radius, zero)");
+        return NULL;
+    }
+    int clockwise = PyObject_IsTrue(args[0]);
+    double v[6];
+    for (int k = 0; k < 6; k++) {
+        v[k] = PyFloat_AsDouble(args[k + 1]);
+        if (v[k] == -1.0 && PyErr_Occurred()) {
+            return NULL;
+        }
+    }
+    if (clockwise < 0) {
+        return NULL;
+    }
+    double c1, c2;
+    if (!radius_centre(clockwise, v[0], v[1], v[2], v[3], v[4], v[5], &c1, &c2)) {
+        Py_RETURN_NONE;
+    }
+    return Py_BuildValue("(dd)", c1, c2);
+}
+
 static PyMethodDef methods[] = {
+    {"radius_centre", (PyCFunction) (void (*)(void)) radius_centre_py, METH_FASTCALL,
+     "radius_centre(clockwise, s1, s2, e1, e2, radius, zero): (c1, c2) or None"},
     {"cell_value", (PyCFunction) cell_value, METH_O,
      "float(text) as the rows read a table's cell"},
     {"arc_row", (PyCFunction) (void (*)(void)) arc_row, METH_FASTCALL,

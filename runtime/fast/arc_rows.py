@@ -144,6 +144,15 @@ def radius_centre(clockwise: bool, s1, s2, e1, e2, radius: float, zero: float):
     return arcs.radius_centre(clockwise, s1, s2, e1, e2, radius, zero)
 
 
+def quick_radius_centre(clockwise: bool, s1, s2, e1, e2, radius: float, zero: float):
+    """:func:`radius_centre`, in C where it is built (the rows' own,
+    runtime/fast/_arc_row.c): for Machine.plain_arc's R arcs, one line at
+    a time."""
+    if radius == 0.0 or (e1 == s1 and e2 == s2):
+        return None
+    return _radius_centre(clockwise, s1, s2, e1, e2, radius, zero)
+
+
 def _row_number(cells: List[str], at: int, has_n: bool):
     """The N of the row at ``at`` (None without one), and where its other
     words begin."""
@@ -203,8 +212,10 @@ def python_arc_row(cells, at, recipe, motion_mode, cur, feed_rate, geometry):
 try:  # the same in C, ten times quicker (runtime/fast/_arc_row.c)
     from runtime.fast._arc_row import arc_row
     from runtime.fast._arc_row import rows as rows_in_c
+    from runtime.fast._arc_row import radius_centre as _radius_centre
 except ImportError:  # not built: the loop's Python alone
     arc_row, rows_in_c = python_arc_row, None
+    _radius_centre = arcs.radius_centre
 
 
 def _publish(machine, line: int, cur, motion_mode, block_n) -> None:

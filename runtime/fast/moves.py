@@ -378,7 +378,7 @@ class FastPathMixin:
             ):
                 return False
         else:
-            centre = arc_rows.radius_centre(
+            centre = arc_rows.quick_radius_centre(
                 motion == G2,
                 s1,
                 s2,
