@@ -102,6 +102,21 @@ def write_raw(stream: TextIO, text: str) -> None:
     buffer.flush()
 
 
+#: rs274 keeps an error's text in a buffer of LinuxCNC's LINELEN (255)
+#: bytes and prints at most this many of them.
+MESSAGE_BYTES = 254
+
+
+def rs274_message(message: str) -> str:
+    """``message`` as rs274 prints it: its first MESSAGE_BYTES bytes (a long
+    name, path or number in it is cut off there, mid-character if it falls
+    so, as C cuts it)."""
+    data = message.encode("utf-8", "surrogateescape")
+    if len(data) <= MESSAGE_BYTES:
+        return message
+    return data[:MESSAGE_BYTES].decode("utf-8", "surrogateescape")
+
+
 def report(error: GCodeError, stderr: TextIO) -> None:
     """rs274's two lines (message, line text: parity checks read the first),
     then a caret under the word the error is about (when it is known),
@@ -109,7 +124,7 @@ def report(error: GCodeError, stderr: TextIO) -> None:
     from runtime.caret import column
 
     frames = locate(error)
-    write_raw(stderr, error.message + "\n")
+    write_raw(stderr, rs274_message(error.message) + "\n")
     if not frames:
         return
     here = frames[-1]
