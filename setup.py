@@ -4,7 +4,8 @@
 than the ctypes path of runtime/x87.py. ``runtime._fast_format`` makes trace
 lines (``template % args``) without Python's general float formatting.
 ``runtime.fast._arc_row`` runs a contour's rows; ``runtime._arc_stats`` adds
-up a batch of arcs for ``ngc2py stats``. ``ngc2py._rowtext`` writes a CAM
+up a batch of arcs for ``ngc2py stats``. ``runtime._call_rows`` makes a
+batch's canon calls from its columns (the preview's). ``ngc2py._rowtext`` writes a CAM
 file's table rows in one pass when it is converted. All are optional: without a C
 compiler and Python's headers the build skips them and the runtime runs its
 pure-Python equivalents, with identical results."""
@@ -38,6 +39,7 @@ setup(
             extra_compile_args=["-ffp-contract=off"],
             optional=True,
         ),
+        Extension("runtime._call_rows", ["runtime/_call_rows.c"], optional=True),
         Extension("ngc2py._rowtext", ["ngc2py/_rowtext.c"], optional=True),
         Extension(
             "runtime._arc_stats",

@@ -61,13 +61,12 @@ start and on every G20/G21 change), and slot 0 as the loaded tool.
 from __future__ import annotations
 
 import time
-from itertools import chain, compress, repeat, starmap
 from operator import itemgetter, not_
 
 from runtime.arcs import INVERSE_TIME, UNITS_PER_MINUTE, UNITS_PER_REVOLUTION
 from runtime.blockcheck import M_USER
 from runtime.budget import DEFAULT_MAX_STEPS, RUNAWAY
-from runtime.canon import Canon, make_calls
+from runtime.canon import Canon, call_rows
 from runtime.codes import G0, G1, G2, G3, M_OFFSET, g_code, m_code
 from runtime.errors import GCodeError, g_code_frames, g_code_frames_of_stack, locate
 from runtime.machine import Machine
@@ -317,7 +316,7 @@ class PreviewCanon(Canon):
         self._announce_batch(
             lines,
             [G1 if feed else G0] * len(lines),
-            starmap(call, zip(x, y, z, a, b, c, u, v, w)),
+            ((call, (x, y, z, a, b, c, u, v, w)),),
         )
 
     def arc_moves(self, lines, *columns):
@@ -333,13 +332,11 @@ class PreviewCanon(Canon):
         if not machine.inches:
             lengths = list(map(_in_inches, lengths))
         e1, e2, c1, c2, normal, u, v, w = lengths
+        arguments = (e1, e2, c1, c2, rotation, normal, a, b, c, u, v, w)
         self._announce_batch(
             lines,
             [G3 if turn > 0 else G2 for turn in rotation],
-            starmap(
-                self.target.arc_feed,
-                zip(e1, e2, c1, c2, rotation, normal, a, b, c, u, v, w),
-            ),
+            ((self.target.arc_feed, arguments),),
         )
 
     def contour_moves(self, axes, lines, *columns):
@@ -366,17 +363,23 @@ class PreviewCanon(Canon):
         if not machine.inches:
             e1, e2, c1, c2, en, u, v, w = map(_in_inches, (e1, e2, c1, c2, en, u, v, w))
         # a line's straight_feed: its pose (as _pose has it) a column at a time
-        line_columns = [repeat(0.0)] * 3 + [a, b, c, u, v, w]
+        line_columns = [None, None, None, a, b, c, u, v, w]
         line_columns[f], line_columns[s], line_columns[n] = e1, e2, en
-        arcs = zip(e1, e2, c1, c2, rotation, en, a, b, c, u, v, w)
-        arc_calls = starmap(target.arc_feed, compress(arcs, rotation))
-        line_calls = starmap(
-            target.straight_feed, compress(zip(*line_columns), map(not_, rotation))
+        arcs = (e1, e2, c1, c2, rotation, en, a, b, c, u, v, w)
+        # each row one call or the other: an arc where its rotation is not 0
+        steps = (
+            (target.arc_feed, arcs, None, rotation),
+            (
+                target.straight_feed,
+                tuple(line_columns),
+                None,
+                list(map(not_, rotation)),
+            ),
         )
         self._announce_batch(
             lines,
             [G1 if not turn else G3 if turn > 0 else G2 for turn in rotation],
-            map(next, [arc_calls if turn else line_calls for turn in rotation]),
+            steps,
         )
         self._pos = tuple(pose)
 
@@ -407,14 +410,14 @@ class PreviewCanon(Canon):
         columns = []  # per call of a hole: (the target's method, its columns)
         for name, args, where in recording:
             if where is not None:
-                # (every move's two hole axes are columns of ``holes`` values:
-                # they end its map, the other values repeat without end)
-                steps = list(map(repeat, self._pose(*args)))
+                # (every move's two hole axes are columns of ``holes`` values,
+                # the other values each one repeated)
+                steps = [[value] * holes for value in self._pose(*args)]
                 for axis, values in zip(axes, shown[where]):
                     steps[axis] = values
-                columns.append((getattr(target, name), steps))
+                columns.append((getattr(target, name), tuple(steps)))
             elif name == "dwell":
-                columns.append((target.dwell, [repeat(args[0], holes)]))
+                columns.append((target.dwell, ([args[0]] * holes,)))
             elif getattr(type(self), name) is not getattr(Canon, name):
                 # a call the module passes on that a hole seldom makes
                 return super().hole_moves(recording, lines, first, second, axes, start)
@@ -428,12 +431,9 @@ class PreviewCanon(Canon):
                 raise KeyboardInterrupt("Load aborted")
         gcodes, mcodes, settings = machine.active
         code = LineCode((numbers[0],) + gcodes[1:], mcodes, settings)
-        state = repeat((gcodes[1:], mcodes[1:], settings[1:]))
-        codes = chain((code,), map(_RowCode, zip(numbers[1:], lines, state)))
-        # each call's column mapped over by its method, asked in turn: the
-        # calls come in program order, hole after hole
-        calls = [map(method, *steps) for method, steps in columns]
-        make_calls(holes, map(target.next_line, codes), *calls)
+        state = (gcodes[1:], mcodes[1:], settings[1:])
+        # the calls in program order, hole after hole
+        self._announce_rows(code, numbers, lines, [state] * holes, tuple(columns))
         self.last_sequence = numbers[-1]
         for _, args, where in reversed(recording):
             if where is not None:  # the module's own position: the last move's
@@ -443,10 +443,11 @@ class PreviewCanon(Canon):
                 self._pos = tuple(position)
                 break
 
-    def _announce_batch(self, lines, motions, calls) -> None:
+    def _announce_batch(self, lines, motions, steps) -> None:
         """Each line of a batch announced with the modes the line before
         left (those of ``motions[k - 1]``, its motion mode, since nothing
-        else changes), then its move made: ``next(calls)`` makes it."""
+        else changes), then its move made (``steps``: as
+        :meth:`_announce_rows` takes them)."""
         machine = self.machine
         target = self.target
         modes = {motion: machine.line_state(motion) for motion in set(motions)}
@@ -457,25 +458,34 @@ class PreviewCanon(Canon):
                 raise KeyboardInterrupt("Load aborted")
         numbers = _sequence_numbers(lines, self.skipped)
         if len(modes) == 1:
-            states = repeat(modes[motions[0]])
-        else:
-            states = map(modes.__getitem__, motions)
-        # made as they are asked for: a code the target keeps no reference
-        # to is freed at once
-        codes = map(_RowCode, zip(numbers[1:], lines, states))
-        rows = len(lines)
-        if numbers[0] == self.last_sequence:  # announced already
-            next(calls)
-            rows -= 1
-        else:
+            states = [modes[motions[0]]] * len(lines)
+        else:  # (row k is announced with the modes of line k - 1)
+            states = [None, *map(modes.__getitem__, motions[:-1])]
+        first = None
+        if numbers[0] != self.last_sequence:  # (else announced already)
             g, m, s = machine.active
-            codes = chain((LineCode((numbers[0],) + g[1:], m, s),), codes)
-        # the announcement first, then the move, row by row
-        make_calls(rows, map(target.next_line, codes), calls)
+            first = LineCode((numbers[0],) + g[1:], m, s)
+        self._announce_rows(first, numbers, lines, states, steps)
         self.last_sequence = numbers[-1]
         last = lines[-1]
         gcodes, mcodes, settings = modes[motions[-1]]
         machine.active = ((last,) + gcodes, (last,) + mcodes, (float(last),) + settings)
+
+    def _announce_rows(self, first, numbers, lines, states, steps) -> None:
+        """Row by row, each row's line announced, then its calls: ``steps``
+        as runtime.canon.call_rows takes them (a method, its arguments'
+        columns). Row 0 is announced with ``first`` (none: it was already),
+        row k after it with a code of its number, the line before and
+        ``states[k]``, made in C (call_rows' ``kind``) as the row is."""
+        if not lines:
+            return
+        next_line = self.target.next_line
+        if first is not None:
+            next_line(first)
+        call_rows(0, 1, steps)
+        if len(lines) > 1:
+            announce = (next_line, (numbers, [None, *lines], states), _RowCode)
+            call_rows(1, len(lines), (announce, *steps))
 
     def straight_probe(self, x, y, z, a, b, c, u, v, w, probe_type):
         self._pos = (x, y, z, a, b, c, u, v, w)

@@ -24,7 +24,7 @@ executing a line.
 from __future__ import annotations
 
 from collections import deque
-from itertools import count, starmap
+from itertools import compress, count, repeat, starmap
 from math import copysign
 
 from runtime.lazy_re import Pattern
@@ -47,6 +47,54 @@ def make_calls(rows: int, *calls: Iterator) -> None:
     _drain(zip(*calls, made))
     if next(made) != rows:
         raise RuntimeError("a canon method raised StopIteration")
+
+
+def python_call_rows(start: int, stop: int, steps) -> None:
+    """For each row from ``start`` to ``stop``, in turn, each step's call.
+    A step is ``(method, columns[, kind[, mask]])``: ``columns`` a tuple of
+    sequences, row k's call being ``method(*values)`` with ``values`` their
+    k-th items, or ``method(kind(values))`` where a ``kind`` (a tuple type)
+    is given; a step with a ``mask`` makes its call only on the rows whose
+    item of it is true. The C extension ``runtime._call_rows`` does the same
+    without an iterator step per column and row (tests/test_call_rows.py
+    holds the two together); here map and zip run the rows in C."""
+    iterators = []
+    masks = []
+    for step in steps:
+        method, columns = step[0], step[1]
+        kind = step[2] if len(step) > 2 else None
+        mask = step[3] if len(step) > 3 else None
+        values = zip(*[column[start:stop] for column in columns])
+        if not columns:
+            values = repeat((), stop - start)
+        if mask is not None:
+            mask = mask[start:stop]
+            values = compress(values, mask)
+        if kind is None:
+            iterators.append(starmap(method, values))
+        else:
+            iterators.append(map(method, map(kind, values)))
+        masks.append(mask)
+    if not any(mask is not None for mask in masks):
+        make_calls(stop - start, *iterators)
+        return
+    # rows where some step is left out: the calls in order, one next() each
+    order = [
+        calls
+        for row in range(stop - start)
+        for calls, mask in zip(iterators, masks)
+        if mask is None or mask[row]
+    ]
+    made = count()
+    _drain(zip(map(next, order), made))
+    if next(made) != len(order):
+        raise RuntimeError("a canon method raised StopIteration")
+
+
+try:
+    from runtime._call_rows import call_rows
+except ImportError:  # not built: the same calls by map and zip
+    call_rows = python_call_rows
 
 
 class Canon:
@@ -107,7 +155,7 @@ class Canon:
     def straight_moves(self, feed: bool, lines, x, y, z, a, b, c, u, v, w):
         """Straight moves, all feeds (``feed``) or all traverses."""
         call = self.straight_feed if feed else self.straight_traverse
-        make_calls(len(lines), starmap(call, zip(x, y, z, a, b, c, u, v, w)))
+        call_rows(0, len(lines), ((call, (x, y, z, a, b, c, u, v, w)),))
 
     def arc_moves(
         self,
@@ -131,8 +179,8 @@ class Canon:
         one batch (``machine.line`` is then the batch's last line); by
         default, one ``arc_feed`` an arc."""
         columns = (first_end, second_end, first_axis, second_axis, rotation)
-        arguments = zip(*columns, axis_end, a, b, c, u, v, w)
-        make_calls(len(lines), starmap(self.arc_feed, arguments))
+        arguments = (*columns, axis_end, a, b, c, u, v, w)
+        call_rows(0, len(lines), ((self.arc_feed, arguments),))
 
     def contour_moves(
         self,
@@ -160,14 +208,15 @@ class Canon:
         longer: the lines between a contour's arcs no longer cut it); by
         default, one ``arc_feed`` or ``straight_feed`` a row."""
         f, s, n = axes
-        columns = (first_axis, second_axis, rotation, axis_end, a, b, c, u, v, w)
-        for k, values in enumerate(zip(*columns)):
-            if values[2]:
-                self.arc_feed(first_end[k], second_end[k], *values)
-            else:
-                point = [0.0, 0.0, 0.0, *values[4:]]
-                point[f], point[s], point[n] = first_end[k], second_end[k], values[3]
-                self.straight_feed(*point)
+        arcs = (first_end, second_end, first_axis, second_axis, rotation, axis_end)
+        point = [None, None, None, a, b, c, u, v, w]
+        point[f], point[s], point[n] = first_end, second_end, axis_end
+        # each row one call or the other: an arc where its rotation is not 0
+        steps = (
+            (self.arc_feed, (*arcs, a, b, c, u, v, w), None, rotation),
+            (self.straight_feed, tuple(point), None, [not turn for turn in rotation]),
+        )
+        call_rows(0, len(lines), steps)
 
     def hole_moves(self, recording, lines, first, second, axes, start):
         """Holes of a canned cycle drilled alike (runtime.fast.hole_rows):

@@ -40,6 +40,7 @@ from test_stats import scratch_run
 import ngc2py
 from ngc2py import preview
 from ngc2py.preview import LineCode, MIN_ERROR, strerror
+from runtime import canon as runtime_canon
 
 GCODE_PYTHON = os.environ.get("GCODE_PYTHON", "/usr/bin/python3")
 REFERENCE = Path(__file__).with_name("gcode_reference.py")
@@ -651,3 +652,33 @@ def test_columns_are_divided_as_a_comprehension_divides_them(column, divisor):
     found = preview.divided(column, divisor)
     assert [repr(v) for v in found] == [repr(v) for v in expected]
     assert [type(v) for v in found] == [type(v) for v in expected]
+
+
+@pytest.mark.skipif(
+    preview.call_rows is runtime_canon.python_call_rows,
+    reason="runtime._call_rows not built here: the preview uses the twin already",
+)
+@settings(PROFILE)
+@given(
+    st.one_of(
+        cam_strategies.cam_programs(),
+        cam_strategies.arc_programs(),
+        test_cycles.cycle_tables(),
+    ),
+    st.sampled_from(("G21", "G20")),
+)
+def test_the_preview_makes_the_same_calls_without_the_c_batches(text, units):
+    """The preview's batches (straight, arc, contour and hole rows) make
+    their calls by runtime._call_rows; by its Python twin, where it is not
+    built, every call and line code must be the same."""
+    scratch = harness.REPO / "tests" / "_generated" / ("twin-%d.ngc" % os.getpid())
+    scratch.parent.mkdir(exist_ok=True)
+    scratch.write_text(units + "\n" + text)
+    with_c = ours(str(scratch), ())
+    original = preview.call_rows
+    preview.call_rows = runtime_canon.python_call_rows
+    try:
+        with_twin = ours(str(scratch), ())
+    finally:
+        preview.call_rows = original
+    assert with_twin == with_c
