@@ -394,7 +394,6 @@ class PreviewCanon(Canon):
         if self.motion_line is not None or not isinstance(machine, PreviewMachine):
             return super().hole_moves(recording, lines, first, second, axes, start)
         target = self.target
-        holes = len(lines)
         k = 1.0 if machine.inches else MM_PER_INCH
         places = {
             "hole": (first, second),
@@ -410,14 +409,14 @@ class PreviewCanon(Canon):
         columns = []  # per call of a hole: (the target's method, its columns)
         for name, args, where in recording:
             if where is not None:
-                # (every move's two hole axes are columns of ``holes`` values,
-                # the other values each one repeated)
-                steps = [[value] * holes for value in self._pose(*args)]
+                # (every move's two hole axes are columns of a value a hole,
+                # the others of one, which serves every hole)
+                steps = [[value] for value in self._pose(*args)]
                 for axis, values in zip(axes, shown[where]):
                     steps[axis] = values
                 columns.append((getattr(target, name), tuple(steps)))
             elif name == "dwell":
-                columns.append((target.dwell, ([args[0]] * holes,)))
+                columns.append((target.dwell, ([args[0]],)))
             elif getattr(type(self), name) is not getattr(Canon, name):
                 # a call the module passes on that a hole seldom makes
                 return super().hole_moves(recording, lines, first, second, axes, start)
@@ -433,7 +432,7 @@ class PreviewCanon(Canon):
         code = LineCode((numbers[0],) + gcodes[1:], mcodes, settings)
         state = (gcodes[1:], mcodes[1:], settings[1:])
         # the calls in program order, hole after hole
-        self._announce_rows(code, numbers, lines, [state] * holes, tuple(columns))
+        self._announce_rows(code, numbers, lines, [state], tuple(columns))
         self.last_sequence = numbers[-1]
         for _, args, where in reversed(recording):
             if where is not None:  # the module's own position: the last move's
@@ -458,7 +457,7 @@ class PreviewCanon(Canon):
                 raise KeyboardInterrupt("Load aborted")
         numbers = _sequence_numbers(lines, self.skipped)
         if len(modes) == 1:
-            states = [modes[motions[0]]] * len(lines)
+            states = [modes[motions[0]]]  # (one: every row's)
         else:  # (row k is announced with the modes of line k - 1)
             states = [None, *map(modes.__getitem__, motions[:-1])]
         first = None
@@ -476,7 +475,8 @@ class PreviewCanon(Canon):
         as runtime.canon.call_rows takes them (a method, its arguments'
         columns). Row 0 is announced with ``first`` (none: it was already),
         row k after it with a code of its number, the line before and
-        ``states[k]``, made in C (call_rows' ``kind``) as the row is."""
+        ``states[k]`` (or ``states[0]``, if that is all), made in C
+        (call_rows' ``kind``) as the row is."""
         if not lines:
             return
         next_line = self.target.next_line

@@ -27,10 +27,12 @@ typedef struct {
 } step;
 
 /* A column (or mask) as a list or a tuple, a new reference (a list or a
- * tuple as it is: PySequence_Fast), at least ``stop`` long; NULL on error. */
+ * tuple as it is: PySequence_Fast), at least ``stop`` long or of one item
+ * (which serves every row); NULL on error. */
 static PyObject *column_of(PyObject *given, Py_ssize_t stop, const char *what) {
     PyObject *column = PySequence_Fast(given, "call_rows: a column must be a sequence");
-    if (column && PySequence_Fast_GET_SIZE(column) < stop) {
+    Py_ssize_t size = column ? PySequence_Fast_GET_SIZE(column) : 0;
+    if (column && size < stop && size != 1) {
         PyErr_Format(PyExc_ValueError, "call_rows: a %s is shorter than the rows", what);
         Py_CLEAR(column);
     }
@@ -88,13 +90,18 @@ static void release_step(step *s) {
     Py_XDECREF(s->mask);
 }
 
+/* Row ``row``'s item of a column: its only item, for a column of one. */
+static PyObject *item_at(PyObject *column, Py_ssize_t row) {
+    return PySequence_Fast_ITEMS(column)[PySequence_Fast_GET_SIZE(column) == 1 ? 0 : row];
+}
+
 /* One call of one row; 0, or -1 with the error set. */
 static int call_one(step *s, Py_ssize_t row) {
     PyObject *args[MOST_COLUMNS];
     PyObject *result;
     /* held while the call runs: a method could change a list it knows */
     for (Py_ssize_t j = 0; j < s->width; j++) {
-        args[j] = PySequence_Fast_ITEMS(s->columns[j])[row];
+        args[j] = item_at(s->columns[j], row);
         Py_INCREF(args[j]);
     }
     if (s->kind) {
@@ -158,7 +165,7 @@ static PyObject *call_rows(PyObject *self, PyObject *const *argv, Py_ssize_t arg
         for (Py_ssize_t k = 0; k < count; k++) {
             step *s = &steps[k];
             if (s->mask) {
-                int on = PyObject_IsTrue(PySequence_Fast_ITEMS(s->mask)[row]);
+                int on = PyObject_IsTrue(item_at(s->mask, row));
                 if (on < 0) {
                     goto done;
                 }
@@ -168,12 +175,14 @@ static PyObject *call_rows(PyObject *self, PyObject *const *argv, Py_ssize_t arg
             }
             /* a method may shorten a list it was given: read it again */
             for (Py_ssize_t j = 0; j < s->width; j++) {
-                if (PySequence_Fast_GET_SIZE(s->columns[j]) <= row) {
+                Py_ssize_t size = PySequence_Fast_GET_SIZE(s->columns[j]);
+                if (size <= row && size != 1) {
                     PyErr_SetString(PyExc_RuntimeError, "call_rows: a column changed size");
                     goto done;
                 }
             }
-            if (s->mask && PySequence_Fast_GET_SIZE(s->mask) <= row) {
+            if (s->mask && PySequence_Fast_GET_SIZE(s->mask) <= row &&
+                PySequence_Fast_GET_SIZE(s->mask) != 1) {
                 PyErr_SetString(PyExc_RuntimeError, "call_rows: a mask changed size");
                 goto done;
             }

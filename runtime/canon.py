@@ -64,11 +64,11 @@ def python_call_rows(start: int, stop: int, steps) -> None:
         method, columns = step[0], step[1]
         kind = step[2] if len(step) > 2 else None
         mask = step[3] if len(step) > 3 else None
-        values = zip(*[column[start:stop] for column in columns])
+        values = zip(*[_rows_of(column, start, stop) for column in columns])
         if not columns:
             values = repeat((), stop - start)
         if mask is not None:
-            mask = mask[start:stop]
+            mask = list(_rows_of(mask, start, stop))
             values = compress(values, mask)
         if kind is None:
             iterators.append(starmap(method, values))
@@ -89,6 +89,13 @@ def python_call_rows(start: int, stop: int, steps) -> None:
     _drain(zip(map(next, order), made))
     if next(made) != len(order):
         raise RuntimeError("a canon method raised StopIteration")
+
+
+def _rows_of(column, start: int, stop: int):
+    """A column's items for rows ``start`` to ``stop`` (one item: it, each row)."""
+    if len(column) == 1:
+        return repeat(column[0], stop - start)
+    return column[start:stop]
 
 
 try:

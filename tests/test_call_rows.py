@@ -54,29 +54,21 @@ def batches(draw):
     rows = draw(st.integers(0, 12))
     start = draw(st.integers(0, rows))
     stop = draw(st.integers(start, rows))
+    # a column (or mask) of one value serves every row
+    sizes = st.sampled_from((rows, 1)) if rows else st.just(0)
+    values = st.floats(allow_nan=False) | st.integers()
+    flags = st.sampled_from([0, 1, -1, True, False, 0.0])
     specs = []
     for index in range(draw(st.integers(1, 3))):
-        width = draw(st.integers(0, 12))
         columns = tuple(
-            draw(
-                st.lists(
-                    st.floats(allow_nan=False) | st.integers(),
-                    min_size=rows,
-                    max_size=rows,
-                )
-            )
-            for _ in range(width)
+            draw(st.lists(values, min_size=size, max_size=size))
+            for size in [draw(sizes) for _ in range(draw(st.integers(0, 12)))]
         )
-        kind = Code if width and draw(st.booleans()) else None
+        kind = Code if columns and draw(st.booleans()) else None
         mask = None
         if draw(st.booleans()):
-            mask = draw(
-                st.lists(
-                    st.sampled_from([0, 1, -1, True, False, 0.0]),
-                    min_size=rows,
-                    max_size=rows,
-                )
-            )
+            size = draw(sizes)
+            mask = draw(st.lists(flags, min_size=size, max_size=size))
         specs.append((index, columns, kind, mask))
     fail_at = draw(st.none() | st.integers(0, 20))
     return start, stop, specs, fail_at
@@ -100,14 +92,18 @@ def run(call_rows, start, stop, specs, fail_at, error=ValueError):
     return log.calls, raised
 
 
+def at(column, row):
+    return column[0] if len(column) == 1 else column[row]
+
+
 def expected(start, stop, specs):
     """The calls as the docstring says, row by row, step by step."""
     calls = []
     for row in range(start, stop):
         for index, columns, kind, mask in specs:
-            if mask is not None and not mask[row]:
+            if mask is not None and not at(mask, row):
                 continue
-            values = tuple(column[row] for column in columns)
+            values = tuple(at(column, row) for column in columns)
             args = (Code(values),) if kind is not None else values
             calls.append((index, args, type(args[0]) if args else None))
     return calls
