@@ -51,6 +51,7 @@ WORKLOADS = {
     "cam_arcs_100k": (workloads.cam_arcs, 100_000),
     "loop_200k": (workloads.loop, 200_000),
     "cycles_20k": (workloads.drill_cycles, 20_000),
+    "cycle_lines_20k": (workloads.drill_lines, 20_000),
     # programs of the size most are (and the before-stop hook times): the
     # fixed costs, Python's start and imports, weigh most there
     "cam_20k": (workloads.cam, 20_000),

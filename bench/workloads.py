@@ -136,6 +136,38 @@ def drill_cycles(holes: int) -> str:
     return "\n".join(lines) + "\n"
 
 
+def drill_lines(holes: int) -> str:
+    """Canned cycles as other posts write them: every hole a cycle line of
+    its own (``G99 G81 X.. Y.. Z-3 R2``, then the same line at the next
+    hole), a few hundred holes of each cycle and retract mode before the
+    next, with now and then a G80 and a move between."""
+    rng = random.Random(holes)
+    lines = [
+        "(canned cycles, a line a hole)",
+        "G21 G90 G17 G94",
+        "G0 Z20",
+        "M3 S1200",
+        "F250",
+    ]
+    cycles = ("G81", "G82 P0.2", "G83 Q1.2", "G73 Q0.8", "G85", "G86 P0.3", "G89 P0.2")
+    k = 0
+    group = 0
+    while k < holes:
+        cycle = cycles[group % len(cycles)]
+        retract = "G98" if group % 2 else "G99"
+        levels = "Z%.3f R%.3f" % (-rng.uniform(2, 12), rng.uniform(1, 4))
+        for _ in range(rng.randint(100, 400)):
+            if k >= holes:
+                break
+            x, y = rng.uniform(0, 200), rng.uniform(0, 150)
+            lines.append("%s %s X%.3f Y%.3f %s" % (retract, cycle, x, y, levels))
+            k += 1
+        lines += ["G80", "G0 Z20"]
+        group += 1
+    lines += ["M5", "M2"]
+    return "\n".join(lines) + "\n"
+
+
 def shop(lines: int) -> str:
     """What shops' programs add to CAM rows, each a tenth or more of the
     lines: moves and arcs with a comment, modes restated on every line

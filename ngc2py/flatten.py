@@ -55,7 +55,7 @@ if TYPE_CHECKING:
 
 from runtime.canon import CALLS, Canon, trace_rows
 from runtime.errors import g_code_frames_of_stack
-from runtime.fast.hole_rows import HOLE_MOVES, HOLE_SWITCHES
+from runtime.fast.hole_rows import HOLE_MOVES, RESTATED_SWITCHES
 from runtime.lazy_re import Pattern
 
 AXES6 = "XYZABC"
@@ -132,9 +132,10 @@ MM_PER_INCH = 25.4
 #: FlattenCanon.hole_moves writes from a template: every call a recorded hole
 #: may hold (runtime.fast.hole_rows: moves, dwells, the path-control modes a
 #: cycle sets around its moves, the spindle, override and stop switches of
-#: the tapping and boring cycles); none of them changes what later lines
-#: mean (what _texts keeps: units, plane, the current point).
-_HOLE_CALLS = (HOLE_MOVES | HOLE_SWITCHES) - {"set_block_number"}
+#: the tapping and boring cycles, a restated line's retract mode comment);
+#: none of them changes what later lines mean (what _texts keeps: units,
+#: plane, the current point).
+_HOLE_CALLS = (HOLE_MOVES | RESTATED_SWITCHES) - {"set_block_number"}
 
 
 class FlattenError(Exception):

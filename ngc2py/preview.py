@@ -415,8 +415,8 @@ class PreviewCanon(Canon):
                 for axis, values in zip(axes, shown[where]):
                     steps[axis] = values
                 columns.append((getattr(target, name), tuple(steps)))
-            elif name == "dwell":
-                columns.append((target.dwell, ([args[0]],)))
+            elif name in ("dwell", "comment"):  # (a restated line's G98/G99)
+                columns.append((getattr(target, name), ([args[0]],)))
             elif getattr(type(self), name) is not getattr(Canon, name):
                 # a call the module passes on that a hole seldom makes
                 return super().hole_moves(recording, lines, first, second, axes, start)

@@ -158,6 +158,10 @@ def cycle_tables(draw) -> str:
     if form == 4:
         cycle_line = "N%d %s" % (draw(st.integers(1, 999)), cycle_line)
     lines.append(cycle_line)
+    # or the cycle's own line restated at every hole, as some posts write
+    # them (runtime.fast.hole_rows.HoleRows.restated), now and then with a
+    # word changed, another retract mode or a row of hole words between
+    restate = draw(st.integers(0, 2)) == 0
     rows: List[str] = []
     for k in range(draw(st.integers(8, 40))):
         shape = draw(st.integers(0, 9))
@@ -168,6 +172,23 @@ def cycle_tables(draw) -> str:
             row.append("%s%.3f" % (second, draw(st.integers(-500, 500)) / 10))
         if shape == 9 and len(lines) > 4:
             row = lines[-1].split()  # the same hole again
+        elif restate and draw(st.integers(0, 5)):
+            again = cycle_line.split()
+            row = [
+                "%s%.3f" % (axis, draw(st.integers(-500, 500)) / 10)
+                for axis in (first, second)
+            ]
+            change = draw(st.integers(0, 15))
+            if change == 1:
+                again = [
+                    "G99" if w == "G98" else "G98" if w == "G99" else w for w in again
+                ]
+            elif change == 2:
+                again.append("F%d" % draw(st.integers(50, 900)))
+            elif change == 3:
+                again = [("R%.2f" % (r + 0.5)) if w[0] == "R" else w for w in again]
+            codes = [w for w in again if w[0] in "GN"]
+            row = codes + row + [w for w in again if w[0] not in "GN"]
         extra = draw(st.integers(0, 12))
         if extra == 1:
             row.append("F%d" % draw(st.integers(50, 900)))
@@ -200,6 +221,87 @@ def cycle_tables(draw) -> str:
     lines.append("M2")
     text = "\n".join(lines) + "\n"
     return cam_sized(text) if draw(st.integers(0, 3)) else text
+
+
+@st.composite
+def restated_cycle_lines(draw) -> str:
+    """A canned cycle's own line written again at every hole, the X and Y
+    alone changing (``G99 G81 X.. Y.. Z-3 R2``, as some posts write every
+    hole), which runtime.fast.hole_rows.HoleRows.restated replays: in every
+    plane and unit, every drilling cycle, now and then a line with a word
+    changed (R, the depth, F, L, the retract mode), a row of hole words, a
+    cancel and a new start, the same hole twice, or G91 for a while."""
+    plane, first, second, hole = draw(
+        st.sampled_from(
+            [("G17", "X", "Y", "Z"), ("G18", "Z", "X", "Y"), ("G19", "Y", "Z", "X")]
+        )
+    )
+    code = draw(st.sampled_from(["G81", "G82", "G83", "G73", "G85", "G86", "G89"]))
+    code += {"G82": " P0.5", "G86": " P0.2", "G89": " P0.3"}.get(code, "")
+    code += " Q%.2f" % (draw(st.integers(3, 20)) / 10) if code in ("G83", "G73") else ""
+    retract = draw(st.sampled_from(["G98", "G99"]))
+    r = draw(st.integers(0, 30)) / 10
+    words = "%s%.3f R%.2f" % (hole, r - draw(st.integers(1, 40)) / 10, r)
+    units = draw(st.sampled_from(["G21", "G20"]))
+    lines = ["%s G90 %s F300" % (units, plane), "M3 S1000", "G0 %s5" % hole]
+    a = b = 0.0
+    for _ in range(draw(st.integers(10, 60))):
+        a += draw(st.sampled_from([5.0, 7.5, 0.0, -2.5, 12.125]))
+        b += draw(st.sampled_from([0.0, 0.5, -3.25, 10.0]))
+        place = "%s%.3f %s%.3f" % (first, a, second, b)
+        line = "%s %s %s %s" % (retract, code, place, words)
+        change = draw(st.integers(0, 24))
+        if change == 1:
+            line = line.replace(" R", " R1") if r < 2 else line  # another R
+        elif change == 2:
+            line += " F%d" % draw(st.integers(50, 900))
+        elif change == 3:
+            line += " L2"
+        elif change == 4:
+            line = line.replace(retract, "G98" if retract == "G99" else "G99")
+        elif change == 5:
+            line = place  # a row of hole words
+        elif change == 6:
+            lines.append("G80")
+        elif change == 7:
+            lines.append(
+                draw(st.sampled_from(["G91", "G90", "(a comment)", "M3 S900"]))
+            )
+        lines.append(line)
+    lines += ["G80", "G90", "M2"]
+    return cam_sized("\n".join(lines) + "\n")
+
+
+@PROFILE
+@given(restated_cycle_lines())
+def test_restated_cycle_lines_match_rs274(text):
+    """A cycle's own line restated at every hole: replayed from the one
+    before (HoleRows.restated), the same trace and errors as rs274."""
+    check_same(text, "run")
+
+
+@PROFILE
+@given(restated_cycle_lines())
+def test_restated_cycle_lines_give_a_canon_the_reference_calls(
+    replay_every_series, text
+):
+    """Restated cycle lines replayed give any canon (one that records; one
+    that takes holes in batches by the protocol's default) the very calls,
+    N numbers, error and end point that block() gives it line by line."""
+    reference = _without_replay(_cycle_calls, text)
+    assert _cycle_calls(text) == reference
+    assert _cycle_calls(text, _HoleBatches) == reference
+
+
+def test_restated_cycle_lines_are_replayed():
+    """The replay is taken (so the tests above compare two paths): a row
+    drilled by block, one recorded, the others replayed."""
+    holes = "\n".join("G99 G81 X%d Y%d Z-3 R2" % (k, k % 3) for k in range(2, 40))
+    text = cam_sized("G21 G17 F100\nG0 Z5\n" + holes + "\nG80\nM2\n")
+    canon = _HoleBatches()
+    start(Machine(canon), _main_of(text))
+    assert canon.batches == 1
+    assert sum(name == "straight_feed" for name, _ in canon.calls) == 38
 
 
 @st.composite
@@ -293,14 +395,14 @@ def _block_alone(self, cells, at: int, end: int) -> int:
 
 def _without_replay(run, text: str):
     """``run(text)`` with every hole row drilled by the reference path (and
-    every cycle's own line run by block alone)."""
-    saved = HoleRows.run, HoleRows.opening
-    HoleRows.run = lambda self, cells, at, end: at
+    every cycle's own line, restated or not, run by block alone)."""
+    saved = HoleRows.run, HoleRows.opening, HoleRows.restated
+    HoleRows.run = HoleRows.restated = lambda self, cells, at, end: at
     HoleRows.opening = _block_alone
     try:
         return run(text)
     finally:
-        HoleRows.run, HoleRows.opening = saved
+        HoleRows.run, HoleRows.opening, HoleRows.restated = saved
 
 
 @pytest.fixture

@@ -249,7 +249,7 @@ def test_flat_arc_program_makes_the_same_moves(text):
 
 @pytest.mark.rs274
 @GENERATED
-@given(test_cycles.cycle_tables())
+@given(st.one_of(test_cycles.cycle_tables(), test_cycles.restated_cycle_lines()))
 def test_flat_cycle_table_makes_the_same_moves(text):
     """Tables of hole rows: holes replayed from a recorded one
     (runtime.fast.hole_rows) reach flatten as a block each, as drilled."""
@@ -602,7 +602,7 @@ def _flat_by_batches_and_hole_by_hole(text, folder, name="holes.ngc"):
 
 
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(text=test_cycles.cycle_tables())
+@given(text=st.one_of(test_cycles.cycle_tables(), test_cycles.restated_cycle_lines()))
 def test_holes_in_batches_are_written_as_hole_by_hole(text, tmp_path_factory):
     """FlattenCanon.hole_moves (each hole's text made from a template of the
     recorded hole's calls) writes the very text of the holes replayed call

@@ -453,7 +453,7 @@ def test_cam_tables_match_gcode_parse(text, units):
 
 @needs_gcode
 @settings(PROFILE)
-@given(test_cycles.cycle_tables())
+@given(st.one_of(test_cycles.cycle_tables(), test_cycles.restated_cycle_lines()))
 def test_cycle_tables_match_gcode_parse(text):
     """Rows of hole words under a modal canned cycle (Machine.cycle_row):
     every move, line code and error line must still be gcode.parse's."""

@@ -28,7 +28,7 @@ import cam_strategies
 import rs274 as harness
 import strategies
 from test_differential import PROFILE
-from test_cycles import cycle_tables
+from test_cycles import cycle_tables, restated_cycle_lines
 from trace_path import TracePath, trace_of_gcode_calls
 
 from ngc2py import cli
@@ -436,7 +436,7 @@ def test_straight_moves_in_columns_give_the_per_move_report(text):
 
 
 @settings(max_examples=60, deadline=None)
-@given(cycle_tables())
+@given(st.one_of(cycle_tables(), restated_cycle_lines()))
 def test_holes_in_batches_give_the_per_move_report(text):
     """Rows of holes reach StatsCanon in batches (StatsCanon.hole_moves: a
     length that repeats from hole to hole measured once, the holes' corners

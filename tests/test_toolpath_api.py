@@ -14,6 +14,7 @@ import math
 import numpy as np
 import pytest
 from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import cam_strategies
 import test_cycles
@@ -132,7 +133,7 @@ def test_arc_programs_give_the_moves_of_one_call_a_move(tmp_path_factory, text):
 
 
 @PROFILE
-@given(test_cycles.cycle_tables())
+@given(st.one_of(test_cycles.cycle_tables(), test_cycles.restated_cycle_lines()))
 def test_cycle_tables_give_the_moves_of_one_call_a_move(tmp_path_factory, text):
     """Holes in batches (Recorder.hole_moves) against one call a move."""
     compare(tmp_path_factory.mktemp("holes"), text)

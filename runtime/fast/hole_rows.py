@@ -62,6 +62,9 @@ HOLE_SWITCHES = frozenset(
     )
 )
 HOLE_MOVES = frozenset(("straight_traverse", "straight_feed"))
+#: ... and a cycle's own line restated (:meth:`HoleRows.restated`): its G98
+#: or G99 comments the retract mode every time.
+RESTATED_SWITCHES = HOLE_SWITCHES | {"comment"}
 
 #: Stand-ins for a move's X and Y while a hole's trace template is made
 #: (runtime.canon.TraceCanon prints them as below), at the hole and where
@@ -299,6 +302,28 @@ class _Capture:
 _TOLD_APART = frozenset(("current", "line", "cycle_depth", "cycle_p", "cycle_q"))
 
 
+def _alike(cells: List[str], at: int, end: int, stride: int, checks) -> int:
+    """How many rows of ``stride`` cells from ``cells[at]`` have each
+    check's cell as it says (``(offset in the row, its text)``), looked at
+    in growing steps (a series is usually a few dozen rows)."""
+    rows, step = 0, 32
+    most = (end - at) // stride
+    while rows < most:
+        step = min(step, most - rows)
+        begin = at + rows * stride
+        found = step
+        for offset, text in checks:
+            looked = cells[begin + offset : begin + offset + found * stride : stride]
+            found = len(list(takewhile(text.__eq__, looked)))
+            if not found:
+                break
+        rows += found
+        if found < step:
+            break
+        step *= 4
+    return rows
+
+
 class HoleRows:
     """The replay of hole rows for one table (runtime.fast.rows)."""
 
@@ -374,6 +399,80 @@ class HoleRows:
         if capture.told is not None and not recording.keywords:
             self.told = after, capture
         return after
+
+    def restated(self, cells: List[str], at: int, end: int) -> int:
+        """A cycle's own line restated row after row, as some posts write
+        every hole (``G99 G81 X.. Y.. Z-3 R2`` again and again, the X and Y
+        alone changing): the row at ``cells[at]`` drilled by the reference
+        path, recorded, and when it changed nothing of the machine but its
+        position, the next rows of that very text but for the plane's two
+        hole axes replayed from it as rows of hole words are (the same
+        machine, the same words: the same calls, at another place). Returns
+        where it stopped (``at``: nothing done, not such a row)."""
+        machine = self.machine
+        key = cells[at + 1]
+        plan = self.plans[int(key)]
+        stride = 2 + plan.width
+        before = at - stride
+        plane = machine.plane
+        if (
+            before < 0
+            or cells[before + 1] != key
+            or machine.distance_incremental
+            or machine.cutter_comp
+            or plane not in _HOLE_AXES
+        ):
+            return at
+        ia, ib, letters = _HOLE_AXES[plane]
+        # the row before restated the same words (a cheap first look: the
+        # recording below decides)
+        checks = [(1, key)]
+        for i, letter in enumerate(plan.letters):
+            if letter not in letters:
+                if cells[at + 2 + i] != cells[before + 2 + i]:
+                    return at
+                checks.append((2 + i, cells[at + 2 + i]))
+        stop = at + stride * _alike(cells, at, end, stride, checks)
+        if stop - at < stride * _FEWEST:
+            return at
+        words = dict(zip(plan.letters, map(float, cells[at + 2 : at + stride])))
+        snapshot = _snapshot(machine)
+        origin = machine.current
+        canon = machine.canon
+        recording = machine.canon = self._recording(canon)
+        try:
+            machine.block(int(cells[at]), *plan.codes, **words)
+        finally:
+            machine.canon = canon
+        at += stride
+        final = list(machine.current)
+        level = 3 - ia - ib
+        if (
+            final[level] != origin[level]
+            or final[3:] != origin[3:]
+            or recording.keywords
+            or not _only_position_changed(snapshot, machine)
+        ):
+            return at
+        final = self._replayable(
+            recording.calls, origin, final, ia, ib, RESTATED_SWITCHES
+        )
+        if final is False:
+            return at
+        # the rows after it read as rows of hole words, while this runs
+        known = self.holes.setdefault(plane, {})
+        kept = known.get(key, False)
+        hole = [plan.letters.index(x) if x in plan.letters else -1 for x in letters]
+        known[key] = (hole[0], hole[1], stride)
+        try:
+            if type(canon) is TraceCanon and (ia, ib) == (0, 1):
+                return self._trace_text(cells, at, stop, final)
+            return self._replay(cells, at, stop, final, ia, ib)
+        finally:
+            if kept is False:
+                del known[key]
+            else:
+                known[key] = kept
 
     def _series(self, cells: List[str], at: int, end: int) -> bool:
         """Whether the rows from ``cells[at]`` begin with _FEWEST rows of one
@@ -707,7 +806,9 @@ class HoleRows:
             return False
         return self._replayable(calls, capture.start, final, ia, ib)
 
-    def _replayable(self, recorded_calls, origin, final, ia: int, ib: int):
+    def _replayable(
+        self, recorded_calls, origin, final, ia: int, ib: int, switches=HOLE_SWITCHES
+    ):
         """The end point of a hole drilled from ``origin`` to ``final``, its
         calls kept to be replayed (``recorded``: its moves told apart, at
         the hole or where the tool was before it), or False where a call is
@@ -728,7 +829,7 @@ class HoleRows:
                     add((name, args, _AT_START))
                 else:
                     return False  # elsewhere (G87's offsets)
-            elif name in HOLE_SWITCHES:
+            elif name in switches:
                 add((name, args, None))
             else:
                 return False

@@ -296,7 +296,7 @@ def run_rows(
         fast = partial(printed_rows, machine, [plan.printed for plan in plans])
     # The next holes of a canned cycle, replayed (runtime.fast.hole_rows).
     hole_rows = HoleRows(machine, plans, as_printed)
-    holes, opening = hole_rows.run, hole_rows.opening
+    holes, opening, restated = hole_rows.run, hole_rows.opening, hole_rows.restated
     try:
         while at < end:
             at = fast(cells, at, end, plans)
@@ -314,7 +314,9 @@ def run_rows(
                     at = stop
                     continue
             elif plan.opens_cycle:
-                at = opening(cells, at, end)
+                # restated row after row, or a series' own line
+                stop = restated(cells, at, end)
+                at = opening(cells, at, end) if stop == at else stop
                 continue
             machine.line = line = int(cells[at])
             start = at + 2
