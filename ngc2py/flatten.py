@@ -55,7 +55,7 @@ if TYPE_CHECKING:
 
 from runtime.canon import CALLS, Canon, trace_rows
 from runtime.errors import g_code_frames_of_stack
-from runtime.fast.hole_rows import HOLE_MOVES, RESTATED_SWITCHES
+from runtime.fast.hole_rows import HOLE_MOVES, RESTATED_SWITCHES, hole_by_hole
 from runtime.lazy_re import Pattern
 
 AXES6 = "XYZABC"
@@ -132,10 +132,10 @@ MM_PER_INCH = 25.4
 #: FlattenCanon.hole_moves writes from a template: every call a recorded hole
 #: may hold (runtime.fast.hole_rows: moves, dwells, the path-control modes a
 #: cycle sets around its moves, the spindle, override and stop switches of
-#: the tapping and boring cycles, a restated line's retract mode comment);
-#: none of them changes what later lines mean (what _texts keeps: units,
-#: plane, the current point).
-_HOLE_CALLS = (HOLE_MOVES | RESTATED_SWITCHES) - {"set_block_number"}
+#: the tapping and boring cycles, a restated line's retract mode comment;
+#: not its F, which goes call by call); none of them changes what later
+#: lines mean (what _texts keeps: units, plane, the current point).
+_HOLE_CALLS = (HOLE_MOVES | RESTATED_SWITCHES) - {"set_block_number", "set_feed_rate"}
 
 
 class FlattenError(Exception):
@@ -612,13 +612,8 @@ class FlattenCanon(Canon):
             or not set(names[1:]) <= _HOLE_CALLS
         ):
             # call by call, each hole's block at its own line
-            machine = self.machine
-            befores = zip([start[0]] + first[:-1], [start[1]] + second[:-1])
-            for k, (line, before) in enumerate(zip(lines, befores)):
-                machine.line = line
-                super().hole_moves(
-                    recording, [line], first[k : k + 1], second[k : k + 1], axes, before
-                )
+            args = (recording, lines, first, second, axes, start)
+            hole_by_hole(self, self.machine, *args)
             return
         self.set_block_number(recording[0][1][0])  # (the block before, written)
         group, self._group = self._group, None

@@ -74,6 +74,7 @@ from runtime.mcodes import ProgramEnd
 from runtime.nurbs import preview_points
 from runtime.params import unset_variable
 from runtime.spindle_select import CONSTANT_RPM, m_code_of
+from runtime.fast.hole_rows import hole_by_hole
 from runtime.fast.rows import BatchesOnly
 from runtime.lazy_re import Pattern
 
@@ -388,11 +389,11 @@ class PreviewCanon(Canon):
         line announced as its first call would announce it (with the modes
         the hole before left, which a hole changes only by its line number),
         then its calls on the target, lengths converted a column at a time.
-        The calls are made from columns by ``map`` and ``zip``: no Python
-        statement per move."""
+        The calls are made from columns by ``call_rows``: no Python statement
+        per move. Holes with a call this does not know go hole by hole."""
         machine = self.machine
         if self.motion_line is not None or not isinstance(machine, PreviewMachine):
-            return super().hole_moves(recording, lines, first, second, axes, start)
+            return self._hole_by_hole(recording, lines, first, second, axes, start)
         target = self.target
         k = 1.0 if machine.inches else MM_PER_INCH
         places = {
@@ -417,12 +418,14 @@ class PreviewCanon(Canon):
                 columns.append((getattr(target, name), tuple(steps)))
             elif name in ("dwell", "comment"):  # (a restated line's G98/G99)
                 columns.append((getattr(target, name), ([args[0]],)))
+            elif name == "set_feed_rate":  # (a restated line's F)
+                columns.append((target.set_feed_rate, ([self._length(args[0])],)))
             elif getattr(type(self), name) is not getattr(Canon, name):
                 # a call the module passes on that a hole seldom makes
-                return super().hole_moves(recording, lines, first, second, axes, start)
+                return self._hole_by_hole(recording, lines, first, second, axes, start)
         numbers = _sequence_numbers(lines, self.skipped)
         if numbers[0] == self.last_sequence:  # announced already: row by row
-            return super().hole_moves(recording, lines, first, second, axes, start)
+            return self._hole_by_hole(recording, lines, first, second, axes, start)
         now = time.monotonic()  # asked once a batch: a batch takes milliseconds
         if now - self._checked > ABORT_INTERVAL:
             self._checked = now
@@ -441,6 +444,10 @@ class PreviewCanon(Canon):
                     position[axis] = values[-1]
                 self._pos = tuple(position)
                 break
+
+    def _hole_by_hole(self, recording, lines, first, second, axes, start):
+        # each hole announced at its own line, with its own line state
+        hole_by_hole(self, self.machine, recording, lines, first, second, axes, start)
 
     def _announce_batch(self, lines, motions, steps) -> None:
         """Each line of a batch announced with the modes the line before

@@ -18,6 +18,7 @@ from struct import pack
 from typing import List, Optional, Tuple
 
 from runtime.canon import Canon
+from runtime.fast.hole_rows import hole_by_hole
 from runtime.toolpath import LINEAR, MM_PER_INCH, PLANE_AXES, Point, ToolpathCanon
 
 #: ``Toolpath.kind`` values.
@@ -195,7 +196,11 @@ class Recorder(ToolpathCanon):
             or not ignored
             or not names <= {"straight_traverse", "straight_feed"}
         ):
-            return super().hole_moves(recording, lines, first, second, axes, start)
+            # a move's line is the machine's: each hole at its own
+            args = (recording, lines, first, second, axes, start)
+            if self.machine is None:
+                return super().hole_moves(*args)
+            return hole_by_hole(self, self.machine, *args)
         count, per_hole = len(lines), len(moves)
         rows = count * per_hole
         self._begin(self.position, rows)

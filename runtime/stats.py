@@ -60,7 +60,8 @@ DEFAULT_ACCELERATION = 500.0
 
 #: What StatsCanon.hole_moves takes in columns: moves, and the switches
 #: around a hole (dwells counted; the others change nothing it counts).
-_HOLE_CALLS = HOLE_MOVES | RESTATED_SWITCHES  # (a comment: no statistic)
+#: (a restated line's comment is no statistic; its F goes call by call)
+_HOLE_CALLS = (HOLE_MOVES | RESTATED_SWITCHES) - {"set_feed_rate"}
 
 
 class Model(

@@ -228,7 +228,7 @@ def restated_cycle_lines(draw) -> str:
     """A canned cycle's own line written again at every hole, the X and Y
     alone changing (``G99 G81 X.. Y.. Z-3 R2``, as some posts write every
     hole), which runtime.fast.hole_rows.HoleRows.restated replays: in every
-    plane and unit, every drilling cycle, now and then a line with a word
+    plane and unit, every drilling cycle, F on every line or not, now and then a line with a word
     changed (R, the depth, F, L, the retract mode), a row of hole words, a
     cancel and a new start, the same hole twice, or G91 for a while."""
     plane, first, second, hole = draw(
@@ -242,6 +242,8 @@ def restated_cycle_lines(draw) -> str:
     retract = draw(st.sampled_from(["G98", "G99"]))
     r = draw(st.integers(0, 30)) / 10
     words = "%s%.3f R%.2f" % (hole, r - draw(st.integers(1, 40)) / 10, r)
+    if draw(st.integers(0, 2)) == 0:  # F on every line, as some posts write
+        words += " F%d" % draw(st.integers(50, 900))
     units = draw(st.sampled_from(["G21", "G20"]))
     lines = ["%s G90 %s F300" % (units, plane), "M3 S1000", "G0 %s5" % hole]
     a = b = 0.0

@@ -682,3 +682,22 @@ def test_the_preview_makes_the_same_calls_without_the_c_batches(text, units):
     finally:
         preview.call_rows = original
     assert with_twin == with_c
+
+
+@settings(PROFILE)
+@given(st.one_of(test_cycles.cycle_tables(), test_cycles.restated_cycle_lines()))
+def test_holes_made_hole_by_hole_are_announced_as_in_batches(text):
+    """Holes with a call the preview's batch does not know go hole by hole
+    (PreviewCanon._hole_by_hole): each at its own line, so every call and
+    line code is the batch's."""
+    scratch = harness.REPO / "tests" / "_generated" / ("holes-%d.ngc" % os.getpid())
+    scratch.parent.mkdir(exist_ok=True)
+    scratch.write_text(text)
+    batched = ours(str(scratch), ())
+    original = preview.PreviewCanon.hole_moves
+    preview.PreviewCanon.hole_moves = preview.PreviewCanon._hole_by_hole
+    try:
+        by_hole = ours(str(scratch), ())
+    finally:
+        preview.PreviewCanon.hole_moves = original
+    assert by_hole == batched

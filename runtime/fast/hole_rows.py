@@ -63,8 +63,8 @@ HOLE_SWITCHES = frozenset(
 )
 HOLE_MOVES = frozenset(("straight_traverse", "straight_feed"))
 #: ... and a cycle's own line restated (:meth:`HoleRows.restated`): its G98
-#: or G99 comments the retract mode every time.
-RESTATED_SWITCHES = HOLE_SWITCHES | {"comment"}
+#: or G99 comments the retract mode every time, its F sets the rate again.
+RESTATED_SWITCHES = HOLE_SWITCHES | {"comment", "set_feed_rate"}
 
 #: Stand-ins for a move's X and Y while a hole's trace template is made
 #: (runtime.canon.TraceCanon prints them as below), at the hole and where
@@ -300,6 +300,21 @@ class _Capture:
 #: Fields the cycle line's hole sets that a row's hole leaves as they are
 #: (the depth, P and Q are the line's, kept once its holes are drilled).
 _TOLD_APART = frozenset(("current", "line", "cycle_depth", "cycle_p", "cycle_q"))
+
+
+def hole_by_hole(canon, machine, recording, lines, first, second, axes, start):
+    """``Canon.hole_moves``' default (the recorded calls again) a hole at a
+    time, each at its own line: ``machine.line`` and the machine's own line
+    state (``hole_replayed``) the hole's row's while its calls are made, as
+    the reference path leaves them (a batch leaves them at its last row).
+    For a canon whose batch method takes only some holes and reads the
+    machine's line in its calls (announces lines, keeps them)."""
+    befores = zip([start[0]] + first[:-1], [start[1]] + second[:-1])
+    for k, (line, before) in enumerate(zip(lines, befores)):
+        machine.line = line
+        hole = first[k : k + 1], second[k : k + 1]
+        Canon.hole_moves(canon, recording, [line], *hole, axes, before)
+        machine.hole_replayed(line)
 
 
 def _alike(cells: List[str], at: int, end: int, stride: int, checks) -> int:
