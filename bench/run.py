@@ -5,8 +5,8 @@
 
 Generates the workloads (bench/workloads.py: CAM files of 10k, 100k and 1M
 moves, 100k centre-format arcs, a 200k-iteration trigonometry loop, 100k
-subroutine calls, canned drilling (rows of hole words, and a cycle line a
-hole), a pocketing job, a shop's program of
+subroutine calls, canned drilling (rows of hole words, numbered or not, and
+a cycle line a hole), a pocketing job, a shop's program of
 commented moves, restated modes and hand drilling) into a temporary folder
 and, for each one:
 
@@ -55,6 +55,7 @@ WORKLOADS = {
     "cam_arcs_100k": (workloads.cam_arcs, 100_000, True),
     "cycles_20k": (workloads.drill_cycles, 20_000, True),
     "cycle_lines_20k": (workloads.drill_lines, 20_000, True),
+    "cycles_n_20k": (workloads.drill_cycles_numbered, 20_000, False),
     "pocket_40": (workloads.pocket, 40, False),
     "shop_20k": (workloads.shop, 20_000, False),
     # Last: generating it grows this process, and a child's peak memory (as

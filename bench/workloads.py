@@ -168,6 +168,23 @@ def drill_lines(holes: int) -> str:
     return "\n".join(lines) + "\n"
 
 
+def numbered(text: str) -> str:
+    """``text`` with every line numbered N10, N20..., as posts that number
+    their lines write it (comments left as they are)."""
+    lines = text.splitlines()
+    number = 0
+    for k, line in enumerate(lines):
+        if line and not line.startswith("("):
+            number += 10
+            lines[k] = "N%d %s" % (number, line)
+    return "\n".join(lines) + "\n"
+
+
+def drill_cycles_numbered(holes: int) -> str:
+    """:func:`drill_cycles` with every line numbered."""
+    return numbered(drill_cycles(holes))
+
+
 def shop(lines: int) -> str:
     """What shops' programs add to CAM rows, each a tenth or more of the
     lines: moves and arcs with a comment, modes restated on every line

@@ -824,12 +824,12 @@ class PreviewMachine(BatchesOnly, Machine):
             (float(line),) + settings[1:],
         )
 
-    def cycle_row(self, line, words) -> bool:
+    def cycle_row(self, line, words, n=None) -> bool:
         # A row of hole words is executed, never read past (an error in
         # its cycle reports the row itself), and leaves the state block()
         # would write for a line with no codes.
         self.reading = False
-        done = super().cycle_row(line, words)
+        done = super().cycle_row(line, words, n)
         self.reading = True
         if done:
             self.active = self._active((), line)

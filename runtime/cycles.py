@@ -32,7 +32,7 @@ import math
 
 TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
-    from typing import Dict, Tuple
+    from typing import Dict, Optional, Tuple
 
 from runtime.blockcheck import DRILL_CYCLES, Block
 from runtime.codes import (
@@ -122,7 +122,7 @@ class CyclesMixin:
         :meth:`cycle_row`: a subclass keeps here what it keeps for each row
         (the preview, its line state)."""
 
-    def cycle_row(self, line: int, words) -> bool:
+    def cycle_row(self, line: int, words, n: Optional[str] = None) -> bool:
         """A data row of X, Y, Z, R, P, Q, L or F words alone (an axis among
         them) while a canned cycle is the modal motion: what ``block`` does
         with it (announce, copy the point, set F, drill, publish), without
@@ -130,12 +130,12 @@ class CyclesMixin:
         is this cycle. False, having done nothing, where ``block`` must
         decide (no cycle, a word the cycle does not use, G7 diameters, a
         tool change or probe pending, a G7x profile being read, the blocks of
-        RETAIN_G43)."""
+        RETAIN_G43). ``n``: the row's N number (its digits as written)."""
         if self.cycle_row_refused(words):
             return False
         motion = self.motion_mode
         self.line = line
-        self.announce_block(None)
+        self.announce_block(n)
         self.current = list(self.current)
         for letter, value in words.items():
             words[letter] = check_word(letter, value)

@@ -96,7 +96,7 @@ def cycle_tables(draw) -> str:
     then a row whose R falls below its Z (rs274's error, at that row), and
     lines between rows that change a mode but keep the cycle (distance mode,
     retract mode, feed, speed): the first hole after such a line may begin
-    at another level than the next ones."""
+    at another level than the next ones; now and then every line has an N."""
     plane, first, second, hole = draw(
         st.sampled_from(
             [("G17", "X", "Y", "Z"), ("G18", "Z", "X", "Y"), ("G19", "Y", "Z", "X")]
@@ -219,6 +219,17 @@ def cycle_tables(draw) -> str:
         lines += rows[: draw(st.integers(1, len(rows)))]
         lines += ["G80", "G90"]
     lines.append("M2")
+    if draw(st.integers(0, 3)) == 0:
+        # every line numbered, as some posts write them: rows of hole words
+        # with their N (the replay writes each hole's own), now and then
+        # two alike, a long one or leading zeros
+        number = draw(st.integers(0, 50))
+        for k, line in enumerate(lines):
+            if line.startswith(("(", "N")):
+                continue
+            number += draw(st.sampled_from([10, 10, 10, 1, 0, 12345678]))
+            digits = draw(st.sampled_from(["%d", "%d", "%d", "%04d"])) % number
+            lines[k] = "N%s %s" % (digits, line)
     text = "\n".join(lines) + "\n"
     return cam_sized(text) if draw(st.integers(0, 3)) else text
 
@@ -314,7 +325,8 @@ def series_drilled_alike(draw) -> str:
     series, at 0 or -0, and now and then another cycle, retract mode or
     plane between them. The trace's and flatten's templates of a hole are
     kept whatever its levels and reused by the next series drilled alike;
-    pecks make levels whose numbers are long (``R - 3 Q + 0.254``)."""
+    pecks make levels whose numbers are long (``R - 3 Q + 0.254``); now and
+    then every line has an N (each hole's own in its trace)."""
     plane, first, second, hole = draw(
         st.sampled_from(
             [("G17", "X", "Y", "Z"), ("G18", "Z", "X", "Y"), ("G19", "Y", "Z", "X")]
@@ -346,6 +358,11 @@ def series_drilled_alike(draw) -> str:
                     "G0 %s%s" % (hole, draw(st.sampled_from(["5", "1.5", "-0"])))
                 )
     lines += ["G80", "M2"]
+    if draw(st.integers(0, 2)) == 0:  # every line numbered, as some posts do
+        number = draw(st.integers(0, 9))
+        for k, line in enumerate(lines):
+            number += draw(st.sampled_from([10, 10, 5, 0]))
+            lines[k] = "N%d %s" % (number, line)
     return cam_sized("\n".join(lines) + "\n")
 
 
@@ -578,9 +595,9 @@ def test_a_row_or_two_go_by_the_reference_path(monkeypatch, rows, opening):
     assert _cycle_calls(text) == _without_replay(_cycle_calls, text)
     assert _cycle_trace(text) == _without_replay(_cycle_trace, text)
     if opening.startswith("N"):
-        # the first row changes the N the line left: drilled by the
-        # reference path, not replayed; the series begins with the second
-        how, series = "recorded", rows - 1
+        # a line with an N does not tell: its first row is recorded (the N
+        # it changes is the replay's to write, row by row)
+        how, series = "recorded", rows
     else:
         how, series = "told", rows
     assert learnt == ([how, how] if series >= hole_rows._FEWEST else [])

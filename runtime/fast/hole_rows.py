@@ -91,7 +91,7 @@ _FEWEST = 3
 _MOST_KEPT = 4096
 
 #: Machine fields a hole changes, which the replay sets itself.
-_SET_BY_REPLAY = frozenset(("current", "line"))
+_SET_BY_REPLAY = frozenset(("current", "line", "_block_n"))
 
 #: Where a move of a hole is in the plane: at the hole, or where the tool
 #: was before it (its first move, straight up to the R plane).
@@ -174,6 +174,27 @@ def _template(scratch, recorded: List[tuple], column: str, pieces: dict):
         if move is not None:
             layout += (lines, lines + 1) if move == _AT_HOLE else (lines + 2, lines + 3)
     return "".join(parts), tuple(layout), lines, column
+
+
+#: A hole's N while its numbered template is made (no N is written so) and
+#: the N column the trace writes for it, which becomes each line's slot.
+_N_STAND_IN = "\x01\x02\x03"
+_N_STAND_IN_COLUMN = "N%-6s" % _N_STAND_IN
+
+
+def _numbered_template(template: str, layout: tuple, lines: int, column: str):
+    """_template's answer for rows with their own N numbers: its N column
+    (the stand-in's) a slot of every line, filled from the fifth column
+    (each row's N column), after the line's number; None where the
+    stand-in is not found once a line."""
+    if template.count(_N_STAND_IN_COLUMN) != lines or column != _N_STAND_IN_COLUMN:
+        return None
+    numbered: List[int] = []
+    for slot in layout:
+        numbered.append(slot)
+        if slot < lines:  # a line's number, first on the line: its N next
+            numbered.append(lines + 4)
+    return template.replace(_N_STAND_IN_COLUMN, "%%s"), tuple(numbered), lines, column
 
 
 def _call_template(scratch, name: str, args: tuple, move, column: str):
@@ -347,6 +368,7 @@ class HoleRows:
         "plans",
         "printed",
         "holes",
+        "numbered",
         "recorded",
         "templates",
         "hole_templates",
@@ -373,6 +395,8 @@ class HoleRows:
         self.scratch = None
         #: plane -> {shape cell: the hole axes' value indexes, or None}
         self.holes: dict = {}
+        #: the same for rows with or without an N (_numbered_words)
+        self.numbered: dict = {}
         #: (the row after a cycle's own line, what that line's hole told)
         self.told = None
         #: what stands for the canon while a hole is recorded (_Recording)
@@ -499,7 +523,7 @@ class HoleRows:
         stride = 2 + plan.width
         last = at + 1 + (_FEWEST - 1) * stride
         return (
-            plan.cycle
+            (plan.cycle or plan.cycle_n)
             and last < end
             and cells[at + 1 : last + 1 : stride].count(key) == _FEWEST
         )
@@ -507,17 +531,31 @@ class HoleRows:
     def _hole_words(self, plane: str, key: str):
         """For a row of shape ``key``: (index of the first hole axis' value
         or -1, of the second or -1, the row's cells), or None when the row
-        has other words."""
+        has other words (or an N: see _numbered_words)."""
         known = self.holes.setdefault(plane, {})
+        if key not in known:
+            known[key] = self._numbered_words(plane, key)
+            if known[key] is not None:
+                first, second, stride, has_n = known[key]
+                known[key] = None if has_n else (first, second, stride)
+        return known[key]
+
+    def _numbered_words(self, plane: str, key: str):
+        """:meth:`_hole_words` for rows with or without an N number:
+        (first, second, stride, whether the row has an N), the indexes
+        counting the N's cell."""
+        known = self.numbered.setdefault(plane, {})
         if key not in known:
             plan = self.plans[int(key)]
             letters = _HOLE_AXES[plane][2]
             known[key] = None
-            if plan.cycle and set(plan.letters) <= set(letters):
+            if (plan.cycle or plan.cycle_n) and set(plan.letters) <= set(letters):
+                shift = 1 if plan.has_n else 0
                 found = [
-                    plan.letters.index(x) if x in plan.letters else -1 for x in letters
+                    shift + plan.letters.index(x) if x in plan.letters else -1
+                    for x in letters
                 ]
-                known[key] = (found[0], found[1], 2 + plan.width)
+                known[key] = (found[0], found[1], 2 + plan.width, plan.has_n)
         return known[key]
 
     def run(self, cells: List[str], at: int, end: int) -> int:
@@ -530,7 +568,7 @@ class HoleRows:
         plane = machine.plane
         if at >= end or machine.distance_incremental or plane not in _HOLE_AXES:
             return at
-        hole = self._hole_words(plane, cells[at + 1])
+        hole = self._numbered_words(plane, cells[at + 1])
         if hole is None:
             return at
         ia, ib, _ = _HOLE_AXES[plane]
@@ -547,27 +585,40 @@ class HoleRows:
             at += 2 + self.plans[int(cells[at + 1])].width
         if replay is False:
             return at  # drilled, but not to be replayed
+        # rows with N numbers (the recorded one, or the next): row by row
+        numbered = self.recorded[0][1] != (None,)
+        if not numbered and at < end:
+            hole = self._numbered_words(plane, cells[at + 1])
+            numbered = hole is not None and hole[3]
         if type(machine.canon) is TraceCanon and (ia, ib) == (0, 1):
-            return self._trace_text(cells, at, end, replay)
+            return self._trace_text(cells, at, end, replay, numbered)
+        if numbered:
+            return self._replay(cells, at, end, replay, ia, ib, numbered=True)
         return self._replay(cells, at, end, replay, ia, ib)
 
-    def _trace_text(self, cells: List[str], at: int, end: int, final) -> int:
+    def _trace_text(
+        self, cells: List[str], at: int, end: int, final, numbered=False
+    ) -> int:
         """For the trace, in the XY plane: the text of the next rows of hole
         words, a piece of at most _MOST rows at a time (_trace_piece);
         returns where it stopped."""
         while True:
-            stop, rows = self._trace_piece(cells, at, end, final)
+            stop, rows = self._trace_piece(cells, at, end, final, numbered)
             if rows < _MOST or stop == at:  # (a piece short of full: no more)
                 return stop
             at = stop
 
-    def _trace_piece(self, cells: List[str], at: int, end: int, final) -> tuple:
+    def _trace_piece(
+        self, cells: List[str], at: int, end: int, final, numbered=False
+    ) -> tuple:
         """The trace text of at most _MOST next rows of hole words, made from
         one hole's template (_template), written in one piece: their X and
         Y as the trace prints them (a table written as printed gives them as
-        they are); returns where it stopped and the number of rows."""
+        they are); returns where it stopped and the number of rows.
+        ``numbered``: rows with N numbers too, each line's N column the
+        row's own (a slot of the template, _numbered_template)."""
         begin = at
-        runs, at = self._runs(cells, at, end, "XY")
+        runs, at = self._runs(cells, at, end, "XY", numbered)
         if not runs:
             return at, 0
         machine = self.machine
@@ -575,7 +626,15 @@ class HoleRows:
         cur = machine.current
         xs, ys = ["%.4f" % cur[0]], ["%.4f" % cur[1]]
         last = [None, None]  # the last X and Y cells written
-        for start, stop, first, second, stride in runs:
+        ns: List[str] = []  # (numbered) each row's N column, as the trace writes it
+        for start, stop, first, second, stride, *has_n in runs:
+            if numbered:
+                if has_n[0]:
+                    ns += map("N%-6s".__mod__, cells[start + 2 : stop : stride])
+                    last_n = cells[stop - stride + 2]
+                else:
+                    ns += repeat("N..... ", (stop - start) // stride)
+                    last_n = None
             # a run of rows of one shape, a column at a time
             for axis, index, written in ((0, first, xs), (1, second, ys)):
                 if index < 0:
@@ -592,6 +651,9 @@ class HoleRows:
         # one template for every series of holes drilled alike, whatever
         # their levels (the moves' Z, written in at the first stage)
         recorded = self.recorded
+        if numbered:  # (a stand-in for the N, a shape of its own)
+            recorded = [(recorded[0][0], (_N_STAND_IN,), None)] + recorded[1:]
+            self.shape = None
         levels = []  # each move's level: the hole axis' value
         if self.shape is None:
             shape = []
@@ -614,6 +676,8 @@ class HoleRows:
             if len(self.templates) > _MOST_KEPT:  # (memory stays bounded)
                 self.templates.clear()
             made = _template(self.scratch, recorded, canon._column, self.templates)
+            if numbered and made is not None:
+                made = _numbered_template(*made)
             if len(self.hole_templates) < _MOST_KEPT:
                 self.hole_templates[key] = made
         levels = tuple(map("%.4f".__mod__, levels))
@@ -622,6 +686,10 @@ class HoleRows:
         template, layout, lines, column = made
         base = canon._count
         places = xs[1:], ys[1:], xs[:-1], ys[:-1]  # at the hole, where it was
+        if numbered:
+            places += (ns,)
+            column = ns[-1]
+            machine._block_n = last_n
         text = numbered_rows(template % levels, base + 1, lines, rows, layout, places)
         canon._write_batch(text)
         canon._count, canon._column = base + lines * rows, column
@@ -636,14 +704,26 @@ class HoleRows:
         machine.line = int(cells[row])
         return at, rows
 
-    def _replay(self, cells, at: int, end: int, final, ia: int, ib: int) -> int:
+    def _replay(
+        self, cells, at: int, end: int, final, ia: int, ib: int, numbered=False
+    ) -> int:
         """The recorded calls again for each next row of hole words, at its
         point, ending at ``final`` but in the plane; returns where it
-        stopped."""
+        stopped. ``numbered``: rows with N numbers among them, each hole
+        begun with its own (the recording's first call, set_block_number),
+        one at a time whatever the canon takes."""
         machine = self.machine
         canon = machine.canon
-        if type(canon).hole_moves is not Canon.hole_moves:
+        if numbered:
+            if self.recorded[0][0] != "set_block_number":
+                return at
+            lookup = self._numbered_words
+            known = self.numbered.setdefault(machine.plane, {})
+        elif type(canon).hole_moves is not Canon.hole_moves:
             return self._batches(cells, at, end, final, ia, ib)
+        else:
+            lookup = self._hole_words
+            known = self.holes.setdefault(machine.plane, {})
         # each bound to the canon (X and Y of a move in the XY plane go
         # first: the usual case, quicker)
         calls = [
@@ -654,7 +734,7 @@ class HoleRows:
             )
             for name, args, move in self.recorded
         ]
-        known = self.holes[machine.plane]
+        announce = calls[0][0]
         world, params = machine.world, machine.params
         # what a subclass keeps for each row (the preview's line state)
         kept = None
@@ -664,10 +744,14 @@ class HoleRows:
             key = cells[at + 1]
             hole = known.get(key, False)
             if hole is False:
-                hole = self._hole_words(machine.plane, key)
+                hole = lookup(machine.plane, key)
             if hole is None:
                 break
-            first, second, stride = hole
+            first, second, stride = hole[:3]
+            if numbered:
+                n = cells[at + 2] if hole[3] else None
+                calls[0] = announce, (n,), None
+                machine._block_n = n
             machine.line = line = int(cells[at])
             cur = machine.current
             sa, sb = cur[ia], cur[ib]
@@ -739,22 +823,26 @@ class HoleRows:
                 machine.hole_replayed(lines[-1])
         return at
 
-    def _runs(self, cells: List[str], at: int, end: int, plane: str):
+    def _runs(self, cells: List[str], at: int, end: int, plane: str, numbered=False):
         """The next rows of hole words from ``cells[at]``, at most _MOST, as
         runs of rows of one shape: ([(first cell, end, index of the first
         hole axis' value or -1, of the second or -1, stride)...], where
-        they end)."""
-        known = self.holes[plane]
+        they end). ``numbered``: rows with N numbers too (_numbered_words:
+        each run's tuple then ends with whether its rows have one)."""
+        if numbered:
+            known, lookup = self.numbered.setdefault(plane, {}), self._numbered_words
+        else:
+            known, lookup = self.holes.setdefault(plane, {}), self._hole_words
         runs: List[tuple] = []
         room = _MOST
         while at < end and room:
             key = cells[at + 1]
             hole = known.get(key, False)
             if hole is False:
-                hole = self._hole_words(plane, key)
+                hole = lookup(plane, key)
             if hole is None:
                 break
-            first, second, stride = hole
+            first, second, stride = hole[:3]
             # a series is usually a few dozen rows: look ahead in growing
             # steps rather than slicing as many rows as a piece may take
             count, step = 0, 32
@@ -768,7 +856,7 @@ class HoleRows:
                     break
                 step *= 4
             stop = at + count * stride
-            runs.append((at, stop, first, second, stride))
+            runs.append((at, stop, first, second, stride) + hole[3:])
             room -= count
             at = stop
         return runs, at
@@ -781,13 +869,16 @@ class HoleRows:
         machine = self.machine
         plan = self.plans[int(cells[at + 1])]
         values = cells[at + 2 : at + 2 + plan.width]
+        n = values.pop(0) if plan.has_n else None
         words = dict(zip(plan.letters, map(float, values)))
         before = _snapshot(machine)
         origin = machine.current
         canon = machine.canon
         recording = machine.canon = self._recording(canon)
         try:
-            done = machine.cycle_row(int(cells[at]), words)
+            # (without an N as a subclass of old may take it)
+            row = (int(cells[at]), words) + ((n,) if n is not None else ())
+            done = machine.cycle_row(*row)
         finally:
             machine.canon = canon
         if not done:

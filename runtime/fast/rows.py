@@ -93,6 +93,7 @@ class _Plan:
         "batch",
         "arc",
         "cycle",
+        "cycle_n",
         "opens_cycle",
         "dwell",
         "cancel",
@@ -144,6 +145,14 @@ class _Plan:
         self.cycle = (
             not codes
             and not self.has_n
+            and ROW_CYCLE_LETTERS.issuperset(self.letters)
+            and any(x in "xyz" for x in self.letters)
+        )
+        #: The same with an N number (posts that number every line): the
+        #: replay takes them row by row (runtime.fast.hole_rows).
+        self.cycle_n = (
+            not codes
+            and self.has_n
             and ROW_CYCLE_LETTERS.issuperset(self.letters)
             and any(x in "xyz" for x in self.letters)
         )
@@ -307,7 +316,7 @@ def run_rows(
                 at = stop
                 continue
             plan = plans[int(cells[at + 1])]
-            if plan.cycle:
+            if plan.cycle or plan.cycle_n:
                 # the first row of hole words is the one the replay records
                 stop = holes(cells, at, end)
                 if stop != at:
