@@ -241,7 +241,8 @@ def restated_cycle_lines(draw) -> str:
     hole), which runtime.fast.hole_rows.HoleRows.restated replays: in every
     plane and unit, every drilling cycle, F on every line or not, now and then a line with a word
     changed (R, the depth, F, L, the retract mode), a row of hole words, a
-    cancel and a new start, the same hole twice, or G91 for a while."""
+    cancel and a new start, the same hole twice, or G91 for a while; every
+    line numbered or none."""
     plane, first, second, hole = draw(
         st.sampled_from(
             [("G17", "X", "Y", "Z"), ("G18", "Z", "X", "Y"), ("G19", "Y", "Z", "X")]
@@ -282,6 +283,11 @@ def restated_cycle_lines(draw) -> str:
             )
         lines.append(line)
     lines += ["G80", "G90", "M2"]
+    if draw(st.integers(0, 2)) == 0:  # every line numbered, as some posts do
+        number = draw(st.integers(0, 9))
+        for k, line in enumerate(lines):
+            number += draw(st.sampled_from([10, 10, 5, 0, 1000000]))
+            lines[k] = "N%d %s" % (number, line)
     return cam_sized("\n".join(lines) + "\n")
 
 

@@ -446,7 +446,8 @@ class HoleRows:
         path, recorded, and when it changed nothing of the machine but its
         position, the next rows of that very text but for the plane's two
         hole axes replayed from it as rows of hole words are (the same
-        machine, the same words: the same calls, at another place). Returns
+        machine, the same words: the same calls, at another place). Lines
+        with N numbers too (each hole then begun with its own). Returns
         where it stopped (``at``: nothing done, not such a row)."""
         machine = self.machine
         key = cells[at + 1]
@@ -464,23 +465,26 @@ class HoleRows:
             return at
         ia, ib, letters = _HOLE_AXES[plane]
         # the row before restated the same words (a cheap first look: the
-        # recording below decides)
+        # recording below decides); an N is each line's own
+        shift = 1 if plan.has_n else 0
         checks = [(1, key)]
-        for i, letter in enumerate(plan.letters):
+        for i, letter in enumerate(plan.letters, 2 + shift):
             if letter not in letters:
-                if cells[at + 2 + i] != cells[before + 2 + i]:
+                if cells[at + i] != cells[before + i]:
                     return at
-                checks.append((2 + i, cells[at + 2 + i]))
+                checks.append((i, cells[at + i]))
         stop = at + stride * _alike(cells, at, end, stride, checks)
         if stop - at < stride * _FEWEST:
             return at
-        words = dict(zip(plan.letters, map(float, cells[at + 2 : at + stride])))
+        values = cells[at + 2 : at + stride]
+        n = values.pop(0) if shift else None
+        words = dict(zip(plan.letters, map(float, values)))
         snapshot = _snapshot(machine)
         origin = machine.current
         canon = machine.canon
         recording = machine.canon = self._recording(canon)
         try:
-            machine.block(int(cells[at]), *plan.codes, **words)
+            machine.block(int(cells[at]), *plan.codes, n=n, **words)
         finally:
             machine.canon = canon
         at += stride
@@ -499,14 +503,21 @@ class HoleRows:
         if final is False:
             return at
         # the rows after it read as rows of hole words, while this runs
-        known = self.holes.setdefault(plane, {})
+        hole = [
+            shift + plan.letters.index(x) if x in plan.letters else -1 for x in letters
+        ]
+        hole = (hole[0], hole[1], stride)
+        if shift:  # (numbered rows: each hole's own N, see _replay)
+            known = self.numbered.setdefault(plane, {})
+            hole += (True,)
+        else:
+            known = self.holes.setdefault(plane, {})
         kept = known.get(key, False)
-        hole = [plan.letters.index(x) if x in plan.letters else -1 for x in letters]
-        known[key] = (hole[0], hole[1], stride)
+        known[key] = hole
         try:
             if type(canon) is TraceCanon and (ia, ib) == (0, 1):
-                return self._trace_text(cells, at, stop, final)
-            return self._replay(cells, at, stop, final, ia, ib)
+                return self._trace_text(cells, at, stop, final, bool(shift))
+            return self._replay(cells, at, stop, final, ia, ib, bool(shift))
         finally:
             if kept is False:
                 del known[key]

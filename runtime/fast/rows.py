@@ -95,6 +95,7 @@ class _Plan:
         "cycle",
         "cycle_n",
         "opens_cycle",
+        "numbered_cycle_line",
         "dwell",
         "cancel",
         "restating",
@@ -161,6 +162,14 @@ class _Plan:
         #: (runtime.fast.hole_rows).
         self.opens_cycle = (
             not self.has_n
+            and len(_DRILL_CODES.intersection(codes)) == 1
+            and _CYCLE_LINE_CODES.issuperset(codes)
+            and ROW_CYCLE_LETTERS.issuperset(self.letters)
+        )
+        #: The same with an N: restated at every hole, it is replayed
+        #: (HoleRows.restated); a series' first, it goes by block().
+        self.numbered_cycle_line = (
+            self.has_n
             and len(_DRILL_CODES.intersection(codes)) == 1
             and _CYCLE_LINE_CODES.issuperset(codes)
             and ROW_CYCLE_LETTERS.issuperset(self.letters)
@@ -322,11 +331,15 @@ def run_rows(
                 if stop != at:
                     at = stop
                     continue
-            elif plan.opens_cycle:
+            elif plan.opens_cycle or plan.numbered_cycle_line:
                 # restated row after row, or a series' own line
                 stop = restated(cells, at, end)
-                at = opening(cells, at, end) if stop == at else stop
-                continue
+                if stop != at:
+                    at = stop
+                    continue
+                if plan.opens_cycle:
+                    at = opening(cells, at, end)
+                    continue
             machine.line = line = int(cells[at])
             start = at + 2
             at = start + plan.width
