@@ -97,6 +97,18 @@ def _cam_shop():
     return c.commented(cam) | c.hand_drilling() | c.restating(cam)
 
 
+def _holes():
+    """Rows of holes the replay takes (runtime.fast.hole_rows): tables of
+    hole words, numbered or not, series drilled alike, restated cycle lines."""
+    from hypothesis import strategies as st
+
+    import test_cycles as t
+
+    return st.one_of(
+        t.cycle_tables(), t.series_drilled_alike(), t.restated_cycle_lines()
+    )
+
+
 def _profiles():
     import strategies as s
 
@@ -106,6 +118,7 @@ def _profiles():
         "valid": (s.valid_programs(), _text, "prog.ngc", 20),
         "valid_feed": (s.valid_programs(feed_modes=True), _text, "prog.ngc", 20),
         "cycles": (s.cycle_programs(), _text, "prog.ngc", 20),
+        "holes": (_holes(), _text, "prog.ngc", 20),
         "invalid": (s.invalid_programs(), _text, "prog.ngc", 20),
         "language": (s.language_programs(), _text_args, "prog.ngc", 5),
         "whole": (s.whole_language_programs(), _with_table, "job.ngc", 20),

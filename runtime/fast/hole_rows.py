@@ -476,30 +476,8 @@ class HoleRows:
         stop = at + stride * _alike(cells, at, end, stride, checks)
         if stop - at < stride * _FEWEST:
             return at
-        values = cells[at + 2 : at + stride]
-        n = values.pop(0) if shift else None
-        words = dict(zip(plan.letters, map(float, values)))
-        snapshot = _snapshot(machine)
-        origin = machine.current
-        canon = machine.canon
-        recording = machine.canon = self._recording(canon)
-        try:
-            machine.block(int(cells[at]), *plan.codes, n=n, **words)
-        finally:
-            machine.canon = canon
+        final = self._drilled(cells, at, ia, ib, RESTATED_SWITCHES)
         at += stride
-        final = list(machine.current)
-        level = 3 - ia - ib
-        if (
-            final[level] != origin[level]
-            or final[3:] != origin[3:]
-            or recording.keywords
-            or not _only_position_changed(snapshot, machine)
-        ):
-            return at
-        final = self._replayable(
-            recording.calls, origin, final, ia, ib, RESTATED_SWITCHES
-        )
         if final is False:
             return at
         # the rows after it read as rows of hole words, while this runs
@@ -515,7 +493,7 @@ class HoleRows:
         kept = known.get(key, False)
         known[key] = hole
         try:
-            if type(canon) is TraceCanon and (ia, ib) == (0, 1):
+            if type(machine.canon) is TraceCanon and (ia, ib) == (0, 1):
                 return self._trace_text(cells, at, stop, final, bool(shift))
             return self._replay(cells, at, stop, final, ia, ib, bool(shift))
         finally:
@@ -877,8 +855,17 @@ class HoleRows:
         end point (its calls kept in ``recorded``: _replayable), False when
         it may not be replayed, or None when the reference path did not take
         the row (nothing done)."""
+        return self._drilled(cells, at, ia, ib, HOLE_SWITCHES)
+
+    def _drilled(self, cells: List[str], at: int, ia: int, ib: int, switches):
+        """The row at ``at`` run by the reference path with the canon
+        recorded (a row of hole words by ``cycle_row``, a cycle's own line by
+        ``block``): its end point when it may be replayed (its calls kept in
+        ``recorded``), False when not, None when ``cycle_row`` did not take
+        the row (nothing done)."""
         machine = self.machine
         plan = self.plans[int(cells[at + 1])]
+        line = int(cells[at])
         values = cells[at + 2 : at + 2 + plan.width]
         n = values.pop(0) if plan.has_n else None
         words = dict(zip(plan.letters, map(float, values)))
@@ -887,9 +874,13 @@ class HoleRows:
         canon = machine.canon
         recording = machine.canon = self._recording(canon)
         try:
-            # (without an N as a subclass of old may take it)
-            row = (int(cells[at]), words) + ((n,) if n is not None else ())
-            done = machine.cycle_row(*row)
+            if plan.codes:  # a cycle's own line
+                machine.block(line, *plan.codes, n=n, **words)
+                done = True
+            else:
+                # (without an N as a subclass of old may take it)
+                row = (line, words) + ((n,) if n is not None else ())
+                done = machine.cycle_row(*row)
         finally:
             machine.canon = canon
         if not done:
@@ -902,7 +893,7 @@ class HoleRows:
             return False
         if recording.keywords or not _only_position_changed(before, machine):
             return False
-        return self._replayable(recording.calls, origin, final, ia, ib)
+        return self._replayable(recording.calls, origin, final, ia, ib, switches)
 
     def _told(self, capture: _Capture, ia: int, ib: int):
         """What a cycle's own line told of the row after it (_Capture), as
