@@ -41,6 +41,7 @@ if TYPE_CHECKING:
 
 from runtime import arcs
 from runtime.fast import arc_rows
+from runtime.canon import Canon
 from runtime.codes import G0, G1, G2, G3, G4, G80
 from runtime.fast.rows import BATCH, straight_batch
 from runtime.motion import UNITS_PER_MINUTE
@@ -226,6 +227,8 @@ class FastPathMixin:
         )
         # a canon that reads the line number in its calls (ngc2py.moves)
         row_lines = canon.reads_lines
+        # a canon that ignores N numbers takes rows with one in batches too
+        ignores_n = type(canon).set_block_number is Canon.set_block_number
         row = at
         try:
             while at < end:
@@ -238,11 +241,11 @@ class FastPathMixin:
                     break
                 motion = motion_mode if plan.motion is None else plan.motion
                 if (
-                    plan.batch
+                    (plan.batch or (plan.batch_n and ignores_n))
                     and end - at >= (plan.width + 2) * BATCH
                     and (motion == G0 or (motion == G1 and feed_rate > 0.0))
                 ):
-                    if block_n is not None:
+                    if block_n is not None and plan.batch:
                         canon.set_block_number(None)
                         block_n = None
                     call = feed if motion == G1 else traverse
@@ -252,6 +255,8 @@ class FastPathMixin:
                     if rows:
                         at += rows * (plan.width + 2)
                         cur, motion_mode = point, motion
+                        if plan.has_n:  # (the N the last row announced)
+                            block_n = cells[at - plan.width]
                     if error is not None:
                         row = at  # the row whose canon call failed
                         raise error

@@ -91,6 +91,7 @@ class _Plan:
         "beyond_printed",
         "printed",
         "batch",
+        "batch_n",
         "arc",
         "cycle",
         "cycle_n",
@@ -133,6 +134,9 @@ class _Plan:
         #: Rows of this shape can go in one batch (straight_batch): plain
         #: moves that set nothing but axes (no N, no F: one call a row).
         self.batch = self.slots is not None and not self.has_n and self.f_at < 0
+        #: The same with an N: a batch for a canon that ignores N numbers
+        #: (its set_block_number the protocol's no-op: stats, previews).
+        self.batch_n = self.slots is not None and self.has_n and self.f_at < 0
         #: An arc (G2/G3 or the modal motion) for runtime.fast.arc_rows: axis
         #: words, I J K or R, F; no P (turns) and no U V W.
         self.arc = (
@@ -229,8 +233,10 @@ def straight_batch(
     canon whose straight moves are the protocol's no-ops (NullCanon) is not
     called at all: only the last row's values are read, for the end point;
     one that overrides ``Canon.straight_moves`` gets the columns in one
-    call."""
+    call. Rows with an N (``plan.batch_n``) are for a canon that ignores
+    N numbers: their values follow it."""
     stride = plan.width + 2
+    first = at + 3 if plan.has_n else at + 2  # (each row's first value)
     key = cells[at + 1]
     if cells[at + 1 : at + 1 + stride * least : stride].count(key) != least:
         return 0, None, None
@@ -252,7 +258,7 @@ def straight_batch(
         # one call for the run; an error it raises names the run's first row.
         columns = [[value] * rows for value in cur]
         for i, axis in plan.slots:
-            columns[axis] = column_floats(cells[at + 2 + i : stop : stride])
+            columns[axis] = column_floats(cells[first + i : stop : stride])
         lines = table_lines(cells, at, stop, stride)
         try:
             canon.straight_moves(feed, lines, *columns)
@@ -262,7 +268,7 @@ def straight_batch(
     else:
         arguments = [repeat(value) for value in cur]
         for i, axis in plan.slots:
-            arguments[axis] = column_floats(cells[at + 2 + i : stop : stride])
+            arguments[axis] = column_floats(cells[first + i : stop : stride])
         try:
             for done, _ in enumerate(starmap(call, zip(*arguments)), 1):
                 pass
@@ -273,7 +279,7 @@ def straight_batch(
     if not done:
         return 0, None, error
     point = list(cur)
-    last = at + (done - 1) * stride + 2
+    last = first + (done - 1) * stride
     for i, axis in plan.slots:
         point[axis] = float(cells[last + i])
     return done, point, error
@@ -443,9 +449,12 @@ class BatchesOnly:
         self._single_line(super().arc, line, *args, **words)
 
     def plain_rows(self, cells: List[str], at: int, end: int, plans) -> int:
-        if not self._batchable or self._block_n is not None:
-            return at
         canon = self.canon
+        # a canon that ignores N numbers takes rows with one in batches too
+        # (the machine keeps the last row's, as block() would)
+        ignores_n = type(canon).set_block_number is Canon.set_block_number
+        if not self._batchable or (self._block_n is not None and not ignores_n):
+            return at
         cur, motion_mode = self.current, self.motion_mode
         # A canon that takes columns (the preview's, flatten's) writes a row
         # of them as it writes a batch, which costs less than the line's
@@ -458,7 +467,7 @@ class BatchesOnly:
                 plan = plans[int(cells[at + 1])]
                 motion = motion_mode if plan.motion is None else plan.motion
                 if not (
-                    plan.batch
+                    (plan.batch or (plan.batch_n and ignores_n))
                     and end - at >= (plan.width + 2) * least
                     and (motion == G0 or (motion == G1 and self.feed_rate > 0.0))
                 ):
@@ -474,6 +483,8 @@ class BatchesOnly:
                     break
                 at += rows * (plan.width + 2)
                 cur, motion_mode = point, motion
+                if ignores_n:  # (the N the last row announced, or None)
+                    self._block_n = cells[at - plan.width] if plan.has_n else None
         finally:
             self.line = int(cells[row])
             if cur is not self.current:
