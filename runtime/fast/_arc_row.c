@@ -496,8 +496,10 @@ static int hand_over(PyObject *pending, held_t *held, PyObject *line_machine,
  * canon (pending.flush()) before any other call: a straight row's, or an N
  * or F word's. ``machine`` (None: the canon does not read lines) gets the
  * line of each row whose calls are made here, before they are made, as the
- * Python loop sets it. With ``explicit_only`` (a BatchesOnly machine) only
- * arcs without N or F in an explicit G2/G3 are taken and, given
+ * Python loop sets it. ``set_block_number`` None: the canon ignores N
+ * numbers (none is called, and an N hands no held arcs over). With
+ * ``explicit_only`` (a BatchesOnly machine) only arcs without F (and N,
+ * unless the canon ignores it) in an explicit G2/G3 are taken and, given
  * ``straight_moves`` (else None), the plain straight rows without N or F
  * between them, each as a batch of one (as runtime.fast.rows would hand it
  * over: the canon sees its line as a batch's). With ``contours`` (a canon
@@ -533,6 +535,9 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
     PyObject *state = args[6];
     PyObject *arc_feed = args[7], *straight_feed = args[8], *straight_traverse = args[9];
     PyObject *set_block_number = args[10], *set_feed_rate = args[11];
+    /* None: the canon ignores N numbers (its set_block_number is the
+     * protocol's no-op), so an N neither is called nor hands held arcs over */
+    int ignores_n = set_block_number == Py_None;
     geometry_t g;
     if (!PyList_CheckExact(cells) || !PyDict_CheckExact(known) ||
         !PyDict_CheckExact(straight) || !PyList_CheckExact(state) ||
@@ -611,7 +616,7 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
             }
             motion = r.motion;
         }
-        if (explicit_only && (has_n || f_at >= 0)) {
+        if (explicit_only && ((has_n && !ignores_n) || f_at >= 0)) {
             break;
         }
         if (at + 2 + width > end || (has_n && width < 1)) {
@@ -662,9 +667,10 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
         int other = n == block_n ? 0 : PyObject_RichCompareBool(n, block_n, Py_NE);
         PyObject *result = NULL;
         /* a contour's straight feed, held with its arcs */
+        int n_call = other != 0 && !ignores_n; /* (other < 0: an error) */
         int held_line = contours && held != NULL && line != NULL && code == G_1 &&
-                        other == 0 && f_at < 0;
-        if (held != NULL && ((line != NULL && !held_line) || other != 0 || f_at >= 0)) {
+                        !n_call && f_at < 0;
+        if (held != NULL && ((line != NULL && !held_line) || n_call || f_at >= 0)) {
             /* calls of this row's own: the held arcs go to the canon first */
             if (other < 0 || hand_over(pending, held, line_machine, PyList_GET_ITEM(cells, at))) {
                 Py_DECREF(point);
@@ -673,7 +679,12 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
             }
         }
         if (other > 0) {
-            result = PyObject_CallOneArg(set_block_number, n);
+            if (ignores_n) {
+                Py_INCREF(Py_None);
+                result = Py_None;
+            } else {
+                result = PyObject_CallOneArg(set_block_number, n);
+            }
             if (result != NULL) {
                 Py_DECREF(result);
                 Py_INCREF(n);

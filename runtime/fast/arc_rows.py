@@ -285,6 +285,12 @@ class _Pending:
             self.arc_moves(*columns)
 
 
+def _ignores_n(canon) -> bool:
+    """Whether ``canon`` ignores N numbers (its set_block_number is the
+    protocol's no-op): an N row then takes the batches as rows without."""
+    return type(canon).set_block_number is Canon.set_block_number
+
+
 class ArcRows:
     """The loop over a run of arc rows of one table (runtime.fast.rows): made
     once per ``run_rows`` call, it keeps each shape's recipe per plane and
@@ -349,7 +355,7 @@ class ArcRows:
         arcs_only = not machine._plain
         if arcs_only and not (
             machine._batchable
-            and machine._block_n is None
+            and (machine._block_n is None or _ignores_n(machine.canon))
             and type(machine.canon).arc_moves is not Canon.arc_moves
         ):
             return None
@@ -416,7 +422,9 @@ class ArcRows:
         if in_c is not None:
             fixed = context[0], self.straight, context[1], state
             calls = (canon.arc_feed, canon.straight_feed, canon.straight_traverse)
-            calls += (canon.set_block_number, canon.set_feed_rate) + extra
+            # (None: a canon that ignores N, which an N then does not cut)
+            announce = None if _ignores_n(canon) else canon.set_block_number
+            calls += (announce, canon.set_feed_rate) + extra
         try:
             while at < end:
                 if in_c is not None:
@@ -459,6 +467,7 @@ class ArcRows:
         row_lines = canon.reads_lines  # (ngc2py.moves reads machine.line)
         pending = self.pending
         holding = pending is not None
+        ignores_n = _ignores_n(canon)
         try:
             while at < end:
                 if once and at != first:
@@ -482,11 +491,13 @@ class ArcRows:
                     arc = None
                 else:
                     motion, has_n, f_at, width, slots, r_at, i1, i2 = recipe
-                    if arcs_only and (has_n or f_at >= 0 or motion is None):
+                    if arcs_only and (
+                        (has_n and not ignores_n) or f_at >= 0 or motion is None
+                    ):
                         break
                     if (
                         at >= batch_from
-                        and (block_n is None or type(canon) is TraceCanon)
+                        and (block_n is None or type(canon) is TraceCanon or ignores_n)
                         # the quick test: the eighth row from here is an arc
                         # of these words too (_batch checks all of them)
                         and end - at >= (2 + width) * _BATCH
@@ -516,11 +527,14 @@ class ArcRows:
                 if (
                     holding
                     and pending
-                    and (arc is None or n != block_n or f is not None)
+                    and (
+                        arc is None or (n != block_n and not ignores_n) or f is not None
+                    )
                 ):
                     pending.flush()
                 if n != block_n:
-                    canon.set_block_number(n)
+                    if not ignores_n:
+                        canon.set_block_number(n)
                     block_n = n
                 if f is not None:
                     feed_rate = f
