@@ -44,7 +44,15 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import workloads  # noqa: E402  (bench/ is not a package)
-from run import REPO, SYSTEM_PYTHON, Run, fmt_ratio, med, peak, user_python  # noqa: E402
+from run import (
+    REPO,
+    SYSTEM_PYTHON,
+    Run,
+    fmt_ratio,
+    med,
+    peak,
+    user_python,
+)  # noqa: E402
 
 WORKLOADS = {
     "cam_100k": (workloads.cam, 100_000),
@@ -52,6 +60,10 @@ WORKLOADS = {
     "loop_200k": (workloads.loop, 200_000),
     "cycles_20k": (workloads.drill_cycles, 20_000),
     "cycle_lines_20k": (workloads.drill_lines, 20_000),
+    # posts that number every line (N10, N20...)
+    "cam_n_100k": (workloads.cam_numbered, 100_000),
+    "cam_arcs_n_100k": (workloads.cam_arcs_numbered, 100_000),
+    "cycles_n_20k": (workloads.drill_cycles_numbered, 20_000),
     # programs of the size most are (and the before-stop hook times): the
     # fixed costs, Python's start and imports, weigh most there
     "cam_20k": (workloads.cam, 20_000),
@@ -170,14 +182,18 @@ def in_process(cmd, cwd, env, repeat):
     for _ in range(repeat):
         proc = subprocess.run(cmd, cwd=cwd, env=env, capture_output=True, text=True)
         if proc.returncode != 0 or not proc.stdout.strip():
-            return None, proc.stderr.strip().splitlines()[-1:] if proc.stderr else "failed"
+            return None, (
+                proc.stderr.strip().splitlines()[-1:] if proc.stderr else "failed"
+            )
         first, _, rest = proc.stdout.strip().partition(" ")
         values.append(float(first))
     return statistics.median(values), rest
 
 
 def rs274_each(folder: Path, home: Path) -> float:
-    programs = [p for p in sorted(folder.rglob("*.ngc")) if p.with_suffix(".rc").exists()]
+    programs = [
+        p for p in sorted(folder.rglob("*.ngc")) if p.with_suffix(".rc").exists()
+    ]
     scratch = Path(tempfile.mkdtemp(prefix="ngc2py-bench-lib-"))
     try:
         copy = scratch / "lib"
@@ -188,9 +204,13 @@ def rs274_each(folder: Path, home: Path) -> float:
             a = p.with_suffix(".args")
             args = shlex.split(a.read_text()) if a.exists() else []
             subprocess.run(
-                ["rs274", "-g", *args, p.name], cwd=p.parent, stdin=subprocess.DEVNULL,
-                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                env=dict(os.environ, HOME=str(home)), timeout=60,
+                ["rs274", "-g", *args, p.name],
+                cwd=p.parent,
+                stdin=subprocess.DEVNULL,
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL,
+                env=dict(os.environ, HOME=str(home)),
+                timeout=60,
             )
         return time.perf_counter() - begin
     finally:
@@ -200,65 +220,171 @@ def rs274_each(folder: Path, home: Path) -> float:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--only", help="comma-separated workloads: " + ", ".join({**WORKLOADS, **BIG}))
+    ap.add_argument(
+        "--only", help="comma-separated workloads: " + ", ".join({**WORKLOADS, **BIG})
+    )
     ap.add_argument("--big", action="store_true", help="add the 1M-move CAM file")
-    ap.add_argument("--no-golden", action="store_true", help="leave out the library check")
+    ap.add_argument(
+        "--no-golden", action="store_true", help="leave out the library check"
+    )
     ap.add_argument("--keep", help="write the programs and outputs here and keep them")
     args = ap.parse_args(argv)
     table = dict(WORKLOADS, **(BIG if args.big else {}))
-    names = [n for n in args.only.split(",") if n in {**WORKLOADS, **BIG}] if args.only else list(table)
+    names = (
+        [n for n in args.only.split(",") if n in {**WORKLOADS, **BIG}]
+        if args.only
+        else list(table)
+    )
     work = Path(args.keep or tempfile.mkdtemp(prefix="ngc2py-workflows-"))
     work.mkdir(parents=True, exist_ok=True)
     home = work / "home"
     home.mkdir(exist_ok=True)
     py, site_packages = user_python(work)
-    env = dict(os.environ, HOME=str(home), NGC2PY_CACHE=str(work / "cache"),
-               PYTHONPATH=os.pathsep.join([str(REPO)] + site_packages))
+    env = dict(
+        os.environ,
+        HOME=str(home),
+        NGC2PY_CACHE=str(work / "cache"),
+        PYTHONPATH=os.pathsep.join([str(REPO)] + site_packages),
+    )
     env.pop("PYTHONDONTWRITEBYTECODE", None)
-    has_gcode = subprocess.run([SYSTEM_PYTHON, "-c", "import gcode"], capture_output=True).returncode == 0
+    has_gcode = (
+        subprocess.run(
+            [SYSTEM_PYTHON, "-c", "import gcode"], capture_output=True
+        ).returncode
+        == 0
+    )
     (work / "parse.py").write_text(COUNTING_PARSE)
     (work / "user_canon.py").write_text(USER_CANON)
     (work / "canon_calls.py").write_text(CANON_CALLS)
-    print("ratio = LinuxCNC's time / ngc2py's (higher is better); medians of %d runs\n" % args.repeat)
+    print(
+        "ratio = LinuxCNC's time / ngc2py's (higher is better); medians of %d runs\n"
+        % args.repeat
+    )
     row = "%-14s %-22s %9s %9s %8s %8s  %s"
-    print(row % ("workload", "workflow", "LinuxCNC", "ngc2py", "ratio", "peakMB", "note"))
+    print(
+        row % ("workload", "workflow", "LinuxCNC", "ngc2py", "ratio", "peakMB", "note")
+    )
     try:
         for name in names:
             make, size = {**WORKLOADS, **BIG}[name]
             src = work / f"{name}.ngc"
             src.write_text(make(size))
-            ref = timed(["rs274", "-g", src.name, name + ".rs274"], work, env, args.repeat)
+            ref = timed(
+                ["rs274", "-g", src.name, name + ".rs274"], work, env, args.repeat
+            )
             rs = med(ref)
-            print(row % (name, "rs274 -g", "%.2fs" % rs, "", "", "%.0f" % peak(ref), ""))
+            print(
+                row % (name, "rs274 -g", "%.2fs" % rs, "", "", "%.0f" % peak(ref), "")
+            )
             if has_gcode and name in WORKLOADS:
-                theirs, counts = in_process([SYSTEM_PYTHON, "parse.py", src.name, "gcode"], work, env, args.repeat)
+                theirs, counts = in_process(
+                    [SYSTEM_PYTHON, "parse.py", src.name, "gcode"],
+                    work,
+                    env,
+                    args.repeat,
+                )
                 firsts = []
                 for _ in range(args.repeat):  # each on an empty cache: a new file
                     shutil.rmtree(work / "cache", ignore_errors=True)
-                    firsts.append(in_process([py, "parse.py", src.name, "ngc2py"], work, env, 1)[0])
+                    firsts.append(
+                        in_process([py, "parse.py", src.name, "ngc2py"], work, env, 1)[
+                            0
+                        ]
+                    )
                 first = None if None in firsts else statistics.median(firsts)
-                ours, ours_counts = in_process([py, "parse.py", src.name, "ngc2py"], work, env, args.repeat)
-                same = "same calls" if counts == ours_counts else "COUNTS DIFFER %s %s" % (counts, ours_counts)
+                ours, ours_counts = in_process(
+                    [py, "parse.py", src.name, "ngc2py"], work, env, args.repeat
+                )
+                same = (
+                    "same calls"
+                    if counts == ours_counts
+                    else "COUNTS DIFFER %s %s" % (counts, ours_counts)
+                )
                 if theirs and ours:
-                    print(row % (name, "parse (cached)", "%.2fs" % theirs, "%.2fs" % ours,
-                                 fmt_ratio(theirs, ours), "", same))
+                    print(
+                        row
+                        % (
+                            name,
+                            "parse (cached)",
+                            "%.2fs" % theirs,
+                            "%.2fs" % ours,
+                            fmt_ratio(theirs, ours),
+                            "",
+                            same,
+                        )
+                    )
                 if theirs and first:
-                    print(row % (name, "parse (first, converts)", "%.2fs" % theirs, "%.2fs" % first,
-                                 fmt_ratio(theirs, first), "", ""))
-                again, _ = in_process([SYSTEM_PYTHON, "parse.py", src.name, "gcode", "again"], work, env, args.repeat)
-                ours_again, _ = in_process([py, "parse.py", src.name, "ngc2py", "again"], work, env, args.repeat)
+                    print(
+                        row
+                        % (
+                            name,
+                            "parse (first, converts)",
+                            "%.2fs" % theirs,
+                            "%.2fs" % first,
+                            fmt_ratio(theirs, first),
+                            "",
+                            "",
+                        )
+                    )
+                again, _ = in_process(
+                    [SYSTEM_PYTHON, "parse.py", src.name, "gcode", "again"],
+                    work,
+                    env,
+                    args.repeat,
+                )
+                ours_again, _ = in_process(
+                    [py, "parse.py", src.name, "ngc2py", "again"],
+                    work,
+                    env,
+                    args.repeat,
+                )
                 if again and ours_again:
-                    print(row % (name, "parse (reload in process)", "%.2fs" % again, "%.2fs" % ours_again,
-                                 fmt_ratio(again, ours_again), "", "a preview app's second load of the file"))
-                alone, made = in_process([py, "canon_calls.py", src.name], work, env, args.repeat)
+                    print(
+                        row
+                        % (
+                            name,
+                            "parse (reload in process)",
+                            "%.2fs" % again,
+                            "%.2fs" % ours_again,
+                            fmt_ratio(again, ours_again),
+                            "",
+                            "a preview app's second load of the file",
+                        )
+                    )
+                alone, made = in_process(
+                    [py, "canon_calls.py", src.name], work, env, args.repeat
+                )
                 if theirs and alone:
-                    print(row % (name, "parse: canon calls alone", "%.2fs" % theirs, "%.2fs" % alone,
-                                 fmt_ratio(theirs, alone), "",
-                                 "%s calls: no parse can be quicker" % made))
-            Run([py, "-m", "ngc2py", "run", src.name], work, env, None)  # warm the cache
+                    print(
+                        row
+                        % (
+                            name,
+                            "parse: canon calls alone",
+                            "%.2fs" % theirs,
+                            "%.2fs" % alone,
+                            fmt_ratio(theirs, alone),
+                            "",
+                            "%s calls: no parse can be quicker" % made,
+                        )
+                    )
+            Run(
+                [py, "-m", "ngc2py", "run", src.name], work, env, None
+            )  # warm the cache
             for workflow, cmd in (
                 ("stats", [py, "-m", "ngc2py", "stats", src.name]),
-                ("flatten", [py, "-m", "ngc2py", "flatten", "-q", src.name, "-o", name + ".flat.ngc"]),
+                (
+                    "flatten",
+                    [
+                        py,
+                        "-m",
+                        "ngc2py",
+                        "flatten",
+                        "-q",
+                        src.name,
+                        "-o",
+                        name + ".flat.ngc",
+                    ],
+                ),
                 ("plot", [py, "-m", "ngc2py", "plot", src.name, "-o", name + ".png"]),
                 ("ngc2py.toolpath()", [py, "-c", TOOLPATH, src.name]),
             ):
@@ -268,27 +394,68 @@ def main(argv=None) -> int:
                     continue
                 runs = timed(cmd, work, env, args.repeat)
                 note = "" if runs[0].status == 0 else "exit %d" % runs[0].status
-                print(row % (name, workflow, "%.2fs" % rs, "%.2fs" % med(runs),
-                             fmt_ratio(rs, med(runs)), "%.0f" % peak(runs), note))
+                print(
+                    row
+                    % (
+                        name,
+                        workflow,
+                        "%.2fs" % rs,
+                        "%.2fs" % med(runs),
+                        fmt_ratio(rs, med(runs)),
+                        "%.0f" % peak(runs),
+                        note,
+                    )
+                )
             if name in WORKLOADS:
-                proc = subprocess.run([py, "user_canon.py", src.name], cwd=work, env=env,
-                                      capture_output=True, text=True)
+                proc = subprocess.run(
+                    [py, "user_canon.py", src.name],
+                    cwd=work,
+                    env=env,
+                    capture_output=True,
+                    text=True,
+                )
                 parts = proc.stdout.split()
                 if len(parts) == 3 and int(parts[2]):
-                    null, counting, moves = float(parts[0]), float(parts[1]), int(parts[2])
-                    print(row % (name, "user Canon subclass", "", "%.2fs" % counting, "", "",
-                                 "%.2f us/move over NullCanon (%d moves)"
-                                 % ((counting - null) / moves * 1e6, moves)))
+                    null, counting, moves = (
+                        float(parts[0]),
+                        float(parts[1]),
+                        int(parts[2]),
+                    )
+                    print(
+                        row
+                        % (
+                            name,
+                            "user Canon subclass",
+                            "",
+                            "%.2fs" % counting,
+                            "",
+                            "",
+                            "%.2f us/move over NullCanon (%d moves)"
+                            % ((counting - null) / moves * 1e6, moves),
+                        )
+                    )
         if not args.no_golden:
             library = REPO / "golden"
-            count = sum(1 for p in library.rglob("*.ngc") if p.with_suffix(".rc").exists())
+            count = sum(
+                1 for p in library.rglob("*.ngc") if p.with_suffix(".rc").exists()
+            )
             theirs = rs274_each(library, home)
             check = [py, "-m", "ngc2py", "golden", "check", "-q", str(library)]
             Run(check, work, env, None)  # warm the cache
             runs = timed(check, work, env, args.repeat)
-            print(row % ("golden/ (%d)" % count, "golden check (warm)", "%.2fs" % theirs,
-                         "%.2fs" % med(runs), fmt_ratio(theirs, med(runs)), "%.0f" % peak(runs),
-                         "rs274 -g on each program" + ("" if runs[0].status == 0 else "; CHANGED")))
+            print(
+                row
+                % (
+                    "golden/ (%d)" % count,
+                    "golden check (warm)",
+                    "%.2fs" % theirs,
+                    "%.2fs" % med(runs),
+                    fmt_ratio(theirs, med(runs)),
+                    "%.0f" % peak(runs),
+                    "rs274 -g on each program"
+                    + ("" if runs[0].status == 0 else "; CHANGED"),
+                )
+            )
             # the same recordings as pytest tests: ngc2py's plugin alone (other
             # plugins this machine has installed would be timed too), no ini
             # file of this project's, one process
@@ -296,13 +463,36 @@ def main(argv=None) -> int:
             shutil.rmtree(copy, ignore_errors=True)
             shutil.copytree(library, copy)
             (work / "empty.ini").write_text("[pytest]\n")
-            tests = [py, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-p", "ngc2py.pytest_plugin",
-                     "-c", str(work / "empty.ini"), "--rootdir", str(copy), str(copy)]
+            tests = [
+                py,
+                "-m",
+                "pytest",
+                "-q",
+                "-p",
+                "no:cacheprovider",
+                "-p",
+                "ngc2py.pytest_plugin",
+                "-c",
+                str(work / "empty.ini"),
+                "--rootdir",
+                str(copy),
+                str(copy),
+            ]
             plugin_env = dict(env, PYTEST_DISABLE_PLUGIN_AUTOLOAD="1")
             runs = timed(tests, work, plugin_env, args.repeat)
-            print(row % ("golden/ (%d)" % count, "pytest plugin (warm)", "%.2fs" % theirs,
-                         "%.2fs" % med(runs), fmt_ratio(theirs, med(runs)), "%.0f" % peak(runs),
-                         "the same, as pytest items" + ("" if runs[0].status == 0 else "; FAILED")))
+            print(
+                row
+                % (
+                    "golden/ (%d)" % count,
+                    "pytest plugin (warm)",
+                    "%.2fs" % theirs,
+                    "%.2fs" % med(runs),
+                    fmt_ratio(theirs, med(runs)),
+                    "%.0f" % peak(runs),
+                    "the same, as pytest items"
+                    + ("" if runs[0].status == 0 else "; FAILED"),
+                )
+            )
     finally:
         if not args.keep:
             shutil.rmtree(work, ignore_errors=True)

@@ -185,6 +185,16 @@ def drill_cycles_numbered(holes: int) -> str:
     return numbered(drill_cycles(holes))
 
 
+def cam_numbered(moves: int) -> str:
+    """:func:`cam` with every line numbered."""
+    return numbered(cam(moves))
+
+
+def cam_arcs_numbered(count: int) -> str:
+    """:func:`cam_arcs` with every line numbered."""
+    return numbered(cam_arcs(count))
+
+
 def shop(lines: int) -> str:
     """What shops' programs add to CAM rows, each a tenth or more of the
     lines: moves and arcs with a comment, modes restated on every line
