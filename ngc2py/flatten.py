@@ -502,20 +502,37 @@ class FlattenCanon(Canon):
     def close(self) -> None:
         self._flush()
 
-    def straight_moves(self, feed, lines, x, y, z, a, b, c, u, v, w):
+    #: straight_moves takes numbered rows' N (runtime.canon.Canon)
+    takes_numbers = True
+
+    def straight_moves(self, feed, lines, x, y, z, a, b, c, u, v, w, numbers=None):
         """A run of plain moves, each a block of its own (runtime.fast.rows'
-        batches: no N, no F, nothing else on the line), written a column at
-        a time: the axis words that change, as :meth:`_move` writes them."""
+        batches: no F, nothing else on the line; ``numbers``: each row's N,
+        where the rows have one), written a column at a time: the axis
+        words that change, as :meth:`_move` writes them."""
         if self._pitch is not None or not self.started or self.ended:
-            return super().straight_moves(feed, lines, x, y, z, a, b, c, u, v, w)
+            if numbers is None:
+                return super().straight_moves(feed, lines, x, y, z, a, b, c, u, v, w)
+            call = self.straight_feed if feed else self.straight_traverse
+            for n, *point in zip(numbers, x, y, z, a, b, c, u, v, w):
+                self.set_block_number(n)
+                call(*point)
+            return
+        if numbers is not None:  # (each row's N before its words)
+            texts = self._straight_texts(feed, x, y, z, a, b, c)
+            return self._write_batch(
+                lines, list(map("N%s %s".__mod__, zip(numbers, texts)))
+            )
+        self._write_batch(lines, self._straight_texts(feed, x, y, z, a, b, c))
+
+    def _straight_texts(self, feed, x, y, z, a, b, c) -> List[str]:
+        """The blocks of a run of plain moves (straight_moves)."""
         self._flush()
-        count = len(lines)
+        count = len(x)
         pos = self._pos
         if count == 1:  # (a row between arcs, say): as _move writes one
             move = (x[0], y[0], z[0], a[0], b[0], c[0])
-            return self._write_batch(
-                lines, [self._move("G1" if feed else "G0", move, pos)]
-            )
+            return [self._move("G1" if feed else "G0", move, pos)]
         # a column of words for each axis that moves: an axis moving on
         # every row (a CAM file's X and Y) is written a column at a time
         words, gaps = [], False
@@ -541,12 +558,10 @@ class FlattenCanon(Canon):
         code = "G1 " if feed else "G0 "
         if words and not gaps:
             words[0] = list(map(code.__add__, words[0]))
-            self._write_batch(lines, list(map(" ".join, zip(*words))))
-            return
+            return list(map(" ".join, zip(*words)))
         rows = [" ".join(filter(None, row)) for row in zip(*words)] or [""] * count
         # (a move to where it is: still one axis word)
-        texts = [code + (row or "X" + number(x[i])) for i, row in enumerate(rows)]
-        self._write_batch(lines, texts)
+        return [code + (row or "X" + number(x[i])) for i, row in enumerate(rows)]
 
     def arc_moves(self, lines, *columns):
         """A run of plain arcs (arc_feed's arguments as columns), each a

@@ -116,6 +116,12 @@ class Canon:
     #: the fast loops over data rows then keep it current row by row.
     reads_lines = False
 
+    #: True for a canon whose ``straight_moves`` takes the rows' N numbers
+    #: (``numbers=``: each row's N as written, or None) in place of a
+    #: set_block_number a row: batches of numbered rows then reach it too.
+    #: (A canon whose set_block_number is the no-op gets them without.)
+    takes_numbers = False
+
     def set_block_number(self, n: Optional[str]) -> None:
         """The N number (its digits as written) of the line now executing, or None."""
 

@@ -261,7 +261,11 @@ def straight_batch(
             columns[axis] = column_floats(cells[first + i : stop : stride])
         lines = table_lines(cells, at, stop, stride)
         try:
-            canon.straight_moves(feed, lines, *columns)
+            if plan.has_n and canon.takes_numbers:
+                numbers = cells[at + 2 : stop : stride]
+                canon.straight_moves(feed, lines, *columns, numbers=numbers)
+            else:
+                canon.straight_moves(feed, lines, *columns)
             done = rows
         except Exception as failed:  # noqa: BLE001 - handed back, raised by the caller
             error = failed
@@ -450,9 +454,11 @@ class BatchesOnly:
 
     def plain_rows(self, cells: List[str], at: int, end: int, plans) -> int:
         canon = self.canon
-        # a canon that ignores N numbers takes rows with one in batches too
-        # (the machine keeps the last row's, as block() would)
+        # a canon that ignores N numbers, or takes them with the batch, takes
+        # rows with one in batches too (the machine keeps the last row's, as
+        # block() would)
         ignores_n = type(canon).set_block_number is Canon.set_block_number
+        ignores_n = ignores_n or canon.takes_numbers
         if not self._batchable or (self._block_n is not None and not ignores_n):
             return at
         cur, motion_mode = self.current, self.motion_mode
