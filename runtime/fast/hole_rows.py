@@ -706,6 +706,11 @@ class HoleRows:
         if numbered:
             if self.recorded[0][0] != "set_block_number":
                 return at
+            if (
+                type(canon).hole_moves is not Canon.hole_moves
+                and type(canon).set_block_number is Canon.set_block_number
+            ):  # (a batch canon that ignores N numbers)
+                return self._batches(cells, at, end, final, ia, ib, numbered=True)
             lookup = self._numbered_words
             known = self.numbered.setdefault(machine.plane, {})
         elif type(canon).hole_moves is not Canon.hole_moves:
@@ -771,11 +776,15 @@ class HoleRows:
             at += stride
         return at
 
-    def _batches(self, cells, at: int, end: int, final, ia: int, ib: int) -> int:
+    def _batches(
+        self, cells, at: int, end: int, final, ia: int, ib: int, numbered=False
+    ) -> int:
         """For a canon that takes holes in batches (``Canon.hole_moves``):
         the next rows of hole words, at most _MOST in one call; returns
         where it stopped. While the canon works, ``machine.line`` is the
-        batch's last line and its point the batch's start."""
+        batch's last line and its point the batch's start. ``numbered``:
+        rows with N numbers too, for a canon that ignores them (the machine
+        keeps the last row's)."""
         machine = self.machine
         hole_moves = machine.canon.hole_moves
         world, params = machine.world, machine.params
@@ -785,8 +794,8 @@ class HoleRows:
             lines: List[int] = []
             firsts: List[float] = []
             seconds: List[float] = []
-            runs, at = self._runs(cells, at, end, machine.plane)
-            for row, stop, first, second, stride in runs:
+            runs, at = self._runs(cells, at, end, machine.plane, numbered)
+            for row, stop, first, second, stride, *has_n in runs:
                 count = (stop - row) // stride
                 lines += table_lines(cells, row, stop, stride)
                 if first >= 0:
@@ -801,6 +810,8 @@ class HoleRows:
             if not lines:
                 break
             machine.line = lines[-1]
+            if numbered:  # (the N the last row announced, or None)
+                machine._block_n = cells[stop - stride + 2] if has_n[0] else None
             hole_moves(self.recorded, lines, firsts, seconds, (ia, ib), start)
             end_point = final[:]
             end_point[ia], end_point[ib] = aa, bb
