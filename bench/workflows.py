@@ -4,8 +4,10 @@
     python bench/workflows.py [--repeat N] [--only NAME,...] [--big] [--keep DIR]
 
 For each workload of bench/workloads.py (CAM moves, CAM arcs whose centres
-and radii vary, a trigonometry loop, canned cycles; large, and again at the
-size most programs are) it times, medians of ``--repeat`` alternating runs:
+and radii vary, a trigonometry loop, canned cycles as rows of hole words and
+as a cycle line a hole, the CAM files and cycles again with every line
+numbered; large, and again at the size most programs are) it times, medians
+of ``--repeat`` alternating runs:
 
 * preview: LinuxCNC's ``gcode.parse`` (system Python) against
   ``ngc2py.parse`` with the same counting canon, in-process time of the
