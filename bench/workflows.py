@@ -442,21 +442,20 @@ def main(argv=None) -> int:
                 1 for p in library.rglob("*.ngc") if p.with_suffix(".rc").exists()
             )
             theirs = rs274_each(library, home)
+
+            def library_row(workflow, runs, note, failed):
+                # (a run that did not pass says so)
+                ours = med(runs)
+                note += "" if runs[0].status == 0 else "; " + failed
+                cells = ("golden/ (%d)" % count, workflow, "%.2fs" % theirs)
+                cells += ("%.2fs" % ours, fmt_ratio(theirs, ours), "%.0f" % peak(runs))
+                print(row % (cells + (note,)))
+
             check = [py, "-m", "ngc2py", "golden", "check", "-q", str(library)]
             Run(check, work, env, None)  # warm the cache
             runs = timed(check, work, env, args.repeat)
-            print(
-                row
-                % (
-                    "golden/ (%d)" % count,
-                    "golden check (warm)",
-                    "%.2fs" % theirs,
-                    "%.2fs" % med(runs),
-                    fmt_ratio(theirs, med(runs)),
-                    "%.0f" % peak(runs),
-                    "rs274 -g on each program"
-                    + ("" if runs[0].status == 0 else "; CHANGED"),
-                )
+            library_row(
+                "golden check (warm)", runs, "rs274 -g on each program", "CHANGED"
             )
             # the same recordings as pytest tests: ngc2py's plugin alone (other
             # plugins this machine has installed would be timed too), no ini
@@ -482,18 +481,8 @@ def main(argv=None) -> int:
             ]
             plugin_env = dict(env, PYTEST_DISABLE_PLUGIN_AUTOLOAD="1")
             runs = timed(tests, work, plugin_env, args.repeat)
-            print(
-                row
-                % (
-                    "golden/ (%d)" % count,
-                    "pytest plugin (warm)",
-                    "%.2fs" % theirs,
-                    "%.2fs" % med(runs),
-                    fmt_ratio(theirs, med(runs)),
-                    "%.0f" % peak(runs),
-                    "the same, as pytest items"
-                    + ("" if runs[0].status == 0 else "; FAILED"),
-                )
+            library_row(
+                "pytest plugin (warm)", runs, "the same, as pytest items", "FAILED"
             )
     finally:
         if not args.keep:
