@@ -338,6 +338,13 @@ class Canon:
     def on_reset(self): ...
 
 
+def ignores_numbers(canon) -> bool:
+    """Whether ``canon`` ignores N numbers (its set_block_number is the
+    protocol's no-op): the fast loops then hand it numbered rows in the
+    batches rows without take (runtime.fast), calling no set_block_number."""
+    return type(canon).set_block_number is Canon.set_block_number
+
+
 class NullCanon(Canon):
     """Accepts every call and does nothing."""
 

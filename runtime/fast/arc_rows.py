@@ -30,7 +30,7 @@ from math import hypot
 from operator import add, sub
 
 from runtime import arcs
-from runtime.canon import Canon, TraceCanon, trace_rows
+from runtime.canon import Canon, TraceCanon, ignores_numbers, trace_rows
 from runtime.codes import G0, G1, G2, G3
 from runtime.errors import GCodeError
 
@@ -285,12 +285,6 @@ class _Pending:
             self.arc_moves(*columns)
 
 
-def _ignores_n(canon) -> bool:
-    """Whether ``canon`` ignores N numbers (its set_block_number is the
-    protocol's no-op): an N row then takes the batches as rows without."""
-    return type(canon).set_block_number is Canon.set_block_number
-
-
 class ArcRows:
     """The loop over a run of arc rows of one table (runtime.fast.rows): made
     once per ``run_rows`` call, it keeps each shape's recipe per plane and
@@ -355,7 +349,7 @@ class ArcRows:
         arcs_only = not machine._plain
         if arcs_only and not (
             machine._batchable
-            and (machine._block_n is None or _ignores_n(machine.canon))
+            and (machine._block_n is None or ignores_numbers(machine.canon))
             and type(machine.canon).arc_moves is not Canon.arc_moves
         ):
             return None
@@ -423,7 +417,7 @@ class ArcRows:
             fixed = context[0], self.straight, context[1], state
             calls = (canon.arc_feed, canon.straight_feed, canon.straight_traverse)
             # (None: a canon that ignores N, which an N then does not cut)
-            announce = None if _ignores_n(canon) else canon.set_block_number
+            announce = None if ignores_numbers(canon) else canon.set_block_number
             calls += (announce, canon.set_feed_rate) + extra
         try:
             while at < end:
@@ -467,7 +461,7 @@ class ArcRows:
         row_lines = canon.reads_lines  # (ngc2py.moves reads machine.line)
         pending = self.pending
         holding = pending is not None
-        ignores_n = _ignores_n(canon)
+        ignores_n = ignores_numbers(canon)
         try:
             while at < end:
                 if once and at != first:

@@ -33,7 +33,7 @@ from itertools import repeat, takewhile
 from marshal import dumps
 from operator import attrgetter
 
-from runtime.canon import Canon, TraceCanon, numbered_rows
+from runtime.canon import Canon, TraceCanon, ignores_numbers, numbered_rows
 from runtime.cycles import CyclesMixin
 from runtime.fast.arc_rows import column_floats, table_lines
 
@@ -706,9 +706,8 @@ class HoleRows:
         if numbered:
             if self.recorded[0][0] != "set_block_number":
                 return at
-            if (
-                type(canon).hole_moves is not Canon.hole_moves
-                and type(canon).set_block_number is Canon.set_block_number
+            if type(canon).hole_moves is not Canon.hole_moves and ignores_numbers(
+                canon
             ):  # (a batch canon that ignores N numbers)
                 return self._batches(cells, at, end, final, ia, ib, numbered=True)
             lookup = self._numbered_words

@@ -41,7 +41,7 @@ if TYPE_CHECKING:
 
 from runtime import arcs
 from runtime.fast import arc_rows
-from runtime.canon import Canon
+from runtime.canon import ignores_numbers
 from runtime.codes import G0, G1, G2, G3, G4, G80
 from runtime.fast.rows import BATCH, straight_batch
 from runtime.motion import UNITS_PER_MINUTE
@@ -228,7 +228,7 @@ class FastPathMixin:
         # a canon that reads the line number in its calls (ngc2py.moves)
         row_lines = canon.reads_lines
         # a canon that ignores N numbers takes rows with one in batches too
-        ignores_n = type(canon).set_block_number is Canon.set_block_number
+        ignores_n = ignores_numbers(canon)
         row = at
         try:
             while at < end:

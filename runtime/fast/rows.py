@@ -41,7 +41,7 @@ if TYPE_CHECKING:
 from runtime.fast.arc_rows import ArcRows, column_floats, table_lines
 from runtime.fast.hole_rows import HoleRows
 from runtime.blockcheck import DRILL_CYCLES
-from runtime.canon import Canon, TraceCanon
+from runtime.canon import Canon, TraceCanon, ignores_numbers
 from runtime.codes import (
     G0,
     G1,
@@ -457,7 +457,7 @@ class BatchesOnly:
         # a canon that ignores N numbers, or takes them with the batch, takes
         # rows with one in batches too (the machine keeps the last row's, as
         # block() would)
-        ignores_n = type(canon).set_block_number is Canon.set_block_number
+        ignores_n = ignores_numbers(canon)
         ignores_n = ignores_n or canon.takes_numbers
         if not self._batchable or (self._block_n is not None and not ignores_n):
             return at
