@@ -314,9 +314,11 @@ def _free_levels(recording, axes, pos):
     at_level = (
         index.get(repr(here), len(levels)) if math.isfinite(here) else len(levels)
     )
-    # a move's plane coordinates are each hole's own (_hole_calls)
+    # a move's plane coordinates are each hole's own (_hole_calls), and the
+    # first call, set_block_number, is written as the prefix (its N is not
+    # the shape's: it may be each hole's own)
     calls = [
-        (name, args if at is None else args[3:], at) for name, args, at in recording
+        (name, args if at is None else args[3:], at) for name, args, at in recording[1:]
     ]
     pattern = list(map(index.__getitem__, texts))
     shape = dumps((axes, calls, pattern, at_level, tuple(pos[3:6])))
@@ -336,6 +338,23 @@ def _standing(recording, axes, index: dict) -> list:
     return standing
 
 
+def _numbered(numbers: Optional[List[Optional[str]]], texts: List[str]) -> List[str]:
+    """A batch's blocks, each after its row's N where it has one."""
+    if numbers is None:
+        return texts
+    if None not in numbers:
+        return list(map("N%s %s".__mod__, zip(numbers, texts)))
+    return [
+        text if n is None else "N%s %s" % (n, text) for n, text in zip(numbers, texts)
+    ]
+
+
+def _stand_in_numbers(numbers: List[Optional[str]]) -> bool:
+    """Whether each hole's N can fill the N stand-in's place: every hole
+    has one, none longer (a line's length decides where its comment goes)."""
+    return None not in numbers and max(map(len, numbers)) <= len(_STAND_IN_N)
+
+
 def _level_index(text: str) -> int:
     """Which level a stand-in's text stands for."""
     return int(float(text) - _LEVEL_STAND_IN)
@@ -346,7 +365,10 @@ def _level_index(text: str) -> int:
 #: whose texts hold one another.
 _STAND_INS = (7777777.015625, 6666666.046875, 5555555.078125, 4444444.109375)
 _STAND_IN_LINE = 987654321987
-_STAND_IN_TEXTS = tuple(map(repr, _STAND_INS)) + ("%d" % _STAND_IN_LINE,)
+#: and for its N number, where each hole has its own (the template's prefix)
+_STAND_IN_N = "765432198765"
+_N_PREFIX = "N%s " % _STAND_IN_N
+_STAND_IN_TEXTS = tuple(map(repr, _STAND_INS)) + ("%d" % _STAND_IN_LINE, _STAND_IN_N)
 # (digits and a point: only the point is special in a pattern)
 _STAND_IN_SPLIT = Pattern(
     "(%s)" % "|".join(text.replace(".", r"\.") for text in _STAND_IN_TEXTS)
@@ -511,19 +533,10 @@ class FlattenCanon(Canon):
         where the rows have one), written a column at a time: the axis
         words that change, as :meth:`_move` writes them."""
         if self._pitch is not None or not self.started or self.ended:
-            if numbers is None:
-                return super().straight_moves(feed, lines, x, y, z, a, b, c, u, v, w)
-            call = self.straight_feed if feed else self.straight_traverse
-            for n, *point in zip(numbers, x, y, z, a, b, c, u, v, w):
-                self.set_block_number(n)
-                call(*point)
-            return
-        if numbers is not None:  # (each row's N before its words)
-            texts = self._straight_texts(feed, x, y, z, a, b, c)
-            return self._write_batch(
-                lines, list(map("N%s %s".__mod__, zip(numbers, texts)))
-            )
-        self._write_batch(lines, self._straight_texts(feed, x, y, z, a, b, c))
+            columns = (x, y, z, a, b, c, u, v, w)
+            return super().straight_moves(feed, lines, *columns, numbers=numbers)
+        texts = self._straight_texts(feed, x, y, z, a, b, c)
+        self._write_batch(lines, _numbered(numbers, texts))
 
     def _straight_texts(self, feed, x, y, z, a, b, c) -> List[str]:
         """The blocks of a run of plain moves (straight_moves)."""
@@ -563,23 +576,24 @@ class FlattenCanon(Canon):
         # (a move to where it is: still one axis word)
         return [code + (row or "X" + number(x[i])) for i, row in enumerate(rows)]
 
-    def arc_moves(self, lines, *columns):
+    def arc_moves(self, lines, *columns, numbers=None):
         """A run of plain arcs (arc_feed's arguments as columns), each a
-        block of its own, written as :meth:`_arc` writes one."""
+        block of its own, written as :meth:`_arc` writes one (after its N,
+        given ``numbers``)."""
         if self._pitch is not None or not self.started or self.ended:
-            return super().arc_moves(lines, *columns)
+            return super().arc_moves(lines, *columns, numbers=numbers)
         self._flush()
         pos = self._pos
         # Only the first arc can start away from the last move's end.
         self._check_arc_start(self.machine.current, pos)
-        self._write_batch(lines, self._arc_texts(columns, pos))
+        self._write_batch(lines, _numbered(numbers, self._arc_texts(columns, pos)))
 
-    def contour_moves(self, axes, lines, *columns):
+    def contour_moves(self, axes, lines, *columns, numbers=None):
         """A contour (runtime.canon.Canon.contour_moves): its arcs written
         as :meth:`arc_moves` writes them, the G1 lines between them as
         :meth:`straight_moves` writes one, in one batch."""
         if self._pitch is not None or not self.started or self.ended:
-            return super().contour_moves(axes, lines, *columns)
+            return super().contour_moves(axes, lines, *columns, numbers=numbers)
         self._flush()
         pos = self._pos
         if columns[4][0]:  # (only the first arc can start away from the last end)
@@ -587,7 +601,7 @@ class FlattenCanon(Canon):
         texts = self._contour_texts(axes, columns, pos)
         if texts is None:
             texts = self._contour_runs(axes, columns, pos)
-        self._write_batch(lines, texts)
+        self._write_batch(lines, _numbered(numbers, texts))
 
     def _contour_runs(self, axes, columns, pos: List[float]) -> List[str]:
         """A contour's text a run of arcs at a time (:meth:`_arc_texts`)
@@ -613,26 +627,46 @@ class FlattenCanon(Canon):
             at += 1
         return texts
 
-    def hole_moves(self, recording, lines, first, second, axes, start):
+    def hole_moves(self, recording, lines, first, second, axes, start, numbers=None):
         """Holes drilled alike (runtime.canon.Canon.hole_moves): each hole a
         block of its own, its calls written as :meth:`_flush` writes them,
         without recording them call by call (from templates: see below).
-        Holes whose calls include one not in _HOLE_CALLS go call by call."""
+        Holes whose calls include one not in _HOLE_CALLS go call by call.
+        ``numbers``: each hole's N (a slot of the template, the N stand-in's),
+        where the rows have their own."""
         names = [name for name, _, _ in recording]
+        if numbers is not None and numbers.count(None) == len(numbers):
+            numbers, recording = (
+                None,
+                [("set_block_number", (None,), None)] + recording[1:],
+            )
         if (
             self._pitch is not None
             or not self.started
             or self.ended
             or names[0] != "set_block_number"
             or not set(names[1:]) <= _HOLE_CALLS
+            or (numbers is not None and not _stand_in_numbers(numbers))
         ):
             # call by call, each hole's block at its own line
-            args = (recording, lines, first, second, axes, start)
+            args = (recording, lines, first, second, axes, start, numbers)
             hole_by_hole(self, self.machine, *args)
             return
-        self.set_block_number(recording[0][1][0])  # (the block before, written)
+        # (the block before, written)
+        self.set_block_number(recording[0][1][0] if numbers is None else numbers[0])
         group, self._group = self._group, None
         prefix = "N%s " % group.n if group.n is not None else ""
+        if numbers is not None:
+            prefix = _N_PREFIX
+
+            def prefixed(j: int) -> str:  # (a hole's own prefix)
+                return "N%s " % numbers[j]
+
+        else:
+
+            def prefixed(j: int) -> str:
+                return prefix
+
         where = "  ; " + self._where_format()
         ia, ib = axes
         pos = self._pos
@@ -649,7 +683,7 @@ class FlattenCanon(Canon):
         if not (same(pos[ia], start[0]) and same(pos[ib], start[1])):
             here = (first[0], second[0])
             calls = _hole_calls(recording, axes, here, start)
-            self._write_block(self._texts(group, calls), prefix, where % lines[0])
+            self._write_block(self._texts(group, calls), prefixed(0), where % lines[0])
             begin = 1
         columns = (
             first_texts,
@@ -657,6 +691,7 @@ class FlattenCanon(Canon):
             _numbers(start[:1]) + first_texts,
             _numbers(start[1:2]) + second_texts,
             lines,
+            numbers,
         )
         cases = groupby(
             zip(map(eq, firsts[1:], firsts[:-1]), map(eq, seconds[1:], seconds[:-1]))
@@ -685,7 +720,7 @@ class FlattenCanon(Canon):
                     before = start if j == 0 else (first[j - 1], second[j - 1])
                     calls = _hole_calls(recording, axes, (first[j], second[j]), before)
                     self._write_block(
-                        self._texts(group, calls), prefix, where % lines[j]
+                        self._texts(group, calls), prefixed(j), where % lines[j]
                     )
                 continue
             template, slots = made
@@ -739,7 +774,7 @@ class FlattenCanon(Canon):
         # a stand-in's text must be the stand-in's alone: not in the comment,
         # the N word or another number of the hole (a number written as one
         # is the stand-in itself, or its negative: so is its repr)
-        written = [prefix, where]
+        written = [where] if prefix == _N_PREFIX else [prefix, where]
         for _, args, at in recording:
             values = args if at is None else args[3:]
             written += [repr(value) for value in values if type(value) is float]
@@ -767,7 +802,8 @@ class FlattenCanon(Canon):
     ):
         """The lines of a hole of a batch as one %-template, and its slots'
         values (0, 1: the hole's coordinates as text; 2, 3: the hole
-        before's; 4: the hole's line), for ``case``: whether each coordinate
+        before's; 4: the hole's line; 5: its N, with the N stand-in's
+        ``prefix``), for ``case``: whether each coordinate
         is the one before. Made by :meth:`_texts` on stand-in values
         (_STAND_INS), from where the hole before left the tool; False where a
         stand-in's text is met elsewhere (in an argument, the comment) or a
@@ -776,7 +812,7 @@ class FlattenCanon(Canon):
         marks = _STAND_IN_TEXTS
         comment = where % _STAND_IN_LINE
         values = {value for _, args, _ in recording for value in args}
-        written = [prefix, where]
+        written = [where] if prefix == _N_PREFIX else [prefix, where]
         written += [repr(value) for value in values if type(value) is float]
         if _STAND_IN_SPLIT.search(" ".join(written)):
             return False

@@ -104,6 +104,14 @@ except ImportError:  # not built: the same calls by map and zip
     call_rows = python_call_rows
 
 
+def _told_numbers(canon, steps: tuple, numbers) -> tuple:
+    """call_rows' ``steps`` with each row's set_block_number first, given
+    ``numbers`` (a batch method's default, for a canon that takes them)."""
+    if numbers is None:
+        return steps
+    return ((canon.set_block_number, (numbers,)),) + steps
+
+
 class Canon:
     """The canonical call protocol. Every method does nothing here.
 
@@ -116,10 +124,11 @@ class Canon:
     #: the fast loops over data rows then keep it current row by row.
     reads_lines = False
 
-    #: True for a canon whose ``straight_moves`` takes the rows' N numbers
-    #: (``numbers=``: each row's N as written, or None) in place of a
-    #: set_block_number a row: batches of numbered rows then reach it too.
-    #: (A canon whose set_block_number is the no-op gets them without.)
+    #: True for a canon whose batch methods (straight_moves, arc_moves,
+    #: contour_moves, hole_moves) take the rows' N numbers (``numbers=``:
+    #: each row's N as written, or None) in place of a set_block_number a
+    #: row: batches of numbered rows then reach it too. (A canon whose
+    #: set_block_number is the no-op gets them without.)
     takes_numbers = False
 
     def set_block_number(self, n: Optional[str]) -> None:
@@ -165,10 +174,15 @@ class Canon:
     # that wants speed (statistics, toolpaths, previews) overrides these and
     # takes whole columns at once. Both are called in program order with
     # every other canon call, so state a canon keeps stays in step.
-    def straight_moves(self, feed: bool, lines, x, y, z, a, b, c, u, v, w):
+    # ``numbers`` (only for a canon that ``takes_numbers``): each row's N,
+    # which by default it is told of before the row's calls.
+    def straight_moves(
+        self, feed: bool, lines, x, y, z, a, b, c, u, v, w, numbers=None
+    ):
         """Straight moves, all feeds (``feed``) or all traverses."""
         call = self.straight_feed if feed else self.straight_traverse
-        call_rows(0, len(lines), ((call, (x, y, z, a, b, c, u, v, w)),))
+        steps = ((call, (x, y, z, a, b, c, u, v, w)),)
+        call_rows(0, len(lines), _told_numbers(self, steps, numbers))
 
     def arc_moves(
         self,
@@ -185,6 +199,7 @@ class Canon:
         u,
         v,
         w,
+        numbers=None,
     ):
         """Arcs, each as arc_feed's arguments (``rotation``: ints), and the
         G-code line of each in ``lines``. The fast loops give a canon that
@@ -193,7 +208,8 @@ class Canon:
         default, one ``arc_feed`` an arc."""
         columns = (first_end, second_end, first_axis, second_axis, rotation)
         arguments = (*columns, axis_end, a, b, c, u, v, w)
-        call_rows(0, len(lines), ((self.arc_feed, arguments),))
+        steps = ((self.arc_feed, arguments),)
+        call_rows(0, len(lines), _told_numbers(self, steps, numbers))
 
     def contour_moves(
         self,
@@ -211,6 +227,7 @@ class Canon:
         u,
         v,
         w,
+        numbers=None,
     ):
         """A contour: arcs and the plain straight feeds between them, in the
         columns of :meth:`arc_moves`, a straight feed being a row of
@@ -229,20 +246,24 @@ class Canon:
             (self.arc_feed, (*arcs, a, b, c, u, v, w), None, rotation),
             (self.straight_feed, tuple(point), None, [not turn for turn in rotation]),
         )
-        call_rows(0, len(lines), steps)
+        call_rows(0, len(lines), _told_numbers(self, steps, numbers))
 
-    def hole_moves(self, recording, lines, first, second, axes, start):
+    def hole_moves(self, recording, lines, first, second, axes, start, numbers=None):
         """Holes of a canned cycle drilled alike (runtime.fast.hole_rows):
         ``recording`` is one hole's calls, ``(name, arguments, where)``,
         where a move's ``where`` is ``"hole"`` (its coordinates on the
         plane's two hole axes, indexes ``axes``, are the hole's), ``"start"``
         (they are where the tool was before the hole: the hole before, or
         ``start`` for the first) or None for a call that is not a move.
-        Hole k is at ``(first[k], second[k])``, on G-code line ``lines[k]``.
-        By default the recorded calls again, hole by hole."""
+        Hole k is at ``(first[k], second[k])``, on G-code line ``lines[k]``
+        (and has N ``numbers[k]``, which its first call, set_block_number,
+        tells, where the recording's told the recorded hole's). By default
+        the recorded calls again, hole by hole."""
         ia, ib = axes
         before = start
-        for here in zip(first, second):
+        for k, here in enumerate(zip(first, second)):
+            if numbers is not None:
+                recording = [("set_block_number", (numbers[k],), None), *recording[1:]]
             for name, args, where in recording:
                 if where is not None:
                     args = list(args)

@@ -186,12 +186,16 @@ def arc_chain(draw, plane: str, numbered: bool, line: int, places: int = 4) -> l
     absolute = draw(st.integers(0, 3)) == 0
     lines = []
 
-    # Now and then N on some rows only: rows of the same words, two widths.
+    # Now and then N on some rows only: rows of the same words, two widths;
+    # or now and then a row with the N of the row before (no N change).
     some = numbered and draw(st.integers(0, 3)) == 1
+    again = numbered and draw(st.integers(0, 3)) == 2
 
     def number(k: int) -> list:
         if some and k % 3 == 2:
             return []
+        if again and k % 4 == 3:
+            k -= 1
         return ["N%d" % ((line + k) * 10)] if numbered else []
 
     start = [float(_text(draw(st.floats(-300, 300)), places)) for _ in range(2)]

@@ -298,13 +298,47 @@ class _Contours(_Batches):
         self.end = tuple(start)
 
 
-def _batched(code: str, kind=_Batches):
+class _NumberedContours(_Contours):
+    """Takes N numbers with its contours (``takes_numbers``): each row
+    recorded with its own N, as if told it just before (the N a row's calls
+    are recorded with when every N is told by set_block_number)."""
+
+    takes_numbers = True
+
+    def contour_moves(self, axes, lines, *columns, numbers=None):
+        if numbers is None:
+            return super().contour_moves(axes, lines, *columns)
+        assert len(numbers) == len(lines)
+        start = self.machine.current
+        for k, n in enumerate(numbers):
+            self._n = n
+            self.machine.current = start
+            row = [column[k : k + 1] for column in columns]
+            super().contour_moves(axes, lines[k : k + 1], *row)
+            start = list(self.end)
+        # (the N the machine keeps is the last row's: told again by no call)
+
+
+def _batches_only_machine():
+    from runtime import Machine
+    from runtime.fast.rows import BatchesOnly
+
+    class Announcing(BatchesOnly, Machine):  # (as flatten's machine)
+        def _line_begins(self, line, n):
+            self.line = line
+            self.announce_block(n)
+
+    return Announcing
+
+
+def _batched(code: str, kind=_Batches, machine_class=None):
     from runtime import Machine, start
 
     namespace: dict = {"__name__": "arcs"}
     exec(compile(code, "arcs.py", "exec"), namespace)
     canon = kind()
-    machine = canon.machine = Machine(canon, source=namespace["__ngc__"])
+    machine_class = machine_class or Machine
+    machine = canon.machine = machine_class(canon, source=namespace["__ngc__"])
     try:
         start(machine, namespace["main"])
         error = None
@@ -416,3 +450,50 @@ def test_an_r_arcs_centre_in_c_is_its_python_to_the_bit(
         assert [struct.pack("<d", v) for v in made] == [
             struct.pack("<d", v) for v in twin
         ]
+
+
+@needs_c
+@settings(PROFILE, max_examples=PROFILE.max_examples * 2)
+@given(cam_strategies.arc_programs(), st.booleans())
+def test_numbered_rows_are_held_with_their_numbers(text, batches_only):
+    """For a canon that takes N numbers with its batches, numbered arcs and
+    contour lines are held with each row's N, in C as in Python: the same
+    calls, each with the N in force, as when every N is told by
+    set_block_number (and the batches cut at each)."""
+    code = compile_text(text, "arcs.ngc")
+    machine = _batches_only_machine() if batches_only else None
+    fast = _batched(code, _NumberedContours, machine)
+    with pytest.MonkeyPatch.context() as patch:
+        _python_only(patch)
+        assert _batched(code, _NumberedContours, machine) == fast
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(_NumberedContours, "takes_numbers", False)
+        told = _batched(code, _NumberedContours, machine)
+    # (an arc of a batch, or not, as its arc_feed call)
+    assert _as_arc_feeds(told) == _as_arc_feeds(fast)
+
+
+def _as_arc_feeds(batched):
+    calls, numbers, *rest = batched
+    calls = [
+        ("arc_feed", args[2:]) if name == "arc" else (name, args)
+        for name, args in calls
+    ]
+    return calls, numbers, *rest
+
+
+def test_a_numbered_contour_reaches_a_canon_taking_numbers_in_one_batch():
+    """A numbered contour is held with its rows' N: only its F words cut
+    it (now and then: 400 rows, an F every seventh)."""
+    batches = []
+
+    class Counting(_NumberedContours):
+        def contour_moves(self, axes, lines, *columns, numbers=None):
+            batches.append(numbers)
+            super().contour_moves(axes, lines, *columns, numbers=numbers)
+
+    code = compile_text(_contour(400, numbered=True), "arcs.ngc")
+    _batched(code, Counting)
+    numbered = [b for b in batches if b]
+    assert sum(map(len, numbered)) > 350 and len(numbered) < 70, batches
+    assert None not in sum(numbered, [])

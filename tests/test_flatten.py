@@ -734,3 +734,78 @@ def test_holes_whose_template_cannot_be_trusted_go_hole_by_hole(clear, name, tmp
     assert (clear in answers[0]) and not any(
         text in answers[0].replace("Z" + clear, "") for text in flat._STAND_IN_TEXTS
     )
+
+
+def _flat_with_and_without_numbers(text, folder):
+    """flatten's text of ``text`` with numbered rows in batches (each row's N
+    with them: FlattenCanon.takes_numbers), and with every N told by
+    set_block_number, row by row."""
+    from ngc2py import flatten as flat
+    from runtime.errors import GCodeError
+
+    program = folder / "numbered.ngc"
+    program.write_text(text)
+    answers = []
+    for takes in (True, False):
+        with pytest.MonkeyPatch.context() as patch:
+            patch.setenv("NGC2PY_CACHE", str(folder / "cache"))
+            patch.setattr(flat.FlattenCanon, "takes_numbers", takes)
+            try:
+                answers.append(flat.flatten(str(program)))
+            except (GCodeError, flat.FlattenError) as error:
+                answers.append(type(error).__name__ + str(error))
+    return answers
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    text=st.one_of(
+        cam_strategies.arc_programs(),
+        cam_strategies.cam_programs(),
+        test_cycles.cycle_tables(),
+        test_cycles.restated_cycle_lines(),
+        test_cycles.series_drilled_alike(),
+    )
+)
+def test_numbered_rows_in_batches_are_written_as_row_by_row(text, tmp_path_factory):
+    """Numbered moves, arcs, contours and holes taken in batches with their
+    N numbers (a slot of a hole's template) are written as when each row's
+    N starts a block of its own: the same text, N words and line comments
+    included."""
+    answers = _flat_with_and_without_numbers(text, tmp_path_factory.mktemp("n"))
+    assert answers[0] == answers[1]
+
+
+def test_numbered_series_and_arcs_reach_flatten_in_batches(tmp_path, monkeypatch):
+    """A numbered drilling file's holes and a numbered contour's arcs reach
+    FlattenCanon in batches with their N numbers (not a block a row), and
+    every row's N is written."""
+    from ngc2py import flatten as flat
+
+    batches = []
+    for name in ("hole_moves", "contour_moves"):
+        original = getattr(flat.FlattenCanon, name)
+
+        def counting(self, *args, numbers=None, _original=original, _name=name):
+            batches.append((_name, numbers))
+            return _original(self, *args, numbers=numbers)
+
+        monkeypatch.setattr(flat.FlattenCanon, name, counting)
+    lines = ["G21 G90 G17 F300", "M3 S1000", "G0 Z5"]
+    for k in range(4):
+        lines.append("G98 G81 X0 Y%d Z%g R1" % (10 * k, -1 - k / 3))
+        lines += ["X%d Y%d" % (j, 10 * k) for j in range(1, 20)]
+        lines.append("G80")
+    lines += ["G0 X0 Y0", "G1 Z-1"]
+    lines += ["G%d X%d Y0 R5" % (2 + k % 2, 10 * (k + 1)) for k in range(40)]
+    lines.append("M2")
+    numbered = ["N%d %s" % (10 * k, line) for k, line in enumerate(lines, 1)]
+    text = "\n".join(numbered) + "\n"
+    answers = _flat_with_and_without_numbers(cam_strategies.cam_sized(text), tmp_path)
+    assert answers[0] == answers[1]
+    holes = [numbers for name, numbers in batches if name == "hole_moves" and numbers]
+    arcs = [numbers for name, numbers in batches if name == "contour_moves" and numbers]
+    assert sum(map(len, holes)) >= 4 * 18 and sum(map(len, arcs)) >= 39
+    assert all(n is not None for numbers in holes + arcs for n in numbers)
+    for line in numbered[3:-1]:  # every row's N, before its words
+        assert re.search(r"^%s " % line.split()[0], answers[0], re.M), line

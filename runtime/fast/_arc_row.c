@@ -370,10 +370,12 @@ static PyObject *arc_row(PyObject *self, PyObject *const *args, Py_ssize_t nargs
 
 /* _Pending.columns, borrowed from the pending object's list (read again
  * after each hand-over, which starts new lists): the held arcs' G-code lines,
- * then arc_feed's twelve arguments, one list each. */
+ * then arc_feed's twelve arguments, one list each, and for a canon that
+ * takes N numbers with its batches (``numbers``, else NULL) each row's N. */
 #define HELD_COLUMNS 13
 typedef struct {
     PyObject *column[HELD_COLUMNS];
+    PyObject *numbers;
 } held_t;
 
 static int read_held(PyObject *pending, held_t *held) {
@@ -381,23 +383,28 @@ static int read_held(PyObject *pending, held_t *held) {
     if (columns == NULL) {
         return -1;
     }
-    int bad = !PyList_CheckExact(columns) || PyList_GET_SIZE(columns) != HELD_COLUMNS;
-    for (int k = 0; !bad && k < HELD_COLUMNS; k++) {
-        held->column[k] = PyList_GET_ITEM(columns, k);
-        bad = !PyList_CheckExact(held->column[k]);
+    Py_ssize_t size = PyList_CheckExact(columns) ? PyList_GET_SIZE(columns) : 0;
+    int bad = size != HELD_COLUMNS && size != HELD_COLUMNS + 1;
+    for (Py_ssize_t k = 0; !bad && k < size; k++) {
+        bad = !PyList_CheckExact(PyList_GET_ITEM(columns, k));
+        if (k < HELD_COLUMNS) {
+            held->column[k] = PyList_GET_ITEM(columns, k);
+        }
     }
+    held->numbers = !bad && size > HELD_COLUMNS ? PyList_GET_ITEM(columns, HELD_COLUMNS) : NULL;
     Py_DECREF(columns); /* (pending keeps it) */
     if (bad) {
-        PyErr_SetString(PyExc_TypeError, "rows: the held arcs are thirteen lists");
+        PyErr_SetString(PyExc_TypeError, "rows: the held arcs are thirteen or fourteen lists");
         return -1;
     }
     return 0;
 }
 
 /* Append to the held columns what _Pending.hold keeps of an arc: its G-code
- * line (the int of ``line``, a cell) and arc_feed's twelve arguments. A new
- * reference to None, or NULL with an exception set. */
-static PyObject *hold(held_t *held, PyObject *line, PyObject **call) {
+ * line (the int of ``line``, a cell), arc_feed's twelve arguments and, for
+ * a canon taking numbers, the row's N ``n``. A new reference to None, or
+ * NULL with an exception set. */
+static PyObject *hold(held_t *held, PyObject *line, PyObject **call, PyObject *n) {
     PyObject *number = cell_int(line);
     if (number == NULL) {
         return NULL;
@@ -406,6 +413,9 @@ static PyObject *hold(held_t *held, PyObject *line, PyObject **call) {
     Py_DECREF(number);
     for (int k = 0; !failed && k < 12; k++) {
         failed = PyList_Append(held->column[k + 1], call[k]);
+    }
+    if (!failed && held->numbers != NULL) {
+        failed = PyList_Append(held->numbers, n);
     }
     if (failed) {
         return NULL;
@@ -494,7 +504,9 @@ static int hand_over(PyObject *pending, held_t *held, PyObject *line_machine,
  * batches), each arc is appended to pending.columns as _Pending.hold keeps it
  * (pending.start set where a batch begins), and the held arcs go to the
  * canon (pending.flush()) before any other call: a straight row's, or an N
- * or F word's. ``machine`` (None: the canon does not read lines) gets the
+ * or F word's. For a canon that takes N numbers with its batches (the
+ * pending's fourteenth column), an arc or contour line without F is held
+ * with its N instead, which hands nothing over. ``machine`` (None: the canon does not read lines) gets the
  * line of each row whose calls are made here, before they are made, as the
  * Python loop sets it. ``set_block_number`` None: the canon ignores N
  * numbers (none is called, and an N hands no held arcs over). With
@@ -616,9 +628,6 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
             }
             motion = r.motion;
         }
-        if (explicit_only && ((has_n && !ignores_n) || f_at >= 0)) {
-            break;
-        }
         if (at + 2 + width > end || (has_n && width < 1)) {
             break;
         }
@@ -626,6 +635,14 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
             motion = motion_mode;
         }
         code = motion_code(motion);
+        /* held with its N, for a canon that takes numbers with its batches:
+         * an arc, or a contour's plain G1 line, without an F (whose call
+         * comes after the N) */
+        int numbered = held != NULL && held->numbers != NULL && f_at < 0 &&
+                       (line == NULL || (contours && code == G_1));
+        if (explicit_only && ((has_n && !ignores_n && !numbered) || f_at >= 0)) {
+            break;
+        }
         PyObject *n = has_n ? PyList_GET_ITEM(cells, at + 2) : Py_None;
         Py_ssize_t start = at + 2 + (has_n ? 1 : 0);
         double f = 0.0;
@@ -667,7 +684,7 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
         int other = n == block_n ? 0 : PyObject_RichCompareBool(n, block_n, Py_NE);
         PyObject *result = NULL;
         /* a contour's straight feed, held with its arcs */
-        int n_call = other != 0 && !ignores_n; /* (other < 0: an error) */
+        int n_call = other != 0 && !ignores_n && !numbered; /* (other < 0: an error) */
         int held_line = contours && held != NULL && line != NULL && code == G_1 &&
                         !n_call && f_at < 0;
         if (held != NULL && ((line != NULL && !held_line) || n_call || f_at >= 0)) {
@@ -679,7 +696,7 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
             }
         }
         if (other > 0) {
-            if (ignores_n) {
+            if (ignores_n || numbered) {
                 Py_INCREF(Py_None);
                 result = Py_None;
             } else {
@@ -736,7 +753,7 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
                            PyObject_SetAttrString(pending, "start", cur) < 0) {
                     result = NULL; /* (where the batch begins) */
                 } else {
-                    result = hold(held, PyList_GET_ITEM(cells, at), call);
+                    result = hold(held, PyList_GET_ITEM(cells, at), call, n);
                 }
             }
             Py_XDECREF(centre1);

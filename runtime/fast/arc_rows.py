@@ -234,9 +234,11 @@ class _Pending:
     ``columns``, the G-code lines then arc_feed's arguments, as the call
     takes them, of arcs from ``start``. For a canon that takes contours
     (``Canon.contour_moves``; ``contours`` true), the C loop holds the plain
-    straight feeds between the arcs too, as rows of rotation 0."""
+    straight feeds between the arcs too, as rows of rotation 0. For a canon
+    that takes N numbers with its batches (``numbered``), each row's N is
+    held too (a fourteenth column), and no N hands the held rows over."""
 
-    __slots__ = ("machine", "arc_moves", "columns", "start", "contours")
+    __slots__ = ("machine", "arc_moves", "columns", "start", "contours", "numbered")
 
     #: the line, then arc_feed's twelve arguments
     WIDTH = 13
@@ -254,20 +256,25 @@ class _Pending:
         pending.contours = contours
         if pending.contours:
             pending.arc_moves = canon.contour_moves
-        pending.columns = [[] for _ in range(cls.WIDTH)]
+        pending.numbered = bool(canon.takes_numbers)
+        pending.columns = pending._empty()
         pending.start = machine.current
         return pending
+
+    def _empty(self) -> list:
+        return [[] for _ in range(self.WIDTH + self.numbered)]
 
     def __bool__(self) -> bool:
         """Whether any arc is held."""
         return bool(self.columns[0])
 
-    def hold(self, line: int, point, c1: float, c2: float, rotation: int, axes, cur):
-        """One more arc: to ``point`` about (c1, c2), from ``cur``."""
+    def hold(self, line: int, point, c1: float, c2: float, rotation: int, axes, cur, n):
+        """One more arc: to ``point`` about (c1, c2), from ``cur``, its
+        row's N ``n``."""
         if not self.columns[0]:
             self.start = cur
         p1, p2, p3 = axes
-        row = (line, point[p1], point[p2], c1, c2, rotation, point[p3], *point[3:])
+        row = (line, point[p1], point[p2], c1, c2, rotation, point[p3], *point[3:], n)
         for column, value in zip(self.columns, row):
             column.append(value)
 
@@ -278,11 +285,14 @@ class _Pending:
         machine.current = machine.world.position = self.start
         machine.params.position = self.start
         # new lists: the canon may keep the ones it is given
-        columns, self.columns = self.columns, [[] for _ in range(self.WIDTH)]
+        columns, self.columns = self.columns, self._empty()
+        numbers = columns.pop() if self.numbered else None
         if self.contours:
-            self.arc_moves(PLANE_AXES[machine.plane], *columns)
-        else:
+            columns.insert(0, PLANE_AXES[machine.plane])
+        if numbers is None:
             self.arc_moves(*columns)
+        else:
+            self.arc_moves(*columns, numbers=numbers)
 
 
 class ArcRows:
@@ -349,7 +359,11 @@ class ArcRows:
         arcs_only = not machine._plain
         if arcs_only and not (
             machine._batchable
-            and (machine._block_n is None or ignores_numbers(machine.canon))
+            and (
+                machine._block_n is None
+                or ignores_numbers(machine.canon)
+                or machine.canon.takes_numbers
+            )
             and type(machine.canon).arc_moves is not Canon.arc_moves
         ):
             return None
@@ -416,7 +430,9 @@ class ArcRows:
         if in_c is not None:
             fixed = context[0], self.straight, context[1], state
             calls = (canon.arc_feed, canon.straight_feed, canon.straight_traverse)
-            # (None: a canon that ignores N, which an N then does not cut)
+            # (None: a canon that ignores N, which an N then does not cut;
+            # one that takes them with its arcs gets them held, the C loop
+            # told by the pending's columns)
             announce = None if ignores_numbers(canon) else canon.set_block_number
             calls += (announce, canon.set_feed_rate) + extra
         try:
@@ -462,6 +478,8 @@ class ArcRows:
         pending = self.pending
         holding = pending is not None
         ignores_n = ignores_numbers(canon)
+        # arcs held with their N (pending.numbered): no N hands them over
+        numbered = holding and pending.numbered
         try:
             while at < end:
                 if once and at != first:
@@ -486,7 +504,9 @@ class ArcRows:
                 else:
                     motion, has_n, f_at, width, slots, r_at, i1, i2 = recipe
                     if arcs_only and (
-                        (has_n and not ignores_n) or f_at >= 0 or motion is None
+                        (has_n and not (ignores_n or numbered))
+                        or f_at >= 0
+                        or motion is None
                     ):
                         break
                     if (
@@ -517,17 +537,17 @@ class ArcRows:
                     motion, n, f, point, c1, c2 = arc
                     rotation = -1 if motion == G2 else 1
                     stride = 2 + width
-                # held arcs go to the canon before any other call
+                # held arcs go to the canon before any other call (an N
+                # held with its arc is not one, unless an F follows it)
+                told = ignores_n or (numbered and arc is not None and f is None)
                 if (
                     holding
                     and pending
-                    and (
-                        arc is None or (n != block_n and not ignores_n) or f is not None
-                    )
+                    and (arc is None or (n != block_n and not told) or f is not None)
                 ):
                     pending.flush()
                 if n != block_n:
-                    if not ignores_n:
+                    if not told:
                         canon.set_block_number(n)
                     block_n = n
                 if f is not None:
@@ -540,7 +560,7 @@ class ArcRows:
                     else:
                         straight_traverse(*point)
                 elif holding:
-                    pending.hold(int(cells[at]), point, c1, c2, rotation, axes, cur)
+                    pending.hold(int(cells[at]), point, c1, c2, rotation, axes, cur, n)
                 else:
                     arc_feed(
                         point[p1], point[p2], c1, c2, rotation, point[p3], *point[3:]

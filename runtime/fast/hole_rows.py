@@ -323,7 +323,9 @@ class _Capture:
 _TOLD_APART = frozenset(("current", "line", "cycle_depth", "cycle_p", "cycle_q"))
 
 
-def hole_by_hole(canon, machine, recording, lines, first, second, axes, start):
+def hole_by_hole(
+    canon, machine, recording, lines, first, second, axes, start, numbers=None
+):
     """``Canon.hole_moves``' default (the recorded calls again) a hole at a
     time, each at its own line: ``machine.line`` and the machine's own line
     state (``hole_replayed``) the hole's row's while its calls are made, as
@@ -334,7 +336,8 @@ def hole_by_hole(canon, machine, recording, lines, first, second, axes, start):
     for k, (line, before) in enumerate(zip(lines, befores)):
         machine.line = line
         hole = first[k : k + 1], second[k : k + 1]
-        Canon.hole_moves(canon, recording, [line], *hole, axes, before)
+        n = None if numbers is None else numbers[k : k + 1]
+        Canon.hole_moves(canon, recording, [line], *hole, axes, before, n)
         machine.hole_replayed(line)
 
 
@@ -706,9 +709,9 @@ class HoleRows:
         if numbered:
             if self.recorded[0][0] != "set_block_number":
                 return at
-            if type(canon).hole_moves is not Canon.hole_moves and ignores_numbers(
-                canon
-            ):  # (a batch canon that ignores N numbers)
+            if type(canon).hole_moves is not Canon.hole_moves and (
+                canon.takes_numbers or ignores_numbers(canon)
+            ):  # (a batch canon that takes N numbers, or ignores them)
                 return self._batches(cells, at, end, final, ia, ib, numbered=True)
             lookup = self._numbered_words
             known = self.numbered.setdefault(machine.plane, {})
@@ -782,21 +785,28 @@ class HoleRows:
         the next rows of hole words, at most _MOST in one call; returns
         where it stopped. While the canon works, ``machine.line`` is the
         batch's last line and its point the batch's start. ``numbered``:
-        rows with N numbers too, for a canon that ignores them (the machine
-        keeps the last row's)."""
+        rows with N numbers too, for a canon that ignores them or takes
+        them with the batch (``numbers=``; the machine keeps the last row's)."""
         machine = self.machine
         hole_moves = machine.canon.hole_moves
         world, params = machine.world, machine.params
+        numbers = None
         while at < end:
             cur = machine.current
             aa, bb = start = cur[ia], cur[ib]
             lines: List[int] = []
             firsts: List[float] = []
             seconds: List[float] = []
+            if numbered and machine.canon.takes_numbers:
+                numbers = []
             runs, at = self._runs(cells, at, end, machine.plane, numbered)
             for row, stop, first, second, stride, *has_n in runs:
                 count = (stop - row) // stride
                 lines += table_lines(cells, row, stop, stride)
+                if numbers is not None:
+                    numbers += (
+                        cells[row + 2 : stop : stride] if has_n[0] else [None] * count
+                    )
                 if first >= 0:
                     firsts += column_floats(cells[row + 2 + first : stop : stride])
                 else:
@@ -811,7 +821,11 @@ class HoleRows:
             machine.line = lines[-1]
             if numbered:  # (the N the last row announced, or None)
                 machine._block_n = cells[stop - stride + 2] if has_n[0] else None
-            hole_moves(self.recorded, lines, firsts, seconds, (ia, ib), start)
+            if numbers is None:
+                hole_moves(self.recorded, lines, firsts, seconds, (ia, ib), start)
+            else:
+                args = (self.recorded, lines, firsts, seconds, (ia, ib), start)
+                hole_moves(*args, numbers=numbers)
             end_point = final[:]
             end_point[ia], end_point[ib] = aa, bb
             world.position = end_point
