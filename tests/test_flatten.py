@@ -579,26 +579,33 @@ def test_a_contour_line_to_where_it_is_still_writes_an_axis_word():
     assert texts[0] == texts[1] == ["G3 X2 Y0 Z-1 I1 J0.5", "G1 X2"]
 
 
-def _flat_by_batches_and_hole_by_hole(text, folder, name="holes.ngc"):
-    """flatten's text of ``text`` with FlattenCanon.hole_moves, and with
-    the protocol's default (the recorded calls again, hole by hole)."""
+def _flat_each_way(text, folder, ways, name):
+    """flatten's text of ``text`` (or its error) once for each of ``ways``:
+    the FlattenCanon attributes set for that run."""
     from ngc2py import flatten as flat
-    from runtime.canon import Canon
     from runtime.errors import GCodeError
 
     program = folder / name
     program.write_text(text)
     answers = []
-    for batches in (True, False):
+    for way in ways:
         with pytest.MonkeyPatch.context() as patch:
             patch.setenv("NGC2PY_CACHE", str(folder / "cache"))
-            if not batches:
-                patch.setattr(flat.FlattenCanon, "hole_moves", Canon.hole_moves)
+            for attribute, value in way.items():
+                patch.setattr(flat.FlattenCanon, attribute, value)
             try:
                 answers.append(flat.flatten(str(program)))
             except (GCodeError, flat.FlattenError) as error:
                 answers.append(type(error).__name__ + str(error))
     return answers
+
+
+def _flat_by_batches_and_hole_by_hole(text, folder, name="holes.ngc"):
+    """flatten's text of ``text`` with FlattenCanon.hole_moves, and with
+    the protocol's default (the recorded calls again, hole by hole)."""
+    from runtime.canon import Canon
+
+    return _flat_each_way(text, folder, ({}, {"hole_moves": Canon.hole_moves}), name)
 
 
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -740,21 +747,8 @@ def _flat_with_and_without_numbers(text, folder):
     """flatten's text of ``text`` with numbered rows in batches (each row's N
     with them: FlattenCanon.takes_numbers), and with every N told by
     set_block_number, row by row."""
-    from ngc2py import flatten as flat
-    from runtime.errors import GCodeError
-
-    program = folder / "numbered.ngc"
-    program.write_text(text)
-    answers = []
-    for takes in (True, False):
-        with pytest.MonkeyPatch.context() as patch:
-            patch.setenv("NGC2PY_CACHE", str(folder / "cache"))
-            patch.setattr(flat.FlattenCanon, "takes_numbers", takes)
-            try:
-                answers.append(flat.flatten(str(program)))
-            except (GCodeError, flat.FlattenError) as error:
-                answers.append(type(error).__name__ + str(error))
-    return answers
+    ways = ({"takes_numbers": True}, {"takes_numbers": False})
+    return _flat_each_way(text, folder, ways, "numbered.ngc")
 
 
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
