@@ -442,3 +442,35 @@ def test_a_batch_for_a_canon_that_ignores_straight_moves_makes_no_calls(monkeypa
     monkeypatch.setattr("runtime.fast.rows.starmap", no_calls)
     assert _run_recorded(code, _MovesIgnored()) == expected
     assert expected[2][:2] == [29.5, -29.0]
+
+
+@pytest.mark.rs274
+def test_tables_cut_by_other_lines_share_their_shapes_plans(monkeypatch):
+    """A program whose tables are cut by other lines (a comment on a move)
+    runs many tables of one SHAPES: their plans are made once, and another
+    module's SHAPES (equal, not the same) gets its own; the trace is the
+    one rs274's pipeline makes."""
+    from runtime.fast import rows
+
+    made = []
+
+    class Counting(rows._Plan):
+        def __init__(self, *args):
+            made.append(args[0])
+            super().__init__(*args)
+
+    monkeypatch.setattr(rows, "_Plan", Counting)
+    monkeypatch.setattr(rows, "_PLANS", {})
+    lines = ["G21 G90 G17 F300"]
+    for k in range(6):
+        lines += ["G1 X%d Y%d" % (j, k) for j in range(40)]
+        lines.append("G1 X0 Y0 (pass %d)" % k)
+    lines.append("M2")
+    text = cam_strategies.cam_sized("\n".join(lines) + "\n")
+    code = compile_text(text, "cam.ngc")
+    assert code.count("run_rows(m, SHAPES") >= 6
+    trace = _trace(code)
+    shapes = code.count("),  # ")  # (SHAPES: a comment after each)
+    assert 0 < len(made) == shapes
+    assert _trace(code) == trace and len(made) == 2 * shapes  # (a module of its own)
+    check_same(text, "inprocess")

@@ -129,11 +129,15 @@ def printed_rows(machine, by_index, cells: List[str], at: int, end: int, plans) 
                 first, axis, k = run
                 texts[axis : axis + k] = cells[start + first : start + first + k]
             count += 1
-            write((_FEED if motion == G1 else _TRAVERSE) % (count, column, *texts))
+            line = _FEED if motion == G1 else _TRAVERSE
+            write(trace_format(line, (count, column, *texts)))
             motion_mode = motion
     finally:
         if out:
-            canon._write_batch("".join(out))
+            if len(out) < BATCH:  # (a row or two between others: the lines waiting)
+                canon._pending += out
+            else:
+                canon._write_batch("".join(out))
             canon._count, canon._column = count, column
             if count >= canon._drain_at:
                 canon._drain()
