@@ -656,16 +656,12 @@ class FlattenCanon(Canon):
         self.set_block_number(recording[0][1][0] if numbers is None else numbers[0])
         group, self._group = self._group, None
         prefix = "N%s " % group.n if group.n is not None else ""
-        if numbers is not None:
+        if numbers is not None:  # (the template's N: each hole's own)
             prefix = _N_PREFIX
 
-            def prefixed(j: int) -> str:  # (a hole's own prefix)
-                return "N%s " % numbers[j]
-
-        else:
-
-            def prefixed(j: int) -> str:
-                return prefix
+        def prefixed(j: int) -> str:
+            """Hole j's own prefix, where it is written apart."""
+            return prefix if numbers is None else "N%s " % numbers[j]
 
         where = "  ; " + self._where_format()
         ia, ib = axes
