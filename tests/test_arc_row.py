@@ -21,10 +21,10 @@ from hypothesis import strategies as st
 import cam_strategies
 from ngc2py.compiler import compile_text
 from runtime import canon as canon_module
-from runtime.canon import RecordingCanon, TraceCanon
+from runtime.canon import Canon, RecordingCanon, TraceCanon
 from runtime.errors import GCodeError
 from runtime.fast import arc_rows
-from test_differential import PROFILE
+from test_differential import PROFILE, check_same
 
 BUILT = arc_rows.rows_in_c is not None
 needs_c = pytest.mark.skipif(
@@ -69,9 +69,16 @@ def _run(code: str, out=None, drain_at=None):
     return out.getvalue() if isinstance(out, io.StringIO) else None, error, state
 
 
+#: Arc programs, now and then with G17 (or G90) restated on their lines
+#: (``G17 G2 X.. R..``: a SELECT_PLANE before the arc, in both loops).
+ARC_PROGRAMS = cam_strategies.arc_programs() | cam_strategies.restating(
+    cam_strategies.arc_programs()
+)
+
+
 @needs_c
 @settings(PROFILE, max_examples=PROFILE.max_examples * 3)
-@given(cam_strategies.arc_programs())
+@given(ARC_PROGRAMS)
 def test_the_c_loop_writes_the_python_loops_trace(text):
     code = compile_text(text, "arcs.ngc")
     fast = _run(code)
@@ -95,9 +102,10 @@ class _Failing(io.StringIO):
         return super().write(text)
 
 
-def _contour(rows: int, numbered: bool = False) -> str:
+def _contour(rows: int, numbered: bool = False, restated: bool = False) -> str:
     """A contour of R and I J arcs with lines between; ``numbered``: an N
-    on every line and now and then an F, as many CAM posts write them."""
+    on every line and now and then an F, as many CAM posts write them;
+    ``restated``: G17 written on every arc (``G17 G2 X.. Y.. R..``)."""
     rng = random.Random(rows)
     lines = ["G21 G90 G17 G94 F300", "G0 X0 Y0 Z1", "G1 Z-1"]
     x = y = 0.0
@@ -115,6 +123,8 @@ def _contour(rows: int, numbered: bool = False) -> str:
                 "G%d X%.4f Y%.4f I%.4f J%.4f"
                 % (rng.choice((2, 3)), ex, ey, cx - x, cy - y)
             )
+        if restated and k % 5 != 4:
+            lines[-1] = "G17 " + lines[-1]
         if numbered and k % 7 == 3:
             lines[-1] += " F%d" % rng.randint(100, 900)
         x, y = ex, ey
@@ -142,9 +152,10 @@ def test_a_stream_failing_inside_the_c_loop_leaves_the_python_loops_state(
 
 
 @pytest.mark.parametrize("numbered", [False, True])
-def test_the_contour_runs_in_the_c_loop(numbered, monkeypatch):
-    """The loop above is the one taken, N and F words or not (else the
-    tests above prove nothing)."""
+@pytest.mark.parametrize("restated", [False, True])
+def test_the_contour_runs_in_the_c_loop(numbered, restated, monkeypatch):
+    """The loop above is the one taken, N and F words or not, G17 restated
+    on every arc or not (else the tests above prove nothing)."""
     if not BUILT:
         pytest.skip("runtime.fast._arc_row not built here")
     done = []
@@ -156,10 +167,27 @@ def test_the_contour_runs_in_the_c_loop(numbered, monkeypatch):
         return stop
 
     monkeypatch.setattr(arc_rows, "rows_in_c", counted)
-    text = _contour(400, numbered)
+    text = _contour(400, numbered, restated)
     assert ("N50 G" in text) == numbered and (" F" in text[50:]) == numbered
+    assert ("G17 G3 X" in text) == restated
     _run(compile_text(text, "arcs.ngc"))
     assert sum(done) > 300 * 5  # cells: most rows of the contour
+
+
+@needs_c
+@pytest.mark.rs274
+@pytest.mark.parametrize("numbered", [False, True])
+def test_a_contour_restating_g17_on_every_arc_is_rs274s(numbered):
+    """Arcs with G17 restated (``G17 G2 X.. R..``) taken by the row loops:
+    a SELECT_PLANE before each arc, in C as in Python, as rs274 prints it."""
+    text = _contour(400, numbered, restated=True)
+    code = compile_text(text, "arcs.ngc")
+    fast = _run(code)
+    assert fast[0].count("SELECT_PLANE(CANON_PLANE_XY)") > 300
+    with pytest.MonkeyPatch.context() as patch:
+        _python_only(patch)
+        assert _run(code) == fast
+    check_same(text, "inprocess")
 
 
 @needs_c
@@ -350,7 +378,7 @@ def _batched(code: str, kind=_Batches, machine_class=None):
 
 @needs_c
 @settings(PROFILE, max_examples=PROFILE.max_examples * 3)
-@given(cam_strategies.arc_programs())
+@given(ARC_PROGRAMS)
 def test_the_c_loop_holds_the_python_loops_arcs(text):
     """For a canon that takes arcs in batches, the C loop holds the arcs
     the Python loop holds: the same arcs, lines, calls between them, N
@@ -364,7 +392,7 @@ def test_the_c_loop_holds_the_python_loops_arcs(text):
 
 @needs_c
 @settings(PROFILE, max_examples=PROFILE.max_examples * 2)
-@given(cam_strategies.arc_programs())
+@given(ARC_PROGRAMS)
 def test_a_canon_reading_lines_finds_them_as_the_python_loop_sets_them(text):
     """Held arcs handed over before a straight row, an N or an F: every call
     outside a batch finds the machine at the line the Python loop sets."""
@@ -377,7 +405,7 @@ def test_a_canon_reading_lines_finds_them_as_the_python_loop_sets_them(text):
 
 @needs_c
 @settings(PROFILE, max_examples=PROFILE.max_examples * 2)
-@given(cam_strategies.arc_programs())
+@given(ARC_PROGRAMS)
 def test_a_contour_holds_the_lines_between_arcs_the_python_loop_calls(text):
     """For a canon taking contours, the C loop holds plain G1 rows between
     arcs with them (rotation 0): the same moves, in the same order with the
@@ -454,7 +482,7 @@ def test_an_r_arcs_centre_in_c_is_its_python_to_the_bit(
 
 @needs_c
 @settings(PROFILE, max_examples=PROFILE.max_examples * 2)
-@given(cam_strategies.arc_programs(), st.booleans())
+@given(ARC_PROGRAMS, st.booleans())
 def test_numbered_rows_are_held_with_their_numbers(text, batches_only):
     """For a canon that takes N numbers with its batches, numbered arcs and
     contour lines are held with each row's N, in C as in Python: the same
@@ -497,3 +525,37 @@ def test_a_numbered_contour_reaches_a_canon_taking_numbers_in_one_batch():
     numbered = [b for b in batches if b]
     assert sum(map(len, numbered)) > 350 and len(numbered) < 70, batches
     assert None not in sum(numbered, [])
+
+
+class _IgnoringPlanes(_Batches):
+    """Takes arcs in batches, its select_plane the protocol's no-op (as
+    the statistics' and the toolpath's): a restated G17 does not cut them."""
+
+    select_plane = Canon.select_plane
+
+
+@needs_c
+@pytest.mark.parametrize("kind", [_Batches, _IgnoringPlanes, _Contours])
+def test_arcs_restating_g17_reach_a_batch_canon_as_by_the_general_path(kind):
+    """A batch canon gets the restated arcs' calls (SELECT_PLANE, held arcs
+    handed over first, where it has one) as when such rows go by block(),
+    in C as in Python."""
+    from runtime.fast import rows
+
+    code = compile_text(_contour(400, restated=True), "arcs.ngc")
+    fast = _batched(code, kind)
+    with pytest.MonkeyPatch.context() as patch:
+        _python_only(patch)
+        assert _batched(code, kind) == fast
+    plan = rows._Plan
+
+    def made(shape, restated=False):
+        made = plan(shape, restated)
+        made.plane_arc = False
+        return made
+
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(rows, "_Plan", made)
+        patch.setattr(rows, "_PLANS", {})
+        general = _batched(code, kind)
+    assert _as_arc_feeds(general) == _as_arc_feeds(fast)

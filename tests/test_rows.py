@@ -239,8 +239,13 @@ def test_rows_that_restate_modes_keep_the_general_paths_calls(text):
 
     plan = fast_rows._Plan
 
+    def made(shape, restated=False):
+        made = plan(shape)
+        made.plane_arc = False  # (G17 G2 rows by block() too)
+        return made
+
     def general(patch):
-        patch.setattr(fast_rows, "_Plan", lambda shape, restated=False: plan(shape))
+        patch.setattr(fast_rows, "_Plan", made)
         patch.setattr(
             Machine,
             "restating_row",

@@ -373,6 +373,9 @@ static PyObject *arc_row(PyObject *self, PyObject *const *args, Py_ssize_t nargs
  * then arc_feed's twelve arguments, one list each, and for a canon that
  * takes N numbers with its batches (``numbers``, else NULL) each row's N. */
 #define HELD_COLUMNS 13
+
+/* The XY plane's name, as select_plane takes it (made once). */
+static PyObject *plane_xy = NULL;
 typedef struct {
     PyObject *column[HELD_COLUMNS];
     PyObject *numbers;
@@ -492,8 +495,9 @@ static int hand_over(PyObject *pending, held_t *held, PyObject *line_machine,
 }
 
 /* rows(cells, at, end, known, straight, geometry, state, arc_feed,
- * straight_feed, straight_traverse, set_block_number, set_feed_rate[,
- * pending, explicit_only, machine, straight_moves, contours]): ArcRows.run's loop for the rows of a
+ * straight_feed, straight_traverse, set_block_number, set_feed_rate,
+ * select_plane, plane_arcs[, pending, explicit_only, machine,
+ * straight_moves, contours]): ArcRows.run's loop for the rows of a
  * contour (arcs and the plain lines between them), for a canon that takes
  * each move as a call (the trace): their N and F words too, as the Python
  * loop makes them. ``known`` maps a row's shape cell to its arc recipe
@@ -518,21 +522,34 @@ static int hand_over(PyObject *pending, held_t *held, PyObject *line_machine,
  * taking Canon.contour_moves), a plain G1 row without N or F is held too,
  * as a row of rotation 0, instead of cutting the batch.
  *
+ * An arc whose shape cell is in ``plane_arcs`` (a set: ``G17 G2 ...``, the
+ * plane restated, in the XY plane) makes select_plane("XY") between its F
+ * and its motion, as Machine.plain_arc does; held arcs go to the canon
+ * before it, and a BatchesOnly machine's loop stops at such a row.
+ * ``select_plane`` None: the canon's is the protocol's no-op (not called,
+ * and no held arcs handed over for it).
+ *
  * ``state`` is ArcRows.run's list [point, motion, row, N, feed rate, F
  * given, ...]: on return, even with an exception from a canon call, it holds
  * what the rows done leave, and row is where the last row looked at begins
  * (the Python loop's ``row``; unchanged when there was none). Returns where
  * it stopped. */
 static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
-    if (nargs != 12 && nargs != 17) {
-        PyErr_SetString(PyExc_TypeError, "rows takes 12 or 17 arguments");
+    if (nargs != 14 && nargs != 19) {
+        PyErr_SetString(PyExc_TypeError, "rows takes 14 or 19 arguments");
         return NULL;
     }
-    PyObject *pending = nargs == 17 ? args[12] : NULL;
-    int explicit_only = nargs == 17 ? PyObject_IsTrue(args[13]) : 0;
-    PyObject *line_machine = nargs == 17 && args[14] != Py_None ? args[14] : NULL;
-    PyObject *straight_moves = nargs == 17 && args[15] != Py_None ? args[15] : NULL;
-    int contours = nargs == 17 ? PyObject_IsTrue(args[16]) : 0;
+    PyObject *pending = nargs == 19 ? args[14] : NULL;
+    int explicit_only = nargs == 19 ? PyObject_IsTrue(args[15]) : 0;
+    PyObject *line_machine = nargs == 19 && args[16] != Py_None ? args[16] : NULL;
+    PyObject *straight_moves = nargs == 19 && args[17] != Py_None ? args[17] : NULL;
+    int contours = nargs == 19 ? PyObject_IsTrue(args[18]) : 0;
+    PyObject *select_plane = args[12], *plane_arcs = args[13];
+    if (!PyAnySet_Check(plane_arcs)) {
+        PyErr_SetString(PyExc_TypeError, "rows: plane_arcs is a set");
+        return NULL;
+    }
+    int any_plane_arcs = PySet_GET_SIZE(plane_arcs) > 0;
     if (explicit_only < 0 || contours < 0) {
         return NULL;
     }
@@ -635,6 +652,19 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
             motion = motion_mode;
         }
         code = motion_code(motion);
+        /* an arc restating the plane: SELECT_PLANE before its motion */
+        int selects = 0;
+        if (line == NULL && any_plane_arcs) {
+            selects = PySet_Contains(plane_arcs, key);
+            if (selects < 0) {
+                failed = 1;
+                break;
+            }
+            if (selects && explicit_only) {
+                break; /* (the canon sees its line begin: the general path) */
+            }
+            selects = selects && select_plane != Py_None; /* (None: a no-op) */
+        }
         /* held with its N, for a canon that takes numbers with its batches:
          * an arc, or a contour's plain G1 line, without an F (whose call
          * comes after the N) */
@@ -687,7 +717,7 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
         int n_call = other != 0 && !ignores_n && !numbered; /* (other < 0: an error) */
         int held_line = contours && held != NULL && line != NULL && code == G_1 &&
                         !n_call && f_at < 0;
-        if (held != NULL && ((line != NULL && !held_line) || n_call || f_at >= 0)) {
+        if (held != NULL && ((line != NULL && !held_line) || n_call || f_at >= 0 || selects)) {
             /* calls of this row's own: the held arcs go to the canon first */
             if (other < 0 || hand_over(pending, held, line_machine, PyList_GET_ITEM(cells, at))) {
                 Py_DECREF(point);
@@ -719,6 +749,15 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
             PyObject *rate = PyFloat_FromDouble(f);
             result = rate == NULL ? NULL : PyObject_CallOneArg(set_feed_rate, rate);
             Py_XDECREF(rate);
+            if (result == NULL) {
+                Py_DECREF(point);
+                failed = 1;
+                break;
+            }
+            Py_DECREF(result);
+        }
+        if (selects) {
+            result = PyObject_CallOneArg(select_plane, plane_xy);
             if (result == NULL) {
                 Py_DECREF(point);
                 failed = 1;
@@ -859,5 +898,9 @@ static struct PyModuleDef module = {
 };
 
 PyMODINIT_FUNC PyInit__arc_row(void) {
+    plane_xy = PyUnicode_InternFromString("XY");
+    if (plane_xy == NULL) {
+        return NULL;
+    }
     return PyModule_Create(&module);
 }

@@ -218,6 +218,14 @@ except ImportError:  # not built: the loop's Python alone
     _radius_centre = arcs.radius_centre
 
 
+def _select_plane(canon):
+    """The canon's select_plane, or None where it is the protocol's no-op
+    (an arc restating G17 then makes no call, and hands no held arc over)."""
+    if type(canon).select_plane is Canon.select_plane:
+        return None
+    return canon.select_plane
+
+
 def _publish(machine, line: int, cur, motion_mode, block_n) -> None:
     """What a run of rows leaves: the line and N of its last row and, if it
     moved, the end point and the motion."""
@@ -308,6 +316,7 @@ class ArcRows:
         "groups",
         "straight",
         "pending",
+        "plane_arcs",
     )
 
     def __init__(self, machine, plans, printed: bool = False) -> None:
@@ -330,20 +339,30 @@ class ArcRows:
             for index, plan in enumerate(plans)
             if plan.slots is not None
         }
+        #: shape cells of arcs that restate G17 (``G17 G2 X Y R``, as some
+        #: posts write every arc): in the XY plane, a SELECT_PLANE before
+        #: the motion, as Machine.plain_arc makes it
+        self.plane_arcs = frozenset(
+            str(index) for index, plan in enumerate(plans) if plan.plane_arc
+        )
         #: The arcs held for the canon's arc_moves (_Pending), None for a
         #: canon without it, False until the first run asks.
         self.pending = False
 
     def _row_recipe(self, key: str, plane: str, absolute: bool):
         plan = self.plans[int(key)]
-        if not plan.arc:
+        if plan.plane_arc and plane == "XY":  # (G17 restated: its G2 or G3)
+            motion = plan.restating[0]
+        elif plan.arc:
+            motion = plan.motion
+        else:
             return None
         recipe = arc_recipe(plan.letters, plane, absolute)
         if recipe is None:
             return None
         letters = plan.letters
         f_at = letters.index("f") if "f" in letters else -1
-        return (plan.motion, plan.has_n, f_at, plan.width) + recipe
+        return (motion, plan.has_n, f_at, plan.width) + recipe
 
     def _context(self, cells: List[str], at: int):
         """What a run of rows from ``cells[at]`` needs that is fixed while it
@@ -391,7 +410,8 @@ class ArcRows:
         local variables (the calls of Machine.plain_arc and plain_rows row by
         row); returns where it stopped (a row for the general path or for
         runtime.fast.printed_rows, or ``end``)."""
-        if not self.plans[int(cells[at + 1])].arc:
+        plan = self.plans[int(cells[at + 1])]
+        if not (plan.arc or plan.plane_arc):
             return at  # (what _context finds out, at once: rows between arcs)
         context = self._context(cells, at)
         if context is None:
@@ -434,7 +454,8 @@ class ArcRows:
             # one that takes them with its arcs gets them held, the C loop
             # told by the pending's columns)
             announce = None if ignores_numbers(canon) else canon.set_block_number
-            calls += (announce, canon.set_feed_rate) + extra
+            calls += (announce, canon.set_feed_rate, _select_plane(canon))
+            calls += (self.plane_arcs,) + extra
         try:
             while at < end:
                 if in_c is not None:
@@ -478,6 +499,8 @@ class ArcRows:
         pending = self.pending
         holding = pending is not None
         ignores_n = ignores_numbers(canon)
+        plane_arcs = self.plane_arcs
+        select_plane = _select_plane(canon)
         # arcs held with their N (pending.numbered): no N hands them over
         numbered = holding and pending.numbered
         try:
@@ -501,14 +524,19 @@ class ArcRows:
                         break
                     stride, motion, n, f, point = move
                     arc = None
+                    selects = False
                 else:
                     motion, has_n, f_at, width, slots, r_at, i1, i2 = recipe
+                    # (G17 restated: SELECT_PLANE before the motion)
+                    selects = key in plane_arcs
                     if arcs_only and (
                         (has_n and not (ignores_n or numbered))
                         or f_at >= 0
                         or motion is None
+                        or selects
                     ):
                         break
+                    selects = selects and select_plane is not None
                     if (
                         at >= batch_from
                         and (block_n is None or type(canon) is TraceCanon or ignores_n)
@@ -543,7 +571,12 @@ class ArcRows:
                 if (
                     holding
                     and pending
-                    and (arc is None or (n != block_n and not told) or f is not None)
+                    and (
+                        arc is None
+                        or (n != block_n and not told)
+                        or f is not None
+                        or selects
+                    )
                 ):
                     pending.flush()
                 if n != block_n:
@@ -554,6 +587,8 @@ class ArcRows:
                     feed_rate = f
                     feed_given = True
                     set_feed_rate(f)
+                if selects:
+                    select_plane("XY")
                 if arc is None:
                     if motion == G1:
                         straight_feed(*point)

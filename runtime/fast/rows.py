@@ -100,6 +100,7 @@ class _Plan:
         "dwell",
         "cancel",
         "restating",
+        "plane_arc",
     )
 
     def __init__(self, shape: Shape, absolute_restated: bool = False):
@@ -198,6 +199,14 @@ class _Plan:
                 and all(x in _ARC_LETTERS for x in self.letters)
             ):
                 self.restating = (motion, G17 in codes, True)
+        #: An arc whose one other code is G17 (``G17 G2 X Y R``): in the XY
+        #: plane runtime.fast.arc_rows takes it, a SELECT_PLANE before it.
+        self.plane_arc = (
+            self.restating is not None
+            and self.restating[2]
+            and len(codes) == 2
+            and G17 in codes
+        )
         #: What runtime.fast.printed_rows needs, in one tuple (None: not for it).
         self.printed = None
         if self.slots is not None and not self.beyond_printed:
