@@ -31,11 +31,12 @@ if TYPE_CHECKING:
     from typing import List
 
 from runtime.canon import trace_format, trace_rows
-from runtime.codes import G0, G1
+from runtime.codes import G0, G1, G4
 
 _FEED = "%5d %sSTRAIGHT_FEED(%s, %s, %s, %s, %s, %s)\n"
 _TRAVERSE = "%5d %sSTRAIGHT_TRAVERSE(%s, %s, %s, %s, %s, %s)\n"
 _FEED_RATE = "%5d %sSET_FEED_RATE(%s)\n"
+_DWELL = "%5d %sDWELL(%s)\n"
 _PRINTED_AXES = 6  # the trace shows X Y Z A B C
 _ENTRY = " ".join(["%.4f"] * _PRINTED_AXES)
 _STRAIGHT = (G0, G1)
@@ -68,6 +69,20 @@ def printed_rows(machine, by_index, cells: List[str], at: int, end: int, plans) 
             if printed is None:
                 break
             motion, has_n, f_at, width, run, slots = printed
+            if motion == G4:  # a pause, G4 P alone (Machine.dwell_row's line)
+                start = at + 2 + has_n
+                if float(cells[start]) == -1.0:
+                    break  # (rs274's "no P": block() raises it)
+                at = start + width - has_n
+                if has_n:
+                    if cells[start - 1] != block_n:
+                        block_n = cells[start - 1]
+                        column = "N%-6s" % block_n
+                elif block_n is not None:
+                    column, block_n = "N..... ", None
+                count += 1
+                write(_DWELL % (count, column, cells[start]))
+                continue
             if motion is None:
                 motion = motion_mode
             stride = width + 2

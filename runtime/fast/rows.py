@@ -207,9 +207,12 @@ class _Plan:
             and len(codes) == 2
             and G17 in codes
         )
-        #: What runtime.fast.printed_rows needs, in one tuple (None: not for it).
+        #: What runtime.fast.printed_rows needs, in one tuple (None: not for
+        #: it); a pause (G4 P alone) is one, its motion G4.
         self.printed = None
-        if self.slots is not None and not self.beyond_printed:
+        if self.dwell:
+            self.printed = (G4, self.has_n, -1, self.width, None, None)
+        elif self.slots is not None and not self.beyond_printed:
             self.printed = (
                 self.motion,
                 self.has_n,
