@@ -142,6 +142,7 @@ class MachineState:
     _batchable: bool  # a BatchesOnly machine's plain flag, set aside
     _block_n: Optional[str]  # the N column last announced to the canon
     _hole_capture: Optional[object]  # a cycle line's hole being told (hole_rows)
+    rows_run: Optional[object]  # the run_rows call running (a token), or None
 
     def _start_state(self) -> None:
         """Every field the constructor is not told, as a new interpreter has it."""
@@ -182,6 +183,7 @@ class MachineState:
         self._batchable = False
         self._block_n = None
         self._hole_capture = None
+        self.rows_run = None
         self._reset_modes()
 
     def _reset_modes(self) -> None:

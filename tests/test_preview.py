@@ -568,6 +568,38 @@ def test_arc_tables_match_gcode_parse(text, units):
 
 
 @needs_gcode
+@settings(PROFILE)
+@given(
+    cam_strategies.restating(
+        cam_strategies.arc_programs() | cam_strategies.cam_programs()
+    )
+    | cam_strategies.commented(cam_strategies.cam_programs())
+    | cam_strategies.hand_drilling()
+)
+def test_shop_programs_match_gcode_parse(text):
+    """What shops' programs add to CAM rows: modes restated on every line
+    (``G17 G2 X.. R..`` a row the preview takes as an arc's line, with its
+    SELECT_PLANE), comments on moves, a hole at a time with G4 pauses:
+    every next_line, call and error line must still be gcode.parse's."""
+    _compare_generated(text)
+
+
+@needs_gcode
+def test_a_contour_restating_g17_on_its_arcs_matches_gcode_parse():
+    """A table of lines and arcs with G17 restated on each arc: the arcs
+    are taken as arcs' lines (runtime.fast.rows.BatchesOnly.plane_arc), each
+    with its SELECT_PLANE, as gcode.parse makes them."""
+    lines = ["G21 G90 G17 G94 F300", "G0 X0 Y0 Z1", "G1 Z-1"]
+    x = 0.0
+    for k in range(60):
+        lines.append("G1 X%.3f Y0" % (x + 1))
+        lines.append("G17 G%d X%.3f Y0 R%.3f" % (2 + k % 2, x + 5, 2.0))
+        x += 5
+    lines.append("M2")
+    _compare_generated(cam_strategies.cam_sized("\n".join(lines) + "\n"))
+
+
+@needs_gcode
 @settings(PROFILE, max_examples=max(10, PROFILE.max_examples // 2))
 @given(strategies.invalid_programs())
 def test_generated_broken_programs_match_gcode_parse(text):
