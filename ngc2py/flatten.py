@@ -427,8 +427,10 @@ class FlattenCanon(Canon):
         self.ended = False
         self.finished = False
         self._group: Optional[_Group] = None
-        #: _where's last walk of the stack, and the frame and line it was made at
+        #: _where's last walk of the stack, and the generated frame it was
+        #: made in, or the run of rows and call (_generated_frames)
         self._frames_key = None
+        self._rows_key = None
         self._frames: list = []
         #: _where_format's last answer, and the frames it was made of
         self._where_frames: Optional[list] = None
@@ -473,15 +475,27 @@ class FlattenCanon(Canon):
         )
 
     def _generated_frames(self) -> list:
-        """g_code_frames_of_stack(): the same while the innermost generated
-        frame is alive and on the same line (a run of data rows, a loop's
-        line), so looked up once then, not walked again for every block."""
+        """g_code_frames_of_stack(), as far as its users read it: the file of
+        the innermost generated frame and the calls that led there (not the
+        line: each block's is the machine's). Those are the same while that
+        frame is alive, whatever line it runs, so the stack is walked whole
+        once a frame; and the same while one run of data rows runs in one
+        call (``machine.rows_run``, the call's level and named locals, a
+        store of each call's own): its rows' blocks need no walk at all."""
+        machine = self.machine
+        run = machine.rows_run
+        if run is not None:
+            key = run, machine.call_level, machine.locals
+            if key != self._rows_key:
+                self._rows_key, self._frames_key = key, None
+                # (the rows' own frame found too: its file is theirs)
+                self._frames = g_code_frames_of_stack(machine.line)
+            return self._frames
         frame = sys._getframe(1)
         while frame is not None and "__ngc__" not in frame.f_globals:
             frame = frame.f_back
-        key = None if frame is None else (frame, frame.f_lineno)
-        if key is None or key != self._frames_key:
-            self._frames_key, self._frames = key, g_code_frames_of_stack()
+        if frame is None or frame is not self._frames_key:
+            self._frames_key, self._frames = frame, g_code_frames_of_stack()
         return self._frames
 
     def _where(self) -> str:

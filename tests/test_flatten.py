@@ -803,3 +803,73 @@ def test_numbered_series_and_arcs_reach_flatten_in_batches(tmp_path, monkeypatch
     assert all(n is not None for numbers in holes + arcs for n in numbers)
     for line in numbered[3:-1]:  # every row's N, before its words
         assert re.search(r"^%s " % line.split()[0], answers[0], re.M), line
+
+
+def _where_walked(self) -> list:
+    """FlattenCanon._generated_frames without what it keeps: the whole
+    stack walked for every block (only its generated frames count, a run
+    of data rows' frame at the row's line)."""
+    from runtime.errors import g_code_frames_of_stack
+
+    machine = self.machine
+    return g_code_frames_of_stack(machine.line if machine.rows_run else None)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    text=st.one_of(
+        strategies.valid_programs(),
+        cam_strategies.commented(cam_strategies.cam_programs()),
+        cam_strategies.restating(cam_strategies.arc_programs()),
+    )
+)
+def test_where_each_block_comes_from_is_the_stacks(text, tmp_path_factory):
+    """The line comment of every block (its file and line, and the calls
+    that led there) is what a walk of the stack at that block finds:
+    flatten keeps a walk while its generated frame runs, or while one run
+    of data rows runs in one call (machine.rows_run)."""
+    from ngc2py import flatten as flat
+
+    ways = ({}, {"_generated_frames": _where_walked})
+    answers = _flat_each_way(text, tmp_path_factory.mktemp("where"), ways, "w.ngc")
+    assert answers[0] == answers[1]
+
+
+def test_a_subroutines_rows_name_their_call(tmp_path):
+    """Data rows in a subroutine called from two places: each row's comment
+    names its own line and the call that led there (it had named the call's
+    file and no call: the rows' own frame was not found)."""
+    rows = "".join("  G1 X%d Y%d\n" % (k, k % 3) for k in range(40))
+    text = (
+        "o<cut> sub\n" + rows + "o<cut> endsub\n"
+        "G21 G90 F100\no<cut> call\nG0 X0\no<cut> call\nM2\n"
+    )
+    program = cam_strategies.cam_sized(text)
+    answers = _flat_each_way(
+        program, tmp_path, ({}, {"_generated_frames": _where_walked}), "s.ngc"
+    )
+    assert answers[0] == answers[1]
+    calls = re.findall(
+        r"^G1 X5 Y2  ; \S*s\.ngc:7 <- \S*s\.ngc:(\d+)$", answers[0], re.M
+    )
+    assert calls == ["44", "46"]
+    # and the lines after each call name no call
+    assert re.search(r"^G0 X0  ; \S*s\.ngc:45$", answers[0], re.M)
+    assert re.search(r"^M2  ; \S*s\.ngc:47$", answers[0], re.M)
+
+
+def test_the_line_after_a_call_names_no_call(tmp_path):
+    """A statement's comment names the calls that led to it, walked again
+    whenever its generated frame is another: the call's lines name their
+    call, the line after the loop of calls names none."""
+    text = (
+        "o<step> sub\n  G1 X[#1 * 2] F100\no<step> endsub\n#1 = 0\n"
+        "o1 while [#1 LT 3]\n  o<step> call [#1]\n  #1 = [#1 + 1]\no1 endwhile\n"
+        "G0 X9\nM2\n"
+    )
+    answers = _flat_each_way(
+        text, tmp_path, ({}, {"_generated_frames": _where_walked}), "p.ngc"
+    )
+    assert answers[0] == answers[1]
+    assert re.search(r"^F100 G1 X4  ; \S*p\.ngc:2 <- \S*p\.ngc:6$", answers[0], re.M)
+    assert re.search(r"^G0 X9  ; \S*p\.ngc:9$", answers[0], re.M)
