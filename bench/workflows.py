@@ -6,7 +6,8 @@
 For each workload of bench/workloads.py (CAM moves, CAM arcs whose centres
 and radii vary, a trigonometry loop, canned cycles as rows of hole words and
 as a cycle line a hole, the CAM files and cycles again with every line
-numbered; large, and again at the size most programs are) it times, medians
+numbered, a shop's program of comments, restated modes and pauses; large,
+and again at the size most programs are) it times, medians
 of ``--repeat`` alternating runs:
 
 * preview: LinuxCNC's ``gcode.parse`` (system Python) against
@@ -66,6 +67,9 @@ WORKLOADS = {
     "cam_n_100k": (workloads.cam_numbered, 100_000),
     "cam_arcs_n_100k": (workloads.cam_arcs_numbered, 100_000),
     "cycles_n_20k": (workloads.drill_cycles_numbered, 20_000),
+    # what shops' programs add: comments on moves, G90 G1 / G17 G2 restated
+    # on every line, a hole at a time with G4 pauses
+    "shop_20k": (workloads.shop, 20_000),
     # programs of the size most are (and the before-stop hook times): the
     # fixed costs, Python's start and imports, weigh most there
     "cam_20k": (workloads.cam, 20_000),
