@@ -492,13 +492,18 @@ def value_bound(e: nodes.Expr) -> Optional[float]:
 # --------------------------------------------------------------------------
 
 
+#: The G-code line of a module line that is none (runtime.errors.SourceMap).
+OWN_LINE = -1
+
+
 class LineMap:
     """(python line, file index, G-code line) entries, encoded compactly.
 
     The encoding is ``;``-separated ``py,file,line[,count]`` runs: ``count``
     consecutive Python lines map to consecutive G-code lines. A G-code line
     of 0 means "read the line from the frame's ``line`` variable" (the loop
-    over constant rows).
+    over constant rows); -1 (``OWN_LINE``), a line of no G-code line (main
+    calling its chunks: no O-call, which a traceback would name).
     """
 
     def __init__(self) -> None:
@@ -951,6 +956,7 @@ class CodeGen:
             self.w.raw("def main(m: Machine) -> None:")
             self.w.raw('%s"""The main program, in chunks of bounded size."""' % INDENT)
             for name in names:
+                self.w.map.add(len(self.w.out) + 1, self.w.file_index, OWN_LINE)
                 self.w.raw("%s%s(m)" % (INDENT, name))
 
     def stores(self) -> int:

@@ -139,6 +139,8 @@ class SourceMap:
         if index < 0:
             return None
         start, file, line, count = runs[index]
+        if line < 0:  # (a line of the module's own: main calling its chunks)
+            return None
         if line == 0:
             if row_line is None:
                 return None

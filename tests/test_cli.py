@@ -189,7 +189,9 @@ def test_a_cached_module_s_bytecode_is_kept_and_used(tmp_path, monkeypatch, dont
     assert second.__ngc__.files == ("p.ngc",)
 
 
-def test_cache_never_pairs_one_compile_s_probes_with_another_s_module(tmp_path, monkeypatch):
+def test_cache_never_pairs_one_compile_s_probes_with_another_s_module(
+    tmp_path, monkeypatch
+):
     # Two folders with the same program but different subroutine files share
     # a key. Compiled at the same time (campaign workers, parallel golden
     # checks), one's probes could be written last beside the other's module;
@@ -199,7 +201,9 @@ def test_cache_never_pairs_one_compile_s_probes_with_another_s_module(tmp_path, 
     for folder, x in (("a", 1), ("b", 2)):
         (tmp_path / folder).mkdir()
         (tmp_path / folder / "p.ngc").write_text("o<ext> call\nM2\n")
-        (tmp_path / folder / "ext.ngc").write_text(f"o<ext> sub\nG0 X{x}\no<ext> endsub\n")
+        (tmp_path / folder / "ext.ngc").write_text(
+            f"o<ext> sub\nG0 X{x}\no<ext> endsub\n"
+        )
         monkeypatch.chdir(tmp_path / folder)
         cache.cached_module("p.ngc")
         (meta,) = (tmp_path / "cache").glob("*.json")
@@ -278,6 +282,30 @@ def test_a_program_under_another_name_reuses_its_entry(tmp_path, monkeypatch, ki
         monkeypatch.chdir(tmp_path / folder)
         assert _run_in_process(name) == alone[folder, name], (folder, name)
     assert compiled == ["p.ngc"]
+
+
+@pytest.mark.parametrize("rows", [False, True])
+def test_an_error_in_a_program_of_chunks_names_no_call(tmp_path, rows):
+    """A long program's main is cut into chunks (main_1, main_2...) that
+    main calls: those calls are no O-calls, and an error (in a line of its
+    own, or in a row of a table) names only its own line, as in a short
+    program (a chunk's error had named main's last line as its call)."""
+    # comments on the moves (a statement a line), then rows of one shape
+    # (a table); the failing line among the statements, or in the table
+    body = ["G1 X%d Y%d (pass %d)" % (k % 50, k % 7, k) for k in range(1200)]
+    body += ["G1 X%d Y%d" % (k % 50, k % 7) for k in range(300)]
+    body[1300 if rows else 700] = "G2 X0 Y0 R0.001"
+    (tmp_path / "big.ngc").write_text("G21 G90 F100\n" + "\n".join(body) + "\nM2\n")
+    ngc2py("convert", "big.ngc", cwd=tmp_path)
+    module = (tmp_path / "big.py").read_text()
+    assert "def main_2(" in module and "run_rows(" in module
+    proc = ngc2py("run", "big.ngc", cwd=tmp_path)
+    assert proc.returncode == 1
+    assert proc.stderr.splitlines()[-3:] == [
+        "Arc radius too small to reach end point",
+        "G2 X0 Y0 R0.001",
+        "  at big.ngc:%d" % (1302 if rows else 702),
+    ]
 
 
 def test_a_program_that_finds_itself_keeps_an_entry_of_its_own(tmp_path, monkeypatch):
@@ -532,7 +560,16 @@ def test_the_quick_parser_takes_the_usual_forms():
 
 #: What a cached ``ngc2py run PROG`` must not import: each costs a run
 #: milliseconds (argparse and its gettext, re and enum, about 8).
-HEAVY = ("argparse", "gettext", "re", "enum", "typing", "json", "pathlib", "dataclasses")
+HEAVY = (
+    "argparse",
+    "gettext",
+    "re",
+    "enum",
+    "typing",
+    "json",
+    "pathlib",
+    "dataclasses",
+)
 
 
 def _fresh_run(tmp_path, arguments, watched, runs=2):
@@ -604,7 +641,9 @@ def test_converting_imports_no_dataclasses_inspect_or_typing(tmp_path, command):
 
 @given(
     hs.lists(
-        hs.sampled_from(["out", "--", "-", "-b", "-t", "x.tbl", "", "-x", "--max-steps=5"]),
+        hs.sampled_from(
+            ["out", "--", "-", "-b", "-t", "x.tbl", "", "-x", "--max-steps=5"]
+        ),
         max_size=4,
     )
 )
