@@ -108,9 +108,9 @@ class _Plan:
         self.codes = codes
         # G90 beside the motion restates a mode the plain state is always in
         # (absolute distance), so the fast paths, which act only in that
-        # state, read such a row as its motion alone (``absolute_restated``:
-        # for a machine whose other rows go to block() with the row's own
-        # codes, which the preview's and flatten's moves do not)
+        # state, read such a row as its motion alone (``absolute_restated``;
+        # the rows they leave go to restating_row or block() with the row's
+        # own codes)
         if absolute_restated and len(codes) == 2 and G90 in codes:
             codes = tuple(code for code in codes if code != G90)
         self.width = len(letters)
@@ -348,7 +348,7 @@ def run_rows(
     # takes the rows the loops below leave as single lines, as the code
     # generator's m.move and m.arc lines would be taken.
     by_move = machine.rows_by_move
-    plans = _plans(shapes, not by_move)
+    plans = _plans(shapes, True)
     cells = table.split()
     at, end = 0, len(cells)
     fast = machine.plain_rows
@@ -398,18 +398,16 @@ def run_rows(
             if plan.cycle and machine.cycle_row(line, words):
                 at = holes(cells, at, end)
                 continue
-            if by_move and plan.slots is not None:
+            if plan.restating is not None:  # (G90, G17 beside a move or arc)
+                machine.restating_row(line, plan.codes, plan.restating, n, words)
+            elif by_move and plan.slots is not None:
                 machine.move(line, plan.motion, n=n, **words)
             elif by_move and plan.arc and plan.motion is not None:
                 machine.arc(line, plan.motion, n=n, **words)
-            elif by_move and plan.plane_arc:  # (its line begun as an arc's)
-                machine.plane_arc(line, plan.codes, plan.restating[0], n, words)
             elif plan.dwell and not by_move:
                 machine.dwell_row(line, n, words["p"])
             elif plan.cancel and not by_move:
                 machine.cancel_row(line, n)
-            elif plan.restating is not None and not by_move:
-                machine.restating_row(line, plan.codes, plan.restating, n, words)
             else:
                 machine.block(line, *plan.codes, n=n, **words)
     except Exception as error:
@@ -493,19 +491,18 @@ class BatchesOnly:
     def arc(self, line, *args, **words) -> None:
         self._single_line(super().arc, line, *args, **words)
 
-    def plane_arc(self, line, codes, motion, n, words) -> None:
-        """A row of an arc restating G17 (``G17 G2 X.. R..``): as
-        :meth:`arc` takes a line, a SELECT_PLANE before its motion
-        (Machine.plain_arc), or ``block`` with its codes."""
-        self._single_line(self._plane_arc, line, codes, motion, n=n, words=words)
+    def restating_row(self, line, codes, restating, n, words) -> None:
+        """A row of a move or arc with G90 or G17 restated beside it
+        (FastPathMixin.restating_row): taken as :meth:`move` and :meth:`arc`
+        take a line, the machine's line begun and ended around it."""
+        self._single_line(self._restating_row, line, codes, restating, n=n, words=words)
 
-    def _plane_arc(self, line, codes, motion, n, words) -> None:
-        if (
-            not self._plain
-            or self.plane != "XY"
-            or not self.plain_arc(line, motion, words, n, None, True)
-        ):
-            self.block(line, *codes, n=n, **words)
+    def _restating_row(self, line, codes, restating, n, words) -> None:
+        motion, plane, arc = restating
+        if self._plain and not (plane or arc):  # (G90 beside a move: its motion)
+            super().move(line, motion, n=n, **words)
+        else:
+            super().restating_row(line, codes, restating, n, words)
 
     def plain_rows(self, cells: List[str], at: int, end: int, plans) -> int:
         canon = self.canon
