@@ -311,24 +311,24 @@ def contiguous(slots: List[Tuple[int, int]]) -> Optional[Tuple[int, int, int]]:
     return first_value, first_axis, len(slots)
 
 
-#: (id of a module's SHAPES, absolute_restated) -> (the SHAPES, their plans):
-#: a program whose tables are cut by other lines (comments, calls) runs many
-#: tables of the same shapes, whose plans are then made once
+#: id of a module's SHAPES -> (the SHAPES, their plans): a program whose
+#: tables are cut by other lines (comments, calls) runs many tables of the
+#: same shapes, whose plans are then made once
 _PLANS: dict = {}
 #: Modules' shapes kept at most (one program loads one; a test run many).
 _MOST_PLANS = 64
 
 
-def _plans(shapes: Sequence[Shape], absolute_restated: bool) -> List[_Plan]:
-    """The plans of ``shapes``, made once while the module's SHAPES live
-    (kept with them, so that their id is not another's)."""
-    key = id(shapes), absolute_restated
-    kept = _PLANS.get(key)
+def _plans(shapes: Sequence[Shape]) -> List[_Plan]:
+    """The plans of ``shapes`` (G90 restated beside a motion read as the
+    motion alone), made once while the module's SHAPES live (kept with
+    them, so that their id is not another's)."""
+    kept = _PLANS.get(id(shapes))
     if kept is None or kept[0] is not shapes:
         if len(_PLANS) >= _MOST_PLANS:
             _PLANS.clear()
-        plans = [_Plan(shape, absolute_restated) for shape in shapes]
-        kept = _PLANS[key] = shapes, plans
+        plans = [_Plan(shape, True) for shape in shapes]
+        kept = _PLANS[id(shapes)] = shapes, plans
     return kept[1]
 
 
@@ -348,7 +348,7 @@ def run_rows(
     # takes the rows the loops below leave as single lines, as the code
     # generator's m.move and m.arc lines would be taken.
     by_move = machine.rows_by_move
-    plans = _plans(shapes, True)
+    plans = _plans(shapes)
     cells = table.split()
     at, end = 0, len(cells)
     fast = machine.plain_rows
