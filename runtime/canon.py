@@ -359,6 +359,14 @@ class Canon:
     def on_reset(self): ...
 
 
+def own_method(canon, name: str):
+    """``canon``'s method ``name``, or None where it is the protocol's no-op
+    (the fast loops then make no such call: see runtime.fast.arc_rows)."""
+    if getattr(type(canon), name) is getattr(Canon, name):
+        return None
+    return getattr(canon, name)
+
+
 def ignores_numbers(canon) -> bool:
     """Whether ``canon`` ignores N numbers (its set_block_number is the
     protocol's no-op): the fast loops then hand it numbered rows in the

@@ -30,7 +30,7 @@ from math import hypot
 from operator import add, sub
 
 from runtime import arcs
-from runtime.canon import Canon, TraceCanon, ignores_numbers, trace_rows
+from runtime.canon import Canon, TraceCanon, ignores_numbers, own_method, trace_rows
 from runtime.codes import G0, G1, G2, G3
 from runtime.errors import GCodeError
 
@@ -216,14 +216,6 @@ try:  # the same in C, ten times quicker (runtime/fast/_arc_row.c)
 except ImportError:  # not built: the loop's Python alone
     arc_row, rows_in_c = python_arc_row, None
     _radius_centre = arcs.radius_centre
-
-
-def _select_plane(canon):
-    """The canon's select_plane, or None where it is the protocol's no-op
-    (an arc restating G17 then makes no call, and hands no held arc over)."""
-    if type(canon).select_plane is Canon.select_plane:
-        return None
-    return canon.select_plane
 
 
 def _publish(machine, line: int, cur, motion_mode, block_n) -> None:
@@ -453,8 +445,9 @@ class ArcRows:
             # (None: a canon that ignores N, which an N then does not cut;
             # one that takes them with its arcs gets them held, the C loop
             # told by the pending's columns)
-            announce = None if ignores_numbers(canon) else canon.set_block_number
-            calls += (announce, canon.set_feed_rate, _select_plane(canon))
+            announce = own_method(canon, "set_block_number")
+            # (None: no SELECT_PLANE for an arc restating G17, no batch cut)
+            calls += (announce, canon.set_feed_rate, own_method(canon, "select_plane"))
             calls += (self.plane_arcs,) + extra
         try:
             while at < end:
@@ -500,7 +493,7 @@ class ArcRows:
         holding = pending is not None
         ignores_n = ignores_numbers(canon)
         plane_arcs = self.plane_arcs
-        select_plane = _select_plane(canon)
+        select_plane = own_method(canon, "select_plane")
         # arcs held with their N (pending.numbered): no N hands them over
         numbered = holding and pending.numbered
         try:
