@@ -136,9 +136,14 @@ def rasterise(flat: np.ndarray, limits, size, width: int) -> np.ndarray:
     # Pillow has no NaN breaks: one line call per run of the polyline.
     ends = np.append(breaks, len(px))
     starts = np.insert(breaks + 1, 0, 0)
-    # the coordinates as one flat list, made at once: a run is a slice of
-    # it (a NumPy slice made into a list costs a microsecond a run more)
-    coordinates = np.column_stack((px, py)).ravel().tolist()
+    # the coordinates as single floats, which Pillow reads from a buffer
+    # without a Python float each (a pixel's thousandth is plenty here); a
+    # run is a slice of their memoryview, made in a tenth of a microsecond
+    coordinates = (
+        memoryview(np.column_stack((px, py)).astype(np.float32).ravel())
+        .cast("B")
+        .cast("f")
+    )
     for a, b in zip((2 * starts).tolist(), (2 * ends).tolist()):
         if b - a >= 4:
             line(coordinates[a:b])
@@ -275,18 +280,35 @@ def prepare() -> None:
     from PIL import Image, ImageDraw  # noqa: F401
 
 
-def draw(path: Toolpath, view: str, title: str, out, fmt: str) -> None:
-    """Draw ``path`` seen from ``view`` and save it to ``out`` (a path or a
-    binary file)."""
-    import matplotlib
+class Sketch:
+    """What a picture shows, worked out with NumPy alone (no matplotlib):
+    each kind of move as one projected polyline, its number of moves, the
+    plunges seen end-on, the extents. Small to pickle: the plot's child
+    process makes it while the parent imports matplotlib (ngc2py.plot)."""
 
-    matplotlib.use("Agg")
-    from matplotlib import pyplot
-    from matplotlib.lines import Line2D
+    __slots__ = ("view", "units", "kinds", "dots", "extents")
 
+    def __init__(self, view: str, units: str) -> None:
+        self.view, self.units = view, units
+        #: kind -> (number of moves, its (m, 2) polyline in program units)
+        self.kinds: dict = {}
+        #: the feeds' plunges seen end-on: (u, v) arrays, or None
+        self.dots = None
+        self.extents = [np.full(3, np.inf), np.full(3, -np.inf)]
+
+    def __getstate__(self):
+        return tuple(getattr(self, name) for name in self.__slots__)
+
+    def __setstate__(self, state) -> None:
+        for name, value in zip(self.__slots__, state):
+            setattr(self, name, value)
+
+
+def sketch(path: Toolpath, view: str) -> Sketch:
+    """The picture of ``path`` seen from ``view``, as a :class:`Sketch`."""
     inches = path.units == "inch"
     scale = 1.0 / MM_PER_INCH if inches else 1.0
-    figure, axes = pyplot.subplots(figsize=FIGURE_SIZE, dpi=DPI)
+    made = Sketch(view, path.units)
     kinds = {
         "rapid": path.kind == RAPID,
         "feed": (path.kind == FEED) | (path.kind == PROBE),
@@ -299,26 +321,51 @@ def draw(path: Toolpath, view: str, title: str, out, fmt: str) -> None:
         span = float((high - low).max())
         pixels = max(FIGURE_SIZE) * DPI
         resolution = max(span, 1e-9) / pixels * PIXEL_TOLERANCE
-    handles = []
-    dense = {}  # kind -> its (m, 2) polyline, rasterised once the axes are laid out
-    extents = [np.full(3, np.inf), np.full(3, -np.inf)]
-    for kind, (label, colour, style, width) in STYLES.items():
+    for kind in STYLES:
         chosen = kinds[kind]
-        count = int(chosen.sum())
         if kind == "arc":
             vertices = arc_polyline(path, np.flatnonzero(chosen), resolution, frame)
         else:
             vertices = polyline(path.start[chosen, :3], path.end[chosen, :3])
+        flat = None
         if len(vertices):
-            flat = _projected(vertices * scale, view, extents)
+            flat = _projected(vertices * scale, view, made.extents)
+            if kind == "feed":
+                made.dots = _plunges(path, chosen, view, scale)
+        made.kinds[kind] = (int(chosen.sum()), flat)
+    return made
+
+
+def draw(path: Toolpath, view: str, title: str, out, fmt: str) -> None:
+    """Draw ``path`` seen from ``view`` and save it to ``out`` (a path or a
+    binary file)."""
+    render(sketch(path, view), title, out, fmt)
+
+
+def render(made: Sketch, title: str, out, fmt: str) -> None:
+    """Draw the sketch ``made`` and save it to ``out`` (a path or a binary
+    file)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib import pyplot
+    from matplotlib.lines import Line2D
+
+    figure, axes = pyplot.subplots(figsize=FIGURE_SIZE, dpi=DPI)
+    handles = []
+    dense = {}  # kind -> its (m, 2) polyline, rasterised once the axes are laid out
+    for kind, (label, colour, style, width) in STYLES.items():
+        count, flat = made.kinds[kind]
+        if flat is not None:
             if len(flat) > RASTER_FROM:
                 style = "solid"
                 dense[kind] = flat
                 axes.update_datalim(np.array(_extremes(flat)))
             else:
                 _add_lines(axes, flat, kind)
-            if kind == "feed":
-                _plunge_dots(axes, path, chosen, view, scale, colour)
+            if kind == "feed" and made.dots is not None:
+                u, v = made.dots
+                axes.plot(u, v, "o", color=colour, markersize=3, zorder=4)
         handles.append(
             Line2D(
                 [],
@@ -329,7 +376,7 @@ def draw(path: Toolpath, view: str, title: str, out, fmt: str) -> None:
                 label="%s: %d move%s" % (label, count, "" if count == 1 else "s"),
             )
         )
-    _lay_out(figure, axes, view, path.units, title, handles, extents)
+    _lay_out(figure, axes, made.view, made.units, title, handles, made.extents)
     bbox = "tight"
     if dense and fmt in BOX_BEFORE_RASTERS:
         # savefig's "tight" box, found before the rasters are added (they lie
@@ -404,13 +451,15 @@ def _add_lines(axes, flat, kind: str) -> None:
     )
 
 
-def _plunge_dots(axes, path: Toolpath, chosen, view: str, scale: float, colour) -> None:
-    """A plunge seen end-on (a drilled hole from the top) is a dot."""
+def _plunges(path: Toolpath, chosen, view: str, scale: float):
+    """A plunge seen end-on (a drilled hole from the top) is a dot: the
+    dots' (u, v), or None."""
     su, sv = project(path.start[chosen, :3] * scale, view)
     eu, ev = project(path.end[chosen, :3] * scale, view)
     dots = (su == eu) & (sv == ev)
     if dots.any():
-        axes.plot(su[dots], sv[dots], "o", color=colour, markersize=3, zorder=4)
+        return su[dots], sv[dots]
+    return None
 
 
 def _lay_out(figure, axes, view: str, units: str, title: str, handles, extents) -> None:
@@ -448,4 +497,7 @@ __all__ = [
     "polyline",
     "project",
     "rasterise",
+    "render",
+    "sketch",
+    "Sketch",
 ]

@@ -84,27 +84,22 @@ def command(args: argparse.Namespace) -> int:
     except (ValueError, ImportError) as error:  # fail before running the program
         sys.stderr.write("ngc2py plot: %s\n" % error)
         return EXIT_ERROR
-    status, report, moves = _record_beside(args, _prepare)
+    status, report, made = _record_beside(args, _prepare)
     sys.stderr.write(report)
     if status != EXIT_OK:
         return EXIT_ERROR
-    from ngc2py.drawing import draw
-    from ngc2py.moves import Toolpath
-
-    # made into arrays here, where NumPy is imported already (the child
-    # that recorded them would have spent a tenth of a second on it)
-    path = Toolpath.from_recorder(moves)
+    from ngc2py.drawing import render
 
     title = "standard input" if args.program == "-" else os.path.basename(args.program)
     if args.output == "-":
         buffer = io.BytesIO()
-        draw(path, args.view, title, buffer, fmt)
+        render(made, title, buffer, fmt)
         sys.stdout.flush()
         sys.stdout.buffer.write(buffer.getvalue())
         sys.stdout.buffer.flush()
         return EXIT_OK
     buffer = io.BytesIO()
-    draw(path, args.view, title, buffer, fmt)
+    render(made, title, buffer, fmt)
     try:
         write_atomic(args.output, buffer.getvalue())
     except OSError as error:
@@ -126,24 +121,36 @@ def _prepare() -> None:
 
 def _recorded(args: argparse.Namespace):
     """Run the program: (exit status, rs274's stderr text, the recorded
-    moves or None after an error). Imports no NumPy (see the moves' use in
-    :func:`command`)."""
+    moves or None after an error). Imports no NumPy."""
     from ngc2py.recorder import record
 
     recorder, status, report = record(args)
     return status, report, recorder.moves() if status == EXIT_OK else None
 
 
+def _sketched(args: argparse.Namespace):
+    """:func:`_recorded`, the moves then made into the picture's
+    drawing.Sketch (NumPy's work alone: the child makes it while the parent
+    imports matplotlib)."""
+    status, report, moves = _recorded(args)
+    if moves is None:
+        return status, report, None
+    from ngc2py.drawing import sketch
+    from ngc2py.moves import Toolpath
+
+    return status, report, sketch(Toolpath.from_recorder(moves), args.view)
+
+
 def _record_beside(args: argparse.Namespace, prepare):
-    """:func:`_recorded`, run in a child process while this one runs
-    ``prepare`` (importing matplotlib: a third of a second, as long as a
-    100k-move program takes), the toolpath handed back through a pipe.
+    """:func:`_sketched`, run in a child process while this one runs
+    ``prepare`` (importing matplotlib: half a second, as long as a 200k-move
+    program takes), the sketch handed back through a pipe.
     Where there is no fork, or the child hands nothing back (it died), the
     program runs here, after ``prepare``: the same answer, later."""
     fork = getattr(os, "fork", None)
     if fork is None or args.program == "-":  # (standard input is read once)
         prepare()
-        return _recorded(args)
+        return _sketched(args)
     import pickle
 
     sys.stdout.flush()
@@ -156,7 +163,7 @@ def _record_beside(args: argparse.Namespace, prepare):
         # parent where it would have been (its stdout may be a test's buffer)
         printed = sys.stdout, sys.stderr = io.StringIO(), io.StringIO()
         try:
-            result = ("done", _recorded(args))
+            result = ("done", _sketched(args))
         except BaseException as error:  # noqa: BLE001 - handed to the parent
             result = ("raised", error)
         texts = tuple(stream.getvalue() for stream in printed)
@@ -180,7 +187,7 @@ def _record_beside(args: argparse.Namespace, prepare):
     finally:
         os.waitpid(child, 0)
     if how is None:
-        return _recorded(args)
+        return _sketched(args)
     sys.stdout.write(out_text)
     sys.stderr.write(err_text)
     if how == "raised":

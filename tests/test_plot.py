@@ -435,9 +435,8 @@ def test_the_program_run_beside_the_import_draws_what_it_draws_here(
     ],
 )  # fmt: skip
 def test_the_child_records_without_numpy(tmp_path, text, count):
-    """The child only runs the program into stdlib arrays: NumPy (a tenth
-    of a second to import) is imported by the parent, beside matplotlib,
-    and the moves become arrays there. Drilled holes too."""
+    """The program runs into stdlib arrays (NumPy, a tenth of a second to
+    import, comes after the run, for the sketch): drilled holes too."""
     program = tmp_path / "p.ngc"
     program.write_text(text)
     code = (
