@@ -78,19 +78,67 @@ def _file_digest(path: str) -> Optional[str]:
 
 _FINGERPRINT: List[str] = []
 
+#: The cache folder's note of the last fingerprint worked out: the
+#: compiler files' stamp (names, sizes, times) and their hash.
+_FINGERPRINT_NOTE = "compiler-fingerprint"
+
 
 def compiler_fingerprint() -> str:
     """The version plus a hash of the compiler's own sources, so a changed
     (even unreleased) compiler never reuses modules the old one wrote."""
     if not _FINGERPRINT:
         package = os.path.dirname(os.path.realpath(__file__))
-        digest = _hash(__version__.encode(), digest_size=32)
-        for name in sorted(os.listdir(package)):
-            if name.endswith((".py", ".c")):  # (the C passes: ngc2py/_rowtext.c)
-                with open(os.path.join(package, name), "rb") as handle:
-                    digest.update(handle.read())
-        _FINGERPRINT.append(digest.hexdigest())
+        _FINGERPRINT.append(sources_fingerprint(package, cache_dir()))
     return _FINGERPRINT[0]
+
+
+def sources_fingerprint(package: str, folder: str) -> str:
+    """The version plus a hash of ``package``'s sources (its .py and .c
+    files: ngc2py/_rowtext.c is a pass of the compiler too).
+
+    Hashing ngc2py's 700 kB is 2-3 ms of every run, as long as a small
+    program's whole run: so the hash is noted in the cache ``folder`` with a
+    stamp of the files (each one's name, size and time, as Python checks
+    its own bytecode against a source) and read back while the stamp is the
+    same. A changed stamp (an edit, a reinstall) hashes them again."""
+    names = sorted(n for n in os.listdir(package) if n.endswith((".py", ".c")))
+    paths = [os.path.join(package, name) for name in names]
+    stamp = _digest(
+        repr(
+            (__version__, package, tuple(names))
+            + tuple((s.st_size, s.st_mtime_ns) for s in map(os.stat, paths))
+        ).encode("utf-8", "surrogateescape")
+    )
+    note = os.path.join(folder, _FINGERPRINT_NOTE)
+    known = _noted(note, stamp)
+    if known is None:
+        digest = _hash(__version__.encode(), digest_size=32)
+        for path in paths:
+            with open(path, "rb") as handle:
+                digest.update(handle.read())
+        known = digest.hexdigest()
+        try:
+            write_atomic(note, "%s %s\n" % (stamp, known))
+        except OSError:  # (a cache folder not to be written: hashed each run)
+            pass
+    return known
+
+
+def _noted(note: str, stamp: str) -> Optional[str]:
+    """The fingerprint ``note`` keeps for ``stamp``, or None."""
+    try:
+        with open(note, "rb") as handle:
+            text = handle.read(200).decode("ascii")
+    except (OSError, UnicodeDecodeError):
+        return None
+    parts = text.split()
+    if len(parts) != 2 or parts[0] != stamp or len(parts[1]) != 64:
+        return None
+    try:
+        int(parts[1], 16)
+    except ValueError:
+        return None
+    return parts[1]
 
 
 def cache_key(path: str, ini: Optional[str], block_delete: bool = False) -> str:

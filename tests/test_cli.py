@@ -158,6 +158,52 @@ def test_cache_hits_and_invalidates_on_change(tmp_path, monkeypatch):
     assert cache.cached_module("p.ngc") not in (first, second)
 
 
+def test_the_compiler_s_fingerprint_is_its_sources_hash_noted_by_their_stamp(
+    tmp_path,
+):
+    """The fingerprint is the hash of the sources' content, noted in the
+    cache folder with the files' stamp (sizes and times) and read back
+    while the stamp holds; a changed file or a note not to be trusted
+    hashes them again. ngc2py's own is the same with and without a note."""
+    package, folder = tmp_path / "pkg", tmp_path / "cache"
+    package.mkdir()
+    (package / "a.py").write_text("one = 1\n")
+    (package / "b.c").write_text("int b;\n")
+    (package / "notes.txt").write_text("not a source")
+    first = cache.sources_fingerprint(str(package), str(folder))
+    note = folder / cache._FINGERPRINT_NOTE
+    assert note.read_text().split()[1] == first
+    assert cache.sources_fingerprint(str(package), str(folder)) == first
+    # the note is what is read while the stamp holds: content changed
+    # behind an unchanged size and time is not looked at
+    status = os.stat(package / "a.py")
+    (package / "a.py").write_text("one = 2\n")
+    os.utime(package / "a.py", ns=(status.st_atime_ns, status.st_mtime_ns))
+    assert cache.sources_fingerprint(str(package), str(folder)) == first
+    # a changed size (or time) hashes the files again
+    (package / "a.py").write_text("one = 22\n")
+    changed = cache.sources_fingerprint(str(package), str(folder))
+    assert changed != first and note.read_text().split()[1] == changed
+    (package / "notes.txt").write_text("changed, not a source")
+    assert cache.sources_fingerprint(str(package), str(folder)) == changed
+    # without a note (or with a broken one), the same hash
+    for text in (None, "garbage", note.read_text().split()[0] + " zz" * 32):
+        if text is None:
+            note.unlink()
+        else:
+            note.write_text(text)
+        assert cache.sources_fingerprint(str(package), str(folder)) == changed
+    assert cache.sources_fingerprint(str(package), str(tmp_path / "none")) == changed
+    # an unwritable folder: hashed, nothing noted
+    blocked = tmp_path / "file"
+    blocked.write_text("")
+    assert cache.sources_fingerprint(str(package), str(blocked)) == changed
+    ngc2py_package = os.path.dirname(os.path.realpath(cache.__file__))
+    noted = cache.sources_fingerprint(ngc2py_package, str(tmp_path / "own"))
+    assert cache.sources_fingerprint(ngc2py_package, str(tmp_path / "own")) == noted
+    assert cache.sources_fingerprint(ngc2py_package, str(blocked)) == noted
+
+
 @pytest.mark.parametrize("dont_write", [True, False])
 def test_a_cached_module_s_bytecode_is_kept_and_used(tmp_path, monkeypatch, dont_write):
     """Compiled once, also where Python writes no bytecode
