@@ -499,17 +499,9 @@ class FlattenCanon(Canon):
         return self._frames
 
     def _where(self) -> str:
-        frames = self._generated_frames()
-        line = self.machine.line
-        if frames and frames[-1].line == line:
-            here = frames[-1]
-            text = "%s:%d" % (here.file, here.line)
-        elif frames:  # data rows: the frame knows the file, the machine the line
-            text = "%s:%d" % (frames[-1].file, line)
-        else:
-            text = "%s:%d" % (self.main_file, line)
-        callers = " <- ".join("%s:%d" % (f.file, f.line) for f in reversed(frames[:-1]))
-        return text + (" <- " + callers if callers else "")
+        """Where the block that begins comes from: its file and line, and
+        the calls that led there (:meth:`_where_format` of its line)."""
+        return self._where_format() % self.machine.line
 
     def _record(self, name: str, args: tuple) -> None:
         if name == "on_reset":
