@@ -405,6 +405,12 @@ class ArcRows:
         plan = self.plans[int(cells[at + 1])]
         if not (plan.arc or plan.plane_arc):
             return at  # (what _context finds out, at once: rows between arcs)
+        if plan.plane_arc and not self.machine._plain:
+            # (what both loops find out at this row: taking arcs only, they
+            # leave an arc restating G17 to its line, whose canon sees the
+            # line begin; the set-up and the hand-over would cost as much
+            # as the line)
+            return at
         context = self._context(cells, at)
         if context is None:
             return at
