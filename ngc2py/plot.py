@@ -84,7 +84,7 @@ def command(args: argparse.Namespace) -> int:
     except (ValueError, ImportError) as error:  # fail before running the program
         sys.stderr.write("ngc2py plot: %s\n" % error)
         return EXIT_ERROR
-    status, report, made = _record_beside(args, _prepare)
+    status, report, made = _sketch_beside(args, _prepare)
     sys.stderr.write(report)
     if status != EXIT_OK:
         return EXIT_ERROR
@@ -141,7 +141,7 @@ def _sketched(args: argparse.Namespace):
     return status, report, sketch(Toolpath.from_recorder(moves), args.view)
 
 
-def _record_beside(args: argparse.Namespace, prepare):
+def _sketch_beside(args: argparse.Namespace, prepare):
     """:func:`_sketched`, run in a child process while this one runs
     ``prepare`` (importing matplotlib: half a second, as long as a 200k-move
     program takes), the sketch handed back through a pipe.

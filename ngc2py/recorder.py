@@ -253,9 +253,8 @@ class Recorder(ToolpathCanon):
         return Toolpath.from_recorder(self)
 
     def moves(self) -> "Moves":
-        """The moves so far, without the machine: small to pickle (the
-        plot's child hands them back), made into NumPy arrays by
-        ``Toolpath.from_recorder`` where NumPy is imported."""
+        """The moves so far, without the machine (standard-library arrays),
+        made into NumPy arrays by ``Toolpath.from_recorder``."""
         moves = Moves()
         for name in Moves.__slots__:
             setattr(moves, name, getattr(self, name))

@@ -380,7 +380,7 @@ def test_the_box_found_before_the_rasters_is_savefigs_tight_box(
     assert (pictures[0] == pictures[1]).all()
 
 
-# --- the program runs beside matplotlib's import (ngc2py.plot._record_beside)
+# --- the program runs beside matplotlib's import (ngc2py.plot._sketch_beside)
 
 
 def _plot_bytes(tmp_path, name: str, text: str):
