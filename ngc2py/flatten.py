@@ -44,7 +44,7 @@ import math
 from array import array
 from marshal import dumps
 from math import hypot
-from itertools import groupby
+from itertools import chain, groupby, repeat
 from operator import add, eq, itemgetter, ne, sub
 import os
 import sys
@@ -349,6 +349,26 @@ def _numbered(numbers: Optional[List[Optional[str]]], texts: List[str]) -> List[
     ]
 
 
+def _with_planes(planes, lines, numbers, texts: List[str]):
+    """A batch's lines and blocks (after each row's N, given ``numbers``),
+    each row ``planes`` names after a line of its own, G17, as a block of
+    SELECT_PLANE and its arc is written (the plane restated: no other
+    change)."""
+    if not planes:
+        return lines, _numbered(numbers, texts)
+    # each row once, or twice (its G17 first), in one pass
+    times = [1] * len(texts)
+    for row in planes:
+        times[row] = 2
+    lines = list(chain.from_iterable(map(repeat, lines, times)))
+    texts = list(chain.from_iterable(map(repeat, texts, times)))
+    for at in range(len(planes)):  # (row k now at k plus the G17 lines before)
+        texts[planes[at] + at] = PLANE_CODES["XY"]
+    if numbers is not None:
+        numbers = list(chain.from_iterable(map(repeat, numbers, times)))
+    return lines, _numbered(numbers, texts)
+
+
 def _stand_in_numbers(numbers: List[Optional[str]]) -> bool:
     """Whether each hole's N can fill the N stand-in's place: every hole
     has one, none longer (a line's length decides where its comment goes)."""
@@ -532,6 +552,7 @@ class FlattenCanon(Canon):
 
     #: straight_moves takes numbered rows' N (runtime.canon.Canon)
     takes_numbers = True
+    takes_planes = True
 
     def straight_moves(self, feed, lines, x, y, z, a, b, c, u, v, w, numbers=None):
         """A run of plain moves, each a block of its own (runtime.fast.rows'
@@ -582,24 +603,27 @@ class FlattenCanon(Canon):
         # (a move to where it is: still one axis word)
         return [code + (row or "X" + number(x[i])) for i, row in enumerate(rows)]
 
-    def arc_moves(self, lines, *columns, numbers=None):
+    def arc_moves(self, lines, *columns, numbers=None, planes=None):
         """A run of plain arcs (arc_feed's arguments as columns), each a
         block of its own, written as :meth:`_arc` writes one (after its N,
-        given ``numbers``)."""
+        given ``numbers``; after G17, for the rows ``planes`` names)."""
         if self._pitch is not None or not self.started or self.ended:
-            return super().arc_moves(lines, *columns, numbers=numbers)
+            return super().arc_moves(lines, *columns, numbers=numbers, planes=planes)
         self._flush()
         pos = self._pos
         # Only the first arc can start away from the last move's end.
         self._check_arc_start(self.machine.current, pos)
-        self._write_batch(lines, _numbered(numbers, self._arc_texts(columns, pos)))
+        texts = self._arc_texts(columns, pos)
+        self._write_batch(*_with_planes(planes, lines, numbers, texts))
 
-    def contour_moves(self, axes, lines, *columns, numbers=None):
+    def contour_moves(self, axes, lines, *columns, numbers=None, planes=None):
         """A contour (runtime.canon.Canon.contour_moves): its arcs written
         as :meth:`arc_moves` writes them, the G1 lines between them as
         :meth:`straight_moves` writes one, in one batch."""
         if self._pitch is not None or not self.started or self.ended:
-            return super().contour_moves(axes, lines, *columns, numbers=numbers)
+            return super().contour_moves(
+                axes, lines, *columns, numbers=numbers, planes=planes
+            )
         self._flush()
         pos = self._pos
         if columns[4][0]:  # (only the first arc can start away from the last end)
@@ -607,7 +631,7 @@ class FlattenCanon(Canon):
         texts = self._contour_texts(axes, columns, pos)
         if texts is None:
             texts = self._contour_runs(axes, columns, pos)
-        self._write_batch(lines, _numbered(numbers, texts))
+        self._write_batch(*_with_planes(planes, lines, numbers, texts))
 
     def _contour_runs(self, axes, columns, pos: List[float]) -> List[str]:
         """A contour's text a run of arcs at a time (:meth:`_arc_texts`)

@@ -66,7 +66,7 @@ from operator import itemgetter, not_
 from runtime.arcs import INVERSE_TIME, UNITS_PER_MINUTE, UNITS_PER_REVOLUTION
 from runtime.blockcheck import M_USER
 from runtime.budget import DEFAULT_MAX_STEPS, RUNAWAY
-from runtime.canon import Canon, call_rows
+from runtime.canon import Canon, call_rows, marked
 from runtime.codes import G0, G1, G2, G3, M_OFFSET, g_code, m_code
 from runtime.errors import GCodeError, g_code_frames, g_code_frames_of_stack, locate
 from runtime.machine import Machine
@@ -226,6 +226,10 @@ def _straight_move(name: str):
 class PreviewCanon(Canon):
     """Translates ngc2py's canon calls into ``gcode.parse``'s calls on ``target``."""
 
+    #: arcs restating G17 come in batches, their set_plane made after their
+    #: line is announced (runtime.canon.Canon.takes_planes)
+    takes_planes = True
+
     def __init__(self, target: Any) -> None:
         self.target = target
         self.machine: Optional["PreviewMachine"] = None
@@ -320,13 +324,14 @@ class PreviewCanon(Canon):
             ((call, (x, y, z, a, b, c, u, v, w)),),
         )
 
-    def arc_moves(self, lines, *columns):
+    def arc_moves(self, lines, *columns, planes=None):
         """A batch of plain arc rows (arc_feed's arguments as columns),
         announced line by line as :meth:`straight_moves` does (G2 and G3
-        may alternate)."""
+        may alternate); the rows ``planes`` names restate G17 (their
+        set_plane after their announcement)."""
         machine = self.machine
         if self.motion_line is not None or not isinstance(machine, PreviewMachine):
-            return super().arc_moves(lines, *columns)
+            return super().arc_moves(lines, *columns, planes=planes)
         first_end, second_end, first_axis, second_axis, rotation, axis_end = columns[:6]
         a, b, c, u, v, w = columns[6:]
         lengths = [first_end, second_end, first_axis, second_axis, axis_end, u, v, w]
@@ -337,10 +342,20 @@ class PreviewCanon(Canon):
         self._announce_batch(
             lines,
             [G3 if turn > 0 else G2 for turn in rotation],
-            ((self.target.arc_feed, arguments),),
+            self._planes_set(planes, len(lines)) + ((self.target.arc_feed, arguments),),
         )
 
-    def contour_moves(self, axes, lines, *columns):
+    def _planes_set(self, planes, count: int) -> tuple:
+        """call_rows' step of the set_plane calls of the rows ``planes``
+        names (of ``count``), as :meth:`select_plane` makes one; none
+        without them."""
+        if not planes:
+            return ()
+        return (
+            (self.target.set_plane, ([PLANES["XY"]],), None, marked(planes, count)),
+        )
+
+    def contour_moves(self, axes, lines, *columns, planes=None):
         """A contour (runtime.canon.Canon.contour_moves): arcs and the plain
         G1 rows between them, announced line by line as :meth:`arc_moves`
         and :meth:`straight_moves` do, in one batch. The arcs' calls and the
@@ -350,9 +365,9 @@ class PreviewCanon(Canon):
         machine = self.machine
         rotation = columns[4]
         if self.motion_line is not None or not isinstance(machine, PreviewMachine):
-            return super().contour_moves(axes, lines, *columns)
+            return super().contour_moves(axes, lines, *columns, planes=planes)
         if 0 not in rotation:
-            return self.arc_moves(lines, *columns)
+            return self.arc_moves(lines, *columns, planes=planes)
         f, s, n = axes
         # the module's own position: the last straight row's end
         last = len(rotation) - 1 - rotation[::-1].index(0)
@@ -368,7 +383,7 @@ class PreviewCanon(Canon):
         line_columns[f], line_columns[s], line_columns[n] = e1, e2, en
         arcs = (e1, e2, c1, c2, rotation, en, a, b, c, u, v, w)
         # each row one call or the other: an arc where its rotation is not 0
-        steps = (
+        steps = self._planes_set(planes, len(lines)) + (
             (target.arc_feed, arcs, None, rotation),
             (
                 target.straight_feed,

@@ -104,12 +104,23 @@ except ImportError:  # not built: the same calls by map and zip
     call_rows = python_call_rows
 
 
-def _told_numbers(canon, steps: tuple, numbers) -> tuple:
+def _told_numbers(canon, steps: tuple, numbers, planes=None, count=0) -> tuple:
     """call_rows' ``steps`` with each row's set_block_number first, given
-    ``numbers`` (a batch method's default, for a canon that takes them)."""
+    ``numbers``, then the SELECT_PLANE of the rows ``planes`` names, of
+    ``count`` (a batch method's default, for a canon that takes them)."""
+    if planes:
+        steps = ((canon.select_plane, (["XY"],), None, marked(planes, count)),) + steps
     if numbers is None:
         return steps
     return ((canon.set_block_number, (numbers,)),) + steps
+
+
+def marked(rows, count: int) -> List[bool]:
+    """A mask of ``count`` rows, true at the indexes ``rows``."""
+    mask = [False] * count
+    for row in rows:
+        mask[row] = True
+    return mask
 
 
 class Canon:
@@ -130,6 +141,14 @@ class Canon:
     #: row: batches of numbered rows then reach it too. (A canon whose
     #: set_block_number is the no-op gets them without.)
     takes_numbers = False
+
+    #: True for a canon whose arc_moves and contour_moves take, for a machine
+    #: that takes arcs only in batches (runtime.fast.rows.BatchesOnly: the
+    #: canon sees each line begin), the rows that restate G17 beside their
+    #: arc (``planes=``: their indexes in the batch), whose SELECT_PLANE
+    #: ("XY") comes after the row's line begins and its N, before its arc:
+    #: such rows then join the batches.
+    takes_planes = False
 
     def set_block_number(self, n: Optional[str]) -> None:
         """The N number (its digits as written) of the line now executing, or None."""
@@ -200,16 +219,20 @@ class Canon:
         v,
         w,
         numbers=None,
+        planes=None,
     ):
         """Arcs, each as arc_feed's arguments (``rotation``: ints), and the
         G-code line of each in ``lines``. The fast loops give a canon that
         defines its own ``arc_moves`` the arcs between its other calls as
         one batch (``machine.line`` is then the batch's last line); by
-        default, one ``arc_feed`` an arc."""
+        default, one ``arc_feed`` an arc (after its SELECT_PLANE, given
+        ``planes``: see ``takes_planes``)."""
         columns = (first_end, second_end, first_axis, second_axis, rotation)
         arguments = (*columns, axis_end, a, b, c, u, v, w)
         steps = ((self.arc_feed, arguments),)
-        call_rows(0, len(lines), _told_numbers(self, steps, numbers))
+        call_rows(
+            0, len(lines), _told_numbers(self, steps, numbers, planes, len(lines))
+        )
 
     def contour_moves(
         self,
@@ -228,6 +251,7 @@ class Canon:
         v,
         w,
         numbers=None,
+        planes=None,
     ):
         """A contour: arcs and the plain straight feeds between them, in the
         columns of :meth:`arc_moves`, a straight feed being a row of
@@ -246,7 +270,9 @@ class Canon:
             (self.arc_feed, (*arcs, a, b, c, u, v, w), None, rotation),
             (self.straight_feed, tuple(point), None, [not turn for turn in rotation]),
         )
-        call_rows(0, len(lines), _told_numbers(self, steps, numbers))
+        call_rows(
+            0, len(lines), _told_numbers(self, steps, numbers, planes, len(lines))
+        )
 
     def hole_moves(self, recording, lines, first, second, axes, start, numbers=None):
         """Holes of a canned cycle drilled alike (runtime.fast.hole_rows):

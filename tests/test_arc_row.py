@@ -559,3 +559,108 @@ def test_arcs_restating_g17_reach_a_batch_canon_as_by_the_general_path(kind):
         patch.setattr(rows, "_PLANS", {})
         general = _batched(code, kind)
     assert _as_arc_feeds(general) == _as_arc_feeds(fast)
+
+
+class _PlaneContours(_NumberedContours):
+    """Takes arcs restating G17 with its contours (``takes_planes``): each
+    row ``planes`` names recorded after a select_plane("XY"), as the row
+    made it (N, SELECT_PLANE, arc) when it went by its line."""
+
+    takes_planes = True
+
+    def contour_moves(self, axes, lines, *columns, numbers=None, planes=None):
+        self.batches.append((len(lines), list(planes or ())))
+        if not planes:
+            return super().contour_moves(axes, lines, *columns, numbers=numbers)
+        start, at = self.machine.current, 0
+        for k in list(planes) + [len(lines)]:
+            for part in ((at, k), (k, k + 1)) if k < len(lines) else ((at, k),):
+                begin, stop = part
+                if begin == stop:
+                    continue
+                if begin == k:  # the restated row: its plane first, after its N
+                    if numbers is not None:
+                        self._n = numbers[k]
+                    RecordingCanon._record(self, "select_plane", ("XY",))
+                self.machine.current = start
+                cut = [column[begin:stop] for column in columns]
+                told = None if numbers is None else numbers[begin:stop]
+                super().contour_moves(axes, lines[begin:stop], *cut, numbers=told)
+                start = list(self.end)
+            at = k + 1
+
+    def arc_moves(self, lines, *columns, numbers=None, planes=None):
+        axes = arc_rows.PLANE_AXES[self.machine.plane]
+        self.contour_moves(axes, lines, *columns, numbers=numbers, planes=planes)
+
+    @property
+    def batches(self):
+        return self.__dict__.setdefault("_batches", [])
+
+
+@needs_c
+@pytest.mark.parametrize("numbered", [False, True])
+def test_arcs_restating_g17_join_the_batches_of_a_canon_taking_planes(numbered):
+    """On a machine taking arcs only in batches (the preview's, flatten's),
+    arcs restating G17 reach a canon that ``takes_planes`` in its batches,
+    the restated rows named (``planes``), in C as in Python; their calls are
+    those of the rows going by their lines (a canon without takes_planes)."""
+    machine = _batches_only_machine()
+    code = compile_text(_contour(400, numbered=numbered, restated=True), "arcs.ngc")
+    batches = []
+
+    class Counting(_PlaneContours):
+        @property
+        def batches(self):
+            return batches
+
+    done = []  # the cells the C loop took (else the comparison proves nothing)
+    original = arc_rows.rows_in_c
+
+    def counted(cells, at, *args):
+        stop = original(cells, at, *args)
+        done.append(stop - at)
+        return stop
+
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(arc_rows, "rows_in_c", counted)
+        fast = _batched(code, Counting, machine)
+    assert sum(done) > 250 * 5, done  # (the restated arcs' cells, most of them)
+    held = [planes for _, planes in batches if planes]
+    # the restated arcs (320, but those with an F: numbered, one in seven)
+    # in batches of several (the lines between cut them here: this canon
+    # takes no straight rows in batches)
+    assert sum(map(len, held)) > 250, batches
+    assert sum(rows for rows, _ in batches) > 2.5 * len(batches), batches
+    del batches[:]
+    with pytest.MonkeyPatch.context() as patch:
+        _python_only(patch)
+        assert _batched(code, Counting, machine) == fast
+    assert sum(len(planes) for _, planes in batches) == sum(map(len, held))
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(Counting, "takes_planes", False)
+        by_lines = _batched(code, Counting, machine)
+    assert _as_arc_feeds(by_lines) == _as_arc_feeds(fast)
+
+
+@pytest.mark.parametrize("numbered", [False, True])
+def test_the_default_batch_methods_make_a_restated_planes_select_plane(numbered):
+    """Canon.arc_moves and contour_moves, given ``planes``: each such row's
+    SELECT_PLANE after its N, before its move."""
+    lines = [7, 8, 9]
+    ends = [[1.0, 2.0, 3.0], [0.5, 0.5, 0.5], [0.0] * 3, [0.0] * 3]
+    columns = ends + [[1, 0, -1], [0.0] * 3] + [[0.0] * 3] * 6
+    numbers = ["7", "8", "9"] if numbered else None
+    for method in ("arc_moves", "contour_moves"):
+        canon = RecordingCanon()
+        args = ((0, 1, 2),) if method == "contour_moves" else ()
+        getattr(canon, method)(*args, lines, *columns, numbers=numbers, planes=[0, 2])
+        names = [name for name, _ in canon.calls]
+        middle = "arc_feed" if method == "arc_moves" else "straight_feed"
+        want = ["select_plane", "arc_feed", middle, "select_plane", "arc_feed"]
+        assert names == want, (method, names)
+        # (each call made with its row's N in force: told before it)
+        told = ["7", "7", "8", "9", "9"] if numbered else [None] * 5
+        assert canon.numbers == told, (method, canon.numbers)
+        planes = [args for name, args in canon.calls if name == "select_plane"]
+        assert planes == [("XY",), ("XY",)]

@@ -379,6 +379,9 @@ static PyObject *plane_xy = NULL;
 typedef struct {
     PyObject *column[HELD_COLUMNS];
     PyObject *numbers;
+    /* _Pending.planes: the held rows restating G17, for a canon taking
+     * planes with its batches (else NULL) */
+    PyObject *planes;
 } held_t;
 
 static int read_held(PyObject *pending, held_t *held) {
@@ -400,6 +403,12 @@ static int read_held(PyObject *pending, held_t *held) {
         PyErr_SetString(PyExc_TypeError, "rows: the held arcs are thirteen or fourteen lists");
         return -1;
     }
+    PyObject *planes = PyObject_GetAttrString(pending, "planes");
+    if (planes == NULL) {
+        return -1;
+    }
+    held->planes = PyList_CheckExact(planes) ? planes : NULL;
+    Py_DECREF(planes); /* (pending keeps it, or it is None) */
     return 0;
 }
 
@@ -424,6 +433,15 @@ static PyObject *hold(held_t *held, PyObject *line, PyObject **call, PyObject *n
         return NULL;
     }
     Py_RETURN_NONE;
+}
+
+/* The row about to be held restates G17: its index among the held rows
+ * appended to _Pending.planes. 0, or -1 with an exception. */
+static int mark_plane(held_t *held) {
+    PyObject *index = PyLong_FromSsize_t(PyList_GET_SIZE(held->column[0]));
+    int failed = index == NULL || PyList_Append(held->planes, index) < 0;
+    Py_XDECREF(index);
+    return failed ? -1 : 0;
 }
 
 /* straight_row: the end point of a plain straight move (the straight
@@ -653,7 +671,7 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
         }
         code = motion_code(motion);
         /* an arc restating the plane: SELECT_PLANE before its motion */
-        int selects = 0;
+        int selects = 0, told_plane = 0;
         if (line == NULL && any_plane_arcs) {
             selects = PySet_Contains(plane_arcs, key);
             if (selects < 0) {
@@ -661,9 +679,14 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
                 break;
             }
             if (selects && explicit_only) {
-                break; /* (the canon sees its line begin: the general path) */
+                if (held == NULL || held->planes == NULL) {
+                    break; /* (the canon sees its line begin: the general path) */
+                }
+                /* held, the canon told: its SELECT_PLANE after the line begins */
+                told_plane = 1;
             }
-            selects = selects && select_plane != Py_None; /* (None: a no-op) */
+            /* (None: a no-op) */
+            selects = selects && select_plane != Py_None && !told_plane;
         }
         /* held with its N, for a canon that takes numbers with its batches:
          * an arc, or a contour's plain G1 line, without an F (whose call
@@ -791,6 +814,8 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
                 } else if (PyList_GET_SIZE(held->column[0]) == 0 &&
                            PyObject_SetAttrString(pending, "start", cur) < 0) {
                     result = NULL; /* (where the batch begins) */
+                } else if (told_plane && mark_plane(held)) {
+                    result = NULL;
                 } else {
                     result = hold(held, PyList_GET_ITEM(cells, at), call, n);
                 }

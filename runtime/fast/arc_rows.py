@@ -236,9 +236,21 @@ class _Pending:
     (``Canon.contour_moves``; ``contours`` true), the C loop holds the plain
     straight feeds between the arcs too, as rows of rotation 0. For a canon
     that takes N numbers with its batches (``numbered``), each row's N is
-    held too (a fourteenth column), and no N hands the held rows over."""
+    held too (a fourteenth column), and no N hands the held rows over. For
+    a canon that takes restated planes with its batches (``takes_planes``),
+    ``planes`` lists the held rows that restate G17 (its SELECT_PLANE is
+    the canon's to make, after the row's line begins): such a row hands
+    nothing over; else ``planes`` is None."""
 
-    __slots__ = ("machine", "arc_moves", "columns", "start", "contours", "numbered")
+    __slots__ = (
+        "machine",
+        "arc_moves",
+        "columns",
+        "start",
+        "contours",
+        "numbered",
+        "planes",
+    )
 
     #: the line, then arc_feed's twelve arguments
     WIDTH = 13
@@ -257,6 +269,7 @@ class _Pending:
         if pending.contours:
             pending.arc_moves = canon.contour_moves
         pending.numbered = bool(canon.takes_numbers)
+        pending.planes = [] if canon.takes_planes else None
         pending.columns = pending._empty()
         pending.start = machine.current
         return pending
@@ -289,10 +302,12 @@ class _Pending:
         numbers = columns.pop() if self.numbered else None
         if self.contours:
             columns.insert(0, PLANE_AXES[machine.plane])
-        if numbers is None:
-            self.arc_moves(*columns)
-        else:
-            self.arc_moves(*columns, numbers=numbers)
+        told = {}
+        if numbers is not None:
+            told["numbers"] = numbers
+        if self.planes:
+            told["planes"], self.planes = self.planes, []
+        self.arc_moves(*columns, **told)
 
 
 class ArcRows:
@@ -405,16 +420,16 @@ class ArcRows:
         plan = self.plans[int(cells[at + 1])]
         if not (plan.arc or plan.plane_arc):
             return at  # (what _context finds out, at once: rows between arcs)
-        if plan.plane_arc and not self.machine._plain:
+        machine = self.machine
+        if plan.plane_arc and not (machine._plain or machine.canon.takes_planes):
             # (what both loops find out at this row: taking arcs only, they
             # leave an arc restating G17 to its line, whose canon sees the
-            # line begin; the set-up and the hand-over would cost as much
-            # as the line)
+            # line begin, unless the canon takes planes with its batches; the
+            # set-up and the hand-over would cost as much as the line)
             return at
         context = self._context(cells, at)
         if context is None:
             return at
-        machine = self.machine
         # A canon's own arc_moves takes every arc between its other calls.
         if self.pending is False:
             self.pending = _Pending.for_canon(machine)
@@ -523,19 +538,22 @@ class ArcRows:
                         break
                     stride, motion, n, f, point = move
                     arc = None
-                    selects = False
+                    selects = told_plane = False
                 else:
                     motion, has_n, f_at, width, slots, r_at, i1, i2 = recipe
                     # (G17 restated: SELECT_PLANE before the motion)
                     selects = key in plane_arcs
+                    # (held with the restated plane, for a canon taking
+                    # planes: it makes the SELECT_PLANE after the line begins)
+                    told_plane = selects and holding and pending.planes is not None
                     if arcs_only and (
                         (has_n and not (ignores_n or numbered))
                         or f_at >= 0
                         or motion is None
-                        or selects
+                        or (selects and not told_plane)
                     ):
                         break
-                    selects = selects and select_plane is not None
+                    selects = selects and select_plane is not None and not told_plane
                     if (
                         at >= batch_from
                         and (block_n is None or type(canon) is TraceCanon or ignores_n)
@@ -594,6 +612,8 @@ class ArcRows:
                     else:
                         straight_traverse(*point)
                 elif holding:
+                    if told_plane:
+                        pending.planes.append(len(pending.columns[0]))
                     pending.hold(int(cells[at]), point, c1, c2, rotation, axes, cur, n)
                 else:
                     arc_feed(
