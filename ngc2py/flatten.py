@@ -630,8 +630,41 @@ class FlattenCanon(Canon):
             self._check_arc_start(self.machine.current, pos)
         texts = self._contour_texts(axes, columns, pos)
         if texts is None:
-            texts = self._contour_runs(axes, columns, pos)
+            texts = self._contour_pieces(axes, columns, pos)
         self._write_batch(*_with_planes(planes, lines, numbers, texts))
+
+    def _contour_pieces(self, axes, columns, pos: List[float]) -> List[str]:
+        """A contour's text where :meth:`_contour_texts` steps aside: cut
+        at the arcs _arc treats apart (:meth:`_apart`), each written alone
+        (:meth:`_contour_runs`), the pieces between them in one go as
+        before. (One such arc in thousands, a centre no offset gives
+        exactly, had made a whole contour go a row at a time.)"""
+        rotation = columns[4]
+        count = len(rotation)
+        f, s, _ = axes
+        arcs = [i for i, turns in enumerate(rotation) if turns]
+        if ARC_AXES.get(self._plane) is None or not arcs:
+            return self._contour_runs(axes, columns, pos)
+        first_end, second_end = columns[0], columns[1]
+        starts = ([pos[f]] + first_end[:-1], [pos[s]] + second_end[:-1])
+        pick = itemgetter(*arcs) if len(arcs) > 1 else lambda column: (column[arcs[0]],)
+        apart = self._apart(
+            [list(pick(column)) for column in columns[:4]],
+            [list(pick(column)) for column in starts],
+        )
+        cuts = [row for row, alone in zip(arcs, apart) if alone]
+        texts: List[str] = []
+        at = 0
+        for row in cuts + [count]:
+            if at < row:
+                piece = [column[at:row] for column in columns]
+                made = self._contour_texts(axes, piece, pos)
+                texts += self._contour_runs(axes, piece, pos) if made is None else made
+            if row < count:
+                piece = [column[row : row + 1] for column in columns]
+                texts += self._contour_runs(axes, piece, pos)
+            at = row + 1
+        return texts
 
     def _contour_runs(self, axes, columns, pos: List[float]) -> List[str]:
         """A contour's text a run of arcs at a time (:meth:`_arc_texts`)
@@ -1231,11 +1264,12 @@ class FlattenCanon(Canon):
         pos[3:6] = [column[-1] for column in columns[6:9]]
         return texts
 
-    def _arc_texts(self, columns, pos: List[float]) -> List[str]:
+    def _arc_texts(self, columns, pos: List[float], cut: bool = True) -> List[str]:
         """:meth:`_arc` of each arc of a batch (arc_feed's arguments as
         columns), a column of numbers at a time: the very same text. Arcs
         _arc treats apart (no centre, a radius under the tolerance, a centre
-        no relative offset gives exactly) make the whole batch go arc by arc."""
+        no relative offset gives exactly) go arc by arc, the batch ``cut``
+        at them (else all of it arc by arc)."""
         plane = ARC_AXES.get(self._plane)
         first_end, second_end = columns[:2]
         if plane is not None and first_end:
@@ -1249,7 +1283,46 @@ class FlattenCanon(Canon):
                 pos[index[plane[2]]] = columns[5][-1]
                 pos[3:6] = [column[-1] for column in columns[6:9]]
                 return texts
+            if cut:  # the arcs apart alone, the runs between them in one go
+                apart = self._apart(columns[:4], starts)
+                cuts = [k for k, alone in enumerate(apart) if alone]
+                if cuts and len(cuts) < len(first_end):
+                    texts, at = [], 0
+                    for k in cuts + [len(first_end)]:
+                        if at < k:
+                            run = [column[at:k] for column in columns]
+                            texts += self._arc_texts(run, pos, cut=False)
+                        if k < len(first_end):
+                            texts.append(self._arc(tuple(c[k] for c in columns), pos))
+                        at = k + 1
+                    return texts
         return [self._arc(args, pos) for args in zip(*columns)]
+
+    def _apart(self, columns, starts) -> List[bool]:
+        """Which of the arcs (ends and centres: arc_feed's first four
+        columns) starting at ``starts`` :meth:`_arc_words` treats apart,
+        an arc at a time (its checks of a whole batch, one by one)."""
+        first_end, second_end, first_c, second_c = columns[:4]
+        offsets1 = _short_offsets(starts[0], first_c)
+        offsets2 = _short_offsets(starts[1], second_c)
+        tolerance = RADIUS_TOLERANCE_INCH * (1.0 if self._inches else MM_PER_INCH)
+        apart = []
+        for s1, s2, o1, o2, e1, e2, c1, c2 in zip(
+            *starts, offsets1, offsets2, first_end, second_end, first_c, second_c
+        ):
+            try:
+                alone = (
+                    s1 + o1 != c1
+                    or s2 + o2 != c2
+                    or c1 == 0.0
+                    or c2 == 0.0
+                    or hypot(o1, o2) < tolerance
+                    or hypot(e1 - c1, e2 - c2) < tolerance
+                )
+            except TypeError:  # (no offset at all)
+                alone = True
+            apart.append(alone)
+        return apart
 
     def _arc_words(self, columns, starts, befores) -> Optional[List[str]]:
         """The text of arcs (arc_feed's arguments as columns) that start at

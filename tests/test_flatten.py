@@ -543,21 +543,23 @@ def test_a_contour_is_written_as_a_run_of_arcs_and_a_line_at_a_time(
             columns[3][k] = columns[1][k] + data.draw(st.sampled_from([1.0, -2.0]))
     _centres_a_short_offset_away(data, columns, pos, plane)
     answers = []
-    for whole in (True, False):
+    for way in ("whole", "pieces", "runs"):
         canon = FlattenCanon()
         canon._plane, canon._ijk_absolute = plane, absolute
         where = list(pos)
         try:
             texts = None
-            if whole:
+            if way == "whole":
                 texts = canon._contour_texts(axes, [list(c) for c in columns], where)
+            elif way == "pieces":  # (cut at the arcs _arc treats apart)
+                texts = canon._contour_pieces(axes, [list(c) for c in columns], where)
             if texts is None:  # (stepped aside: the same as the runs, surely)
                 where = list(pos)
                 texts = canon._contour_runs(axes, [list(c) for c in columns], where)
         except FlattenError as error:
             texts = str(error)
         answers.append((texts, repr(where), canon._ijk_absolute))
-    assert answers[0] == answers[1]
+    assert answers[0] == answers[2] and answers[1] == answers[2]
 
 
 def test_a_contour_line_to_where_it_is_still_writes_an_axis_word():
@@ -873,3 +875,56 @@ def test_the_line_after_a_call_names_no_call(tmp_path):
     assert answers[0] == answers[1]
     assert re.search(r"^F100 G1 X4  ; \S*p\.ngc:2 <- \S*p\.ngc:6$", answers[0], re.M)
     assert re.search(r"^G0 X9  ; \S*p\.ngc:9$", answers[0], re.M)
+
+
+def test_a_long_contour_is_cut_at_its_arcs_written_apart(monkeypatch):
+    """An arc _arc writes apart (here: a centre on an axis, 0.0) cuts a
+    contour or a run of arcs there: the rest is written in pieces
+    (_arc_words once a piece), not a row at a time, and the text is the
+    rows' own."""
+    from ngc2py import flatten as flat
+
+    rows = 300
+    first, second, c1, c2, turns = [], [], [], [], []
+    for k in range(rows):
+        x, y = 10.0 * (k + 1), 0.0
+        first.append(x)
+        second.append(y)
+        # the centre halfway, 2 above the X axis, now and then on it
+        c1.append(10.0 * k + 5.0)
+        c2.append(2.0 if k % 50 != 7 else 0.0)
+        turns.append(0 if k % 4 == 3 else 1)
+    zeros = [[0.0] * rows for _ in range(7)]
+    columns = [first, second, c1, c2, turns] + zeros
+    counted = []
+    original = flat.FlattenCanon._arc_words
+
+    def counting(self, *args):
+        made = original(self, *args)
+        counted.append(made is not None)
+        return made
+
+    monkeypatch.setattr(flat.FlattenCanon, "_arc_words", counting)
+    answers = []
+    for way in ("_contour_pieces", "_contour_runs"):
+        canon = flat.FlattenCanon()
+        where = [0.0] * 6
+        texts = getattr(canon, way)((0, 1, 2), [list(c) for c in columns], where)
+        answers.append((texts, where))
+        if way == "_contour_pieces":
+            # the pieces between the arcs apart in one go each, every arc
+            # apart tried alone (and written by _arc)
+            apart = sum(1 for k in range(rows) if k % 50 == 7 and turns[k])
+            assert apart == 3 and counted.count(False) == apart, counted
+            assert counted.count(True) <= apart + 1, counted
+    assert answers[0] == answers[1]
+    arcs = [list(c) for c in columns]
+    arcs[4] = [1] * rows
+    del counted[:]
+    canon = flat.FlattenCanon()
+    where = [0.0] * 6
+    texts = canon._arc_texts(arcs, where)
+    # the batch tried whole, then each piece between the six arcs apart
+    assert counted == [False] + [True] * 7, counted
+    where_each = [0.0] * 6
+    assert texts == [canon._arc(args, where_each) for args in zip(*arcs)]
