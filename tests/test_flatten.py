@@ -256,6 +256,23 @@ def test_flat_cycle_table_makes_the_same_moves(text):
     assert_flat_makes_the_same_moves("holes.ngc", text)
 
 
+def _compensated_table() -> str:
+    """A CAM-sized program whose rows run under cutter compensation (its
+    queue then stands for the machine's canon), a pause among them."""
+    lines = ["G21 G90 G17 F300", "G0 X0 Y0 Z1", "G1 Z-1", "G41 D0", "G1 X10 Y0"]
+    lines += ["G1 X%d Y%d" % (10 + k, (k * 7) % 13) for k in range(30)]
+    lines += ["G4 P0.5", "G1 X50 Y3", "G40", "G0 Z5", "M2"]
+    return cam_strategies.cam_sized("\n".join(lines) + "\n")
+
+
+@pytest.mark.rs274
+def test_rows_under_cutter_compensation_are_flattened():
+    """Data rows under cutter compensation go by the general path (the
+    batches' tests of the canon never meet the compensation's queue: an
+    AttributeError, once)."""
+    assert_flat_makes_the_same_moves("comp.ngc", _compensated_table())
+
+
 def test_a_batch_of_moves_is_written_as_one_block_a_move(tmp_path):
     rows = "".join("X%d.25 Y%d\n" % (k, k % 3) for k in range(40))
     text = cam_strategies.cam_sized(

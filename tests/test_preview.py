@@ -584,6 +584,27 @@ def test_shop_programs_match_gcode_parse(text):
     _compare_generated(text)
 
 
+def test_rows_under_cutter_compensation_go_by_the_general_path(tmp_path):
+    """Data rows under cutter compensation (its queue stands for the canon)
+    go by the general path: the same calls as with no fast path for rows
+    at all (an AttributeError, once). gcode.parse crashes on this program."""
+    from runtime.fast import rows
+    from test_flatten import _compensated_table
+
+    program = tmp_path / "comp.ngc"
+    program.write_text(_compensated_table())
+    answers = []
+    for fast in (True, False):
+        with pytest.MonkeyPatch.context() as patch:
+            if not fast:
+                patch.setattr(rows.BatchesOnly, "plain_rows", lambda m, c, at, e, p: at)
+            recorder = Recorder()
+            result = list(ngc2py.parse(str(program), recorder, "G20", ""))
+            answers.append((recorder.calls, result))
+    assert answers[0] == answers[1]
+    assert answers[0][1][0] < MIN_ERROR and len(answers[0][0]) > 60
+
+
 @needs_gcode
 def test_a_contour_restating_g17_on_its_arcs_matches_gcode_parse():
     """A table of lines and arcs with G17 restated on each arc: the arcs

@@ -505,13 +505,15 @@ class BatchesOnly:
             super().restating_row(line, codes, restating, n, words)
 
     def plain_rows(self, cells: List[str], at: int, end: int, plans) -> int:
+        if not self._batchable:
+            return at  # (cutter compensation's queue may stand for the canon)
         canon = self.canon
         # a canon that ignores N numbers, or takes them with the batch, takes
         # rows with one in batches too (the machine keeps the last row's, as
         # block() would)
         ignores_n = ignores_numbers(canon)
         ignores_n = ignores_n or canon.takes_numbers
-        if not self._batchable or (self._block_n is not None and not ignores_n):
+        if self._block_n is not None and not ignores_n:
             return at
         cur, motion_mode = self.current, self.motion_mode
         # A canon that takes columns (the preview's, flatten's) writes rows
