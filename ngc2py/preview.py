@@ -67,7 +67,7 @@ from runtime.arcs import INVERSE_TIME, UNITS_PER_MINUTE, UNITS_PER_REVOLUTION
 from runtime.blockcheck import M_USER
 from runtime.budget import DEFAULT_MAX_STEPS, RUNAWAY
 from runtime.canon import Canon, call_rows, marked
-from runtime.codes import G0, G1, G2, G3, M_OFFSET, g_code, m_code
+from runtime.codes import G0, G1, G2, G3, G4, M_OFFSET, g_code, m_code
 from runtime.errors import GCodeError, g_code_frames, g_code_frames_of_stack, locate
 from runtime.machine import Machine
 from runtime.mcodes import ProgramEnd
@@ -827,6 +827,10 @@ class PreviewMachine(BatchesOnly, Machine):
             else:
                 state = self.line_state(key[0])
                 self.active = self._last_line_state = _LineState(line, state, key)
+
+    def _dwell_ended(self, line, before) -> None:
+        # a G4 line's state shows its G4 (group 0), as block() writes it
+        self.active = self._active((G4,), line)
 
     replayed_fields = frozenset(("active",))
 

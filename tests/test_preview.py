@@ -584,6 +584,32 @@ def test_shop_programs_match_gcode_parse(text):
     _compare_generated(text)
 
 
+@settings(PROFILE)
+@given(text=cam_strategies.hand_drilling())
+def test_a_pause_row_leaves_the_modes_block_leaves(text, tmp_path_factory):
+    """A G4 row taken by the fast path (BatchesOnly.dwell_row) leaves the
+    line codes block() writes, its G4 in group 0 too (which the comparison
+    with gcode.parse leaves out): every call and line code the same."""
+    from runtime.fast import rows
+
+    folder = tmp_path_factory.mktemp("pause")
+    program = folder / "pause.ngc"
+    program.write_text(text)
+    answers = []
+    for fast in (True, False):
+        with pytest.MonkeyPatch.context() as patch:
+            if not fast:  # every pause by block()
+                patch.setattr(
+                    rows.BatchesOnly,
+                    "dwell_row",
+                    lambda m, line, n, p: m.block(line, rows.G4, n=n, p=p),
+                )
+            recorder = Recorder()
+            result = list(ngc2py.parse(str(program), recorder, "G20", ""))
+            answers.append((recorder.calls, result))
+    assert answers[0] == answers[1]
+
+
 def test_rows_under_cutter_compensation_go_by_the_general_path(tmp_path):
     """Data rows under cutter compensation (its queue stands for the canon)
     go by the general path: the same calls as with no fast path for rows

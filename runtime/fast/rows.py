@@ -404,7 +404,7 @@ def run_rows(
                 machine.move(line, plan.motion, n=n, **words)
             elif by_move and plan.arc and plan.motion is not None:
                 machine.arc(line, plan.motion, n=n, **words)
-            elif plan.dwell and not by_move:
+            elif plan.dwell:
                 machine.dwell_row(line, n, words["p"])
             elif plan.cancel and not by_move:
                 machine.cancel_row(line, n)
@@ -490,6 +490,28 @@ class BatchesOnly:
 
     def arc(self, line, *args, **words) -> None:
         self._single_line(super().arc, line, *args, **words)
+
+    def dwell_row(self, line: int, n: Optional[str], seconds: float) -> None:
+        """A row of G4 and P alone (FastPathMixin.dwell_row), its line begun
+        and ended around its DWELL (:meth:`_dwell_ended`), as block() would
+        run it: in the plain state such a line changes nothing else."""
+        if (
+            not self._batchable  # (the plain state: _plain is a line's own here)
+            or self.reading_profile
+            or seconds == -1.0  # (rs274's "no P": block() raises it)
+        ):
+            return self.block(line, G4, n=n, p=seconds)
+        token = self._line_begins(line, n)
+        self.line = line
+        if n != self._block_n:  # (as a move's line: told once, at its start)
+            self.announce_block(n)
+        self.canon.dwell(seconds)
+        self._dwell_ended(line, token)
+
+    def _dwell_ended(self, line: int, token) -> None:
+        """A G4 line has run by the fast path: what _line_ended does for a
+        line of a move (a subclass whose line state shows the G4 says so)."""
+        self._line_ended(line, token)
 
     def restating_row(self, line, codes, restating, n, words) -> None:
         """A row of a move or arc with G90 or G17 restated beside it
