@@ -265,6 +265,21 @@ def _compensated_table() -> str:
     return cam_strategies.cam_sized("\n".join(lines) + "\n")
 
 
+def rows_past_the_end(text: str) -> str:
+    """``text`` (ending at its M2 or M30) CAM-sized by rows past its end,
+    which no run reads: its runs of constant blocks become data tables."""
+    return text + "G0 X0\n" * cam_strategies.MIN_PROGRAM_ROWS
+
+
+@pytest.mark.rs274
+@GENERATED
+@given(strategies.compensated_programs().map(rows_past_the_end))
+def test_flat_compensated_tables_make_the_same_moves(text):
+    """Cutter compensation's programs as data tables (its queue stands for
+    the canon while it is on): flat, the same moves."""
+    assert_flat_makes_the_same_moves("comp.ngc", text)
+
+
 @pytest.mark.rs274
 def test_rows_under_cutter_compensation_are_flattened():
     """Data rows under cutter compensation go by the general path (the
