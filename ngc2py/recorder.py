@@ -139,18 +139,20 @@ class Recorder(ToolpathCanon):
         self.turns += _same("l", 0, rows)
         self.position = self._last = tuple(column[-1] for column in columns)
 
-    def arc_moves(self, lines, *columns):
+    def arc_moves(self, lines, *columns, planes=None):
         """Arcs as ``Canon.arc_moves`` gives them (arc_feed's arguments as
         columns: first_end, second_end, first_axis, second_axis, rotation,
         axis_end, a, b, c, u, v, w)."""
         if self.plane not in PLANE_AXES:
-            return super().arc_moves(lines, *columns)
-        self.contour_moves(PLANE_AXES[self.plane], lines, *columns)
+            return super().arc_moves(lines, *columns, planes=planes)
+        self.contour_moves(PLANE_AXES[self.plane], lines, *columns, planes=planes)
 
-    def contour_moves(self, axes, lines, *columns):
+    def contour_moves(self, axes, lines, *columns, planes=None):
         """Arcs and the G1 lines between them as ``Canon.contour_moves``
         gives them (a line: rotation 0): a row each, as arc_feed and
         straight_feed make them."""
+        if planes and not self._planes_told(planes):
+            return super().contour_moves(axes, lines, *columns, planes=planes)
         rows = len(lines)
         if not rows:
             return

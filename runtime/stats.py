@@ -492,15 +492,17 @@ class StatsCanon(ToolpathCanon):
         _, args, where = moves[-1]
         self.position = tuple(xyz(args, where, count - 1)) + tuple(args[3:])
 
-    def arc_moves(self, lines, *columns):
+    def arc_moves(self, lines, *columns, planes=None):
         """A batch of arcs (runtime.canon.Canon.arc_moves): as a contour of
         arcs alone (:meth:`contour_moves`)."""
         axes = PLANE_AXES.get(self.plane)
         if axes is None:  # a UVW plane: row by row
-            return super().arc_moves(lines, *columns)
-        self.contour_moves(axes, lines, *columns)
+            return super().arc_moves(lines, *columns, planes=planes)
+        self.contour_moves(axes, lines, *columns, planes=planes)
 
-    def contour_moves(self, axes, lines, first_end, second_end, first_axis, *rest):
+    def contour_moves(
+        self, axes, lines, first_end, second_end, first_axis, *rest, planes=None
+    ):
         """Arcs and the straight feeds between them (runtime.canon.Canon.
         contour_moves): the same counts, lengths, extents and times as one
         :meth:`arc` an arc and one :meth:`straight_feed` a line, the loop in
@@ -511,8 +513,13 @@ class StatsCanon(ToolpathCanon):
         columns = (first_end, second_end, first_axis) + rest
         watched = type(self).line is not StatsCanon.line
         # Row by row: a subclass watching moves, inch conversions.
-        if watched or type(self).arc is not StatsCanon.arc or self.inches:
-            return super().contour_moves(axes, lines, *columns)
+        if (
+            watched
+            or type(self).arc is not StatsCanon.arc
+            or self.inches
+            or (planes and not self._planes_told(planes))
+        ):
+            return super().contour_moves(axes, lines, *columns, planes=planes)
         count = len(lines)
         if not count:
             return

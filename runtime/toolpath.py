@@ -269,8 +269,22 @@ class ToolpathCanon(Canon):
     def use_length_units(self, inches: bool):
         self.inches = bool(inches)
 
+    #: a batch's restated G17 (runtime.canon.Canon.takes_planes) leaves the
+    #: XY plane the batch's arcs are in: the protocol's defaults, or the
+    #: batch methods below, which keep it so
+    takes_planes = True
+
     def select_plane(self, plane: str):
         self.plane = plane
+
+    def _planes_told(self, planes) -> bool:
+        """A batch's ``planes`` (its rows restating G17) taken in one go:
+        the plane is XY after each (and before: its arcs are in it), unless
+        a subclass watches select_plane (then False: row by row)."""
+        if type(self).select_plane is not ToolpathCanon.select_plane:
+            return False
+        self.plane = "XY"
+        return True
 
     def _shift(self, kind: str, values: Sequence[float]) -> None:
         new = self._point(tuple(values))

@@ -599,13 +599,17 @@ class _PlaneContours(_NumberedContours):
 
 
 @needs_c
+@pytest.mark.parametrize("batches_only", [True, False])
 @pytest.mark.parametrize("numbered", [False, True])
-def test_arcs_restating_g17_join_the_batches_of_a_canon_taking_planes(numbered):
-    """On a machine taking arcs only in batches (the preview's, flatten's),
-    arcs restating G17 reach a canon that ``takes_planes`` in its batches,
-    the restated rows named (``planes``), in C as in Python; their calls are
-    those of the rows going by their lines (a canon without takes_planes)."""
-    machine = _batches_only_machine()
+def test_arcs_restating_g17_join_the_batches_of_a_canon_taking_planes(
+    numbered, batches_only
+):
+    """On a machine taking arcs only in batches (the preview's, flatten's)
+    or not (the statistics', the toolpath's), arcs restating G17 reach a
+    canon that ``takes_planes`` in its batches, the restated rows named
+    (``planes``), in C as in Python; their calls are those of the rows going
+    by their lines or cutting the batches (a canon without takes_planes)."""
+    machine = _batches_only_machine() if batches_only else None
     code = compile_text(_contour(400, numbered=numbered, restated=True), "arcs.ngc")
     batches = []
 
@@ -637,6 +641,10 @@ def test_arcs_restating_g17_join_the_batches_of_a_canon_taking_planes(numbered):
         _python_only(patch)
         assert _batched(code, Counting, machine) == fast
     assert sum(len(planes) for _, planes in batches) == sum(map(len, held))
+    if numbered and not batches_only:
+        # (there, without planes, the row's N is held with its arc, told
+        # after the SELECT_PLANE the row makes first: no reference)
+        return
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(Counting, "takes_planes", False)
         by_lines = _batched(code, Counting, machine)

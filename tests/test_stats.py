@@ -670,3 +670,49 @@ def test_the_c_distances_give_the_python_ones_bit_for_bit(data):
         assert any(abs(v) > 1e150 for column in columns for v in column)
     else:
         assert repr(got) == repr(want)
+
+
+@settings(PROFILE)
+@given(text=cam_strategies.restating(cam_strategies.arc_programs()))
+def test_arcs_restating_g17_in_batches_report_as_cut_at_each(text, tmp_path_factory):
+    """Arcs restating G17 reach the statistics and the toolpath in their
+    contours (``takes_planes``): the same report and the same moves as when
+    each restated arc cuts the batch (its SELECT_PLANE made between)."""
+    import ngc2py
+    from runtime.toolpath import ToolpathCanon
+
+    folder = tmp_path_factory.mktemp("planes")
+    answers = []
+    for takes in (True, False):
+        with pytest.MonkeyPatch.context() as patch:
+            patch.setattr(ToolpathCanon, "takes_planes", takes)
+            try:
+                report = json.dumps(run_text(folder, text), sort_keys=True)
+                path = ngc2py.toolpath(str(folder / "prog.ngc"))
+                moves = [repr(getattr(path, name).tolist()) for name in ("kind", "end")]
+            except GCodeError as error:
+                report, moves = str(error), None
+        answers.append((report, moves))
+    assert answers[0] == answers[1]
+
+
+def test_a_restated_contour_reaches_the_statistics_in_long_batches(tmp_path):
+    """The rows of a contour restating G17 on every arc are held in the
+    statistics' contours, not handed over at each arc."""
+    batches = []
+    original = StatsCanon.contour_moves
+
+    def counting(self, axes, lines, *columns, planes=None):
+        batches.append((len(lines), len(planes or ())))
+        return original(self, axes, lines, *columns, planes=planes)
+
+    lines = ["G21 G90 G17 G94 F300", "G0 X0 Y0 Z1", "G1 Z-1"]
+    for k in range(200):
+        lines.append("G1 X%d Y0" % (2 * k + 1))
+        lines.append("G17 G%d X%d Y0 R2" % (2 + k % 2, 2 * k + 2))
+    text = cam_strategies.cam_sized("\n".join(lines + ["M2"]) + "\n")
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(StatsCanon, "contour_moves", counting)
+        report = run_text(tmp_path, text)
+    assert report["moves"]["arc"] == 200, report
+    assert sum(planes for _, planes in batches) >= 190 and len(batches) < 10, batches

@@ -678,12 +678,11 @@ static PyObject *rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
                 failed = 1;
                 break;
             }
-            if (selects && explicit_only) {
-                if (held == NULL || held->planes == NULL) {
-                    break; /* (the canon sees its line begin: the general path) */
-                }
+            if (selects && held != NULL && held->planes != NULL) {
                 /* held, the canon told: its SELECT_PLANE after the line begins */
                 told_plane = 1;
+            } else if (selects && explicit_only) {
+                break; /* (the canon sees its line begin: the general path) */
             }
             /* (None: a no-op) */
             selects = selects && select_plane != Py_None && !told_plane;
