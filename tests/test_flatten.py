@@ -862,8 +862,6 @@ def test_where_each_block_comes_from_is_the_stacks(text, tmp_path_factory):
     that led there) is what a walk of the stack at that block finds:
     flatten keeps a walk while its generated frame runs, or while one run
     of data rows runs in one call (machine.rows_run)."""
-    from ngc2py import flatten as flat
-
     ways = ({}, {"_generated_frames": _where_walked})
     answers = _flat_each_way(text, tmp_path_factory.mktemp("where"), ways, "w.ngc")
     assert answers[0] == answers[1]
