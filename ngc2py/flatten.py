@@ -552,6 +552,8 @@ class FlattenCanon(Canon):
 
     #: straight_moves takes numbered rows' N (runtime.canon.Canon)
     takes_numbers = True
+    #: arc batches take restated G17 rows, written G17 then the arc
+    #: (runtime.canon.Canon.takes_planes)
     takes_planes = True
 
     def straight_moves(self, feed, lines, x, y, z, a, b, c, u, v, w, numbers=None):
