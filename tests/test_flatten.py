@@ -529,6 +529,20 @@ def test_a_batch_of_arcs_is_written_as_one_arc_at_a_time(data, plane, inches, ab
             texts = str(error)
         answers.append((texts, repr(where), canon._ijk_absolute))
     assert answers[0] == answers[1]
+    # _apart's checks (an arc at a time) are _arc_words' (a batch at once):
+    # a batch is written whole exactly when no arc of it is apart
+    from ngc2py.flatten import _AXIS_INDEX, ARC_AXES
+
+    canon = FlattenCanon()
+    canon._plane, canon._inches, canon._ijk_absolute = plane, inches, absolute
+    i1, i2 = (_AXIS_INDEX[letter] for letter in ARC_AXES[plane][:2])
+    starts = ([pos[i1]] + columns[0][:-1], [pos[i2]] + columns[1][:-1])
+    befores = [[pos[3 + k]] + columns[6 + k][:-1] for k in range(3)]
+    try:
+        whole = canon._arc_words([list(c) for c in columns], starts, befores)
+    except FlattenError:
+        return
+    assert any(canon._apart(columns[:4], starts)) == (whole is None)
 
 
 @settings(max_examples=300, deadline=None)
