@@ -284,18 +284,23 @@ class Canon:
         Hole k is at ``(first[k], second[k])``, on G-code line ``lines[k]``
         (and has N ``numbers[k]``, which its first call, set_block_number,
         tells, where the recording's told the recorded hole's). By default
-        the recorded calls again, hole by hole."""
+        the recorded calls again, hole by hole, made from columns by
+        ``call_rows``: no Python statement per call."""
         ia, ib = axes
-        before = start
-        for k, here in enumerate(zip(first, second)):
-            if numbers is not None:
-                recording = [("set_block_number", (numbers[k],), None), *recording[1:]]
-            for name, args, where in recording:
-                if where is not None:
-                    args = list(args)
-                    args[ia], args[ib] = here if where == "hole" else before
-                getattr(self, name)(*args)
-            before = here
+        places = {
+            "hole": (first, second),
+            "start": ([start[0]] + first[:-1], [start[1]] + second[:-1]),
+        }
+        steps = []
+        for name, args, where in recording:
+            # (a column of one value serves every hole)
+            columns = [[value] for value in args]
+            if where is not None:
+                columns[ia], columns[ib] = places[where]
+            steps.append((getattr(self, name), tuple(columns)))
+        if numbers is not None:  # (the first call: each hole's own N)
+            steps[0] = (self.set_block_number, (numbers,))
+        call_rows(0, len(first), tuple(steps))
 
     def rigid_tap(self, x, y, z, scale): ...
     def nurbs_feed(self, control_points, order): ...

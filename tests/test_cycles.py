@@ -501,6 +501,66 @@ def test_stats_of_holes_in_batches_are_the_stats_of_each_call(
         assert _stats_report(text) == batched
 
 
+class _LineReading(RecordingCanon):
+    """Reads the machine's line in each call (``reads_lines``), and records
+    it with the call's arguments."""
+
+    reads_lines = True
+    machine = None
+
+    def _record(self, name: str, args: tuple) -> None:
+        super()._record(name, args + (self.machine.line,))
+
+
+def _lines_read(text: str):
+    """The calls (each with the line the machine was at) a canon reading
+    lines gets from ``text``, with the error (or None)."""
+    main = _main_of(text)
+    canon = _LineReading()
+    canon.machine = Machine(canon)
+    try:
+        start(canon.machine, main)
+        error = None
+    except GCodeError as raised:
+        error = str(raised)
+    return canon.calls, canon.numbers, error
+
+
+@PROFILE
+@given(cycle_tables())
+def test_a_canon_reading_lines_gets_each_hole_at_its_own_line(
+    replay_every_series, text
+):
+    """Holes replayed for a canon that reads the machine's line go row by
+    row (a batch would be at its last row's line): each call is made at its
+    own hole's line, as the reference path makes it."""
+    assert _lines_read(text) == _without_replay(_lines_read, text)
+
+
+def test_holes_go_in_batches_to_a_canon_taking_the_protocols_default(monkeypatch):
+    """A canon that neither takes holes its own way nor reads lines (a
+    user's, NullCanon) gets them by the protocol's default batch, whose
+    calls are made in C (the tests above hold them to the reference's)."""
+    from runtime.canon import Canon
+
+    batches = []
+    default = Canon.hole_moves
+
+    def counted(self, recording, lines, *args, **keywords):
+        batches.append(len(lines))
+        default(self, recording, lines, *args, **keywords)
+
+    monkeypatch.setattr(Canon, "hole_moves", counted)
+    rows = "\n".join("X%d Y%d" % (k, k % 3) for k in range(2, 40))
+    text = cam_sized(
+        "G21 G17 F100\nG0 Z5\nG99 G82 X1 Y1 Z-1 R2 P0.5\n" + rows + "\nG80\nM2\n"
+    )
+    canon = RecordingCanon()
+    start(Machine(canon), _main_of(text))
+    assert batches == [38]
+    assert sum(name == "dwell" for name, _ in canon.calls) == 39
+
+
 def test_holes_go_to_a_batch_canon_in_batches():
     """The batch path is taken (so the tests above compare two paths)."""
     rows = "\n".join("X%d Y%d" % (k, k % 3) for k in range(2, 40))

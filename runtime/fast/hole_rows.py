@@ -706,16 +706,26 @@ class HoleRows:
         one at a time whatever the canon takes."""
         machine = self.machine
         canon = machine.canon
+        # a canon that takes holes in batches, or takes the protocol's
+        # default batches (the calls made in C) and never looks at the
+        # machine's line as its calls are made, on a machine keeping nothing
+        # of its own for each row (the preview's line state, by
+        # hole_replayed) whose canon need not see each block begin
+        # (BatchesOnly: flatten's groups are the machine's lines)
+        batches = type(canon).hole_moves is not Canon.hole_moves or not (
+            canon.reads_lines
+            or machine.batches_only
+            or type(machine).hole_replayed is not CyclesMixin.hole_replayed
+        )
         if numbered:
             if self.recorded[0][0] != "set_block_number":
                 return at
-            if type(canon).hole_moves is not Canon.hole_moves and (
-                canon.takes_numbers or ignores_numbers(canon)
-            ):  # (a batch canon that takes N numbers, or ignores them)
+            if batches and (canon.takes_numbers or ignores_numbers(canon)):
+                # (a batch canon that takes N numbers, or ignores them)
                 return self._batches(cells, at, end, final, ia, ib, numbered=True)
             lookup = self._numbered_words
             known = self.numbered.setdefault(machine.plane, {})
-        elif type(canon).hole_moves is not Canon.hole_moves:
+        elif batches:
             return self._batches(cells, at, end, final, ia, ib)
         else:
             lookup = self._hole_words
