@@ -390,6 +390,89 @@ def test_the_c_loop_holds_the_python_loops_arcs(text):
         assert _batched(code) == fast
 
 
+class _RowByRow(RecordingCanon):
+    """Reads lines (so each row's calls reach it alone, the reference for
+    the default batches) and records what RecordingCanon records."""
+
+    reads_lines = True
+
+
+@settings(PROFILE, max_examples=PROFILE.max_examples * 2)
+@given(ARC_PROGRAMS)
+def test_a_canon_without_batch_methods_gets_the_calls_row_by_row(text):
+    """A canon with the protocol's default arc_moves (a user's) gets arcs
+    held by the loops and made one arc_feed an arc in C: the very calls,
+    N numbers, error and end state it gets row by row."""
+    code = compile_text(text, "arcs.ngc")
+    assert _batched(code, RecordingCanon) == _batched(code, _RowByRow)
+
+
+def test_a_canon_without_batch_methods_takes_the_default_batches(monkeypatch):
+    """The default batch is taken (so the test above compares two paths)."""
+    sizes = []
+    default = Canon.arc_moves
+
+    def counted(self, lines, *args, **keywords):
+        sizes.append(len(lines))
+        default(self, lines, *args, **keywords)
+
+    monkeypatch.setattr(Canon, "arc_moves", counted)
+    # (R and IJ arcs in turn: no run of one shape, which goes as one batch
+    # by the loops' own columns whatever the canon)
+    arcs = ("G2 X10 Y0 R6", "G3 X0 Y0 I-5 J0") * 20
+    text = cam_strategies.cam_sized(
+        "G21 G17 F100\nG0 X0 Y0\n%s\nM2\n" % "\n".join(arcs)
+    )
+    code = compile_text(text, "arcs.ngc")
+    calls = _batched(code, RecordingCanon)[0]
+    assert max(sizes) > 30
+    assert sum(name == "arc_feed" for name, _ in calls) == 40
+
+
+class _LinesRecorded(RecordingCanon):
+    """Records the machine's line with each call's arguments."""
+
+    reads_lines = True
+
+    def _record(self, name: str, args: tuple) -> None:
+        super()._record(name, args + (self.machine.line,))
+
+
+def test_a_canon_reading_lines_without_batch_methods_gets_each_arc_at_its_line():
+    """A canon with the default arc_moves that reads the machine's line gets
+    each arc alone, at its own line (a batch would be at its last row's)."""
+    arcs = ("G2 X10 Y0 R6", "G3 X0 Y0 I-5 J0") * 20
+    text = cam_strategies.cam_sized(
+        "G21 G17 F100\nG0 X0 Y0\n%s\nM2\n" % "\n".join(arcs)
+    )
+    lines = [
+        k
+        for k, line in enumerate(text.splitlines(), 1)
+        if line.startswith(("G2 ", "G3 "))
+    ]
+    calls = _batched(compile_text(text, "arcs.ngc"), _LinesRecorded)[0]
+    assert [args[-1] for name, args in calls if name == "arc_feed"] == lines
+
+
+def test_a_batches_only_machine_begins_each_arc_line_for_a_canon_without_them():
+    """A machine whose canon sees each block begin (flatten's, the
+    preview's kind) begins each arc's line for a canon with the default
+    arc_moves: such a canon gets no batches from the loops."""
+    begun = []
+
+    class Counting(_batches_only_machine()):
+        def _line_begins(self, line, n):
+            begun.append(line)
+            super()._line_begins(line, n)
+
+    arcs = ("G2 X10 Y0 R6", "G3 X0 Y0 I-5 J0") * 20
+    text = cam_strategies.cam_sized(
+        "G21 G17 F100\nG0 X0 Y0\n%s\nM2\n" % "\n".join(arcs)
+    )
+    _batched(compile_text(text, "arcs.ngc"), RecordingCanon, Counting)
+    assert len(begun) >= 40
+
+
 @needs_c
 @settings(PROFILE, max_examples=PROFILE.max_examples * 2)
 @given(ARC_PROGRAMS)

@@ -260,7 +260,12 @@ class _Pending:
         canon = machine.canon
         kind = type(canon)
         contours = kind.contour_moves is not Canon.contour_moves
-        if kind is TraceCanon or (kind.arc_moves is Canon.arc_moves and not contours):
+        if kind is TraceCanon:
+            return None
+        if kind.arc_moves is Canon.arc_moves and not contours and canon.reads_lines:
+            # the protocol's default batch (one arc_feed an arc, made in C)
+            # serves any other canon (a user's, NullCanon); one that looks at
+            # the machine's line as its calls are made gets each row alone
             return None
         pending = cls()
         pending.machine, pending.arc_moves = machine, canon.arc_moves
