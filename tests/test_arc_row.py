@@ -408,25 +408,27 @@ def test_a_canon_without_batch_methods_gets_the_calls_row_by_row(text):
 
 
 def test_a_canon_without_batch_methods_takes_the_default_batches(monkeypatch):
-    """The default batch is taken (so the test above compares two paths)."""
+    """The default batch is taken (so the test above compares two paths):
+    contours, the straight feeds between the arcs held with them."""
     sizes = []
-    default = Canon.arc_moves
+    default = Canon.contour_moves
 
-    def counted(self, lines, *args, **keywords):
+    def counted(self, axes, lines, *args, **keywords):
         sizes.append(len(lines))
-        default(self, lines, *args, **keywords)
+        default(self, axes, lines, *args, **keywords)
 
-    monkeypatch.setattr(Canon, "arc_moves", counted)
-    # (R and IJ arcs in turn: no run of one shape, which goes as one batch
-    # by the loops' own columns whatever the canon)
-    arcs = ("G2 X10 Y0 R6", "G3 X0 Y0 I-5 J0") * 20
+    monkeypatch.setattr(Canon, "contour_moves", counted)
+    # (R and IJ arcs in turn, a line between them: no run of one shape,
+    # which goes as one batch by the loops' own columns whatever the canon)
+    rows = ("G2 X10 Y0 R6", "G1 X12", "G3 X2 Y0 I-5 J0", "G1 X0") * 10
     text = cam_strategies.cam_sized(
-        "G21 G17 F100\nG0 X0 Y0\n%s\nM2\n" % "\n".join(arcs)
+        "G21 G17 F100\nG0 X0 Y0\n%s\nM2\n" % "\n".join(rows)
     )
     code = compile_text(text, "arcs.ngc")
     calls = _batched(code, RecordingCanon)[0]
     assert max(sizes) > 30
-    assert sum(name == "arc_feed" for name, _ in calls) == 40
+    assert sum(name == "arc_feed" for name, _ in calls) == 20
+    assert sum(name == "straight_feed" for name, _ in calls) == 20
 
 
 class _LinesRecorded(RecordingCanon):

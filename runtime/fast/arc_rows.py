@@ -262,11 +262,14 @@ class _Pending:
         contours = kind.contour_moves is not Canon.contour_moves
         if kind is TraceCanon:
             return None
-        if kind.arc_moves is Canon.arc_moves and not contours and canon.reads_lines:
-            # the protocol's default batch (one arc_feed an arc, made in C)
-            # serves any other canon (a user's, NullCanon); one that looks at
-            # the machine's line as its calls are made gets each row alone
-            return None
+        if kind.arc_moves is Canon.arc_moves and not contours:
+            # the protocol's default contours (one arc_feed or straight_feed
+            # a row, made in C) serve any other canon (a user's, NullCanon);
+            # one that looks at the machine's line as its calls are made
+            # gets each row alone
+            if canon.reads_lines:
+                return None
+            contours = True
         pending = cls()
         pending.machine, pending.arc_moves = machine, canon.arc_moves
         # (a canon reading lines has each held row's in the batch's lines)
