@@ -436,8 +436,13 @@ def main(argv=None) -> int:
                             "%.2fs" % counting,
                             "",
                             "",
-                            "%.2f us/move over NullCanon (%d moves)"
-                            % ((counting - null) / moves * 1e6, moves),
+                            "%.2f us/move with NullCanon, %.2f more counting"
+                            " (%d moves)"
+                            % (
+                                null / moves * 1e6,
+                                (counting - null) / moves * 1e6,
+                                moves,
+                            ),
                         )
                     )
         if not args.no_golden:
