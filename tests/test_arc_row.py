@@ -757,3 +757,23 @@ def test_the_default_batch_methods_make_a_restated_planes_select_plane(numbered)
         assert canon.numbers == told, (method, canon.numbers)
         planes = [args for name, args in canon.calls if name == "select_plane"]
         assert planes == [("XY",), ("XY",)]
+
+
+def test_the_tables_of_one_program_share_what_their_shapes_tell():
+    """What ArcRows works out from the plans alone (arc_rows._Derived) is
+    made once for all the tables of a module's SHAPES, and never served for
+    other plans, even where a freed list's id comes back."""
+    from runtime.codes import G2
+    from runtime.fast.rows import _Plan
+
+    shapes = [((G2,), ("x", "y", "r")), ((), ("x", "y"))]
+    plans = [_Plan(shape) for shape in shapes]
+    derived = arc_rows._derived(plans)
+    assert arc_rows._derived(plans) is derived
+    assert set(derived.straight) == {"1"} and set(derived.groups) == {"0"}
+    others = [_Plan(shape) for shape in reversed(shapes)]
+    assert arc_rows._derived(others) is not derived
+    assert set(arc_rows._derived(others).straight) == {"0"}
+    # a stale entry under a reused id is made again
+    arc_rows._DERIVED[id(others)] = derived
+    assert arc_rows._derived(others).plans is others

@@ -318,6 +318,59 @@ class _Pending:
         self.arc_moves(*columns, **told)
 
 
+class _Derived:
+    """What ArcRows works out from a table's plans alone, kept for every
+    table of the module's SHAPES: a program that comments, calls or
+    conditions cut into many tables (a shop's) would work it out again for
+    each of them."""
+
+    __slots__ = ("plans", "groups", "straight", "plane_arcs", "known")
+
+    def __init__(self, plans) -> None:
+        self.plans = plans
+        #: shape cell text -> the shape cells of the same words with G2 or
+        #: G3 (their rows can share a batch)
+        by_words: dict = {}
+        for index, plan in enumerate(plans):
+            if plan.arc and plan.motion is not None:
+                # The same words and N or none: the same width.
+                words = (plan.letters, plan.has_n)
+                by_words.setdefault(words, set()).add(str(index))
+        self.groups = {
+            shape: frozenset(shapes) for shapes in by_words.values() for shape in shapes
+        }
+        #: shape cell text -> (motion, has_n, f_at, width, slots) of the
+        #: plain straight moves (runtime.fast.rows._Plan.slots).
+        self.straight = {
+            str(index): (plan.motion, plan.has_n, plan.f_at, plan.width, plan.slots)
+            for index, plan in enumerate(plans)
+            if plan.slots is not None
+        }
+        #: shape cells of arcs that restate G17 (``G17 G2 X Y R``, as some
+        #: posts write every arc): in the XY plane, a SELECT_PLANE before
+        #: the motion, as Machine.plain_arc makes it
+        self.plane_arcs = frozenset(
+            str(index) for index, plan in enumerate(plans) if plan.plane_arc
+        )
+        #: (plane, absolute IJK) -> {shape cell text: row recipe or None}
+        self.known: dict = {}
+
+
+#: id of a module's plans -> their _Derived (kept with them, so that their
+#: id is not another's); at most _MOST_DERIVED (one program has one)
+_DERIVED: dict = {}
+_MOST_DERIVED = 64
+
+
+def _derived(plans) -> _Derived:
+    kept = _DERIVED.get(id(plans))
+    if kept is None or kept.plans is not plans:
+        if len(_DERIVED) >= _MOST_DERIVED:
+            _DERIVED.clear()
+        kept = _DERIVED[id(plans)] = _Derived(plans)
+    return kept
+
+
 class ArcRows:
     """The loop over a run of arc rows of one table (runtime.fast.rows): made
     once per ``run_rows`` call, it keeps each shape's recipe per plane and
@@ -332,6 +385,7 @@ class ArcRows:
         "straight",
         "pending",
         "plane_arcs",
+        "known",
     )
 
     def __init__(self, machine, plans, printed: bool = False) -> None:
@@ -339,27 +393,17 @@ class ArcRows:
         self.plans = plans
         #: (plane, absolute IJK, inches) -> ({shape cell text: row recipe
         #: or None}, geometry: first and second axis, absolute IJK, radius
-        #: tolerance, spiral tolerance)
+        #: tolerance, spiral tolerance); the recipes are the plans' own
+        #: (_Derived), the geometry the machine's
         self.recipes: dict = {}
         #: The table's values are written as the trace prints them
         #: (runtime.fast.printed_rows): the batch form copies their text.
         self.printed = printed
-        #: shape cell text -> the shape cells of the same words with G2 or
-        #: G3 (their rows can share a batch), None for a modal motion.
-        self.groups: Optional[dict] = None
-        #: shape cell text -> (motion, has_n, f_at, width, slots) of the
-        #: plain straight moves (runtime.fast.rows._Plan.slots).
-        self.straight = {
-            str(index): (plan.motion, plan.has_n, plan.f_at, plan.width, plan.slots)
-            for index, plan in enumerate(plans)
-            if plan.slots is not None
-        }
-        #: shape cells of arcs that restate G17 (``G17 G2 X Y R``, as some
-        #: posts write every arc): in the XY plane, a SELECT_PLANE before
-        #: the motion, as Machine.plain_arc makes it
-        self.plane_arcs = frozenset(
-            str(index) for index, plan in enumerate(plans) if plan.plane_arc
-        )
+        derived = _derived(plans)
+        self.groups = derived.groups
+        self.straight = derived.straight
+        self.plane_arcs = derived.plane_arcs
+        self.known = derived.known
         #: The arcs held for the canon's arc_moves (_Pending), None for a
         #: canon without it, False until the first run asks.
         self.pending = False
@@ -410,7 +454,8 @@ class ArcRows:
             zero = arcs.radius_tolerance(machine.inches)
             geometry = PLANE_AXES[plane] + (absolute, zero)
             geometry += (machine.spiral_tolerance(),)
-            context = self.recipes[modes] = ({}, geometry)
+            known = self.known.setdefault((plane, absolute), {})
+            context = self.recipes[modes] = (known, geometry)
         known = context[0]
         key = cells[at + 1]
         if key not in known:
@@ -516,7 +561,7 @@ class ArcRows:
         cur, motion_mode, row, block_n, feed_rate, feed_given, batch_from = state
         # Runs of one shape: written at once (_batch) from batch_from on.
         first = at
-        groups = self.groups if self.groups is not None else self._groups()
+        groups = self.groups
         row_lines = canon.reads_lines  # (ngc2py.moves reads machine.line)
         pending = self.pending
         holding = pending is not None
@@ -663,18 +708,6 @@ class ArcRows:
         for i, axis in slots:
             point[axis] = float(cells[start + i])
         return stride, motion, n, f, point
-
-    def _groups(self) -> dict:
-        by_words: dict = {}
-        for index, plan in enumerate(self.plans):
-            if plan.arc and plan.motion is not None:
-                # The same words and N or none: the same width.
-                words = (plan.letters, plan.has_n)
-                by_words.setdefault(words, set()).add(str(index))
-        self.groups = {
-            shape: frozenset(shapes) for shapes in by_words.values() for shape in shapes
-        }
-        return self.groups
 
     def _batch(self, cells, at, end, recipe, cur, feed_rate, geometry, pending):
         """The run of rows of the shape at ``at`` in one go (_columns), the
