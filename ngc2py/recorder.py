@@ -210,20 +210,24 @@ class Recorder(ToolpathCanon):
         if k != 1.0:
             first, second = [v * k for v in first], [v * k for v in second]
             start = (start[0] * k, start[1] * k)
-        places = {
-            "hole": (first, second),
-            "start": ([start[0]] + first[:-1], [start[1]] + second[:-1]),
-        }
+        # (each column packed once, written at every move of a hole there)
+        hole = (memoryview(_packed("d", first)), memoryview(_packed("d", second)))
+        places = {"hole": hole, "start": (hole[0][:-1], hole[1][:-1])}
         # one hole's moves (nine ends each, in millimetres) repeated for
         # every hole, then the plane's two coordinates of each move written
-        # over them, a column with a stride
+        # over them, a column with a stride (the first hole's start apart:
+        # the tool's place before it)
         width = 9 * per_hole
         ends = array("d", [v for _, args, _ in moves for v in self._point(args)])
         ends *= count
         view = memoryview(ends)
         for j, (_, _, where) in enumerate(moves):
-            for axis, values in zip(axes, places[where]):
-                view[9 * j + axis :: width] = memoryview(_packed("d", values))
+            for axis, column, before in zip(axes, places[where], start):
+                if where == "hole":
+                    view[9 * j + axis :: width] = column
+                else:
+                    view[9 * j + axis] = before
+                    view[9 * j + axis + width :: width] = column
         numbers = _same("l", 0, rows)
         view = memoryview(numbers)
         column = memoryview(_packed("l", lines))

@@ -139,6 +139,25 @@ def test_cycle_tables_give_the_moves_of_one_call_a_move(tmp_path_factory, text):
     compare(tmp_path_factory.mktemp("holes"), text)
 
 
+@pytest.mark.parametrize("inches", [False, True])
+def test_holes_that_climb_to_r_first_where_the_tool_was(tmp_path, inches):
+    """From below R (the series' initial level), each hole first goes
+    straight up where the tool was, the hole before's place (the first's,
+    the tool's before the series): Recorder.hole_moves' moves at the start,
+    against one call a move."""
+    rows = "\n".join("X%d Y%d" % (k, k % 3) for k in range(2, 40))
+    units = "G20" if inches else "G21"
+    compare(
+        tmp_path,
+        cam_strategies.cam_sized(
+            units
+            + " G17 F100\nG0 X-3 Y-4 Z0\nG98 G81 X1 Y1 Z-2 R1\n"
+            + rows
+            + "\nG80\nM2\n"
+        ),
+    )
+
+
 def test_offsets_units_cycles_and_probes(tmp_path):
     compare(
         tmp_path,
