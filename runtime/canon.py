@@ -115,6 +115,21 @@ def _told_numbers(canon, steps: tuple, numbers, planes=None, count=0) -> tuple:
     return ((canon.set_block_number, (numbers,)),) + steps
 
 
+def _rows_called(lines, steps: tuple) -> None:
+    """A batch method's default: ``call_rows`` over the rows of ``lines``
+    (each row's G-code line). An exception a call raises names its row's
+    line (``ngc_row_line``, what runtime.fast.rows tags a row's error
+    with), as when the rows' calls were made one row at a time: a user's
+    canon that stops the program at a move is told where."""
+    began = count()
+    try:
+        call_rows(0, len(lines), ((began.__next__, ()),) + steps)
+    except Exception as error:
+        if getattr(error, "ngc_row_line", None) is None:
+            error.ngc_row_line = lines[next(began) - 1]
+        raise
+
+
 def marked(rows, count: int) -> List[bool]:
     """A mask of ``count`` rows, true at the indexes ``rows``."""
     mask = [False] * count
@@ -201,7 +216,7 @@ class Canon:
         """Straight moves, all feeds (``feed``) or all traverses."""
         call = self.straight_feed if feed else self.straight_traverse
         steps = ((call, (x, y, z, a, b, c, u, v, w)),)
-        call_rows(0, len(lines), _told_numbers(self, steps, numbers))
+        _rows_called(lines, _told_numbers(self, steps, numbers))
 
     def arc_moves(
         self,
@@ -230,9 +245,7 @@ class Canon:
         columns = (first_end, second_end, first_axis, second_axis, rotation)
         arguments = (*columns, axis_end, a, b, c, u, v, w)
         steps = ((self.arc_feed, arguments),)
-        call_rows(
-            0, len(lines), _told_numbers(self, steps, numbers, planes, len(lines))
-        )
+        _rows_called(lines, _told_numbers(self, steps, numbers, planes, len(lines)))
 
     def contour_moves(
         self,
@@ -270,9 +283,7 @@ class Canon:
             (self.arc_feed, (*arcs, a, b, c, u, v, w), None, rotation),
             (self.straight_feed, tuple(point), None, [not turn for turn in rotation]),
         )
-        call_rows(
-            0, len(lines), _told_numbers(self, steps, numbers, planes, len(lines))
-        )
+        _rows_called(lines, _told_numbers(self, steps, numbers, planes, len(lines)))
 
     def hole_moves(self, recording, lines, first, second, axes, start, numbers=None):
         """Holes of a canned cycle drilled alike (runtime.fast.hole_rows):
@@ -300,7 +311,7 @@ class Canon:
             steps.append((getattr(self, name), tuple(columns)))
         if numbers is not None:  # (the first call: each hole's own N)
             steps[0] = (self.set_block_number, (numbers,))
-        call_rows(0, len(first), tuple(steps))
+        _rows_called(lines, tuple(steps))
 
     def rigid_tap(self, x, y, z, scale): ...
     def nurbs_feed(self, control_points, order): ...

@@ -254,3 +254,64 @@ def test_a_canon_exception_in_a_batch_stops_the_run_at_that_call(
     with raises(raised):
         Machine(breaking(Canon, raised, made)(), source=module.__ngc__).run(module.main)
     assert len(made) == AT
+
+
+class _Stopping(Canon):
+    """Raises at the ``at``-th call of ``name`` (a user's canon stopping a
+    simulation at a collision); takes the protocol's default batches."""
+
+    def __init__(self, name: str, at: int) -> None:
+        self.name, self.at, self.made = name, at, 0
+
+    def _made(self, name: str) -> None:
+        if name == self.name:
+            self.made += 1
+            if self.made == self.at:
+                raise RuntimeError("collision")
+
+    def arc_feed(self, *args):
+        self._made("arc_feed")
+
+    def straight_feed(self, *args):
+        self._made("straight_feed")
+
+    def dwell(self, *args):
+        self._made("dwell")
+
+
+class _StoppingRowByRow(_Stopping):
+    reads_lines = True  # (each row's calls alone, at its line: the reference)
+
+
+_CONTOUR = ("G2 X10 Y0 R6", "G1 X12", "G3 X2 Y0 I-5 J0", "G1 X0") * 10
+_HOLES = ["G99 G82 X1 Y1 Z-1 R2 P0.5"] + ["X%d Y%d" % (k, k % 3) for k in range(2, 40)]
+
+
+@pytest.mark.parametrize(
+    "rows, name, at",
+    [
+        (_CONTOUR, "arc_feed", 7),
+        (_CONTOUR, "straight_feed", 9),
+        (_HOLES, "dwell", 12),
+    ],
+)
+def test_a_canon_raising_in_a_batch_names_the_row_that_failed(rows, name, at):
+    """A canon's exception in the middle of a default batch (the arcs of a
+    contour, holes) names the row whose call raised, and leaves the
+    machine at its line, as one row at a time does."""
+    from cam_strategies import cam_sized
+    from ngc2py.compiler import compile_text
+    from runtime import start
+    from runtime.errors import locate
+
+    text = cam_sized("G21 G17 F100\nG0 X0 Y0 Z5\n%s\nG80\nM2\n" % "\n".join(rows))
+    namespace: dict = {"__name__": "stopping"}
+    exec(compile(compile_text(text, "stop.ngc"), "stop.py", "exec"), namespace)
+    found = []
+    for kind in (_Stopping, _StoppingRowByRow):
+        machine = Machine(kind(name, at), source=namespace["__ngc__"])
+        with pytest.raises(RuntimeError) as raised:
+            start(machine, namespace["main"])
+        found.append((locate(raised.value)[-1].line, machine.line))
+    assert found[0] == found[1]
+    assert found[0][0] == found[0][1] < len(text.splitlines()) - 5

@@ -411,7 +411,13 @@ def run_rows(
             else:
                 machine.block(line, *plan.codes, n=n, **words)
     except Exception as error:
-        error.ngc_row_line = machine.line
+        # (a batch's calls may have named the row that failed: the machine
+        # is then at its line, as when its rows run one at a time)
+        line = getattr(error, "ngc_row_line", None)
+        if line is None:
+            error.ngc_row_line = machine.line
+        else:
+            machine.line = line
         raise
     finally:
         machine.rows_run = outer_run
