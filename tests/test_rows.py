@@ -20,6 +20,7 @@ import cam_strategies
 import test_cycles
 from ngc2py import codegen, rowtable
 from ngc2py.compiler import compile_text
+from runtime.fast import rows as rows_module
 from runtime.fast.arc_rows import ArcRows
 from runtime.canon import Canon, RecordingCanon, TraceCanon
 from runtime.errors import GCodeError
@@ -373,23 +374,103 @@ class _FailingCanon(RecordingCanon):
         self._record("straight_feed", args)
 
 
+class _NumbersTold(RecordingCanon):
+    """Records each set_block_number as a call too (a canon keeping N
+    numbers: every one it is told counts)."""
+
+    def set_block_number(self, n) -> None:
+        super().set_block_number(n)
+        self._record("set_block_number", (n,))
+
+
 @PROFILE
 @given(cam_strategies.cam_programs())
 def test_batched_rows_give_a_canon_the_calls_of_row_by_row(text):
     """runtime.fast.rows.straight_batch (runs of one shape, applied in C) against
-    the row-by-row loop: the same calls, values and N numbers."""
+    the row-by-row loop: the same calls, values and N numbers, and for a
+    canon keeping N numbers (numbered rows in batches too) the very
+    set_block_number calls."""
     import runtime.fast.moves
 
     code = compile_text(text, "cam.ngc")
-    batched = RecordingCanon()
+    for kind in (RecordingCanon, _NumbersTold):
+        batched = kind()
+        outcome = _run_recorded(code, batched)
+        saved = runtime.fast.moves.BATCH
+        runtime.fast.moves.BATCH = 10**9  # never a batch
+        try:
+            single = kind()
+            assert _run_recorded(code, single) == outcome
+        finally:
+            runtime.fast.moves.BATCH = saved
+        assert (batched.calls, batched.numbers) == (single.calls, single.numbers)
+
+
+class _LinesRead(_NumbersTold):
+    """Keeps N numbers and reads the machine's line with each call
+    (``reads_lines``): each row's calls at its own line."""
+
+    reads_lines = True
+    machine = None
+
+    def _record(self, name: str, args: tuple) -> None:
+        super()._record(name, args + (self.machine.line,))
+
+
+def test_numbered_rows_reach_a_canon_reading_lines_at_their_lines(monkeypatch):
+    """A canon that keeps N numbers and reads lines gets numbered rows row by
+    row: each call at its own row's line (a batch would be at its last)."""
+    text = "G21 G90 F500\nN5 G1 X0\n" + "".join(
+        "N%d X%d.5 Y%d\n" % (10 * k + 10, k, -k) for k in range(30)
+    )
+    code = compile_text(cam_strategies.cam_sized(text + "M2\n"), "cam.ngc")
+    namespace: dict = {"__name__": "cam"}
+    exec(compile(code, "cam.py", "exec"), namespace)
+    canon = _LinesRead()
+    canon.machine = Machine(canon, source=namespace["__ngc__"])
+    from runtime.main import start
+
+    start(canon.machine, namespace["main"])
+    moved = [args[-1] for name, args in canon.calls if name == "straight_feed"]
+    assert moved == sorted(set(moved)) and len(moved) == 31
+
+
+@pytest.mark.parametrize("fail_at", [None, 2, 3, 5, 12])
+def test_numbered_rows_reach_a_canon_keeping_numbers_in_batches(fail_at, monkeypatch):
+    """Rows with N (some repeated, as posts that number blocks in tens then
+    restate one write them) go in batches to a canon that keeps N numbers:
+    each N told where it changes, as row by row; a move that fails stops
+    where row by row stops."""
+    numbers = [10, 20, 20, 30, 40, 40, 40, 50] * 3
+    text = "G21 G90 F500\nN5 G1 X0\n" + "".join(
+        "N%d X%d.5 Y%d\n" % (n, k, -k) for k, n in enumerate(numbers)
+    )
+    code = compile_text(cam_strategies.cam_sized(text + "M2\n"), "cam.ngc")
+    assert "run_rows(" in code
+    batches = []
+    default = rows_module.call_rows
+
+    def counted(start, stop, steps):
+        batches.append(stop - start)
+        default(start, stop, steps)
+
+    monkeypatch.setattr("runtime.fast.rows.call_rows", counted)
+
+    class Failing(_NumbersTold):
+        moves = 0
+
+        def straight_feed(self, *args):
+            self.moves += 1
+            if self.moves == fail_at:
+                raise RuntimeError("canon failed at move %d" % self.moves)
+            super().straight_feed(*args)
+
+    batched = Failing()
     outcome = _run_recorded(code, batched)
-    saved = runtime.fast.moves.BATCH
-    runtime.fast.moves.BATCH = 10**9  # never a batch
-    try:
-        single = RecordingCanon()
-        assert _run_recorded(code, single) == outcome
-    finally:
-        runtime.fast.moves.BATCH = saved
+    assert batches and max(batches) >= 8  # (the batch path was taken)
+    monkeypatch.setattr("runtime.fast.moves.BATCH", 10**9)
+    single = Failing()
+    assert _run_recorded(code, single) == outcome
     assert (batched.calls, batched.numbers) == (single.calls, single.numbers)
 
 

@@ -41,7 +41,7 @@ if TYPE_CHECKING:
 
 from runtime import arcs
 from runtime.fast import arc_rows
-from runtime.canon import ignores_numbers
+from runtime.canon import Canon, ignores_numbers
 from runtime.codes import G0, G1, G2, G3, G4, G80
 from runtime.fast.rows import BATCH, straight_batch
 from runtime.motion import UNITS_PER_MINUTE
@@ -227,8 +227,15 @@ class FastPathMixin:
         )
         # a canon that reads the line number in its calls (ngc2py.moves)
         row_lines = canon.reads_lines
-        # a canon that ignores N numbers takes rows with one in batches too
+        # a canon that ignores N numbers takes rows with one in batches too,
+        # and one that keeps them, by the protocol's default straight_moves
+        # (each row's N told where it changes, as row by row)
         ignores_n = ignores_numbers(canon)
+        tells_n = not (
+            ignores_n
+            or row_lines
+            or type(canon).straight_moves is not Canon.straight_moves
+        )
         row = at
         try:
             while at < end:
@@ -241,7 +248,7 @@ class FastPathMixin:
                     break
                 motion = motion_mode if plan.motion is None else plan.motion
                 if (
-                    (plan.batch or (plan.batch_n and ignores_n))
+                    (plan.batch or (plan.batch_n and (ignores_n or tells_n)))
                     and end - at >= (plan.width + 2) * BATCH
                     and (motion == G0 or (motion == G1 and feed_rate > 0.0))
                 ):
@@ -249,8 +256,11 @@ class FastPathMixin:
                         canon.set_block_number(None)
                         block_n = None
                     call = feed if motion == G1 else traverse
+                    told = None
+                    if plan.batch_n and tells_n:
+                        told = canon.set_block_number, block_n
                     rows, point, error = straight_batch(
-                        call, cells, at, end, plan, cur, motion == G1
+                        call, cells, at, end, plan, cur, motion == G1, told=told
                     )
                     if rows:
                         at += rows * (plan.width + 2)

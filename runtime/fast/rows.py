@@ -30,7 +30,8 @@ others through ``Machine.block``.
 from __future__ import annotations
 
 from functools import partial
-from itertools import repeat, starmap, takewhile
+from itertools import count, repeat, starmap, takewhile
+from operator import ne
 
 TYPE_CHECKING = False  # typing is not imported at run time: start-up cost
 if TYPE_CHECKING:
@@ -41,7 +42,7 @@ if TYPE_CHECKING:
 from runtime.fast.arc_rows import ArcRows, column_floats, table_lines
 from runtime.fast.hole_rows import HoleRows
 from runtime.blockcheck import DRILL_CYCLES
-from runtime.canon import Canon, TraceCanon, ignores_numbers
+from runtime.canon import Canon, TraceCanon, call_rows, ignores_numbers
 from runtime.codes import (
     G0,
     G1,
@@ -232,12 +233,16 @@ def straight_batch(
     cur,
     feed: bool = True,
     least: int = BATCH,
+    told=None,
 ):
     """Make the canon call ``call`` (straight_feed or straight_traverse, as
     ``feed`` says) for the consecutive rows of ``plan``'s shape from
     ``cells[at]``, which set only axes: ``(rows done, the point after the last, None)``, or
     ``(rows done, ..., the exception)`` when a call raised (the next row's
     failed), or ``(0, None, None)`` for fewer than ``least`` such rows.
+    ``told``: (the canon's set_block_number, the N it was told last), for
+    rows with N and a canon that keeps them: each row's N told before its
+    move where it is not the one before, as row by row.
 
     In a run of one shape the axes it does not name keep their values, so
     the calls' arguments are columns of the table (float() of slices) and
@@ -263,7 +268,23 @@ def straight_batch(
     error = None
     function = getattr(call, "__func__", None)
     canon = getattr(call, "__self__", None)
-    if function in _NO_OPS:
+    if told is not None:
+        # the calls in C, each row's N where it changes (the announcement
+        # and the move of a row, a counter first: where an error stopped)
+        announce, before = told
+        numbers = cells[at + 2 : stop : stride]
+        changed = list(map(ne, numbers, [before] + numbers[:-1]))
+        columns = [[value] for value in cur]
+        for i, axis in plan.slots:
+            columns[axis] = column_floats(cells[first + i : stop : stride])
+        began = count()
+        steps = ((began.__next__, ()), (announce, (numbers,), None, changed))
+        try:
+            call_rows(0, rows, steps + ((call, tuple(columns)),))
+            done = rows
+        except Exception as failed:  # noqa: BLE001 - handed back, raised by the caller
+            done, error = next(began) - 1, failed
+    elif function in _NO_OPS:
         done = rows  # the canon ignores these calls: only the end point counts
     elif type(canon).straight_moves is not _STRAIGHT_MOVES:
         # A canon that takes whole columns (statistics, toolpaths, previews):
