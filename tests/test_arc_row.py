@@ -390,9 +390,16 @@ def test_the_c_loop_holds_the_python_loops_arcs(text):
         assert _batched(code) == fast
 
 
-class _RowByRow(RecordingCanon):
+class _Unnumbered(RecordingCanon):
+    """Records calls and ignores N numbers (the protocol's no-op
+    set_block_number), as a user's canon counting moves does."""
+
+    set_block_number = Canon.set_block_number
+
+
+class _RowByRow(_Unnumbered):
     """Reads lines (so each row's calls reach it alone, the reference for
-    the default batches) and records what RecordingCanon records."""
+    the default batches)."""
 
     reads_lines = True
 
@@ -404,7 +411,7 @@ def test_a_canon_without_batch_methods_gets_the_calls_row_by_row(text):
     held by the loops and made one arc_feed an arc in C: the very calls,
     N numbers, error and end state it gets row by row."""
     code = compile_text(text, "arcs.ngc")
-    assert _batched(code, RecordingCanon) == _batched(code, _RowByRow)
+    assert _batched(code, _Unnumbered) == _batched(code, _RowByRow)
 
 
 def test_a_canon_without_batch_methods_takes_the_default_batches(monkeypatch):
@@ -425,10 +432,14 @@ def test_a_canon_without_batch_methods_takes_the_default_batches(monkeypatch):
         "G21 G17 F100\nG0 X0 Y0\n%s\nM2\n" % "\n".join(rows)
     )
     code = compile_text(text, "arcs.ngc")
-    calls = _batched(code, RecordingCanon)[0]
+    calls = _batched(code, _Unnumbered)[0]
     assert max(sizes) > 30
     assert sum(name == "arc_feed" for name, _ in calls) == 20
     assert sum(name == "straight_feed" for name, _ in calls) == 20
+    # a canon keeping N numbers (its own set_block_number) gets each row
+    # alone: every N would cut a batch
+    sizes.clear()
+    assert _batched(code, RecordingCanon)[0] == calls and not sizes
 
 
 class _LinesRecorded(RecordingCanon):

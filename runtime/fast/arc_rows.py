@@ -266,8 +266,10 @@ class _Pending:
             # the protocol's default contours (one arc_feed or straight_feed
             # a row, made in C) serve any other canon (a user's, NullCanon);
             # one that looks at the machine's line as its calls are made
-            # gets each row alone
-            if canon.reads_lines:
+            # gets each row alone, and so does one keeping N numbers (its
+            # own set_block_number, not takes_numbers): each N would cut its
+            # batches, a batch a numbered row
+            if canon.reads_lines or not (ignores_numbers(canon) or canon.takes_numbers):
                 return None
             contours = True
         pending = cls()
