@@ -57,6 +57,32 @@ def rs274():
     return path
 
 
+@pytest.fixture
+def batch_rows(monkeypatch):
+    """``batch_rows(name)`` patches the protocol's default batch method
+    ``name`` (``runtime.canon.Canon.hole_moves``, ``contour_moves``...) to
+    note how many rows each of its calls takes, and returns the list they
+    go to: a test then knows the batch path was taken."""
+    import inspect
+
+    from runtime.canon import Canon
+
+    def watch(name: str) -> list:
+        default = getattr(Canon, name)
+        # (where ``lines`` comes among the arguments, self apart)
+        at = list(inspect.signature(default).parameters).index("lines") - 1
+        rows: list = []
+
+        def noted(self, *args, **keywords):
+            rows.append(len(args[at]))
+            return default(self, *args, **keywords)
+
+        monkeypatch.setattr(Canon, name, noted)
+        return rows
+
+    return watch
+
+
 def pytest_terminal_summary(terminalreporter, exitstatus, config):
     skipped = terminalreporter.stats.get("skipped", [])
     n = 0

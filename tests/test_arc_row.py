@@ -414,17 +414,10 @@ def test_a_canon_without_batch_methods_gets_the_calls_row_by_row(text):
     assert _batched(code, _Unnumbered) == _batched(code, _RowByRow)
 
 
-def test_a_canon_without_batch_methods_takes_the_default_batches(monkeypatch):
+def test_a_canon_without_batch_methods_takes_the_default_batches(batch_rows):
     """The default batch is taken (so the test above compares two paths):
     contours, the straight feeds between the arcs held with them."""
-    sizes = []
-    default = Canon.contour_moves
-
-    def counted(self, axes, lines, *args, **keywords):
-        sizes.append(len(lines))
-        default(self, axes, lines, *args, **keywords)
-
-    monkeypatch.setattr(Canon, "contour_moves", counted)
+    sizes = batch_rows("contour_moves")
     # (R and IJ arcs in turn, a line between them: no run of one shape,
     # which goes as one batch by the loops' own columns whatever the canon)
     rows = ("G2 X10 Y0 R6", "G1 X12", "G3 X2 Y0 I-5 J0", "G1 X0") * 10

@@ -537,20 +537,11 @@ def test_a_canon_reading_lines_gets_each_hole_at_its_own_line(
     assert _lines_read(text) == _without_replay(_lines_read, text)
 
 
-def test_holes_go_in_batches_to_a_canon_taking_the_protocols_default(monkeypatch):
+def test_holes_go_in_batches_to_a_canon_taking_the_protocols_default(batch_rows):
     """A canon that neither takes holes its own way nor reads lines (a
     user's, NullCanon) gets them by the protocol's default batch, whose
     calls are made in C (the tests above hold them to the reference's)."""
-    from runtime.canon import Canon
-
-    batches = []
-    default = Canon.hole_moves
-
-    def counted(self, recording, lines, *args, **keywords):
-        batches.append(len(lines))
-        default(self, recording, lines, *args, **keywords)
-
-    monkeypatch.setattr(Canon, "hole_moves", counted)
+    batches = batch_rows("hole_moves")
     rows = "\n".join("X%d Y%d" % (k, k % 3) for k in range(2, 40))
     text = cam_sized(
         "G21 G17 F100\nG0 Z5\nG99 G82 X1 Y1 Z-1 R2 P0.5\n" + rows + "\nG80\nM2\n"
