@@ -720,8 +720,13 @@ class HoleRows:
         if numbered:
             if self.recorded[0][0] != "set_block_number":
                 return at
-            if batches and (canon.takes_numbers or ignores_numbers(canon)):
-                # (a batch canon that takes N numbers, or ignores them)
+            if batches and (
+                canon.takes_numbers
+                or ignores_numbers(canon)
+                or type(canon).hole_moves is Canon.hole_moves
+            ):
+                # (a batch canon that takes N numbers, or ignores them; the
+                # default batch tells each hole's N, as a hole row by row)
                 return self._batches(cells, at, end, final, ia, ib, numbered=True)
             lookup = self._numbered_words
             known = self.numbered.setdefault(machine.plane, {})
@@ -799,6 +804,12 @@ class HoleRows:
         them with the batch (``numbers=``; the machine keeps the last row's)."""
         machine = self.machine
         hole_moves = machine.canon.hole_moves
+        # (the default hole_moves tells each hole's N, given numbers; a
+        # canon ignoring them is told none)
+        takes = machine.canon.takes_numbers
+        default = type(machine.canon).hole_moves is Canon.hole_moves and not (
+            ignores_numbers(machine.canon)
+        )
         world, params = machine.world, machine.params
         numbers = None
         while at < end:
@@ -807,7 +818,7 @@ class HoleRows:
             lines: List[int] = []
             firsts: List[float] = []
             seconds: List[float] = []
-            if numbered and machine.canon.takes_numbers:
+            if numbered and (takes or default):
                 numbers = []
             runs, at = self._runs(cells, at, end, machine.plane, numbered)
             for row, stop, first, second, stride, *has_n in runs:
