@@ -451,7 +451,7 @@ def test_replayed_holes_give_a_canon_the_reference_calls(replay_every_series, te
     assert _cycle_calls(text) == _without_replay(_cycle_calls, text)
 
 
-class _NumbersTold(RecordingCanon):
+class NumbersTold(RecordingCanon):
     """Records each set_block_number as a call too (a canon keeping N
     numbers: every one it is told counts)."""
 
@@ -466,8 +466,8 @@ def test_a_canon_keeping_numbers_is_told_each_holes_number(replay_every_series, 
     """Holes replayed for a canon keeping N numbers (numbered rows included,
     in the protocol's default batches) tell it every set_block_number the
     reference path tells it, row by row."""
-    kept = _cycle_calls(text, _NumbersTold)
-    assert kept == _without_replay(lambda text: _cycle_calls(text, _NumbersTold), text)
+    kept = _cycle_calls(text, NumbersTold)
+    assert kept == _without_replay(lambda text: _cycle_calls(text, NumbersTold), text)
 
 
 class _HoleBatches(RecordingCanon):

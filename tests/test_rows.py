@@ -374,13 +374,7 @@ class _FailingCanon(RecordingCanon):
         self._record("straight_feed", args)
 
 
-class _NumbersTold(RecordingCanon):
-    """Records each set_block_number as a call too (a canon keeping N
-    numbers: every one it is told counts)."""
-
-    def set_block_number(self, n) -> None:
-        super().set_block_number(n)
-        self._record("set_block_number", (n,))
+_NumbersTold = test_cycles.NumbersTold  # (a canon keeping N numbers)
 
 
 @PROFILE
