@@ -24,6 +24,7 @@
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
 typedef struct {
@@ -64,15 +65,30 @@ static inline int append(buffer *b, const char *text, Py_ssize_t length) {
     return 0;
 }
 
+/* "00" to "99": two digits a division */
+static const char two_digits[201] =
+    "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
+    "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
+    "8081828384858687888990919293949596979899";
+
 /* Digits of v (v >= 0) into the end of out; returns how many. */
 static int digits_of(unsigned long long v, char *out_end) {
-    int count = 0;
-    do {
-        *--out_end = (char) ('0' + v % 10);
-        v /= 10;
-        count++;
-    } while (v);
-    return count;
+    char *end = out_end;
+    while (v >= 100) {
+        unsigned long long pair = v % 100;
+        v /= 100;
+        out_end -= 2;
+        out_end[0] = two_digits[2 * pair];
+        out_end[1] = two_digits[2 * pair + 1];
+    }
+    if (v >= 10) {
+        out_end -= 2;
+        out_end[0] = two_digits[2 * v];
+        out_end[1] = two_digits[2 * v + 1];
+    } else {
+        *--out_end = (char) ('0' + v);
+    }
+    return (int) (end - out_end);
 }
 
 /* "%.4f" of x into b: 1 done, 0 not an ordinary number (caller falls back),
@@ -477,6 +493,115 @@ static int render_pieces(buffer *b, const char *t, Py_ssize_t length, const piec
     return append(b, t + tail, length - tail) < 0 ? -1 : 1;
 }
 
+/* n bytes from src to dst (non-overlapping) where most copies are a few
+ * bytes (a trace line's pieces): two fixed-size moves that may overlap, no
+ * byte read outside either range, no call for the usual sizes. */
+static inline void copy_short(char *dst, const char *src, Py_ssize_t n) {
+    if (n >= 8 && n <= 16) {
+        uint64_t head, tail;
+        memcpy(&head, src, 8);
+        memcpy(&tail, src + n - 8, 8);
+        memcpy(dst, &head, 8);
+        memcpy(dst + n - 8, &tail, 8);
+    } else if (n >= 4 && n < 8) {
+        uint32_t head, tail;
+        memcpy(&head, src, 4);
+        memcpy(&tail, src + n - 4, 4);
+        memcpy(dst, &head, 4);
+        memcpy(dst + n - 4, &tail, 4);
+    } else if (n > 0 && n < 4) {
+        dst[0] = src[0];
+        dst[n / 2] = src[n / 2];
+        dst[n - 1] = src[n - 1];
+    } else if (n > 16) {
+        memcpy(dst, src, n);
+    }
+}
+
+/* render_pieces for a template of %s, %d and %% alone (every trace
+ * template of rows): each row's arguments looked at once, its room made
+ * once, then its text written without a check or a call a piece. 1 done,
+ * 0 the row needs render_pieces (an argument not an ASCII str or an exact
+ * int), -1 error. ``texts`` and ``sizes``: room for a row's arguments. */
+static int render_short_pieces(buffer *b, const char *t, Py_ssize_t length,
+                               const piece_t *pieces, Py_ssize_t n, Py_ssize_t tail,
+                               Py_ssize_t literal, PyObject *const *columns,
+                               const long long *numbers, const char *is_number,
+                               Py_ssize_t i, const char **texts, Py_ssize_t *sizes,
+                               long long *values) {
+    Py_ssize_t room = literal, k = 0;
+    for (Py_ssize_t j = 0; j < n; j++) {
+        const piece_t *piece = &pieces[j];
+        if (piece->conversion == '%') {
+            continue;
+        }
+        if (piece->conversion == 's') {
+            PyObject *arg = is_number[k] ? NULL : PySequence_Fast_GET_ITEM(columns[k], i);
+            if (arg == NULL || !PyUnicode_CheckExact(arg) || !PyUnicode_IS_COMPACT_ASCII(arg)) {
+                return 0;
+            }
+            texts[k] = (const char *) PyUnicode_DATA(arg);
+            sizes[k] = PyUnicode_GET_LENGTH(arg);
+        } else {
+            if (is_number[k]) {
+                values[k] = numbers[k];
+            } else if (!int_argument(PySequence_Fast_GET_ITEM(columns[k], i), &values[k])) {
+                return 0;
+            }
+            sizes[k] = 24;  /* a long long's digits and sign, at most */
+        }
+        room += (sizes[k] > piece->width ? sizes[k] : piece->width);
+        k++;
+    }
+    if (reserve(b, room) < 0) {
+        return -1;
+    }
+    char *out = b->data + b->size;
+    k = 0;
+    for (Py_ssize_t j = 0; j < n; j++) {
+        const piece_t *piece = &pieces[j];
+        copy_short(out, t + piece->at, piece->length);
+        out += piece->length;
+        if (piece->conversion == '%') {
+            *out++ = '%';
+            continue;
+        }
+        const char *text;
+        Py_ssize_t size;
+        char digits[32];
+        if (piece->conversion == 's') {
+            text = texts[k];
+            size = sizes[k];
+        } else {
+            long long value = values[k];
+            unsigned long long magnitude =
+                value < 0 ? 0ULL - (unsigned long long) value : (unsigned long long) value;
+            char *digits_end = digits + sizeof(digits);
+            size = digits_of(magnitude, digits_end);
+            if (value < 0) {
+                digits_end[-++size] = '-';
+            }
+            text = digits_end - size;
+        }
+        k++;
+        Py_ssize_t spaces = piece->width > size ? piece->width - size : 0;
+        if (spaces && !piece->left) {
+            memset(out, ' ', spaces);
+            out += spaces;
+        }
+        copy_short(out, text, size);
+        out += size;
+        if (spaces && piece->left) {
+            memset(out, ' ', spaces);
+            out += spaces;
+        }
+    }
+    copy_short(out, t + tail, length - tail);
+    out += length - tail;
+    b->size = out - b->data;
+    return 1;
+}
+
 /* The text of ``rows`` rows of ``count`` conversions: conversion k of row i
  * is the number starts[k] + i * steps[k] where is_number[k] is set, else
  * item i of columns[k] (borrowed: each a PySequence_Fast of at least
@@ -494,6 +619,9 @@ static PyObject *render_rows(PyObject *template, Py_ssize_t count, Py_ssize_t ro
     PyObject *row = PyTuple_New(count);
     PyObject *result = NULL;
     piece_t *pieces = NULL;
+    const char **texts = NULL;
+    Py_ssize_t *sizes = NULL;
+    long long *values = NULL;
     buffer b;
     b.data = b.inline_data;
     b.size = 0;
@@ -520,6 +648,23 @@ static PyObject *render_rows(PyObject *template, Py_ssize_t count, Py_ssize_t ro
     if (pieces) {
         n = read_template(t, length, count, pieces, most, &tail);
     }
+    /* a template of %s, %d and %% alone: render_short_pieces, with room
+     * for one row's arguments and the length of its literal text */
+    int short_pieces = n >= 0;
+    Py_ssize_t literal = n >= 0 ? length - tail : 0;
+    for (Py_ssize_t j = 0; j < n; j++) {
+        literal += pieces[j].length + (pieces[j].conversion == '%');
+        short_pieces = short_pieces && pieces[j].conversion != 'f';
+    }
+    if (short_pieces && count) {
+        texts = PyMem_Malloc(count * sizeof(const char *));
+        sizes = PyMem_Malloc(count * sizeof(Py_ssize_t));
+        values = PyMem_Malloc(count * sizeof(long long));
+        if (!texts || !sizes || !values) {
+            PyErr_NoMemory();
+            goto done;
+        }
+    }
     for (Py_ssize_t i = 0; i < rows; i++) {
         if (n >= 0) {
             for (Py_ssize_t c = 0; c < count; c++) {
@@ -528,8 +673,16 @@ static PyObject *render_rows(PyObject *template, Py_ssize_t count, Py_ssize_t ro
                 }
             }
             Py_ssize_t before = b.size;
-            int made = render_pieces(&b, t, length, pieces, n, tail, columns, numbers,
+            int made = 0;
+            if (short_pieces) {
+                made = render_short_pieces(&b, t, length, pieces, n, tail, literal, columns,
+                                           numbers, is_number, i, texts, sizes, values);
+            }
+            if (made == 0) {
+                b.size = before;
+                made = render_pieces(&b, t, length, pieces, n, tail, columns, numbers,
                                      is_number, i, &ascii);
+            }
             if (made < 0) {
                 goto done;
             }
@@ -592,6 +745,9 @@ static PyObject *render_rows(PyObject *template, Py_ssize_t count, Py_ssize_t ro
     }
 done:
     PyMem_Free(pieces);
+    PyMem_Free(texts);
+    PyMem_Free(sizes);
+    PyMem_Free(values);
     PyMem_Free(numbers);
     Py_XDECREF(row);
     if (b.data != b.inline_data) {
