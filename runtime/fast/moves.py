@@ -236,20 +236,37 @@ class FastPathMixin:
             or row_lines
             or type(canon).straight_moves is not Canon.straight_moves
         )
+        # a pause between moves (a hand-drilling program's G4 P at each
+        # hole's bottom) is taken here too, as dwell_row takes it
+        pauses = type(self).dwell_row is FastPathMixin.dwell_row
+        dwell = canon.dwell
         row = at
         try:
             while at < end:
                 row = at
                 if row_lines:
                     self.line = int(cells[at])
-                plan = plans[int(cells[at + 1])]
+                key = cells[at + 1]
+                plan = plans[int(key)]
                 slots = plan.slots
                 if slots is None:
-                    break
+                    if not (plan.dwell and pauses):
+                        break
+                    seconds = float(cells[at + 3 if plan.has_n else at + 2])
+                    if seconds == -1.0:  # (rs274's "no P": block() raises it)
+                        break
+                    block_n = cells[at + 2] if plan.has_n else None
+                    canon.set_block_number(block_n)  # (every pause's line, as block())
+                    dwell(seconds)
+                    at += 2 + plan.width
+                    continue
                 motion = motion_mode if plan.motion is None else plan.motion
+                stride = plan.width + 2
                 if (
                     (plan.batch or (plan.batch_n and (ignores_n or tells_n)))
-                    and end - at >= (plan.width + 2) * BATCH
+                    and end - at >= stride * BATCH
+                    # (a batch is of rows of one shape: the next row's first)
+                    and cells[at + 1 + stride] == key
                     and (motion == G0 or (motion == G1 and feed_rate > 0.0))
                 ):
                     if block_n is not None and plan.batch:
