@@ -576,11 +576,16 @@ class BatchesOnly:
         try:
             while at < end:
                 row = at
-                plan = plans[int(cells[at + 1])]
+                key = cells[at + 1]
+                plan = plans[int(key)]
                 motion = motion_mode if plan.motion is None else plan.motion
+                stride = plan.width + 2
                 if not (
                     (plan.batch or (plan.batch_n and ignores_n))
-                    and end - at >= (plan.width + 2) * least
+                    and end - at >= stride * least
+                    # (a batch is of rows of one shape, two at least: the
+                    # next row's first)
+                    and cells[at + 1 + stride] == key
                     and (motion == G0 or (motion == G1 and self.feed_rate > 0.0))
                 ):
                     break
