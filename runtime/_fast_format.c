@@ -1077,7 +1077,26 @@ static PyObject *set_feed_rate(TraceLines *self, PyObject *rate) {
     return add_line(self, line);
 }
 
+/* _emit(text): a line of any call (its text made by TraceCanon's Python
+ * method), numbered and with the N column, as the Python twin makes it. */
+static PyObject *emit(TraceLines *self, PyObject *text) {
+    self->count++;
+    PyObject *count = PyLong_FromSsize_t(self->count);
+    if (!count) {
+        return NULL;
+    }
+    PyObject *line_args = PyTuple_Pack(3, count, column_of(self), text);
+    Py_DECREF(count);
+    if (!line_args) {
+        return NULL;
+    }
+    PyObject *line = formatted("%5d %s%s\n", line_args);
+    Py_DECREF(line_args);
+    return add_line(self, line);
+}
+
 static PyMethodDef trace_methods[] = {
+    {"_emit", (PyCFunction) emit, METH_O, NULL},
     {"straight_feed", (PyCFunction) (void (*)(void)) straight_feed, METH_FASTCALL, NULL},
     {"straight_traverse", (PyCFunction) (void (*)(void)) straight_traverse, METH_FASTCALL, NULL},
     {"arc_feed", (PyCFunction) (void (*)(void)) arc_feed, METH_FASTCALL, NULL},

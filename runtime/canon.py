@@ -637,6 +637,13 @@ class PythonTraceLines:
         if self._count >= self._drain_at:
             self._drain()
 
+    def _emit(self, text: str) -> None:
+        """A line of any other call (its text made by TraceCanon)."""
+        self._count += 1
+        self._write(f"{self._count:5d} {self._column}{text}\n")
+        if self._count >= self._drain_at:
+            self._drain()
+
 
 try:
     from runtime._fast_format import TraceLines as _TraceLines
@@ -697,12 +704,6 @@ class TraceCanon(_TraceLines, Canon):
 
     def set_block_number(self, n: Optional[str]) -> None:
         self._column = "N..... " if n is None else f"N{n:<6}"
-
-    def _emit(self, text: str) -> None:
-        self._count += 1
-        self._write(f"{self._count:5d} {self._column}{text}\n")
-        if self._count >= self._drain_at:
-            self._drain()
 
     # --- representation -------------------------------------------------
     def set_g5x_offset(self, index, x, y, z, a, b, c, u, v, w):
