@@ -898,7 +898,8 @@ done:
 
 /*
  * TraceLines: runtime.canon.TraceCanon's base where this was built, with
- * its three commonest calls in C. The state stays visible to TraceCanon's
+ * its commonest calls in C, and _emit, which numbers and queues the line of
+ * any call whose text TraceCanon makes in Python. The state stays visible to TraceCanon's
  * Python methods as attributes: _count, _drain_at, _column, _pending (the
  * list of lines waiting), _a/_b/_c (the rotary axes last printed) and _abc
  * (their text). Each call appends one line to _pending and calls
