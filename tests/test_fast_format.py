@@ -196,7 +196,9 @@ _CALL = st.one_of(
     ),
     st.tuples(st.just("same_rotary_axes"), st.lists(_AXIS, min_size=3, max_size=3)),
     # calls whose text TraceCanon makes in Python, numbered by _emit
-    st.tuples(st.just("comment"), st.lists(st.text(max_size=8), min_size=1, max_size=1)),
+    st.tuples(
+        st.just("comment"), st.lists(st.text(max_size=8), min_size=1, max_size=1)
+    ),
     st.tuples(st.just("dwell"), st.lists(_AXIS, min_size=1, max_size=1)),
     st.tuples(st.just("_emit"), st.lists(st.text(max_size=8), min_size=1, max_size=1)),
 )
