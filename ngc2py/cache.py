@@ -51,6 +51,8 @@ if TYPE_CHECKING:
     from typing import List, Optional, Tuple, Union
 
 ENV = "NGC2PY_CACHE"
+#: The cache's size limit (ngc2py/cache_sweep.py reads it).
+SIZE_ENV = "NGC2PY_CACHE_SIZE"
 
 
 def cache_dir() -> str:
@@ -226,6 +228,12 @@ def cached_module(
         key = cache_key(path, ini, block_delete)
     except OSError as error:
         raise open_failure(path, error) from None
+    if os.environ.get(SIZE_ENV, "").strip():
+        from ngc2py.cache_sweep import size_limit
+
+        # a bad setting fails every run, not only one that writes an entry
+        # (read only where it is set: its module is not imported otherwise)
+        size_limit()
     folder = cache_dir()
     for entry in (key, _named_key(key, path)):
         module = _current_entry(folder, entry)

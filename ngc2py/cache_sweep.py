@@ -25,13 +25,13 @@ import re
 import subprocess
 import sys
 
+from ngc2py.cache import SIZE_ENV
 from ngc2py.compiler import CompileError
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:
     from typing import Dict, List, Optional
 
-SIZE_ENV = "NGC2PY_CACHE_SIZE"
 DEFAULT_SIZE = 1 << 30
 #: A sweep leaves the entries filling this much of the limit (so that the
 #: next misses do not each find it over again).

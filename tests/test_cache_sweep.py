@@ -241,6 +241,18 @@ def test_a_bad_size_fails_a_miss_before_anything_is_written(tmp_path, monkeypatc
     assert not (tmp_path / "c").exists()
 
 
+def test_a_bad_size_fails_a_hit_too(tmp_path, monkeypatch):
+    """The same setting fails every run, whether its program is cached."""
+    monkeypatch.setenv(cache.ENV, str(tmp_path / "c"))
+    (tmp_path / "p.ngc").write_text(PROGRAM)
+    module = cache.cached_module(str(tmp_path / "p.ngc"))
+    monkeypatch.setenv(cache_sweep.SIZE_ENV, "lots")
+    with pytest.raises(SizeError, match=cache_sweep.SIZE_ENV):
+        cache.cached_module(str(tmp_path / "p.ngc"))
+    monkeypatch.setenv(cache_sweep.SIZE_ENV, " 2G ")
+    assert cache.cached_module(str(tmp_path / "p.ngc")) == module
+
+
 def test_the_help_names_the_cache_settings_and_the_default(monkeypatch):
     from ngc2py import cli
 
