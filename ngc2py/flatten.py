@@ -167,9 +167,10 @@ def _python_words(prefix: str, values: Sequence[float]) -> Optional[List[str]]:
 
 
 try:  # the same, in C (runtime/_fast_format.c); optional
+    from runtime._fast_format import move_text as _fast_move
     from runtime._fast_format import words as _fast_words
 except ImportError:  # pragma: no cover - the extension was not built
-    _fast_words = None
+    _fast_words = _fast_move = None
 
 
 def _words(prefix: str, values: Sequence[float]) -> List[str]:
@@ -1181,6 +1182,17 @@ class FlattenCanon(Canon):
         return changes
 
     def _move(self, code: str, args: Sequence[float], pos: List[float]) -> str:
+        """A straight move's line: ``code``, then the axes that changed
+        from ``pos`` (which it then holds); in C where it is built (every
+        move of a line of its own: a hole's way in, a shop's single moves)."""
+        if _fast_move is not None:
+            text = _fast_move(code, args, pos)
+            if text is not None:
+                return text
+        return self._python_move(code, args, pos)
+
+    def _python_move(self, code: str, args: Sequence[float], pos: List[float]) -> str:
+        """:meth:`_move` in Python (runtime._fast_format.move_text's twin)."""
         words = []
         for k in range(6):
             value, was = args[k], pos[k]

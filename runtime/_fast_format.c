@@ -1237,6 +1237,115 @@ static PyObject *words(PyObject *self, PyObject *const *args, Py_ssize_t nargs) 
     return out;
 }
 
+/* The text ngc2py.flatten.number writes for an ordinary value into out
+ * (room for 40): its length, or 0 where number() itself must decide (not
+ * finite, 1e15 or more, an exponent in its digits). */
+static Py_ssize_t number_text(double v, char *out) {
+    if (!isfinite(v) || fabs(v) >= 1e15) {
+        return 0;
+    }
+    Py_ssize_t length = grid_text(v, out);
+    if (length) {
+        return length;
+    }
+    char *text = PyOS_double_to_string(v, 'r', 0, 0, NULL);
+    if (!text) {
+        PyErr_Clear();
+        return 0;
+    }
+    length = (Py_ssize_t) strlen(text);
+    if (strchr(text, 'e') || length >= 40) {
+        length = 0;
+    } else {
+        memcpy(out, text, (size_t) length);
+    }
+    PyMem_Free(text);
+    return length;
+}
+
+/*
+ * move_text(code, args, pos): ngc2py.flatten's text of a straight move (the
+ * code, then a word for each of X Y Z A B C that differs from pos: not the
+ * very same float, or not equal, or a zero of the other sign; X alone when
+ * none does), pos[:6] then set to args[:6]. None, pos untouched, where a
+ * value is not a float or its digits are number()'s to write.
+ */
+static PyObject *move_text(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    if (nargs != 3 || !PyUnicode_Check(args[0]) || !PyList_Check(args[2])) {
+        PyErr_SetString(PyExc_TypeError, "move_text(code: str, args, pos: list)");
+        return NULL;
+    }
+    PyObject *code = args[0], *pos = args[2];
+    PyObject *given = PySequence_Fast(args[1], "move_text(): args must be a sequence");
+    if (!given) {
+        return NULL;
+    }
+    PyObject *result = NULL;
+    if (!PyUnicode_IS_ASCII(code) || PySequence_Fast_GET_SIZE(given) < 6 ||
+        PyList_GET_SIZE(pos) < 6) {
+        result = Py_None;
+        Py_INCREF(result);
+        goto done;
+    }
+    static const char letters[] = "XYZABC";
+    char text[6 * 42 + 64];
+    Py_ssize_t length = PyUnicode_GET_LENGTH(code);
+    if (length > 60) {
+        result = Py_None;
+        Py_INCREF(result);
+        goto done;
+    }
+    memcpy(text, PyUnicode_1BYTE_DATA(code), (size_t) length);
+    int written = 0;
+    for (int k = 0; k < 6; k++) {
+        PyObject *value = PySequence_Fast_GET_ITEM(given, k), *was = PyList_GET_ITEM(pos, k);
+        if (!PyFloat_CheckExact(value) || !PyFloat_CheckExact(was)) {
+            result = Py_None;
+            Py_INCREF(result);
+            goto done;
+        }
+        double v = PyFloat_AS_DOUBLE(value), w = PyFloat_AS_DOUBLE(was);
+        if (value == was || (v == w && (v != 0.0 || signbit(v) == signbit(w)))) {
+            continue;
+        }
+        text[length++] = ' ';
+        text[length++] = letters[k];
+        Py_ssize_t size = number_text(v, text + length);
+        if (!size) {
+            result = Py_None;
+            Py_INCREF(result);
+            goto done;
+        }
+        length += size;
+        written++;
+    }
+    if (!written) {  /* a move to where it is: still one axis word */
+        double v = PyFloat_AS_DOUBLE(PySequence_Fast_GET_ITEM(given, 0));
+        text[length++] = ' ';
+        text[length++] = 'X';
+        Py_ssize_t size = number_text(v, text + length);
+        if (!size) {
+            result = Py_None;
+            Py_INCREF(result);
+            goto done;
+        }
+        length += size;
+    }
+    result = PyUnicode_New(length, 127);
+    if (!result) {
+        goto done;
+    }
+    memcpy(PyUnicode_1BYTE_DATA(result), text, (size_t) length);
+    for (int k = 0; k < 6; k++) {
+        PyObject *value = PySequence_Fast_GET_ITEM(given, k);
+        Py_INCREF(value);
+        PyList_SetItem(pos, k, value);  /* steals the reference */
+    }
+done:
+    Py_DECREF(given);
+    return result;
+}
+
 /*
  * short_offsets(starts, centres): for each arc, centre - start, or that
  * rounded to four decimals (nearbyint(x * 10000) / 10000, as the Python
@@ -1309,6 +1418,8 @@ static PyObject *float_bits(PyObject *self, PyObject *const *args, Py_ssize_t na
 }
 
 static PyMethodDef methods[] = {
+    {"move_text", (PyCFunction) (void (*)(void)) move_text, METH_FASTCALL,
+     "move_text(code, args, pos): flatten's text of a straight move, or None."},
     {"float_bits", (PyCFunction) (void (*)(void)) float_bits, METH_FASTCALL,
      "float_bits(values, start, stop): array('d', values[start:stop]).tobytes()."},
     {"percent", (PyCFunction) (void (*)(void)) percent, METH_FASTCALL,

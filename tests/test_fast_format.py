@@ -400,6 +400,48 @@ def test_words_are_flattens_numbers(values, prefix):
     assert (words(prefix, list(values)) is not None) == (plain and prefix.isascii())
 
 
+@settings(max_examples=500)
+@given(
+    st.lists(_WORD_VALUES, min_size=9, max_size=9),
+    st.lists(
+        _WORD_VALUES | st.sampled_from([float("nan"), float("inf")]),
+        min_size=6,
+        max_size=6,
+    ),
+    st.lists(st.booleans(), min_size=6, max_size=6),
+    st.sampled_from(["G0", "G1", "G38.2"]),
+)
+@example([0.0] * 9, [-0.0] * 6, [False] * 6, "G1")
+@example([1.5] * 9, [1.5] * 6, [False] * 6, "G0")
+def test_a_moves_text_in_c_is_flattens(args, pos, shared, code):
+    """move_text(code, args, pos) writes a straight move's line as
+    flatten's Python twin does (the axes that changed from pos: not the
+    same float, not equal, a zero of the other sign; X alone when none
+    did), and leaves pos as it does; or answers None, pos untouched, and
+    leaves it to the twin (a value number() itself must write)."""
+    from ngc2py.flatten import FlattenCanon
+    from runtime._fast_format import move_text
+
+    # an axis the move leaves alone passes the very same float object on
+    args = tuple(pos[k] if shared[k] else args[k] for k in range(6)) + tuple(args[6:])
+    theirs = list(pos)
+    try:
+        expected = FlattenCanon._python_move(None, code, args, theirs)
+    except ValueError:  # number() of nan or inf (no move goes there)
+        expected = None
+    ours = list(pos)
+    made = move_text(code, args, ours)
+    if made is None:
+        assert all(a is b for a, b in zip(ours, pos))  # untouched
+        plain = all(
+            math.isfinite(v) and abs(v) < 1e15 and "e" not in repr(v) for v in args[:6]
+        )
+        assert not plain or expected is None
+    else:
+        assert made == expected
+        assert all(a is b for a, b in zip(ours, theirs))
+
+
 @settings(max_examples=300)
 @given(
     st.lists(
