@@ -985,6 +985,13 @@ class FlattenCanon(Canon):
                 i += 1
                 continue
             name, args = calls[i]
+            if name in _PLAIN_MOVES and pending_f is None and self._pitch is None:
+                # a straight move (a hole's every move): what its writer
+                # writes, without the cursor's look at the calls around it
+                # (G33's passes, which a writer may begin in this loop, not)
+                out.append(self._move(_PLAIN_MOVES[name], args, pos))
+                i += 1
+                continue
             if name in _SPINDLE_ALONE:
                 self._check_spindle(name, args[0])
             at.i = i
