@@ -435,6 +435,62 @@ def test_a_canon_without_batch_methods_takes_the_default_batches(batch_rows):
     assert _batched(code, RecordingCanon)[0] == calls and not sizes
 
 
+class _FailingAt(RecordingCanon):
+    """Keeps N numbers (RecordingCanon's own set_block_number) and fails at
+    its ``fail_at``-th move, as a user's collision check would."""
+
+    fail_at = None
+    moves = 0
+
+    def _record(self, name: str, args: tuple) -> None:
+        if name in ("arc_feed", "straight_feed", "straight_traverse"):
+            self.moves += 1
+            if self.moves == self.fail_at:
+                raise GCodeError("collision at move %d" % self.moves)
+        super()._record(name, args)
+
+
+@needs_c
+@settings(PROFILE, max_examples=PROFILE.max_examples * 2)
+@given(ARC_PROGRAMS, st.sampled_from([None, 1, 2, 3, 5, 8, 13]))
+def test_a_canon_keeping_numbers_gets_the_python_loops_calls_from_the_c_loop(
+    text, fail_at
+):
+    """A canon keeping N numbers, with the default batch methods, gets each
+    row's calls made one by one in C (every N would cut a batch): the very
+    calls, N numbers, error and end state the Python loop gives it, also
+    when one of its moves fails."""
+
+    class Failing(_FailingAt):
+        pass
+
+    Failing.fail_at = fail_at
+    code = compile_text(text, "arcs.ngc")
+    fast = _batched(code, Failing)
+    with pytest.MonkeyPatch.context() as patch:
+        _python_only(patch)
+        assert _batched(code, Failing) == fast
+
+
+@needs_c
+def test_a_canon_keeping_numbers_takes_the_c_loop(monkeypatch):
+    """The C loop is taken (so the test above compares two paths)."""
+    taken = []
+    default = arc_rows.rows_in_c
+
+    def counted(*args):
+        taken.append(args[1])
+        return default(*args)
+
+    monkeypatch.setattr(arc_rows, "rows_in_c", counted)
+    rows = ("N10 G2 X10 Y0 R6", "N20 G3 X0 Y0 I-5 J0") * 10
+    text = cam_strategies.cam_sized(
+        "G21 G17 F100\nG0 X0 Y0\n%s\nM2\n" % "\n".join(rows)
+    )
+    calls = _batched(compile_text(text, "arcs.ngc"), RecordingCanon)[0]
+    assert taken and sum(name == "arc_feed" for name, _ in calls) == 20
+
+
 class _LinesRecorded(RecordingCanon):
     """Records the machine's line with each call's arguments."""
 

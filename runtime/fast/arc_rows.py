@@ -511,7 +511,10 @@ class ArcRows:
             takes_rows = type(canon).straight_moves is not Canon.straight_moves
             extra += (canon.straight_moves if context[2] and takes_rows else None,)
             extra += (pending.contours,)
-        elif type(canon) is TraceCanon and not context[2]:  # (not arcs only)
+        elif not context[2] and (type(canon) is TraceCanon or not canon.reads_lines):
+            # each move a call made in C: the trace's, and a canon that keeps
+            # N numbers (its own set_block_number: every N would cut a batch)
+            # and does not read the machine's line as its calls are made
             extra = ()
         else:
             in_c = None
