@@ -1091,7 +1091,18 @@ static PyObject *emit(TraceLines *self, PyObject *text) {
     if (!line_args) {
         return NULL;
     }
-    PyObject *line = formatted("%5d %s%s\n", line_args);
+    PyObject *line;
+    PyObject *column = column_of(self);
+    if (PyUnicode_CheckExact(text) && PyUnicode_IS_ASCII(text) &&
+        (column == Py_None || (PyUnicode_CheckExact(column) && PyUnicode_IS_ASCII(column)))) {
+        line = formatted("%5d %s%s\n", line_args);
+    } else {
+        /* any other text (a comment's undecodable bytes, kept as lone
+         * surrogates, have no UTF-8): Python's own % */
+        PyObject *template = PyUnicode_FromString("%5d %s%s\n");
+        line = template ? PyUnicode_Format(template, line_args) : NULL;
+        Py_XDECREF(template);
+    }
     Py_DECREF(line_args);
     return add_line(self, line);
 }

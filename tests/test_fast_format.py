@@ -195,12 +195,23 @@ _CALL = st.one_of(
         st.lists(st.sampled_from([None, "10", "7.5"]), min_size=1, max_size=1),
     ),
     st.tuples(st.just("same_rotary_axes"), st.lists(_AXIS, min_size=3, max_size=3)),
-    # calls whose text TraceCanon makes in Python, numbered by _emit
+    # calls whose text TraceCanon makes in Python, numbered by _emit (a
+    # comment's undecodable bytes are lone surrogates: no UTF-8 of its own)
     st.tuples(
         st.just("comment"), st.lists(st.text(max_size=8), min_size=1, max_size=1)
     ),
     st.tuples(st.just("dwell"), st.lists(_AXIS, min_size=1, max_size=1)),
     st.tuples(st.just("_emit"), st.lists(st.text(max_size=8), min_size=1, max_size=1)),
+    st.tuples(
+        st.just("comment"),
+        st.lists(
+            st.text(
+                st.characters(min_codepoint=0xDC80, max_codepoint=0xDCFF), max_size=3
+            ),
+            min_size=1,
+            max_size=1,
+        ),
+    ),
 )
 
 
