@@ -1062,14 +1062,21 @@ static PyObject *arc_feed(TraceLines *self, PyObject *const *args, Py_ssize_t na
     return add_line(self, line);
 }
 
-static PyObject *set_feed_rate(TraceLines *self, PyObject *rate) {
+/* The next line counted, and (its number, the N column, value) for its
+ * template; NULL with an exception. */
+static PyObject *next_line_args(TraceLines *self, PyObject *value) {
     self->count++;
     PyObject *count = PyLong_FromSsize_t(self->count);
     if (!count) {
         return NULL;
     }
-    PyObject *line_args = PyTuple_Pack(3, count, column_of(self), rate);
+    PyObject *line_args = PyTuple_Pack(3, count, column_of(self), value);
     Py_DECREF(count);
+    return line_args;
+}
+
+static PyObject *set_feed_rate(TraceLines *self, PyObject *rate) {
+    PyObject *line_args = next_line_args(self, rate);
     if (!line_args) {
         return NULL;
     }
@@ -1081,13 +1088,7 @@ static PyObject *set_feed_rate(TraceLines *self, PyObject *rate) {
 /* _emit(text): a line of any call (its text made by TraceCanon's Python
  * method), numbered and with the N column, as the Python twin makes it. */
 static PyObject *emit(TraceLines *self, PyObject *text) {
-    self->count++;
-    PyObject *count = PyLong_FromSsize_t(self->count);
-    if (!count) {
-        return NULL;
-    }
-    PyObject *line_args = PyTuple_Pack(3, count, column_of(self), text);
-    Py_DECREF(count);
+    PyObject *line_args = next_line_args(self, text);
     if (!line_args) {
         return NULL;
     }
@@ -1188,66 +1189,6 @@ static int grid_text(double x, char *out) {
     return length;
 }
 
-static PyObject *words(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
-    if (nargs != 2 || !PyUnicode_Check(args[0]) || !PyList_Check(args[1])) {
-        PyErr_SetString(PyExc_TypeError, "words(prefix: str, values: list)");
-        return NULL;
-    }
-    PyObject *prefix = args[0], *values = args[1];
-    if (!PyUnicode_IS_ASCII(prefix)) {
-        Py_RETURN_NONE;
-    }
-    Py_ssize_t plen = PyUnicode_GET_LENGTH(prefix);
-    const char *pdata = (const char *) PyUnicode_1BYTE_DATA(prefix);
-    Py_ssize_t count = PyList_GET_SIZE(values);
-    PyObject *out = PyList_New(count);
-    if (!out) {
-        return NULL;
-    }
-    for (Py_ssize_t i = 0; i < count; i++) {
-        PyObject *item = PyList_GET_ITEM(values, i);
-        if (!PyFloat_CheckExact(item)) {
-            Py_DECREF(out);
-            Py_RETURN_NONE;
-        }
-        double v = PyFloat_AS_DOUBLE(item);
-        if (!isfinite(v) || fabs(v) >= 1e15) {
-            Py_DECREF(out);
-            Py_RETURN_NONE;
-        }
-        char grid[40];
-        char *text = grid;
-        Py_ssize_t tlen = grid_text(v, grid);
-        if (!tlen) {  /* more than four decimals: Python's own digits */
-            text = PyOS_double_to_string(v, 'r', 0, 0, NULL);
-            if (!text) {
-                Py_DECREF(out);
-                return NULL;
-            }
-            if (strchr(text, 'e')) {
-                PyMem_Free(text);
-                Py_DECREF(out);
-                Py_RETURN_NONE;
-            }
-            tlen = (Py_ssize_t) strlen(text);
-        }
-        PyObject *word = PyUnicode_New(plen + tlen, 127);
-        if (word) {
-            memcpy(PyUnicode_1BYTE_DATA(word), pdata, (size_t) plen);
-            memcpy(PyUnicode_1BYTE_DATA(word) + plen, text, (size_t) tlen);
-        }
-        if (text != grid) {
-            PyMem_Free(text);
-        }
-        if (!word) {
-            Py_DECREF(out);
-            return NULL;
-        }
-        PyList_SET_ITEM(out, i, word);
-    }
-    return out;
-}
-
 /* The text ngc2py.flatten.number writes for an ordinary value into out
  * (room for 40): its length, or 0 where number() itself must decide (not
  * finite, 1e15 or more, an exponent in its digits). */
@@ -1274,6 +1215,47 @@ static Py_ssize_t number_text(double v, char *out) {
     return length;
 }
 
+static PyObject *words(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
+    if (nargs != 2 || !PyUnicode_Check(args[0]) || !PyList_Check(args[1])) {
+        PyErr_SetString(PyExc_TypeError, "words(prefix: str, values: list)");
+        return NULL;
+    }
+    PyObject *prefix = args[0], *values = args[1];
+    if (!PyUnicode_IS_ASCII(prefix)) {
+        Py_RETURN_NONE;
+    }
+    Py_ssize_t plen = PyUnicode_GET_LENGTH(prefix);
+    const char *pdata = (const char *) PyUnicode_1BYTE_DATA(prefix);
+    Py_ssize_t count = PyList_GET_SIZE(values);
+    PyObject *out = PyList_New(count);
+    if (!out) {
+        return NULL;
+    }
+    for (Py_ssize_t i = 0; i < count; i++) {
+        PyObject *item = PyList_GET_ITEM(values, i);
+        char text[40];
+        Py_ssize_t tlen = 0;
+        if (PyFloat_CheckExact(item)) {
+            tlen = number_text(PyFloat_AS_DOUBLE(item), text);
+        }
+        if (!tlen) {  /* not a float, or number()'s to write */
+            Py_DECREF(out);
+            Py_RETURN_NONE;
+        }
+        PyObject *word = PyUnicode_New(plen + tlen, 127);
+        if (word) {
+            memcpy(PyUnicode_1BYTE_DATA(word), pdata, (size_t) plen);
+            memcpy(PyUnicode_1BYTE_DATA(word) + plen, text, (size_t) tlen);
+        }
+        if (!word) {
+            Py_DECREF(out);
+            return NULL;
+        }
+        PyList_SET_ITEM(out, i, word);
+    }
+    return out;
+}
+
 /*
  * move_text(code, args, pos): ngc2py.flatten's text of a straight move (the
  * code, then a word for each of X Y Z A B C that differs from pos: not the
@@ -1281,6 +1263,19 @@ static Py_ssize_t number_text(double v, char *out) {
  * none does), pos[:6] then set to args[:6]. None, pos untouched, where a
  * value is not a float or its digits are number()'s to write.
  */
+/* " " + letter + number() of v at text[*length]: 1, or 0 where number()
+ * must write it (text unchanged). */
+static int add_word(char *text, Py_ssize_t *length, char letter, double v) {
+    Py_ssize_t size = number_text(v, text + *length + 2);
+    if (!size) {
+        return 0;
+    }
+    text[*length] = ' ';
+    text[*length + 1] = letter;
+    *length += 2 + size;
+    return 1;
+}
+
 static PyObject *move_text(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
     if (nargs != 3 || !PyUnicode_Check(args[0]) || !PyList_Check(args[2])) {
         PyErr_SetString(PyExc_TypeError, "move_text(code: str, args, pos: list)");
@@ -1291,60 +1286,37 @@ static PyObject *move_text(PyObject *self, PyObject *const *args, Py_ssize_t nar
     if (!given) {
         return NULL;
     }
-    PyObject *result = NULL;
-    if (!PyUnicode_IS_ASCII(code) || PySequence_Fast_GET_SIZE(given) < 6 ||
-        PyList_GET_SIZE(pos) < 6) {
-        result = Py_None;
-        Py_INCREF(result);
-        goto done;
-    }
     static const char letters[] = "XYZABC";
     char text[6 * 42 + 64];
     Py_ssize_t length = PyUnicode_GET_LENGTH(code);
-    if (length > 60) {
-        result = Py_None;
-        Py_INCREF(result);
+    if (!PyUnicode_IS_ASCII(code) || length > 60 || PySequence_Fast_GET_SIZE(given) < 6 ||
+        PyList_GET_SIZE(pos) < 6) {
         goto done;
     }
     memcpy(text, PyUnicode_1BYTE_DATA(code), (size_t) length);
-    int written = 0;
+    Py_ssize_t bare = length;
     for (int k = 0; k < 6; k++) {
         PyObject *value = PySequence_Fast_GET_ITEM(given, k), *was = PyList_GET_ITEM(pos, k);
         if (!PyFloat_CheckExact(value) || !PyFloat_CheckExact(was)) {
-            result = Py_None;
-            Py_INCREF(result);
             goto done;
         }
         double v = PyFloat_AS_DOUBLE(value), w = PyFloat_AS_DOUBLE(was);
         if (value == was || (v == w && (v != 0.0 || signbit(v) == signbit(w)))) {
             continue;
         }
-        text[length++] = ' ';
-        text[length++] = letters[k];
-        Py_ssize_t size = number_text(v, text + length);
-        if (!size) {
-            result = Py_None;
-            Py_INCREF(result);
+        if (!add_word(text, &length, letters[k], v)) {
             goto done;
         }
-        length += size;
-        written++;
     }
-    if (!written) {  /* a move to where it is: still one axis word */
-        double v = PyFloat_AS_DOUBLE(PySequence_Fast_GET_ITEM(given, 0));
-        text[length++] = ' ';
-        text[length++] = 'X';
-        Py_ssize_t size = number_text(v, text + length);
-        if (!size) {
-            result = Py_None;
-            Py_INCREF(result);
-            goto done;
-        }
-        length += size;
-    }
-    result = PyUnicode_New(length, 127);
-    if (!result) {
+    /* a move to where it is: still one axis word */
+    if (length == bare &&
+        !add_word(text, &length, 'X', PyFloat_AS_DOUBLE(PySequence_Fast_GET_ITEM(given, 0)))) {
         goto done;
+    }
+    PyObject *result = PyUnicode_New(length, 127);
+    if (!result) {
+        Py_DECREF(given);
+        return NULL;
     }
     memcpy(PyUnicode_1BYTE_DATA(result), text, (size_t) length);
     for (int k = 0; k < 6; k++) {
@@ -1352,9 +1324,11 @@ static PyObject *move_text(PyObject *self, PyObject *const *args, Py_ssize_t nar
         Py_INCREF(value);
         PyList_SetItem(pos, k, value);  /* steals the reference */
     }
-done:
     Py_DECREF(given);
     return result;
+done:  /* number()'s to write, or not floats: None, pos untouched */
+    Py_DECREF(given);
+    Py_RETURN_NONE;
 }
 
 /*

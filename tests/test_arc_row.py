@@ -376,6 +376,16 @@ def _batched(code: str, kind=_Batches, machine_class=None):
     return canon.calls, canon.numbers, error, state
 
 
+def _as_in_python(code: str, *how) -> tuple:
+    """_batched(code, *how) with the C loop, held to the same with the
+    Python loop alone; returns it."""
+    fast = _batched(code, *how)
+    with pytest.MonkeyPatch.context() as patch:
+        _python_only(patch)
+        assert _batched(code, *how) == fast
+    return fast
+
+
 @needs_c
 @settings(PROFILE, max_examples=PROFILE.max_examples * 3)
 @given(ARC_PROGRAMS)
@@ -384,10 +394,7 @@ def test_the_c_loop_holds_the_python_loops_arcs(text):
     the Python loop holds: the same arcs, lines, calls between them, N
     numbers and end state (batches may be cut differently)."""
     code = compile_text(text, "arcs.ngc")
-    fast = _batched(code)
-    with pytest.MonkeyPatch.context() as patch:
-        _python_only(patch)
-        assert _batched(code) == fast
+    _as_in_python(code)
 
 
 class _Unnumbered(RecordingCanon):
@@ -466,10 +473,7 @@ def test_a_canon_keeping_numbers_gets_the_python_loops_calls_from_the_c_loop(
 
     Failing.fail_at = fail_at
     code = compile_text(text, "arcs.ngc")
-    fast = _batched(code, Failing)
-    with pytest.MonkeyPatch.context() as patch:
-        _python_only(patch)
-        assert _batched(code, Failing) == fast
+    _as_in_python(code, Failing)
 
 
 @needs_c
@@ -542,10 +546,7 @@ def test_a_canon_reading_lines_finds_them_as_the_python_loop_sets_them(text):
     """Held arcs handed over before a straight row, an N or an F: every call
     outside a batch finds the machine at the line the Python loop sets."""
     code = compile_text(text, "arcs.ngc")
-    fast = _batched(code, _LineBatches)
-    with pytest.MonkeyPatch.context() as patch:
-        _python_only(patch)
-        assert _batched(code, _LineBatches) == fast
+    _as_in_python(code, _LineBatches)
 
 
 @needs_c
@@ -557,10 +558,7 @@ def test_a_contour_holds_the_lines_between_arcs_the_python_loop_calls(text):
     same calls between them, as the Python loop's arcs and straight_feed
     calls."""
     code = compile_text(text, "arcs.ngc")
-    fast = _batched(code, _Contours)
-    with pytest.MonkeyPatch.context() as patch:
-        _python_only(patch)
-        assert _batched(code, _Contours) == fast
+    _as_in_python(code, _Contours)
 
 
 @needs_c
@@ -635,10 +633,7 @@ def test_numbered_rows_are_held_with_their_numbers(text, batches_only):
     set_block_number (and the batches cut at each)."""
     code = compile_text(text, "arcs.ngc")
     machine = _batches_only_machine() if batches_only else None
-    fast = _batched(code, _NumberedContours, machine)
-    with pytest.MonkeyPatch.context() as patch:
-        _python_only(patch)
-        assert _batched(code, _NumberedContours, machine) == fast
+    fast = _as_in_python(code, _NumberedContours, machine)
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(_NumberedContours, "takes_numbers", False)
         told = _batched(code, _NumberedContours, machine)
@@ -688,10 +683,7 @@ def test_arcs_restating_g17_reach_a_batch_canon_as_by_the_general_path(kind):
     from runtime.fast import rows
 
     code = compile_text(_contour(400, restated=True), "arcs.ngc")
-    fast = _batched(code, kind)
-    with pytest.MonkeyPatch.context() as patch:
-        _python_only(patch)
-        assert _batched(code, kind) == fast
+    fast = _as_in_python(code, kind)
     plan = rows._Plan
 
     def made(shape, restated=False):
