@@ -239,7 +239,6 @@ class FastPathMixin:
         # a pause between moves (a hand-drilling program's G4 P at each
         # hole's bottom) is taken here too, as dwell_row takes it
         pauses = type(self).dwell_row is FastPathMixin.dwell_row
-        dwell = canon.dwell
         row = at
         try:
             while at < end:
@@ -257,7 +256,7 @@ class FastPathMixin:
                         break
                     block_n = cells[at + 2] if plan.has_n else None
                     canon.set_block_number(block_n)  # (every pause's line, as block())
-                    dwell(seconds)
+                    canon.dwell(seconds)
                     at += 2 + plan.width
                     continue
                 motion = motion_mode if plan.motion is None else plan.motion
